@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# @brief One idempotent set-up for a fresh Debian bookworm machine: installs every Debian package
+#        telesphere needs, configures and builds, then runs what was asked.
+#
+#   bash setup.sh          install + build (Release, build/)
+#   bash setup.sh demo     install + build + run the main job on the embedded default
+#   bash setup.sh test     install + build the test tree (ASan+UBSan, build-test/) + ctest
+#
+# Needs root (or sudo) for apt-get; everything else runs as the calling user.
+set -euo pipefail
+cd "$(dirname "$0")"
+what=${1:-build}
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config ccache git
+  # maths, calibration, vision
+  libeigen3-dev libceres-dev libopencv-dev libopencv-contrib-dev
+  # cameras
+  libaravis-dev aravis-tools
+  # rendering and XR
+  libglm-dev libopenxr-dev libopenxr-loader1 libegl-dev libgl-dev libgles-dev libglfw3-dev
+  libegl-mesa0 libgl1-mesa-dri libpng-dev
+  # console
+  qt6-base-dev libsqlite3-dev
+  # video path and link
+  libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
+  # files, command lines, logging
+  libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${#missing[@]} Debian packages: ${missing[*]}"
+  sudo_cmd=()
+  [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo)
+  export DEBIAN_FRONTEND=noninteractive
+  "${sudo_cmd[@]}" apt-get update -qq
+  "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "setup: all ${#packages[@]} Debian packages present"
+fi
+
+jobs=$(nproc)
+launcher=()
+command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+
+case "$what" in
+  build|demo)
+    cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
+    cmake --build build -j "$jobs"
+    if [[ $what == demo ]]; then
+      exec bash app/demo.sh build
+    fi
+    ;;
+  test)
+    werror=OFF
+    [[ -n ${CI:-} ]] && werror=ON
+    cmake -S . -B build-test -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON "${launcher[@]}"
+    cmake --build build-test -j "$jobs"
+    ctest --test-dir build-test --output-on-failure -j "$jobs"
+    ;;
+  *)
+    echo "usage: bash setup.sh [build|demo|test]" >&2
+    exit 2
+    ;;
+esac
