@@ -3,6 +3,7 @@
 # @brief One idempotent set-up for a fresh Debian bookworm machine: installs every Debian package
 #        telesphere needs, configures and builds, then runs what was asked.
 #
+#   bash setup.sh deps     install the Debian packages only
 #   bash setup.sh          install + build (Release, build/)
 #   bash setup.sh demo     install + build + run the main job on the embedded default
 #   bash setup.sh test     install + build the test tree (ASan+UBSan, build-test/) + ctest
@@ -11,6 +12,10 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 what=${1:-build}
+case "$what" in
+  deps|build|demo|test) ;;
+  *) echo "usage: bash setup.sh [deps|build|demo|test]" >&2; exit 2 ;;
+esac
 
 packages=(
   # toolchain
@@ -52,6 +57,8 @@ launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 
 case "$what" in
+  deps)
+    ;;
   build|demo)
     cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
     cmake --build build -j "$jobs"
@@ -66,9 +73,5 @@ case "$what" in
       -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON "${launcher[@]}"
     cmake --build build-test -j "$jobs"
     ctest --test-dir build-test --output-on-failure -j "$jobs"
-    ;;
-  *)
-    echo "usage: bash setup.sh [build|demo|test]" >&2
-    exit 2
     ;;
 esac

@@ -52,7 +52,7 @@ json writePose(const Eigen::Isometry3d& T) {
           {"qx", q.x()}, {"qy", q.y()}, {"qz", q.z()}, {"qw", q.w()}};
 }
 
-CameraCalibration readCamera(const Reader& in, const json& intr, const json& res, int i) {
+CameraCalibration readBasaltCamera(const Reader& in, const json& intr, const json& res, int i) {
   const std::string field = "value0.intrinsics[" + std::to_string(i) + "]";
   const json& type_j = in.at(intr, "camera_type", field + ".camera_type");
   if (!type_j.is_string()) in.fail(field + ".camera_type", "expected a string");
@@ -89,7 +89,7 @@ CameraCalibration readCamera(const Reader& in, const json& intr, const json& res
                            static_cast<int>(in.number(res[1], res_field))};
 }
 
-SystemCalibration read(const Reader& in, const json& root) {
+SystemCalibration readBasalt(const Reader& in, const json& root) {
   const json& v = in.at(root, "value0", "value0");
   const json& intr = in.at(v, "intrinsics", "value0.intrinsics");
   const json& res = in.at(v, "resolution", "value0.resolution");
@@ -99,7 +99,7 @@ SystemCalibration read(const Reader& in, const json& root) {
     in.fail("value0.resolution", "expected one [width, height] per camera");
   SystemCalibration calib;
   for (std::size_t i = 0; i < intr.size(); ++i)
-    calib.cameras.push_back(readCamera(in, intr[i], res[i], static_cast<int>(i)));
+    calib.cameras.push_back(readBasaltCamera(in, intr[i], res[i], static_cast<int>(i)));
   if (calib.cameras.size() == 2) {
     const json& poses = in.at(v, "T_imu_cam", "value0.T_imu_cam");
     if (!poses.is_array() || poses.size() != 2) in.fail("value0.T_imu_cam", "expected one pose per camera");
@@ -122,7 +122,7 @@ FileResult<SystemCalibration> parseBasaltCalibration(const std::string& text, co
     return FileError{path, line, "", std::string("JSON syntax: ") + e.what()};
   }
   try {
-    return read(Reader{path}, root);
+    return readBasalt(Reader{path}, root);
   } catch (const FileErrorException& e) {
     return e.error;
   }

@@ -13,7 +13,7 @@ namespace {
 
 using detail::YamlReader;
 
-CameraCalibration readCamera(const YamlReader& in, const YAML::Node& node, const std::string& cam,
+CameraCalibration readKalibrCamera(const YamlReader& in, const YAML::Node& node, const std::string& cam,
                              const char* label) {
   if (!node.IsMap()) in.fail(node, cam, "expected a map");
   const YAML::Node model_node = in.require(node, "camera_model", cam + ".camera_model");
@@ -77,15 +77,15 @@ CameraCalibration readCamera(const YamlReader& in, const YAML::Node& node, const
   return CameraCalibration{label, *camera, static_cast<int>(res[0]), static_cast<int>(res[1])};
 }
 
-SystemCalibration read(const YamlReader& in, const YAML::Node& root) {
+SystemCalibration readKalibr(const YamlReader& in, const YAML::Node& root) {
   if (!root.IsMap() || !root["cam0"].IsDefined())
     in.fail(root, "cam0", "missing: not a kalibr camchain");
   if (root["cam2"].IsDefined())
     in.failAtKey(root, "cam2", "cam2", "telesphere takes one camera or a stereo pair (cam0, cam1)");
   SystemCalibration calib;
-  calib.cameras.push_back(readCamera(in, root["cam0"], "cam0", "cam_l"));
+  calib.cameras.push_back(readKalibrCamera(in, root["cam0"], "cam0", "cam_l"));
   if (root["cam1"].IsDefined()) {
-    calib.cameras.push_back(readCamera(in, root["cam1"], "cam1", "cam_r"));
+    calib.cameras.push_back(readKalibrCamera(in, root["cam1"], "cam1", "cam_r"));
     const Eigen::Isometry3d T_cam_r_cam_l =
         in.matrix4(in.require(root["cam1"], "T_cn_cnm1", "cam1.T_cn_cnm1"), "cam1.T_cn_cnm1");
     calib.T_cam_l_cam_r = T_cam_r_cam_l.inverse();
@@ -100,7 +100,7 @@ SystemCalibration read(const YamlReader& in, const YAML::Node& root) {
 FileResult<SystemCalibration> parseKalibrCamchain(const std::string& text, const std::string& path) {
   try {
     const YamlReader in(path);
-    return read(in, in.parse(text));
+    return readKalibr(in, in.parse(text));
   } catch (const FileErrorException& e) {
     return e.error;
   } catch (const YAML::Exception& e) {

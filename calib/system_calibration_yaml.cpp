@@ -14,7 +14,7 @@ namespace {
 
 using detail::YamlReader;
 
-CameraCalibration readCamera(const YamlReader& in, const YAML::Node& node, const std::string& field) {
+CameraCalibration readCameraEntry(const YamlReader& in, const YAML::Node& node, const std::string& field) {
   if (!node.IsMap()) in.fail(node, field, "expected a map");
   in.onlyKeys(node, field, {"label", "model", "resolution", "intrinsics"});
   const std::string label = in.text(in.require(node, "label", field + ".label"), field + ".label");
@@ -50,7 +50,7 @@ CameraCalibration readCamera(const YamlReader& in, const YAML::Node& node, const
   return CameraCalibration{label, *camera, static_cast<int>(w), static_cast<int>(h)};
 }
 
-SystemCalibration read(const YamlReader& in, const YAML::Node& root) {
+SystemCalibration readSystem(const YamlReader& in, const YAML::Node& root) {
   if (!root.IsMap()) in.fail(root, "", "expected a map with version, cameras and extrinsics");
   in.onlyKeys(root, "", {"version", "cameras", "extrinsics"});
   const YAML::Node version_node = in.require(root, "version", "version");
@@ -63,7 +63,7 @@ SystemCalibration read(const YamlReader& in, const YAML::Node& root) {
   const YAML::Node cams = in.require(root, "cameras", "cameras");
   if (!cams.IsSequence()) in.fail(cams, "cameras", "expected a list of cameras");
   for (std::size_t i = 0; i < cams.size(); ++i)
-    calib.cameras.push_back(readCamera(in, cams[i], "cameras[" + std::to_string(i) + "]"));
+    calib.cameras.push_back(readCameraEntry(in, cams[i], "cameras[" + std::to_string(i) + "]"));
   YAML::Node ext = root["extrinsics"];
   if (ext.IsDefined() && !ext.IsNull()) {
     in.onlyKeys(ext, "extrinsics", {"T_cam_l_cam_r", "T_flange_cam_l", "T_robot_mount", "T_wrist_marker"});
@@ -98,7 +98,7 @@ FileResult<SystemCalibration> parseSystemCalibrationYaml(const std::string& text
                                                          const std::string& path) {
   try {
     const YamlReader in(path);
-    return read(in, in.parse(text));
+    return readSystem(in, in.parse(text));
   } catch (const FileErrorException& e) {
     return e.error;
   } catch (const YAML::Exception& e) {
