@@ -114,15 +114,13 @@ class DoubleSphereCamera {
   template <typename Derived>
   bool unproject(const Eigen::MatrixBase<Derived>& px, Vec3& out_d_cam) const {
     using std::sqrt;
-    const Scalar& fx = params_[0];
-    const Scalar& fy = params_[1];
     const Scalar& cx = params_[2];
     const Scalar& cy = params_[3];
     const Scalar& xi = params_[4];
     const Scalar& alpha = params_[5];
 
-    const Scalar mx = (px[0] - cx) / fx;
-    const Scalar my = (px[1] - cy) / fy;
+    const Scalar mx = (px[0] - cx) * inv_fx_;
+    const Scalar my = (px[1] - cy) * inv_fy_;
     const Scalar r2 = mx * mx + my * my;
     const Scalar two_alpha_m1 = Scalar(2) * alpha - Scalar(1);
     // Outside the image circle of alpha > 0.5 (and NaN/inf) the model has no ray.
@@ -237,6 +235,8 @@ class DoubleSphereCamera {
 
   Params params_;
   Scalar w2_;
+  Scalar inv_fx_ = Scalar(1) / params_[0];  // unprojection multiplies instead of dividing
+  Scalar inv_fy_ = Scalar(1) / params_[1];
 };
 
 }  // namespace telesphere::calib
