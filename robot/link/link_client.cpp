@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: MIT
+/// @brief LinkClient: a receive thread that drains frames (keeping only the newest), state and
+///        control replies, and pings the server to keep the clock offset.
+#include "robot/link/link_client.h"
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <thread>
+#include <zmq.hpp>
+
+namespace telesphere::link {
+namespace {
+
+zmq::socket_t connectSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint) {
+  zmq::socket_t socket(context, type);
+  socket.set(zmq::sockopt::linger, 0);
+  socket.set(zmq::sockopt::reconnect_ivl, 100);
+  socket.set(zmq::sockopt::reconnect_ivl_max, 1000);
+  if (type == zmq::socket_type::sub) {
+    socket.set(zmq::sockopt::subscribe, "");
+    socket.set(zmq::sockopt::rcvhwm, 8);
+  }
+  if (type == zmq::socket_type::push) socket.set(zmq::sockopt::sndhwm, 8);
+  socket.connect(endpoint);
+  return socket;
+}
+
+zmq::message_t serialise(proto::Envelope& envelope) {
+  envelope.set_schema_version(kSchemaVersion);
+  envelope.set_sender_clock_ns(linkNowNs());
+  zmq::message_t message(envelope.ByteSizeLong());
+  envelope.SerializeToArray(message.data(), static_cast<int>(message.size()));
+  return message;
+}
+
+/// The three parts of a frame message, kept alive together.
+struct FrameParts {
+  zmq::message_t envelope, left, right;
+};
+
+}  // namespace
+
+struct LinkClient::Impl {
+  Options options;
+  zmq::context_t context{1};
+  std::optional<zmq::socket_t> frames;
+  zmq::socket_t state, uplink, control;
+  std::mutex uplink_mutex;
+  LinkStats stats{"link client"};
+  ClockSync clock;
+
+  std::mutex mutex;  // guards everything below
+  std::condition_variable frame_arrived, reply_arrived;
+  std::optional<ReceivedFrame> newest;
+  std::optional<proto::RobotState> robot_state;
+  std::optional<proto::XrStats> xr_stats;
+  std::deque<proto::Envelope> outbox;  // control requests for the receive thread to send
+  std::map<std::uint64_t, proto::ControlReply> replies;
+  std::uint64_t next_id = 1;
+
+  std::atomic<bool> running{true};
+  std::thread receiver;
+
+  Impl(const LinkEndpoints& e, Options o)
+      : options(o),
+        state(connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kState))),
+        uplink(connectSocket(context, zmq::socket_type::push, e.connect(LinkEndpoints::kUplink))),
+        control(connectSocket(context, zmq::socket_type::dealer, e.connect(LinkEndpoints::kControl))) {
+    if (options.frames) frames = connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kFrames));
+    receiver = std::thread([this] { receive(); });
+  }
+
+  ~Impl() {
+    running = false;
+    receiver.join();
+  }
+
+  void receive() {
+    std::int64_t next_ping_ns = 0;
+    std::vector<zmq::pollitem_t> items = {{state.handle(), 0, ZMQ_POLLIN, 0},
+                                          {control.handle(), 0, ZMQ_POLLIN, 0}};
+    if (frames) items.push_back({frames->handle(), 0, ZMQ_POLLIN, 0});
+    while (running) {
+      zmq::poll(items.data(), items.size(), std::chrono::milliseconds(5));
+      if (items[0].revents & ZMQ_POLLIN) drainState();
+      if (items[1].revents & ZMQ_POLLIN) drainControl();
+      if (frames && (items[2].revents & ZMQ_POLLIN)) drainFrames();
+      const std::int64_t now = linkNowNs();
+      if (now >= next_ping_ns) {
+        proto::Envelope ping;
+        ping.mutable_ping()->set_client_send_ns(now);
+        control.send(serialise(ping), zmq::send_flags::dontwait);
+        next_ping_ns = now + std::chrono::nanoseconds(options.ping_period).count();
+      }
+      std::deque<proto::Envelope> pending;
+      {
+        std::lock_guard lock(mutex);
+        pending.swap(outbox);
+      }
+      for (auto& request : pending)
+        if (control.send(serialise(request), zmq::send_flags::dontwait)) stats.countSent();
+    }
+  }
+
+  /// Receives every part of one message; false when none was waiting.
+  static bool receiveAll(zmq::socket_t& socket, std::vector<zmq::message_t>& parts) {
+    parts.clear();
+    zmq::message_t part;
+    if (!socket.recv(part, zmq::recv_flags::dontwait)) return false;
+    parts.push_back(std::move(part));
+    while (parts.back().more()) {
+      zmq::message_t next;
+      if (!socket.recv(next, zmq::recv_flags::none)) break;  // parts of one message arrive together
+      parts.push_back(std::move(next));
+    }
+    return true;
+  }
+
+  void drainFrames() {
+    std::vector<zmq::message_t> parts;
+    while (receiveAll(*frames, parts)) {
+      const std::int64_t received_ns = linkNowNs();
+      if (parts.size() != 3) {
+        stats.countDrop(DropReason::kBadPartCount, "frames");
+        continue;
+      }
+      DropReason why{};
+      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
+      if (!envelope) {
+        stats.countDrop(why, "frames");
+        continue;
+      }
+      if (!envelope->has_stereo_frame()) {
+        stats.countDrop(DropReason::kUnexpectedBody, "frames");
+        continue;
+      }
+      if (auto bad = checkStereoFrame(envelope->stereo_frame(), parts[1].size(), parts[2].size())) {
+        stats.countDrop(*bad, "frames");
+        continue;
+      }
+      stats.countReceived();
+      auto storage = std::make_shared<FrameParts>(
+          FrameParts{std::move(parts[0]), std::move(parts[1]), std::move(parts[2])});
+      ReceivedFrame frame;
+      frame.frame = std::move(*envelope->mutable_stereo_frame());
+      frame.frame.mutable_stamps()->set_received_ns(received_ns);
+      frame.left_jpeg = {static_cast<const std::uint8_t*>(storage->left.data()), storage->left.size()};
+      frame.right_jpeg = {static_cast<const std::uint8_t*>(storage->right.data()), storage->right.size()};
+      frame.storage = std::move(storage);
+      {
+        std::lock_guard lock(mutex);
+        if (newest) stats.countDrop(DropReason::kSuperseded, "frames");
+        newest = std::move(frame);
+      }
+      frame_arrived.notify_all();
+    }
+  }
+
+  void drainState() {
+    std::vector<zmq::message_t> parts;
+    while (receiveAll(state, parts)) {
+      if (parts.size() != 1) {
+        stats.countDrop(DropReason::kBadPartCount, "state");
+        continue;
+      }
+      DropReason why{};
+      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
+      if (!envelope) {
+        stats.countDrop(why, "state");
+        continue;
+      }
+      stats.countReceived();
+      std::lock_guard lock(mutex);
+      if (envelope->has_robot_state()) {
+        robot_state = envelope->robot_state();
+      } else if (envelope->has_xr_stats()) {
+        xr_stats = envelope->xr_stats();
+      } else {
+        stats.countDrop(DropReason::kUnexpectedBody, "state");
+      }
+    }
+  }
+
+  void drainControl() {
+    std::vector<zmq::message_t> parts;
+    while (receiveAll(control, parts)) {
+      const std::int64_t now = linkNowNs();
+      if (parts.size() != 1) {
+        stats.countDrop(DropReason::kBadPartCount, "control");
+        continue;
+      }
+      DropReason why{};
+      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
+      if (!envelope) {
+        stats.countDrop(why, "control");
+        continue;
+      }
+      stats.countReceived();
+      if (envelope->has_pong()) {
+        clock.addSample(envelope->pong().client_send_ns(), envelope->pong().server_ns(), now);
+      } else if (envelope->has_control_reply()) {
+        {
+          std::lock_guard lock(mutex);
+          replies[envelope->control_reply().id()] = envelope->control_reply();
+        }
+        reply_arrived.notify_all();
+      } else {
+        stats.countDrop(DropReason::kUnexpectedBody, "control");
+      }
+    }
+  }
+
+  void sendUp(proto::Envelope envelope) {
+    std::lock_guard lock(uplink_mutex);
+    if (uplink.send(serialise(envelope), zmq::send_flags::dontwait)) stats.countSent();
+  }
+};
+
+LinkClient::LinkClient(const LinkEndpoints& endpoints, Options options)
+    : impl_(std::make_unique<Impl>(endpoints, options)) {}
+
+LinkClient::~LinkClient() = default;
+
+std::optional<ReceivedFrame> LinkClient::takeLatestFrame() {
+  std::lock_guard lock(impl_->mutex);
+  std::optional<ReceivedFrame> out = std::move(impl_->newest);
+  impl_->newest.reset();
+  return out;
+}
+
+std::optional<ReceivedFrame> LinkClient::waitForFrame(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(impl_->mutex);
+  impl_->frame_arrived.wait_for(lock, timeout, [&] { return impl_->newest.has_value(); });
+  std::optional<ReceivedFrame> out = std::move(impl_->newest);
+  impl_->newest.reset();
+  return out;
+}
+
+std::optional<proto::RobotState> LinkClient::latestRobotState() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->robot_state;
+}
+
+std::optional<proto::XrStats> LinkClient::latestXrStats() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->xr_stats;
+}
+
+void LinkClient::sendHeadTarget(const proto::HeadTarget& target) {
+  proto::Envelope envelope;
+  *envelope.mutable_head_target() = target;
+  impl_->sendUp(std::move(envelope));
+}
+
+void LinkClient::sendXrStats(const proto::XrStats& stats) {
+  proto::Envelope envelope;
+  *envelope.mutable_xr_stats() = stats;
+  impl_->sendUp(std::move(envelope));
+}
+
+std::optional<proto::ControlReply> LinkClient::request(proto::ControlRequest request,
+                                                       std::chrono::milliseconds timeout) {
+  std::unique_lock lock(impl_->mutex);
+  const std::uint64_t id = impl_->next_id++;
+  request.set_id(id);
+  proto::Envelope envelope;
+  *envelope.mutable_control_request() = std::move(request);
+  impl_->outbox.push_back(std::move(envelope));
+  if (!impl_->reply_arrived.wait_for(lock, timeout, [&] { return impl_->replies.count(id) > 0; }))
+    return std::nullopt;
+  proto::ControlReply reply = std::move(impl_->replies[id]);
+  impl_->replies.erase(id);
+  return reply;
+}
+
+const ClockSync& LinkClient::clock() const { return impl_->clock; }
+
+LinkStatsSnapshot LinkClient::stats() const { return impl_->stats.snapshot(); }
+
+}  // namespace telesphere::link

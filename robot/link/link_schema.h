@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+/// @brief The link's schema rules beyond the .proto: the version we speak, limits that keep a bad
+///        or hostile message from allocating absurd memory, and parsing that turns any byte string
+///        into either a valid Envelope or a counted DropReason (never a crash).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "robot/link/telesphere_link.pb.h"
+
+namespace telesphere::link {
+
+/// Bumped on any incompatible change of telesphere_link.proto.
+inline constexpr std::uint32_t kSchemaVersion = 1;
+/// Largest image side we accept (8K); a 100000×100000 claim is dropped before anything allocates.
+inline constexpr std::uint32_t kMaxImageSide = 8192;
+/// Largest JPEG part we accept (a 8K×8K 4:4:4 JPEG at quality 100 stays below this).
+inline constexpr std::size_t kMaxJpegBytes = std::size_t{256} << 20;
+/// Largest envelope (the protobuf part of any message).
+inline constexpr std::size_t kMaxEnvelopeBytes = std::size_t{1} << 20;
+
+/// Why a message was dropped; counted per reason (LinkStats) and logged.
+enum class DropReason : int {
+  kGarbage,              ///< not a protobuf Envelope, or one without a body
+  kWrongSchemaVersion,   ///< another schema version
+  kUnexpectedBody,       ///< a valid message on a channel that does not carry it
+  kBadPartCount,         ///< a stereo frame without exactly two image parts (or parts elsewhere)
+  kBadImageSize,         ///< zero or beyond kMaxImageSide, or a part size that disagrees
+  kOversized,            ///< an envelope or JPEG part beyond its limit
+  kSuperseded,           ///< a newer frame arrived before this one was taken (latest wins)
+  kCorruptJpeg,          ///< the JPEG did not decode (operator side)
+  kCount
+};
+
+std::string_view dropReasonName(DropReason reason);
+
+/// Parses bytes into an Envelope of our schema version with a body; otherwise nothing and *why.
+std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why);
+
+/// Checks a stereo frame's description against the sizes of its two image parts.
+std::optional<DropReason> checkStereoFrame(const proto::StereoFrame& frame, std::size_t left_bytes,
+                                           std::size_t right_bytes);
+
+}  // namespace telesphere::link

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot's end of the link (telesphere-robot): publishes stereo frames and robot state,
+///        takes head targets (latest wins) and XR stats from the uplink, answers control requests
+///        and pings. Any number of clients connect, leave and come back without a restart.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "robot/link/link_endpoints.h"
+#include "robot/link/link_stats.h"
+#include "robot/link/telesphere_link.pb.h"
+
+namespace telesphere::link {
+
+/// Encoded image bytes shared with ZeroMQ until they are on the wire (no copy).
+using SharedBytes = std::shared_ptr<const std::vector<std::uint8_t>>;
+
+class LinkServer {
+ public:
+  using ControlHandler = std::function<proto::ControlReply(const proto::ControlRequest&)>;
+
+  /// Binds the four sockets; throws std::runtime_error naming the endpoint when a port is taken.
+  explicit LinkServer(const LinkEndpoints& endpoints);
+  ~LinkServer();
+  LinkServer(const LinkServer&) = delete;
+  LinkServer& operator=(const LinkServer&) = delete;
+
+  /// Publishes [envelope, left, right]; sets the jpeg sizes, stamps.sent_ns and the envelope.
+  /// Never blocks: a subscriber that cannot keep up loses frames at its end, not ours.
+  void publishStereoFrame(proto::StereoFrame frame, SharedBytes left_jpeg, SharedBytes right_jpeg);
+  void publishRobotState(const proto::RobotState& state);
+
+  /// The newest head target received (by its t_ns), if any.
+  std::optional<proto::HeadTarget> latestHeadTarget() const;
+  /// Called on the link's thread for every control request; the reply goes back to its sender.
+  /// Without a handler requests are answered {ok: false, error: "no handler"}.
+  void setControlHandler(ControlHandler handler);
+
+  LinkStatsSnapshot stats() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace telesphere::link
