@@ -33,8 +33,8 @@ packages=(
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # files, command lines, logging
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests, benchmarks and fuzzing (libFuzzer comes with clang's runtime)
+  libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev
 )
 
 missing=()
@@ -73,5 +73,11 @@ case "$what" in
       -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON "${launcher[@]}"
     cmake --build build-test -j "$jobs"
     ctest --test-dir build-test --output-on-failure -j "$jobs"
+    # libFuzzer targets need clang: a separate tree, each target fuzzed briefly from its corpus.
+    CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_FUZZ=ON -DTELESPHERE_COMPONENTS="robot/link" \
+      -DTELESPHERE_FUZZ_SECONDS="${TELESPHERE_FUZZ_SECONDS:-20}" "${launcher[@]}"
+    cmake --build build-fuzz -j "$jobs"
+    ctest --test-dir build-fuzz --output-on-failure -L fuzz
     ;;
 esac
