@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+/// @brief JpegDecoder over tjDecompressHeader3 + tjDecompressToYUVPlanes.
+#include "xr/jpeg_decoder.h"
+
+#include <turbojpeg.h>
+
+#include <stdexcept>
+
+namespace telesphere::xr {
+
+JpegDecoder::JpegDecoder() : handle_(tjInitDecompress()) {
+  if (!handle_) throw std::runtime_error(std::string("tjInitDecompress: ") + tjGetErrorStr2(nullptr));
+}
+
+JpegDecoder::~JpegDecoder() { tjDestroy(handle_); }
+
+JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expected_width,
+                                    int expected_height, int max_side, YuvPlanes& out,
+                                    std::string* error) {
+  int width = 0, height = 0, subsamp = 0, colorspace = 0;
+  if (jpeg.empty() ||
+      tjDecompressHeader3(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), &width,
+                          &height, &subsamp, &colorspace) != 0) {
+    *error = std::string("JPEG header: ") + tjGetErrorStr2(handle_);
+    return JpegDecodeError::kCorrupt;
+  }
+  if (width <= 0 || height <= 0 || width > max_side || height > max_side) {
+    *error = "JPEG of " + std::to_string(width) + "x" + std::to_string(height) +
+             " exceeds the limit of " + std::to_string(max_side) + " px per side";
+    return JpegDecodeError::kTooLarge;
+  }
+  if ((expected_width > 0 && width != expected_width) || (expected_height > 0 && height != expected_height)) {
+    *error = "JPEG is " + std::to_string(width) + "x" + std::to_string(height) + ", the message said " +
+             std::to_string(expected_width) + "x" + std::to_string(expected_height);
+    return JpegDecodeError::kSizeMismatch;
+  }
+  switch (subsamp) {
+    case TJSAMP_420: out.subsampling = JpegSubsampling::k420; break;
+    case TJSAMP_422: out.subsampling = JpegSubsampling::k422; break;
+    case TJSAMP_444: out.subsampling = JpegSubsampling::k444; break;
+    case TJSAMP_GRAY: out.subsampling = JpegSubsampling::kGray; break;
+    default:
+      *error = "JPEG chroma subsampling " + std::to_string(subsamp) + " is not one the renderer takes";
+      return JpegDecodeError::kUnsupported;
+  }
+  out.width = width;
+  out.height = height;
+  const bool gray = subsamp == TJSAMP_GRAY;
+  out.chroma_width = gray ? 0 : tjPlaneWidth(1, width, subsamp);
+  out.chroma_height = gray ? 0 : tjPlaneHeight(1, height, subsamp);
+  out.y.resize(static_cast<std::size_t>(width) * height);
+  out.u.resize(static_cast<std::size_t>(out.chroma_width) * out.chroma_height);
+  out.v.resize(out.u.size());
+  unsigned char* planes[3] = {out.y.data(), gray ? nullptr : out.u.data(), gray ? nullptr : out.v.data()};
+  int strides[3] = {width, out.chroma_width, out.chroma_width};
+  if (tjDecompressToYUVPlanes(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), planes,
+                              width, strides, height, TJFLAG_FASTDCT | TJFLAG_STOPONWARNING) != 0) {
+    // Warnings too (a truncated file decodes half grey): the operator keeps the previous frame
+    // rather than seeing a broken one.
+    *error = std::string("JPEG data: ") + tjGetErrorStr2(handle_);
+    return JpegDecodeError::kCorrupt;
+  }
+  return JpegDecodeError::kNone;
+}
+
+}  // namespace telesphere::xr
