@@ -98,14 +98,7 @@ SystemCalibration readKalibr(const YamlReader& in, const YAML::Node& root) {
 }  // namespace
 
 FileResult<SystemCalibration> parseKalibrCamchain(const std::string& text, const std::string& path) {
-  try {
-    const YamlReader in(path);
-    return readKalibr(in, in.parse(text));
-  } catch (const FileErrorException& e) {
-    return e.error;
-  } catch (const YAML::Exception& e) {
-    return FileError{path, e.mark.line + 1, "", e.msg};
-  }
+  return detail::readYamlCalibration(text, path, readKalibr);
 }
 
 std::string toKalibrCamchain(const SystemCalibration& calib) {

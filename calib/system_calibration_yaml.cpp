@@ -96,14 +96,7 @@ void emitTransform(YAML::Emitter& out, const Eigen::Isometry3d& T) {
 
 FileResult<SystemCalibration> parseSystemCalibrationYaml(const std::string& text,
                                                          const std::string& path) {
-  try {
-    const YamlReader in(path);
-    return readSystem(in, in.parse(text));
-  } catch (const FileErrorException& e) {
-    return e.error;
-  } catch (const YAML::Exception& e) {
-    return FileError{path, e.mark.line + 1, "", e.msg};
-  }
+  return detail::readYamlCalibration(text, path, readSystem);
 }
 
 std::string toSystemCalibrationYaml(const SystemCalibration& calib) {

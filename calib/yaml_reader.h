@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "calib/file_error.h"
+#include "calib/system_calibration.h"
 
 namespace telesphere::calib::detail {
 
@@ -51,5 +52,19 @@ class YamlReader {
  private:
   std::string path_;
 };
+
+/// Parses `text` and runs read(reader, root), turning every failure into a FileError.
+template <typename Read>
+FileResult<SystemCalibration> readYamlCalibration(const std::string& text, const std::string& path,
+                                                  Read&& read) {
+  try {
+    const YamlReader in(path);
+    return read(in, in.parse(text));
+  } catch (const FileErrorException& e) {
+    return e.error;
+  } catch (const YAML::Exception& e) {
+    return FileError{path, e.mark.line + 1, "", e.msg};
+  }
+}
 
 }  // namespace telesphere::calib::detail
