@@ -3,15 +3,26 @@
 ///   model project|unproject --calib FILE --camera N   stdin → stdout, one line per line
 ///   convert --calib FILE --out FILE --format telesphere|kalibr|basalt
 ///   info --calib FILE                                 models, parameters, fields of view
+///   intrinsics --images DIR [--images-right DIR] --target aprilgrid.yaml --model ds --out FILE
+///                                                     calibrate a camera or the stereo pair
+///   handeye --samples FILE --calib FILE --out FILE    T_flange_cam_l, T_robot_mount, T_wrist_marker
+///   report --report FILE [--coverage PREFIX]          kalibr-style summary and coverage pictures
 /// --calib takes our calibration YAML, a kalibr camchain.yaml or a Basalt calibration JSON.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 #include <string>
 
+#include "calib/aprilgrid.h"
 #include "calib/calibration_file.h"
+#include "calib/calibration_report.h"
+#include "calib/hand_eye_samples.h"
+#include "calib/intrinsic_calibration.h"
+#include "calib/target_detection.h"
 
 namespace {
 
@@ -84,6 +95,154 @@ double horizontalFovDeg(const CameraCalibration& cam) {
   return (left + right) * 180.0 / M_PI;
 }
 
+void progressLine(const std::string& line) { std::cerr << line << "\n"; }
+
+/// Image files of a folder (png, jpg, jpeg, bmp, tif, tiff, pgm), sorted by name.
+std::vector<std::filesystem::path> imageFiles(const std::string& dir) {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    std::string ext = entry.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (entry.is_regular_file() &&
+        (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
+         ext == ".tiff" || ext == ".pgm"))
+      files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+struct IntrinsicsArgs {
+  std::string images, images_right, target, model = "ds", out, format = "telesphere", report;
+  int min_tags = 4;
+};
+
+int runIntrinsics(const IntrinsicsArgs& args) {
+  namespace calib = telesphere::calib;
+  const auto grid = calib::loadAprilGrid(args.target);
+  if (!grid) {
+    std::cerr << "telesphere-calib: " << grid.error().describe() << "\n";
+    return 1;
+  }
+  std::vector<std::string> dirs = {args.images};
+  if (!args.images_right.empty()) dirs.push_back(args.images_right);
+  std::vector<std::vector<std::filesystem::path>> files;
+  for (const auto& dir : dirs) files.push_back(imageFiles(dir));
+  if (files.size() == 2 && files[0].size() != files[1].size()) {
+    std::cerr << "telesphere-calib: " << args.images << " has " << files[0].size() << " images but "
+              << args.images_right << " has " << files[1].size() << " (stereo pairs are matched by sorted name)\n";
+    return 1;
+  }
+  if (files[0].empty()) {
+    std::cerr << "telesphere-calib: no images in " << args.images << "\n";
+    return 1;
+  }
+  calib::DetectionOptions detection;
+  detection.min_tags = args.min_tags;
+  std::vector<calib::CameraViews> cameras(files.size());
+  for (std::size_t c = 0; c < files.size(); ++c) {
+    cameras[c].label = c == 0 ? "cam_l" : "cam_r";
+    cameras[c].model = args.model;
+    for (std::size_t i = 0; i < files[c].size(); ++i) {
+      const auto image = calib::readGrayImage(files[c][i].string());
+      if (!image) {
+        std::cerr << "telesphere-calib: cannot read the image " << files[c][i].string() << "\n";
+        return 1;
+      }
+      if (cameras[c].width == 0) {
+        cameras[c].width = image->width;
+        cameras[c].height = image->height;
+      } else if (image->width != cameras[c].width || image->height != cameras[c].height) {
+        std::cerr << "telesphere-calib: " << files[c][i].string() << " is " << image->width << "x"
+                  << image->height << ", the first image was " << cameras[c].width << "x"
+                  << cameras[c].height << "\n";
+        return 1;
+      }
+      cameras[c].views.push_back(calib::detectAprilGrid(*image, *grid, detection));
+      std::cerr << "detecting " << cameras[c].label << " " << (i + 1) << "/" << files[c].size() << " "
+                << files[c][i].filename().string() << ": " << cameras[c].views.back().tags_detected
+                << " tags, " << cameras[c].views.back().corner_ids.size() << " corners used\n";
+    }
+  }
+  calib::IntrinsicOptions options;
+  options.progress = progressLine;
+  const auto result = calib::calibrateIntrinsics(*grid, cameras, options);
+  if (!result) {
+    std::cerr << "telesphere-calib: " << result.failure().message << "\n";
+    return 2;
+  }
+  std::cout << calib::kalibrStyleSummary(*result);
+  const auto format = *calib::parseFormatName(args.format);
+  if (auto error = calib::saveCalibrationFile(result->toSystemCalibration(), args.out, format)) {
+    std::cerr << "telesphere-calib: " << error->describe() << "\n";
+    return 1;
+  }
+  const std::string report = args.report.empty() ? args.out + ".report.json" : args.report;
+  if (auto error = calib::saveIntrinsicReport(*result, report)) {
+    std::cerr << "telesphere-calib: " << error->describe() << "\n";
+    return 1;
+  }
+  std::cerr << "wrote " << args.out << " (" << args.format << ") and " << report << "\n";
+  return 0;
+}
+
+int runHandEye(const std::string& samples_path, const std::string& calib_path, const std::string& out,
+               const std::string& format_name) {
+  namespace calib = telesphere::calib;
+  auto system = load(calib_path);
+  if (!system) return 1;
+  const auto file = calib::loadHandEyeSamples(samples_path, progressLine);
+  if (!file) {
+    std::cerr << "telesphere-calib: " << file.error().describe() << "\n";
+    return 1;
+  }
+  calib::HandEyeOptions options;
+  options.progress = progressLine;
+  const auto result = calib::calibrateHandEye(*system, file->marker_size, file->samples, options);
+  if (!result) {
+    std::cerr << "telesphere-calib: " << result.failure().message << "\n";
+    return 2;
+  }
+  std::printf("hand-eye: %d samples, RMS cam_l %.4f px, cam_r %.4f px; rotation axes spread head %.1f deg, wrist %.1f deg\n",
+              result->samples_used, result->rms_px_l, result->rms_px_r,
+              result->identifiability.head_axis_spread_deg, result->identifiability.wrist_axis_spread_deg);
+  const std::pair<const char*, const Eigen::Isometry3d*> transforms[] = {
+      {"T_flange_cam_l", &result->T_flange_cam_l},
+      {"T_robot_mount", &result->T_robot_mount},
+      {"T_wrist_marker", &result->T_wrist_marker}};
+  for (const auto& [name, T] : transforms)
+    std::cout << name << ":\n" << T->matrix() << "\n";
+  system->T_flange_cam_l = result->T_flange_cam_l;
+  system->T_robot_mount = result->T_robot_mount;
+  system->T_wrist_marker = result->T_wrist_marker;
+  if (auto error = calib::saveCalibrationFile(*system, out, *calib::parseFormatName(format_name))) {
+    std::cerr << "telesphere-calib: " << error->describe() << "\n";
+    return 1;
+  }
+  std::cerr << "wrote " << out << " (" << format_name << ")\n";
+  return 0;
+}
+
+int runReport(const std::string& report_path, const std::string& coverage_prefix) {
+  namespace calib = telesphere::calib;
+  const auto report = calib::loadIntrinsicReport(report_path);
+  if (!report) {
+    std::cerr << "telesphere-calib: " << report.error().describe() << "\n";
+    return 1;
+  }
+  std::cout << calib::kalibrStyleSummary(*report);
+  if (coverage_prefix.empty()) return 0;
+  for (const auto& cam : report->cameras) {
+    const std::string path = coverage_prefix + "_" + cam.calibration.label + ".png";
+    if (!calib::writeGrayImage(calib::coverageImage(cam), path)) {
+      std::cerr << "telesphere-calib: cannot write " << path << "\n";
+      return 1;
+    }
+    std::cerr << "wrote " << path << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -119,7 +278,55 @@ int main(int argc, char** argv) {
   CLI::App* info = app.add_subcommand("info", "models, parameters and fields of view of a calibration");
   info->add_option("--calib", calib_path, "calibration file (any format)")->required()->check(CLI::ExistingFile);
 
+  IntrinsicsArgs intr;
+  CLI::App* intrinsics = app.add_subcommand(
+      "intrinsics", "calibrate a camera (or the stereo pair) from images of a kalibr Aprilgrid");
+  intrinsics->add_option("--images", intr.images, "folder of images of cam_l (cam0)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  intrinsics->add_option("--images-right", intr.images_right,
+                         "folder of images of cam_r taken with those of --images (matched by sorted name)")
+      ->check(CLI::ExistingDirectory);
+  intrinsics->add_option("--target", intr.target, "kalibr target YAML (aprilgrid)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  intrinsics->add_option("--model", intr.model, "camera model")
+      ->check(CLI::IsMember({"ds", "eucm", "kb4", "pinhole"}))
+      ->capture_default_str();
+  intrinsics->add_option("--out", intr.out, "output calibration file")->required();
+  intrinsics->add_option("--format", intr.format, "output format")
+      ->check(CLI::IsMember({"telesphere", "kalibr", "basalt"}))
+      ->capture_default_str();
+  intrinsics->add_option("--report", intr.report, "report JSON (default: OUT.report.json)");
+  intrinsics->add_option("--min-tags", intr.min_tags, "tags a view needs")->capture_default_str();
+
+  std::string samples_path;
+  CLI::App* handeye = app.add_subcommand(
+      "handeye", "hand-eye calibration (T_flange_cam_l, T_robot_mount, T_wrist_marker) from a sample file");
+  handeye->add_option("--samples", samples_path, "sample file (YAML, see calib/hand_eye_samples.h)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  handeye->add_option("--calib", calib_path, "calibration with the cameras' intrinsics (any format)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  handeye->add_option("--out", out_path, "output calibration file (the input plus the hand-eye transforms)")
+      ->required();
+  handeye->add_option("--format", format_name, "output format")
+      ->check(CLI::IsMember({"telesphere", "kalibr", "basalt"}))
+      ->capture_default_str();
+
+  std::string report_path, coverage_prefix;
+  CLI::App* report = app.add_subcommand("report", "summary and coverage pictures of an intrinsic calibration");
+  report->add_option("--report", report_path, "report JSON written by `intrinsics`")
+      ->required()
+      ->check(CLI::ExistingFile);
+  report->add_option("--coverage", coverage_prefix, "write PREFIX_cam_l.png (and _cam_r) coverage pictures");
+
   CLI11_PARSE(app, argc, argv);
+
+  if (intrinsics->parsed()) return runIntrinsics(intr);
+  if (handeye->parsed()) return runHandEye(samples_path, calib_path, out_path, format_name);
+  if (report->parsed()) return runReport(report_path, coverage_prefix);
 
   const auto calib = load(calib_path);
   if (!calib) return 1;

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+/// @brief Aprilgrid description, rendering and detection on images of the >180° lens: corners
+///        found where the true model projects them, with kalibr's corner numbering.
+#include <gtest/gtest.h>
+
+#include "calib/aprilgrid.h"
+#include "calib/target_detection.h"
+#include "calib/target_render.h"
+#include "tests/calib/calib_synthetic.h"
+
+namespace telesphere::calib {
+namespace {
+
+using test::lens1280;
+using test::testGrid;
+
+TEST(AprilGrid, KalibrCornerKIsOpenCvCornerOneMinusKModFour) {
+  EXPECT_EQ(kalibrToOpenCvCorner(0), 1);
+  EXPECT_EQ(kalibrToOpenCvCorner(1), 0);
+  EXPECT_EQ(kalibrToOpenCvCorner(2), 3);
+  EXPECT_EQ(kalibrToOpenCvCorner(3), 2);
+}
+
+TEST(AprilGrid, CornerGeometryFollowsKalibr) {
+  const AprilGrid grid{6, 5, 0.1, 0.3};
+  EXPECT_TRUE(grid.cornerPosition(0).isApprox(Eigen::Vector3d(0, 0, 0)));
+  EXPECT_TRUE(grid.cornerPosition(1).isApprox(Eigen::Vector3d(0.1, 0, 0)));
+  EXPECT_TRUE(grid.cornerPosition(2).isApprox(Eigen::Vector3d(0.1, 0.1, 0)));
+  EXPECT_TRUE(grid.cornerPosition(3).isApprox(Eigen::Vector3d(0, 0.1, 0)));
+  // Tag 7 = row 1, column 1.
+  EXPECT_TRUE(grid.cornerPosition(4 * 7).isApprox(Eigen::Vector3d(0.13, 0.13, 0)));
+  EXPECT_NEAR(grid.width(), 6 * 0.13 - 0.03, 1e-12);
+}
+
+TEST(AprilGrid, ReadsKalibrTargetYaml) {
+  const auto grid = parseAprilGrid(
+      "target_type: 'aprilgrid'\ntagCols: 6\ntagRows: 7\ntagSize: 0.088\ntagSpacing: 0.3\n", "t.yaml");
+  ASSERT_TRUE(grid) << grid.error().describe();
+  EXPECT_EQ(grid->tag_cols, 6);
+  EXPECT_EQ(grid->tag_rows, 7);
+  EXPECT_DOUBLE_EQ(grid->tag_size, 0.088);
+  const auto bad = parseAprilGrid("target_type: 'checkerboard'\n", "t.yaml");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().field, "target_type");
+  const auto negative = parseAprilGrid(
+      "target_type: aprilgrid\ntagCols: 6\ntagRows: 6\ntagSize: -1\ntagSpacing: 0.3\n", "t.yaml");
+  ASSERT_FALSE(negative);
+  EXPECT_EQ(negative.error().line, 4);
+}
+
+/// Detects the grid rendered at T_cam_board and compares every corner with the true projection
+/// of the kalibr corner of the same id.
+struct DetectionCheck {
+  int corners = 0;
+  double max_error_px = 0, rms_px = 0;
+  TargetObservation obs;
+};
+
+DetectionCheck renderAndDetect(const Eigen::Isometry3d& T_cam_board) {
+  const auto cam = lens1280();
+  const AprilGrid grid = testGrid();
+  const GrayImage image =
+      renderTarget(cam.camera, cam.width, cam.height, T_cam_board, aprilGridTexture(grid));
+  DetectionCheck out;
+  out.obs = detectAprilGrid(image, grid);
+  double sum2 = 0;
+  for (std::size_t i = 0; i < out.obs.corner_ids.size(); ++i) {
+    Eigen::Vector2d truth;
+    EXPECT_TRUE(cam.camera.project(T_cam_board * grid.cornerPosition(out.obs.corner_ids[i]), truth));
+    const double e = (truth - out.obs.corners_px[i]).norm();
+    out.max_error_px = std::max(out.max_error_px, e);
+    sum2 += e * e;
+  }
+  out.corners = static_cast<int>(out.obs.corner_ids.size());
+  out.rms_px = out.corners ? std::sqrt(sum2 / out.corners) : INFINITY;
+  return out;
+}
+
+TEST(AprilGridDetection, CornersMatchKalibrNumberingOnAxis) {
+  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.2, -0.15, 0.1);
+  const DetectionCheck check = renderAndDetect(T);
+  EXPECT_GE(check.obs.tags_detected, 34);
+  EXPECT_GE(check.corners, 136);
+  // A wrong corner order would be off by a tag edge (tens of pixels).
+  EXPECT_LT(check.max_error_px, 0.6);
+  EXPECT_LT(check.rms_px, 0.25);
+}
+
+TEST(AprilGridDetection, TagZeroIsBottomLeftSeenFromTheFront) {
+  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
+  const DetectionCheck check = renderAndDetect(T);
+  ASSERT_GE(check.corners, 136);
+  // Corner 0 (bottom-left of tag 0) lies below the top-left tag's and left of the
+  // bottom-right tag's bottom-left corner in the image.
+  const auto find = [&](int id) {
+    const auto it = std::find(check.obs.corner_ids.begin(), check.obs.corner_ids.end(), id);
+    EXPECT_NE(it, check.obs.corner_ids.end()) << "corner " << id;
+    return check.obs.corners_px[static_cast<std::size_t>(it - check.obs.corner_ids.begin())];
+  };
+  const AprilGrid grid = testGrid();
+  const Eigen::Vector2d c0 = find(0);
+  EXPECT_GT(c0.y(), find(4 * (grid.numTags() - grid.tag_cols)).y() + 100);
+  EXPECT_LT(c0.x(), find(4 * (grid.tag_cols - 1)).x() - 100);
+}
+
+TEST(AprilGridDetection, FindsTheBoardBeyondNinetyDegreesOffAxis) {
+  // Board centre 82° off the optical axis, its far half beyond 90°: only a bearing-based
+  // pipeline can use such a view.
+  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 82.0 * M_PI / 180, 0.0, 0.6, 0.0, 0.0, 0.0);
+  const DetectionCheck check = renderAndDetect(T);
+  EXPECT_GE(check.corners, 24);
+  int behind = 0;
+  const AprilGrid grid = testGrid();
+  for (int id : check.obs.corner_ids) behind += (T * grid.cornerPosition(id)).z() < 0;
+  EXPECT_GT(behind, 0) << "no corner detected beyond 90 deg of " << check.corners;
+  EXPECT_LT(check.max_error_px, 1.0);
+}
+
+TEST(AprilGridDetection, TooFewTagsOrBorderCornersYieldNothing) {
+  const auto cam = lens1280();
+  const AprilGrid grid = testGrid();
+  // Board far away and small: fewer tags than required.
+  const GrayImage blank(cam.width, cam.height, 128);
+  EXPECT_TRUE(detectAprilGrid(blank, grid).empty());
+  const Eigen::Isometry3d T = test::boardPoseAt(grid, 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
+  const GrayImage image = renderTarget(cam.camera, cam.width, cam.height, T, aprilGridTexture(grid));
+  DetectionOptions strict;
+  strict.min_tags = 37;
+  EXPECT_TRUE(detectAprilGrid(image, grid, strict).empty());
+  EXPECT_EQ(detectAprilGrid(image, grid, strict).tags_detected, 36);
+  DetectionOptions wide_margin;
+  wide_margin.border_margin_px = 500;  // only the image centre remains
+  const auto obs = detectAprilGrid(image, grid, wide_margin);
+  for (const auto& px : obs.corners_px) {
+    EXPECT_GE(px.x(), 500);
+    EXPECT_GE(px.y(), 500);
+  }
+  EXPECT_LT(obs.corner_ids.size(), detectAprilGrid(image, grid).corner_ids.size());
+}
+
+TEST(ArucoDetection, FindsTheHandEyeMarkerCorners) {
+  const auto cam = lens1280();
+  const double size = 0.1;
+  const Eigen::Isometry3d T_cam_marker =
+      test::poseOf(Eigen::Vector3d(M_PI + 0.3, 0.2, 0.4), Eigen::Vector3d(0.1, -0.05, 0.4));
+  const GrayImage image = renderTarget(cam.camera, cam.width, cam.height, T_cam_marker,
+                                       arucoMarkerTexture("DICT_4X4_50", 7, size));
+  const auto corners = detectArucoMarker(image, "DICT_4X4_50", 7);
+  ASSERT_TRUE(corners);
+  const auto p = markerCorners(size);
+  for (std::size_t k = 0; k < 4; ++k) {
+    Eigen::Vector2d truth;
+    ASSERT_TRUE(cam.camera.project(T_cam_marker * p[k], truth));
+    EXPECT_LT(((*corners)[k] - truth).norm(), 0.6) << "corner " << k;
+  }
+  EXPECT_FALSE(detectArucoMarker(image, "DICT_4X4_50", 8));
+  EXPECT_THROW(detectArucoMarker(image, "DICT_NOPE", 7), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace telesphere::calib
