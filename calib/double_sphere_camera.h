@@ -234,7 +234,7 @@ class DoubleSphereCamera {
   }
 
   Params params_;
-  Scalar w2_;
+  Scalar w2_{};
   Scalar inv_fx_ = Scalar(1) / params_[0];  // unprojection multiplies instead of dividing
   Scalar inv_fy_ = Scalar(1) / params_[1];
 };

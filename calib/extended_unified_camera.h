@@ -161,7 +161,7 @@ class ExtendedUnifiedCamera {
 
  private:
   Params params_;
-  Scalar w_;
+  Scalar w_{};
 };
 
 }  // namespace telesphere::calib

@@ -25,7 +25,9 @@ std::optional<GenericCamera> createModel(const Eigen::VectorXd& params, std::str
     if (out_error) *out_error = *error;
     return std::nullopt;
   }
-  return GenericCamera(Model(p));
+  // Built in place: moving a temporary GenericCamera into the optional trips a GCC 12
+  // -Wmaybe-uninitialized false positive on the variant.
+  return std::optional<GenericCamera>(std::in_place, Model(p));
 }
 
 template <typename Model>

@@ -213,8 +213,8 @@ class KannalaBrandtCamera {
   }
 
   Params params_;
-  Scalar theta_max_;
-  Scalar theta_d_max_;
+  Scalar theta_max_{};
+  Scalar theta_d_max_{};
 };
 
 }  // namespace telesphere::calib

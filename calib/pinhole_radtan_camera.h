@@ -245,7 +245,7 @@ class PinholeRadtanCamera {
   }
 
   Params params_;
-  Scalar r2_max_;
+  Scalar r2_max_{};
 };
 
 }  // namespace telesphere::calib
