@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+/// @brief The head-arm seam (DESIGN.md §5, STYLE.md §2): timestamped joint states out, joint
+///        targets in, at 100 Hz. Implementations: SimulatedArm (robot/head_arm_sim.h); a real
+///        xArm driver implements the same interface.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "robot/joint_state.h"
+
+namespace telesphere::robot {
+
+class HeadArm {
+ public:
+  /// The state and command rate of the arm: 100 Hz (paper §V, modified xArm firmware).
+  static constexpr std::int64_t kStatePeriodNs = 10'000'000;
+
+  virtual ~HeadArm() = default;
+
+  /// Does the arm's I/O up to now: receives states, sends pending targets (the simulated arm also
+  /// advances its physics to its clock's now). Call at least at the state rate.
+  virtual void update() = 0;
+
+  /// Asks the arm to move to q_target (rad) as fast as its limits allow. Returns false, and the
+  /// target is dropped, when the arm is stopped or disconnected, or when q_target is not finite
+  /// or outside the joint limits (the arm refuses such targets, so callers must clamp first).
+  virtual bool sendTarget(const JointVector& q_target) = 0;
+
+  /// The oldest joint state not yet taken, in time order; empty when none has arrived.
+  virtual std::optional<JointState> pollState() = 0;
+
+  /// The arm's status as last known.
+  virtual ArmStatus status() const = 0;
+
+  /// Clears a stop (ArmStatus::kStopped) so that targets are followed again; false if the arm
+  /// cannot be re-enabled now (e.g. disconnected).
+  virtual bool clearStop() = 0;
+};
+
+}  // namespace telesphere::robot

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+/// @brief JPEG encoding of camera images with libjpeg-turbo's TurboJPEG API (DESIGN.md §4).
+///        Quality and chroma subsampling are the speed/size/fidelity knobs; one encoder per
+///        thread (a TurboJPEG handle is not thread-safe), so both cameras encode in parallel.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace telesphere::robot {
+
+enum class ChromaSubsampling { k420, k422, k444, kGray };
+
+struct JpegSettings {
+  int quality = 90;  ///< 1..100
+  ChromaSubsampling subsampling = ChromaSubsampling::k420;
+};
+
+class JpegEncoder {
+ public:
+  JpegEncoder();
+  ~JpegEncoder();
+  JpegEncoder(const JpegEncoder&) = delete;
+  JpegEncoder& operator=(const JpegEncoder&) = delete;
+
+  /// Encodes an 8-bit RGB image (rows `stride` bytes apart) into out_jpeg (reused, resized).
+  /// Returns false with the reason in *error for bad sizes, settings or a libjpeg-turbo failure.
+  bool encodeRgb(const std::uint8_t* rgb, int width, int height, int stride,
+                 const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
+                 std::string* error);
+
+ private:
+  void* handle_;
+};
+
+}  // namespace telesphere::robot

@@ -1,0 +1,249 @@
+// SPDX-License-Identifier: MIT
+/// @brief HeadController: the nominal mapping with pitch and roll removed, operator motion mapped
+///        into the robot frame, filtering, the jump guard's slow approach, the workspace clamp,
+///        the three modes, rejection of bad input with counted reasons, joint limits under fuzzed
+///        input, and the closed loop with the simulated arm on a driven clock.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "robot/head_arm_sim.h"
+#include "robot/head_controller.h"
+#include "robot/sim_clock.h"
+
+namespace telesphere::robot {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+constexpr double kDeg = M_PI / 180.0;
+
+/// An OpenXR view pose (x right, y up, −z forward) from yaw (about +y), pitch, roll, position.
+Eigen::Isometry3d hmdPose(const Eigen::Vector3d& p, double yaw, double pitch, double roll) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()))
+                   .toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+class HeadControllerTest : public ::testing::Test {
+ protected:
+  HeadControllerTest() {
+    // The arm starts at the nominal head pose.
+    const Xarm6Kinematics& kin = controller.kinematics();
+    JointVector seed;
+    seed << 0.0, -0.3, -1.0, 0.0, -0.6, 0.0;
+    const IkResult ik = kin.inverse(
+        config.T_robot_nom * config.geometry.T_flange_head().inverse(), seed);
+    EXPECT_TRUE(ik.converged());
+    q_nom = ik.q;
+  }
+  /// Initialises with the operator at `nominal` and runs `ticks` 10 ms ticks holding `pose`.
+  HeadCommand holdFor(const Eigen::Isometry3d& pose, int ticks) {
+    HeadCommand cmd;
+    for (int i = 0; i < ticks; ++i) {
+      now += 10 * kMs;
+      cmd = controller.tick(HmdSample{now, pose}, now);
+    }
+    return cmd;
+  }
+  Eigen::Isometry3d headOf(const JointVector& q) const {
+    return controller.kinematics().forward(q) * config.geometry.T_flange_head();
+  }
+
+  HeadControllerConfig config;
+  HeadController controller{config};
+  JointVector q_nom;
+  std::int64_t now = 1000 * kMs;
+  const Eigen::Isometry3d nominal_hmd = hmdPose({0.3, 1.6, -0.2}, 30 * kDeg, 12 * kDeg, -7 * kDeg);
+  const Eigen::Isometry3d level_hmd = hmdPose({0.3, 1.6, -0.2}, 30 * kDeg, 0, 0);
+};
+
+TEST_F(HeadControllerTest, PitchAndRollAreRemovedFromTheNominalPose) {
+  ASSERT_TRUE(controller.initialise({now, nominal_hmd}, q_nom));
+  // The operator looking level with the recorded yaw maps exactly onto the nominal pose.
+  const HeadCommand cmd = holdFor(level_hmd, 20);
+  ASSERT_TRUE(cmd.send);
+  EXPECT_TRUE(cmd.T_robot_headTarget.isApprox(config.T_robot_nom, 1e-6))
+      << cmd.T_robot_headTarget.matrix();
+  EXPECT_TRUE(headOf(cmd.q_target).isApprox(config.T_robot_nom, 1e-4));
+  EXPECT_FALSE(cmd.approaching);
+}
+
+TEST_F(HeadControllerTest, OperatorMotionIsMappedIntoTheRobotFrame) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  // 10 cm to the operator's left and 5 cm up, then 20° yaw to the left.
+  const Eigen::Vector3d left_vr = level_hmd.linear() * Eigen::Vector3d(-1, 0, 0);
+  Eigen::Isometry3d moved = level_hmd;
+  moved.translation() += 0.10 * left_vr + Eigen::Vector3d(0, 0.05, 0);
+  moved.linear() = Eigen::AngleAxisd(20 * kDeg, Eigen::Vector3d::UnitY()) * moved.linear();
+  const HeadCommand cmd = holdFor(moved, 200);  // a jump (20°): approached, then tracked
+  const Eigen::Vector3d expected = config.T_robot_nom.translation() + Eigen::Vector3d(0, 0.10, 0.05);
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - expected).norm(), 1e-6);
+  const Eigen::Matrix3d R_expected =
+      config.T_robot_nom.linear() * Eigen::AngleAxisd(20 * kDeg, Eigen::Vector3d::UnitZ());
+  EXPECT_LT(rotationLog(cmd.T_robot_headTarget.linear() * R_expected.transpose()).norm(), 1e-6);
+  EXPECT_EQ(cmd.ik_status, IkResult::Status::kConverged);
+  EXPECT_TRUE(headOf(cmd.q_target).isApprox(cmd.T_robot_headTarget, 1e-4));
+}
+
+TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  holdFor(level_hmd, 5);
+  Eigen::Isometry3d jumped = level_hmd;
+  jumped.translation() += level_hmd.linear() * Eigen::Vector3d(0.25, 0, 0);  // 25 cm right
+  Eigen::Vector3d previous = holdFor(level_hmd, 1).T_robot_headTarget.translation();
+  int ticks = 0;
+  HeadCommand cmd;
+  do {
+    now += 10 * kMs;
+    cmd = controller.tick(HmdSample{now, jumped}, now);
+    const Eigen::Vector3d p = cmd.T_robot_headTarget.translation();
+    EXPECT_LE((p - previous).norm(), config.approach_speed * 0.010 + 1e-9);
+    previous = p;
+    ++ticks;
+  } while (cmd.approaching && ticks < 1000);
+  EXPECT_EQ(controller.jumpCount(), 1);
+  // 25 cm at 0.15 m/s: about 1.65 s.
+  EXPECT_NEAR(ticks, 165, 3);
+  EXPECT_LT((cmd.T_robot_headTarget.translation() -
+             (config.T_robot_nom.translation() + Eigen::Vector3d(0, -0.25, 0)))
+                .norm(),
+            config.caught_up_position + 1e-9);
+}
+
+TEST_F(HeadControllerTest, WorkspaceClampHoldsTheTargetInside) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  // The operator walks 1 m forward slowly (no jump): the head stops at the box face.
+  const Eigen::Vector3d forward_vr = level_hmd.linear() * Eigen::Vector3d(0, 0, -1);
+  HeadCommand cmd;
+  for (int i = 1; i <= 300; ++i) {
+    Eigen::Isometry3d T = level_hmd;
+    T.translation() += forward_vr * (i / 300.0);
+    now += 10 * kMs;
+    cmd = controller.tick(HmdSample{now, T}, now);
+    ASSERT_TRUE(config.workspace.contains(cmd.T_robot_headTarget.translation()));
+  }
+  EXPECT_TRUE(cmd.clamped);
+  EXPECT_NEAR(cmd.T_robot_headTarget.translation().x(), config.workspace.max().x(), 1e-12);
+  EXPECT_EQ(controller.jumpCount(), 0);
+}
+
+TEST_F(HeadControllerTest, Modes) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  Eigen::Isometry3d moved = level_hmd;
+  moved.translation() += Eigen::Vector3d(0, 0.05, 0);
+  moved.linear() = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitY()) * moved.linear();
+  controller.setMode(HeadMode::kOrientationOnly);
+  HeadCommand cmd = holdFor(moved, 30);
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 1e-9);
+  EXPECT_NEAR(rotationLog(cmd.T_robot_headTarget.linear() * config.T_robot_nom.linear().transpose())
+                  .z(),
+              10 * kDeg, 1e-6);
+  controller.setMode(HeadMode::kFixed);
+  for (int i = 0; i < 200; ++i) {  // the 45° change is a jump: slow approach, then settled
+    now += 10 * kMs;
+    Eigen::Isometry3d garbage = moved;
+    garbage.translation().x() = NAN;  // ignored in fixed mode
+    cmd = controller.tick(HmdSample{now, garbage}, now);
+  }
+  EXPECT_FALSE(cmd.approaching);
+  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNonFinite), 0);
+  const Eigen::Vector3d x_head = cmd.T_robot_headTarget.linear().col(0);
+  EXPECT_NEAR(x_head.z(), -std::sin(45 * kDeg), 1e-3);  // looking 45° down
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 0.003);
+}
+
+TEST_F(HeadControllerTest, BadInputIsRejectedCountedAndTheArmHolds) {
+  EXPECT_FALSE(controller.tick(HmdSample{now, level_hmd}, now).send);
+  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNotInitialised), 1);
+  Eigen::Isometry3d nan_pose = level_hmd;
+  nan_pose.translation().y() = NAN;
+  EXPECT_FALSE(controller.initialise({now, nan_pose}, q_nom));
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  const JointVector q_held = holdFor(level_hmd, 10).q_target;
+
+  Eigen::Isometry3d inf_pose = level_hmd;
+  inf_pose.linear()(1, 1) = INFINITY;
+  Eigen::Isometry3d skewed = level_hmd;
+  skewed.linear() *= 1.1;
+  const std::int64_t t = now + 10 * kMs;
+  struct Case {
+    std::optional<HmdSample> sample;
+    HeadRejectReason reason;
+  };
+  const std::vector<Case> cases = {
+      {std::nullopt, HeadRejectReason::kMissing},
+      {HmdSample{t, nan_pose}, HeadRejectReason::kNonFinite},
+      {HmdSample{t, inf_pose}, HeadRejectReason::kNonFinite},
+      {HmdSample{t, skewed}, HeadRejectReason::kNotRotation},
+      {HmdSample{t - 150 * kMs, level_hmd}, HeadRejectReason::kStale},
+      {HmdSample{t + 50 * kMs, level_hmd}, HeadRejectReason::kFromFuture},
+      {HmdSample{now - 5 * kMs, level_hmd}, HeadRejectReason::kOutOfOrder},
+  };
+  for (const Case& c : cases) {
+    const std::int64_t before = controller.rejectionCount(c.reason);
+    const HeadCommand cmd = controller.tick(c.sample, t);
+    EXPECT_FALSE(cmd.send);
+    EXPECT_EQ(cmd.reason, c.reason);
+    EXPECT_EQ(controller.rejectionCount(c.reason), before + 1);
+    EXPECT_EQ(cmd.q_target, q_held);
+  }
+  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNonFinite), 2);
+  // Good input afterwards is followed again.
+  now = t;
+  EXPECT_TRUE(holdFor(level_hmd, 1).send);
+}
+
+TEST_F(HeadControllerTest, NeverCommandsBeyondJointLimitsUnderFuzzedInput) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> kind(0, 9);
+  for (int i = 0; i < 3000; ++i) {
+    now += 10 * kMs;
+    Eigen::Isometry3d T = hmdPose(level_hmd.translation() + Eigen::Vector3d(u(rng), u(rng), u(rng)) * 3.0,
+                                  u(rng) * M_PI, u(rng) * M_PI, u(rng) * M_PI);
+    const int k = kind(rng);
+    if (k == 0) T.translation().x() = NAN;
+    if (k == 1) T.linear() *= 2.0;
+    if (k == 2) controller.setMode(static_cast<HeadMode>(i % 3));
+    const HeadCommand cmd = controller.tick(HmdSample{k == 3 ? now - kMs * 500 : now, T}, now);
+    ASSERT_TRUE(controller.kinematics().withinLimits(cmd.q_target)) << cmd.q_target.transpose();
+    ASSERT_TRUE(config.workspace.contains(cmd.T_robot_headTarget.translation()) || !cmd.send);
+  }
+  EXPECT_GT(controller.jumpCount(), 0);
+  EXPECT_GT(controller.rejectionCount(HeadRejectReason::kStale), 0);
+}
+
+TEST_F(HeadControllerTest, ClosedLoopWithTheSimulatedArm) {
+  SimClock clock(now);
+  SimulatedArmConfig arm_config;
+  arm_config.q_initial = q_nom;
+  SimulatedArm arm(clock, arm_config);
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  Eigen::Isometry3d moved = level_hmd;
+  moved.translation() += level_hmd.linear() * Eigen::Vector3d(0.08, 0.04, 0);
+  JointState last;
+  for (int ms = 1; ms <= 1500; ++ms) {
+    clock.advance(kMs);
+    arm.update();
+    while (auto s = arm.pollState()) last = *s;
+    if (ms % 10 == 0) {
+      const HeadCommand cmd = controller.tick(HmdSample{clock.nowNs(), moved}, clock.nowNs());
+      if (cmd.send) {
+        EXPECT_TRUE(arm.sendTarget(cmd.q_target));
+      }
+    }
+  }
+  EXPECT_EQ(arm.refusedTargets(), 0);
+  const Eigen::Vector3d expected = config.T_robot_nom.translation() + Eigen::Vector3d(0, -0.08, 0.04);
+  EXPECT_LT((headOf(last.q).translation() - expected).norm(), 1e-3);
+  EXPECT_EQ(last.status, ArmStatus::kOk);
+}
+
+}  // namespace
+}  // namespace telesphere::robot

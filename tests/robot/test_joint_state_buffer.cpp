@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: MIT
+/// @brief JointStateBuffer: interpolation, camera poses by forward kinematics, refusal outside the
+///        window, bounded extrapolation, gaps, ordering, capacity, and one writer with concurrent
+///        readers.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <thread>
+#include <vector>
+
+#include "robot/joint_state_buffer.h"
+
+namespace telesphere::robot {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+/// Joints linear in time, so linear interpolation reproduces them exactly.
+JointVector linearJoints(std::int64_t t_ns) {
+  const double t = static_cast<double>(t_ns) * 1e-9;
+  JointVector q;
+  q << 0.1 + 0.5 * t, -0.3 + 0.2 * t, -1.0 - 0.1 * t, 0.2 * t, 0.8 - 0.3 * t, -0.4 + t;
+  return q;
+}
+
+JointState stateAt(std::int64_t t_ns) { return JointState{t_ns, linearJoints(t_ns), ArmStatus::kOk}; }
+
+TEST(JointStateBuffer, InterpolatesJointsAndFollowsKinematicsForPoses) {
+  const HeadGeometry geometry = HeadGeometry::example();
+  JointStateBuffer buffer(geometry);
+  for (int k = 0; k < 50; ++k) ASSERT_TRUE(buffer.push(stateAt(k * 10 * kMs)));
+  const Xarm6Kinematics kin;
+  for (const std::int64_t t : {std::int64_t{0}, 5 * kMs, 123 * kMs, 250 * kMs + 1, 490 * kMs}) {
+    const auto q = buffer.jointsAt(t);
+    ASSERT_TRUE(q) << t;
+    EXPECT_TRUE(q->isApprox(linearJoints(t), 1e-12));
+    const auto T_l = buffer.T_robot_cam(CameraSide::kLeft, t);
+    const auto T_r = buffer.T_robot_cam(CameraSide::kRight, t);
+    ASSERT_TRUE(T_l && T_r);
+    const Eigen::Isometry3d T_flange = kin.forward(*q);
+    EXPECT_TRUE(T_l->isApprox(T_flange * geometry.T_flange_cam_l, 1e-12));
+    EXPECT_TRUE(T_r->isApprox(T_flange * geometry.T_flange_cam_l * geometry.T_cam_l_cam_r, 1e-12));
+    EXPECT_NEAR((T_l->translation() - T_r->translation()).norm(), 0.065, 1e-12);
+  }
+  // Between two samples, interpolation is linear in the joints (not in the pose).
+  JointStateBuffer step(geometry);
+  JointVector a = JointVector::Zero(), b = JointVector::Zero();
+  b[0] = 0.2;
+  step.push({0, a, ArmStatus::kOk});
+  step.push({10 * kMs, b, ArmStatus::kOk});
+  EXPECT_NEAR((*step.jointsAt(2500'000))[0], 0.05, 1e-15);
+}
+
+TEST(JointStateBuffer, RefusesOutsideItsWindowAndExtrapolatesWithinTheBound) {
+  JointStateBufferConfig config;
+  config.max_extrapolation_ns = 20 * kMs;
+  JointStateBuffer buffer(HeadGeometry::example(), config);
+  EXPECT_FALSE(buffer.jointsAt(0));
+  EXPECT_FALSE(buffer.window());
+  buffer.push(stateAt(100 * kMs));
+  EXPECT_TRUE(buffer.jointsAt(110 * kMs)->isApprox(linearJoints(100 * kMs)));  // one sample: held
+  buffer.push(stateAt(110 * kMs));
+  EXPECT_FALSE(buffer.jointsAt(99 * kMs));
+  const auto extrapolated = buffer.jointsAt(125 * kMs);
+  ASSERT_TRUE(extrapolated);
+  EXPECT_TRUE(extrapolated->isApprox(linearJoints(125 * kMs), 1e-12));
+  EXPECT_TRUE(buffer.jointsAt(130 * kMs));
+  EXPECT_FALSE(buffer.jointsAt(130 * kMs + 1));
+  EXPECT_FALSE(buffer.T_robot_cam(CameraSide::kLeft, 131 * kMs));
+}
+
+TEST(JointStateBuffer, RejectsDisorderedAndNonFiniteStatesAndRefusesAcrossGaps) {
+  JointStateBufferConfig config;
+  config.max_gap_ns = 50 * kMs;
+  JointStateBuffer buffer(HeadGeometry::example(), config);
+  EXPECT_TRUE(buffer.push(stateAt(10 * kMs)));
+  EXPECT_FALSE(buffer.push(stateAt(10 * kMs)));
+  EXPECT_FALSE(buffer.push(stateAt(5 * kMs)));
+  JointState bad = stateAt(20 * kMs);
+  bad.q[3] = NAN;
+  EXPECT_FALSE(buffer.push(bad));
+  EXPECT_TRUE(buffer.push(stateAt(20 * kMs)));
+  EXPECT_TRUE(buffer.push(stateAt(200 * kMs)));  // after a dropped connection
+  EXPECT_EQ(buffer.size(), 3u);
+  EXPECT_TRUE(buffer.jointsAt(15 * kMs));
+  EXPECT_FALSE(buffer.jointsAt(100 * kMs));  // inside the gap
+  EXPECT_TRUE(buffer.jointsAt(200 * kMs));
+}
+
+TEST(JointStateBuffer, DropsTheOldestWhenFull) {
+  JointStateBufferConfig config;
+  config.capacity = 8;
+  JointStateBuffer buffer(HeadGeometry::example(), config);
+  for (int k = 0; k < 20; ++k) buffer.push(stateAt(k * 10 * kMs));
+  EXPECT_EQ(buffer.size(), 8u);
+  const auto window = buffer.window();
+  ASSERT_TRUE(window);
+  EXPECT_EQ(window->first, 120 * kMs);
+  EXPECT_EQ(window->second, 190 * kMs);
+  EXPECT_FALSE(buffer.jointsAt(115 * kMs));
+  EXPECT_TRUE(buffer.jointsAt(155 * kMs)->isApprox(linearJoints(155 * kMs), 1e-12));
+}
+
+TEST(JointStateBuffer, OneWriterSeveralReaders) {
+  JointStateBufferConfig config;
+  config.capacity = 64;
+  JointStateBuffer buffer(HeadGeometry::example(), config);
+  buffer.push(stateAt(0));
+  constexpr int kSamples = 3000;
+  std::atomic<bool> done{false};
+  std::atomic<int> mismatches{0}, answered{0};
+  std::vector<std::thread> readers;
+  for (int r = 0; r < 3; ++r) {
+    readers.emplace_back([&, r] {
+      std::int64_t k = r;
+      while (!done.load(std::memory_order_acquire)) {
+        const auto window = buffer.window();
+        if (!window) continue;
+        // A time inside the window as seen a moment ago; it may have slid out since.
+        const std::int64_t t = window->first + (k++ * 3'333'333) % (window->second - window->first + 1);
+        if (const auto q = buffer.jointsAt(t)) {
+          ++answered;
+          if (!q->isApprox(linearJoints(t), 1e-9)) ++mismatches;
+        }
+      }
+    });
+  }
+  for (int k = 1; k <= kSamples; ++k) {
+    EXPECT_TRUE(buffer.push(stateAt(k * 10 * kMs)));
+    // Halfway, let the readers catch up so that the second half overlaps them for sure.
+    if (k == kSamples / 2) {
+      while (answered.load() < 3) std::this_thread::yield();
+    }
+  }
+  done.store(true, std::memory_order_release);
+  for (std::thread& t : readers) t.join();
+  EXPECT_EQ(mismatches.load(), 0);
+  EXPECT_GT(answered.load(), 0);
+  EXPECT_EQ(buffer.window()->second, kSamples * 10 * kMs);
+}
+
+}  // namespace
+}  // namespace telesphere::robot
