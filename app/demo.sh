@@ -24,4 +24,8 @@ echo "== Camera-model speed and accuracy (telesphere-bench models --quick)"
 "$bin/telesphere-bench" models --quick
 
 echo
-echo "demo outputs are in $out/"
+echo "== The head loop: a 0.5 m/s operator head motion through the controller and the simulated xArm 6"
+"$bin/telesphere-bench" head --quick --out "$out/head"
+
+echo
+echo "demo outputs are in $out/ (head/ holds the motion trace as CSV and PNG)"
