@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+/// @brief EglContext: surfaceless Mesa EGL display, GL 4.5 core context.
+#include "shaders/egl_context.h"
+
+#include <sstream>
+
+namespace telesphere::gl {
+namespace {
+
+bool fail(std::string* out_error, const char* call) {
+  if (out_error) {
+    std::ostringstream os;
+    os << call << " failed with EGL error 0x" << std::hex << eglGetError();
+    *out_error = os.str();
+  }
+  return false;
+}
+
+}  // namespace
+
+std::unique_ptr<EglContext> EglContext::createSurfaceless(std::string* out_error) {
+  const auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (!get_platform_display) {
+    fail(out_error, "eglGetProcAddress(\"eglGetPlatformDisplayEXT\")");
+    return nullptr;
+  }
+  EGLDisplay display =
+      get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (display == EGL_NO_DISPLAY) {
+    fail(out_error, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
+    return nullptr;
+  }
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor)) {
+    fail(out_error, "eglInitialize");
+    return nullptr;
+  }
+  if (!eglBindAPI(EGL_OPENGL_API)) {
+    fail(out_error, "eglBindAPI(EGL_OPENGL_API)");
+    return nullptr;
+  }
+  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                               EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+  if (context == EGL_NO_CONTEXT) {
+    fail(out_error, "eglCreateContext(OpenGL 4.5 core, EGL_NO_CONFIG_KHR)");
+    return nullptr;
+  }
+  std::unique_ptr<EglContext> result(new EglContext(display, context));
+  if (!result->makeCurrent()) {
+    fail(out_error, "eglMakeCurrent(EGL_NO_SURFACE)");
+    return nullptr;
+  }
+  return result;
+}
+
+EglContext::~EglContext() {
+  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  eglDestroyContext(display_, context_);
+  // No eglTerminate: the surfaceless display is one per process, shared by every EglContext
+  // (terminating it would destroy the others' contexts), and it stays initialised until exit.
+  eglReleaseThread();
+}
+
+bool EglContext::makeCurrent() const {
+  return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
+}
+
+std::string EglContext::renderer() const {
+  const auto* text = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return text ? text : "";
+}
+
+}  // namespace telesphere::gl

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// @brief What every sphere render path shares: the ray–sphere intersection, and sampling the
+//        camera image (RGB or float texture, or JPEG-native YUV planes converted here) with the
+//        border colour outside the image. TS_SOURCE_YUV selects the YUV planes.
+
+uniform vec4 u_border;      // colour of pixels the camera did not see
+uniform vec2 u_image_size;  // camera image width, height (px)
+
+#if TS_SOURCE_YUV
+layout(binding = 0) uniform sampler2D u_plane_y;  // full size
+layout(binding = 1) uniform sampler2D u_plane_u;  // Cb, subsampled
+layout(binding = 2) uniform sampler2D u_plane_v;  // Cr, subsampled
+#else
+layout(binding = 0) uniform sampler2D u_image;
+#endif
+
+// The far (larger) root t of |o + t·d| = r for a unit d, written without cancellation:
+// t = s − b for b ≤ 0, t = −c/(b + s) otherwise, with b = o·d, c = |o|² − r², s = sqrt(b² − c).
+// Inside the sphere that is the only root ahead; outside it is the far side (the sphere's inside
+// surface seen through it). No hit (miss, or the sphere behind the eye): false.
+bool sphereFarHit(vec3 o, vec3 d, float c, out vec3 p) {
+  float b = dot(o, d);
+  float disc = b * b - c;
+  p = vec3(0.0);
+  if (!(disc >= 0.0)) return false;
+  float s = sqrt(disc);
+  float t = b <= 0.0 ? s - b : -c / (b + s);
+  if (!(t >= 0.0)) return false;
+  p = o + t * d;
+  return true;
+}
+
+// Bilinear sample at camera pixel px (origin at the centre of the top-left pixel); the border
+// colour outside [−0.5, W − 0.5] × [−0.5, H − 0.5].
+vec4 sampleCamera(vec2 px) {
+  if (any(lessThan(px, vec2(-0.5))) || any(greaterThan(px, u_image_size - 0.5))) return u_border;
+  vec2 uv = (px + 0.5) / u_image_size;
+#if TS_SOURCE_YUV
+  // JFIF full-range BT.601, chroma centred between luma samples (what libjpeg decodes).
+  float y = texture(u_plane_y, uv).r;
+  float cb = texture(u_plane_u, uv).r - 128.0 / 255.0;
+  float cr = texture(u_plane_v, uv).r - 128.0 / 255.0;
+  vec3 rgb = vec3(y + 1.402 * cr, y - 0.344136 * cb - 0.714136 * cr, y + 1.772 * cb);
+  return vec4(clamp(rgb, 0.0, 1.0), 1.0);
+#else
+  return texture(u_image, uv);
+#endif
+}

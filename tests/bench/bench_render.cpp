@@ -1,0 +1,235 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-bench render`: the spherical renderer's three paths at headset resolutions
+///        (1440×1600 per eye, the paper's Vive Pro Eye; 2064×2208, Quest 3 class) from 4K
+///        double-sphere camera images: ms per stereo frame on this machine's GL, the cost against
+///        the floor (a full-screen pass of the same size sampling the same 4K texture once per
+///        pixel through a homography, i.e. a planar timewarp), and each path's max and mean
+///        error against the double-precision reference, in camera pixels.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "shaders/egl_context.h"
+#include "shaders/offscreen_target.h"
+#include "shaders/shader_program.h"
+#include "tests/bench/bench_table.h"
+#include "tests/bench/bench_topic.h"
+#include "tests/calib/camera_model_fixtures.h"
+#include "xr/reference_renderer.h"
+#include "xr/spherical_renderer.h"
+
+namespace telesphere::bench {
+namespace {
+
+constexpr int kCamWidth = test::kWidth;    // 3840
+constexpr int kCamHeight = test::kHeight;  // 2160
+
+struct EyeSize {
+  const char* name;
+  int width, height;
+};
+
+/// Times each of `variants` `rounds` times, interleaved round by round (so that load from other
+/// processes hits all of them alike), after one warm-up run each; median ms per variant. Each
+/// variant ends with glFinish.
+std::vector<double> interleavedMedianMs(int rounds, const std::vector<std::function<void()>>& variants) {
+  for (const auto& v : variants) v();
+  std::vector<std::vector<double>> ms(variants.size());
+  for (int r = 0; r < rounds; ++r)
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      variants[i]();
+      ms[i].push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  std::vector<double> median;
+  for (auto& m : ms) {
+    std::sort(m.begin(), m.end());
+    median.push_back(m[m.size() / 2]);
+  }
+  return median;
+}
+
+/// An eye of the given size with a headset-like asymmetric field of view and a head that has
+/// moved 2.5 cm and turned 0.3 rad away from the camera pose.
+xr::EyeView eyeView(int width, int height, double side) {
+  xr::EyeView view;
+  view.fov = {side < 0 ? -0.96 : -0.82, side < 0 ? 0.82 : 0.96, 0.9, -0.92};
+  view.width = width;
+  view.height = height;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.3, 1, 0).normalized()).toRotationMatrix() *
+               xr::kR_optical_view;
+  T.translation() << 0.015 * side, -0.01, 0.015;
+  view.T_cam_eye = T;
+  return view;
+}
+
+/// Window pixel (GL, origin bottom left) → normalised texture coordinate of a pinhole camera with
+/// the lens's fx, fy, cx, cy, seen through the eye's rotation.
+Eigen::Matrix3d floorHomography(const xr::EyeView& view, const calib::GenericCamera& camera) {
+  const Eigen::VectorXd p = camera.params();
+  const double tl = std::tan(view.fov.angle_left), tr = std::tan(view.fov.angle_right);
+  const double td = std::tan(view.fov.angle_down), tu = std::tan(view.fov.angle_up);
+  Eigen::Matrix3d ray_from_window, K, texture_from_pixel;
+  ray_from_window << (tr - tl) / view.width, 0, tl, 0, (tu - td) / view.height, td, 0, 0, -1;
+  K << p[0], 0, p[2], 0, p[1], p[3], 0, 0, 1;
+  texture_from_pixel << 1.0 / kCamWidth, 0, 0.5 / kCamWidth, 0, 1.0 / kCamHeight, 0.5 / kCamHeight,
+      0, 0, 1;
+  return texture_from_pixel * K * view.T_cam_eye.linear() * ray_from_window;
+}
+
+std::vector<std::uint8_t> picture(int w, int h) {
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * w + x) * 3];
+      p[0] = std::uint8_t(x * 255 / (w - 1));
+      p[1] = std::uint8_t(y * 255 / (h - 1));
+      p[2] = ((x / 64 + y / 64) % 2) ? 220 : 30;
+    }
+  return rgb;
+}
+
+nlohmann::json runRender(const BenchContext& ctx) {
+  std::string error;
+  const auto context = gl::EglContext::createSurfaceless(&error);
+  if (!context) throw std::runtime_error("no OpenGL 4.5 context: " + error);
+  const calib::GenericCamera camera(calib::DoubleSphereCamera<double>(
+      test::Lens<calib::DoubleSphereCamera>::typical()));
+  const int frames = ctx.quick ? 2 : 20;
+  std::vector<EyeSize> sizes = {{"1440x1600", 1440, 1600}, {"2064x2208", 2064, 2208}};
+  if (ctx.quick) sizes.resize(1);  // CI smoke run: the paper's headset only
+  // Errors are measured on the left eye at full size (a quarter of each side under --quick).
+  const int error_div = ctx.quick ? 4 : 1;
+
+  // Two cameras (one per eye), each with its own 4K image, as in the real stereo setup.
+  const xr::SourceImage image = xr::SourceImage::rgb8(kCamWidth, kCamHeight, picture(kCamWidth, kCamHeight));
+  xr::GpuCamera cam_l(camera, kCamWidth, kCamHeight), cam_r(camera, kCamWidth, kCamHeight);
+  if (!cam_l.upload(image, &error) || !cam_r.upload(image, &error)) throw std::runtime_error(error);
+  const xr::SourceImage coordinates = xr::SourceImage::pixelCoordinates(kCamWidth, kCamHeight);
+  xr::GpuCamera cam_coords(camera, kCamWidth, kCamHeight);
+  if (!cam_coords.upload(coordinates, &error)) throw std::runtime_error(error);
+
+  auto homography = gl::loadProgram("fullscreen.vert", "homography.frag", {}, &error);
+  if (!homography) throw std::runtime_error(error);
+  gl::GlVertexArray vao = gl::createVertexArray();
+  gl::GlTexture floor_l = gl::createTexture(GL_TEXTURE_2D), floor_r = gl::createTexture(GL_TEXTURE_2D);
+  for (GLuint t : {floor_l.id(), floor_r.id()}) {
+    glTextureStorage2D(t, 1, GL_RGBA8, kCamWidth, kCamHeight);
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(t, 0, 0, 0, kCamWidth, kCamHeight, GL_RGB, GL_UNSIGNED_BYTE, image.bytes.data());
+  }
+
+  xr::SphericalRenderer renderer;
+  Table table({"path", "eye size", "ms / stereo frame", "vs floor", "max err px", "mean err px"});
+  nlohmann::json json;
+  json["renderer"] = context->renderer();
+  json["camera_image"] = {kCamWidth, kCamHeight};
+  json["frames"] = frames;
+
+  for (const EyeSize& size : sizes) {
+    gl::OffscreenTarget target_l(size.width, size.height), target_r(size.width, size.height);
+    const xr::EyeView view_l = eyeView(size.width, size.height, -1.0);
+    const xr::EyeView view_r = eyeView(size.width, size.height, 1.0);
+
+    // The floor: the homography a planar timewarp would apply for this eye if the camera were
+    // a pinhole with the lens's focal length and principal point (so it samples the texture at
+    // the same scale as the sphere paths): window pixel → eye ray → R_cam_eye → pinhole pixel →
+    // texture coordinate.
+    const Eigen::Matrix3d H = floorHomography(view_l, camera);
+    const GLuint hp = homography->id();
+    const Eigen::Matrix3f H_f = H.cast<float>();
+    glProgramUniformMatrix3fv(hp, glGetUniformLocation(hp, "u_H"), 1, GL_FALSE, H_f.data());
+    std::vector<std::function<void()>> variants;
+    variants.push_back([&] {
+      glUseProgram(hp);
+      glBindVertexArray(vao.id());
+      glViewport(0, 0, size.width, size.height);
+      glBindTextureUnit(0, floor_l.id());
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target_l.framebuffer());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glBindTextureUnit(0, floor_r.id());
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target_r.framebuffer());
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glFinish();
+      glUseProgram(0);
+    });
+    const std::vector<xr::RenderPath> paths = {xr::RenderPath::kExact, xr::RenderPath::kMesh,
+                                               xr::RenderPath::kLut};
+    bool ok = true;
+    for (xr::RenderPath path : paths)
+      variants.push_back([&, path] {
+        xr::RenderSettings settings;
+        settings.path = path;
+        ok &= renderer.render(cam_l, view_l, settings, target_l.framebuffer(), &error);
+        ok &= renderer.render(cam_r, view_r, settings, target_r.framebuffer(), &error);
+        glFinish();
+      });
+    const std::vector<double> ms = interleavedMedianMs(frames, variants);
+    if (!ok) throw std::runtime_error(error);
+    const double floor_ms = ms[0];
+    table.addRow({"floor (homography)", size.name, formatNumber(floor_ms), "1", "-", "-"});
+    json["sizes"][size.name]["floor_ms"] = floor_ms;
+
+    for (std::size_t k = 0; k < paths.size(); ++k) {
+      const xr::RenderPath path = paths[k];
+      // Accuracy: the projection map of the left eye against the reference.
+      xr::EyeView err_view = eyeView(size.width / error_div, size.height / error_div, -1.0);
+      xr::RenderSettings err_settings;
+      err_settings.path = path;
+      err_settings.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
+      gl::OffscreenTarget map(err_view.width, err_view.height, GL_RGBA32F);
+      if (!renderer.render(cam_coords, err_view, err_settings, map.framebuffer(), &error))
+        throw std::runtime_error(error);
+      const xr::ProjectionMapError e =
+          xr::compareProjectionMap(map.readRgbaF(), camera, coordinates, err_view, err_settings);
+
+      const std::string name(xr::renderPathName(path));
+      const double path_ms = ms[k + 1];
+      table.addRow({name, size.name, formatNumber(path_ms), formatNumber(path_ms / floor_ms),
+                    formatNumber(e.max_px, 2), formatNumber(e.mean_px, 2)});
+      json["sizes"][size.name][name] = {{"ms", path_ms},
+                                        {"cost_vs_warp", path_ms / floor_ms},
+                                        {"max_error_px", e.max_px},
+                                        {"mean_error_px", e.mean_px},
+                                        {"validity_mismatch_pixels", e.validity_mismatch}};
+      if (size.width == 1440 && path == xr::RenderPath::kExact) {
+        json["exact_max_error_px"] = e.max_px;
+        json["exact_cost_vs_warp"] = path_ms / floor_ms;
+      }
+    }
+  }
+  ctx.out << "Spherical renderer on " << context->renderer() << ", 2 x " << kCamWidth << "x"
+          << kCamHeight << " RGB camera images (double sphere), r = 1 m, median of " << frames
+          << " stereo frames (paths and floor interleaved); errors vs the double reference over the left eye"
+          << (ctx.quick ? " at 1/4 size" : "") << " (mesh 96x192, LUT 1024^2):\n";
+  table.print(ctx.out);
+  return json;
+}
+
+}  // namespace
+}  // namespace telesphere::bench
+
+/// Under LeakSanitizer (TELESPHERE_SANITIZE builds): allocations Mesa's llvmpipe driver keeps until
+/// exit are not ours; the same list as tests/xr/lsan_gl.supp (which the GL tests set through their
+/// environment; the shared bench smoke test has no per-topic environment). Unused otherwise.
+extern "C" const char* __lsan_default_suppressions() {
+  return "leak:swrast_dri.so\nleak:libgallium\nleak:libLLVM\nleak:libEGL_mesa.so\n"
+         "leak:libglapi.so\n";
+}
+
+TELESPHERE_BENCH_TOPIC(render, telesphere::bench::BenchTopic{
+                                   "render",
+                                   "spherical renderer: ms per stereo frame per path vs a "
+                                   "homography warp, and error vs the double reference",
+                                   {},
+                                   telesphere::bench::runRender});

@@ -1,0 +1,353 @@
+// SPDX-License-Identifier: MIT
+/// @brief GL tests of the spherical renderer on an EGL surfaceless context (llvmpipe without a
+///        GPU). Geometry checks render a float image whose texels hold their own pixel
+///        coordinates, so the output is the projection map, and compare it per pixel with the
+///        double-precision reference, in camera pixels.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <random>
+
+#include "shaders/egl_context.h"
+#include "shaders/offscreen_target.h"
+#include "shaders/png_io.h"
+#include "shaders/shader_program.h"
+#include "tests/xr/gamma_scene.h"
+#include "tests/xr/render_fixtures.h"
+#include "xr/reference_renderer.h"
+#include "xr/sphere_geometry.h"
+#include "xr/spherical_renderer.h"
+
+namespace telesphere::xr {
+namespace {
+
+using test::eyePose;
+using test::kImageHeight;
+using test::kImageWidth;
+using test::rotation;
+
+using MapError = ProjectionMapError;
+
+EyeView testEye(const Eigen::Isometry3d& T_cam_eye) {
+  EyeView view;
+  view.fov = {-0.8, 0.7, 0.75, -0.65};  // asymmetric, like a headset's
+  view.width = 96;
+  view.height = 80;
+  view.T_cam_eye = T_cam_eye;
+  return view;
+}
+
+class RendererGl : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { context_ = gl::EglContext::createSurfaceless(&context_error_); }
+  static void TearDownTestSuite() { context_.reset(); }
+  void SetUp() override {
+    ASSERT_TRUE(context_) << "no GL 4.5 context: " << context_error_;
+    renderer_ = std::make_unique<SphericalRenderer>();
+  }
+  void TearDown() override { renderer_.reset(); }
+
+  /// Renders the projection map of `view` and compares it with the reference.
+  MapError compare(const GpuCamera& gpu, const SourceImage& image, const EyeView& view,
+                   RenderSettings s) {
+    s.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
+    gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
+    EXPECT_TRUE(target.complete());
+    std::string error;
+    EXPECT_TRUE(renderer_->render(gpu, view, s, target.framebuffer(), &error)) << error;
+    return compareProjectionMap(target.readRgbaF(), gpu.camera(), image, view, s);
+  }
+
+  static inline std::unique_ptr<gl::EglContext> context_;
+  static inline std::string context_error_;
+  std::unique_ptr<SphericalRenderer> renderer_;
+};
+
+TEST_F(RendererGl, ExactPathMatchesTheReferenceForEveryModelPoseAndMode) {
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  double worst = 0.0;
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    ASSERT_TRUE(gpu.upload(coords));
+    for (const auto& [pose, T] : test::testPoses()) {
+      for (RenderMode mode : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed}) {
+        RenderSettings s;
+        s.mode = mode;
+        const MapError e = compare(gpu, coords, testEye(T), s);
+        SCOPED_TRACE(lens + " " + pose + " " + std::string(renderModeName(mode)));
+        EXPECT_LT(e.max_px, 0.05) << e;
+        EXPECT_LE(e.validity_mismatch, e.total / 500 + 2) << e;
+        worst = std::max(worst, e.max_px);
+      }
+    }
+  }
+  std::printf("exact path: worst max error %.4g camera px\n", worst);
+}
+
+TEST_F(RendererGl, ExactPathAtExtremeRadiiAndEyeOutsideTheSphere) {
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    ASSERT_TRUE(gpu.upload(coords));
+    for (double r : {0.01, 0.05, 1000.0}) {
+      // Small spheres: the eye 5.1 cm behind the camera, outside them, looking at them.
+      // The 1 km sphere: a 7.8 cm head translation, deep inside it.
+      const EyeView view =
+          r < 1.0 ? testEye(eyePose({0.01, 0.005, -0.05}, rotation(0.1, {0, 1, 0})))
+                  : testEye(eyePose({0.04, -0.03, 0.06}, rotation(0.2, {1, 2, 0})));
+      RenderSettings s;
+      s.radius = r;
+      const MapError e = compare(gpu, coords, view, s);
+      SCOPED_TRACE(lens + " r=" + std::to_string(r));
+      EXPECT_LT(e.max_px, 0.05) << e;
+      EXPECT_LE(e.validity_mismatch, e.total / 500 + 2) << e;
+      EXPECT_GT(e.compared, 0) << e;
+    }
+    // Eye exactly at the camera.
+    const MapError e = compare(gpu, coords, testEye(eyePose({0, 0, 0}, rotation(0.5, {0, 1, 0}))),
+                               RenderSettings{});
+    EXPECT_LT(e.max_px, 0.05) << lens << " " << e;
+  }
+}
+
+TEST_F(RendererGl, EyeOutsideTheSphereShowsTheBorderWhereRaysMiss) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  ASSERT_TRUE(gpu.upload(coords));
+  RenderSettings s;
+  s.radius = 0.01;
+  const EyeView view = testEye(eyePose({0, 0, -0.05}, Eigen::Matrix3d::Identity()));
+  for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut}) {
+    s.path = path;
+    const MapError e = compare(gpu, coords, view, s);
+    SCOPED_TRACE(renderPathName(path));
+    // The disc of half-angle asin(1/5) hits (about 3 % of this view); everything else is border.
+    EXPECT_GT(e.compared, e.total / 50) << e;
+    EXPECT_LT(e.compared, e.total / 10) << e;
+    EXPECT_LT(e.max_px, path == RenderPath::kMesh ? 1.0 : 0.05) << e;
+    EXPECT_LE(e.validity_mismatch, e.total / 50) << e;
+  }
+}
+
+TEST_F(RendererGl, MeshPathErrorFallsWithTessellation) {
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    ASSERT_TRUE(gpu.upload(coords));
+    const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+    RenderSettings coarse, fine;
+    coarse.path = fine.path = RenderPath::kMesh;
+    coarse.mesh_rings = 16;
+    coarse.mesh_segments = 32;
+    const MapError e_coarse = compare(gpu, coords, view, coarse);
+    const MapError e_fine = compare(gpu, coords, view, fine);
+    std::printf("mesh %s: 16x32 %s | 96x192 max %.4g mean %.4g px\n", lens.c_str(),
+                (std::to_string(e_coarse.max_px)).c_str(), e_fine.max_px, e_fine.mean_px);
+    SCOPED_TRACE(lens);
+    EXPECT_LT(e_fine.max_px, e_coarse.max_px) << e_fine << " vs " << e_coarse;
+    EXPECT_LT(e_fine.max_px, 0.5) << e_fine;
+    EXPECT_LE(e_fine.validity_mismatch, e_fine.total / 100 + 2) << e_fine;
+  }
+}
+
+TEST_F(RendererGl, LutPathErrorFallsWithTableSize) {
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    ASSERT_TRUE(gpu.upload(coords));
+    const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+    RenderSettings small, large;
+    small.path = large.path = RenderPath::kLut;
+    small.lut_size = 128;
+    large.lut_size = 1024;
+    const MapError e_small = compare(gpu, coords, view, small);
+    const MapError e_large = compare(gpu, coords, view, large);
+    std::printf("lut %s: 128 max %.4g | 1024 max %.4g mean %.4g px\n", lens.c_str(),
+                e_small.max_px, e_large.max_px, e_large.mean_px);
+    SCOPED_TRACE(lens);
+    EXPECT_LT(e_large.max_px, e_small.max_px) << e_large << " vs " << e_small;
+    EXPECT_LT(e_large.max_px, 0.5) << e_large;
+    EXPECT_LE(e_large.validity_mismatch, e_large.total / 500 + 2) << e_large;
+  }
+}
+
+TEST_F(RendererGl, EveryPathHandlesEveryMode) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  ASSERT_TRUE(gpu.upload(coords));
+  for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
+    for (RenderMode mode : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed})
+      for (const auto& [pose, T] : test::testPoses()) {
+        RenderSettings s;
+        s.path = path;
+        s.mode = mode;
+        s.T_cam_eye_fixed = eyePose({0.0, 0.02, 0.0}, rotation(-0.3, {1, 0, 0}));
+        const MapError e = compare(gpu, coords, testEye(T), s);
+        SCOPED_TRACE(std::string(renderPathName(path)) + " " + std::string(renderModeName(mode)) +
+                     " " + pose);
+        EXPECT_LT(e.max_px, path == RenderPath::kExact ? 0.05 : 0.5) << e;
+        EXPECT_LE(e.validity_mismatch, e.total / 100 + 2) << e;
+      }
+}
+
+TEST_F(RendererGl, NonFinitePosesNeverReachTheGpu) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  ASSERT_TRUE(gpu.upload(SourceImage::pixelCoordinates(kImageWidth, kImageHeight)));
+  gl::OffscreenTarget target(32, 24, GL_RGBA32F);
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    for (int entry = 0; entry < 12; ++entry) {
+      EyeView view = testEye(Eigen::Isometry3d(kR_optical_view));
+      view.width = 32;
+      view.height = 24;
+      view.T_cam_eye.matrix()(entry % 3, entry / 3) = bad;
+      target.clear(7.0f, 7.0f, 7.0f, 7.0f);
+      std::string error;
+      EXPECT_FALSE(renderer_->render(gpu, view, RenderSettings{}, target.framebuffer(), &error));
+      EXPECT_NE(error.find("T_cam_eye"), std::string::npos) << error;
+      for (float v : target.readRgbaF()) ASSERT_EQ(v, 7.0f) << "the target was drawn into";
+    }
+    RenderSettings s;
+    s.radius = bad;
+    EyeView view = testEye(Eigen::Isometry3d(kR_optical_view));
+    EXPECT_FALSE(renderer_->render(gpu, view, s, target.framebuffer()));
+  }
+  // A camera without an image is refused as well.
+  GpuCamera empty(camera, kImageWidth, kImageHeight);
+  EXPECT_FALSE(renderer_->render(empty, testEye(Eigen::Isometry3d(kR_optical_view)),
+                                 RenderSettings{}, target.framebuffer()));
+  EXPECT_FALSE(gpu.upload(SourceImage::pixelCoordinates(10, 10)));
+}
+
+/// A smooth colourful 8-bit test picture (RGB).
+std::vector<std::uint8_t> testPicture(int w, int h) {
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      std::uint8_t* p = &rgb[(static_cast<std::size_t>(y) * w + x) * 3];
+      p[0] = std::uint8_t(255.0 * x / (w - 1));
+      p[1] = std::uint8_t(255.0 * y / (h - 1));
+      p[2] = std::uint8_t(((x / 40 + y / 40) % 2) ? 220 : 30);
+    }
+  return rgb;
+}
+
+TEST_F(RendererGl, YuvPlanesAreConvertedInTheShader) {
+  const auto camera = test::scaledTypicalLens<calib::KannalaBrandtCamera>();
+  const int w = kImageWidth, h = kImageHeight, cw = w / 2, ch = h / 2;
+  std::mt19937 rng(3);
+  std::vector<std::uint8_t> planes(static_cast<std::size_t>(w) * h + 2 * cw * ch);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) planes[static_cast<std::size_t>(y) * w + x] = std::uint8_t((x + 2 * y) % 256);
+  for (std::size_t i = static_cast<std::size_t>(w) * h; i < planes.size(); ++i)
+    planes[i] = std::uint8_t(rng() % 256);
+  const SourceImage yuv = SourceImage::yuv(w, h, cw, ch, planes);
+  GpuCamera gpu(camera, w, h);
+  ASSERT_TRUE(gpu.upload(yuv));
+  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  RenderSettings s;
+  s.border_rgba = {1.0f, 0.0f, 1.0f, 1.0f};
+  gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
+  ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
+  const auto out = target.readRgbaF();
+  const auto ref = renderReference(camera, yuv, view, s);
+  ASSERT_TRUE(ref);
+  double worst = 0.0;
+  int mismatched = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double diff = std::abs(out[i] - ref->rgba[i]);
+    if (diff > 4.0 / 255.0) ++mismatched;  // a validity flip at the image edge
+    else worst = std::max(worst, diff);
+  }
+  EXPECT_LT(worst, 4.0 / 255.0);
+  EXPECT_LE(mismatched, 4 * 10);
+}
+
+TEST_F(RendererGl, RgbFramesWrittenAsPng) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  const SourceImage picture =
+      SourceImage::rgb8(kImageWidth, kImageHeight, testPicture(kImageWidth, kImageHeight));
+  ASSERT_TRUE(gpu.upload(picture));
+  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  RenderSettings s;
+  gl::OffscreenTarget target(view.width, view.height, GL_RGBA8);
+  ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
+  const auto pixels = target.readRgba8();
+  // Matches the reference in colour (8-bit rounding and filter precision aside).
+  const auto ref = renderReference(camera, picture, view, s);
+  ASSERT_TRUE(ref);
+  int far_off = 0;
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    if (std::abs(pixels[i] / 255.0 - ref->rgba[i]) > 3.0 / 255.0) ++far_off;
+  EXPECT_LE(far_off, 40);
+
+  const auto path = std::filesystem::temp_directory_path() / "telesphere_xr_gl_test.png";
+  std::string error;
+  ASSERT_TRUE(gl::writePng(path.string(), view.width, view.height, 4, pixels.data(), &error)) << error;
+  std::ifstream in(path, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, 8);
+  EXPECT_EQ(std::string(signature + 1, 3), "PNG");
+  EXPECT_GT(std::filesystem::file_size(path), 100u);
+  std::filesystem::remove(path);
+  EXPECT_FALSE(gl::writePng("/nonexistent-dir/x.png", 2, 2, 4, pixels.data(), &error));
+  EXPECT_NE(error.find("/nonexistent-dir/x.png"), std::string::npos) << error;
+}
+
+TEST_F(RendererGl, MeasuredAngularErrorMatchesGamma) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  const double r = 1.0;
+  for (double d : {0.3, 0.6, 1.0, 2.5, 10.0}) {
+    ASSERT_TRUE(gpu.upload(test::planeImage(camera, kImageWidth, kImageHeight, d)));
+    for (double dx : {0.02, 0.1}) {
+      const EyeView view = test::gammaEye(dx, r);
+      RenderSettings s;
+      s.radius = r;
+      gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
+      ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
+      const auto out = target.readRgbaF();
+      const std::size_t centre = (10u * view.width + 10u) * 4u;
+      const double measured = test::measuredGamma(out[centre], out[centre + 1], d, dx, r);
+      const double expected = constantDistanceAngularError(d, dx, r);
+      EXPECT_NEAR(measured, expected, 1e-4) << "d " << d << " dx " << dx;
+    }
+  }
+}
+
+TEST_F(RendererGl, ShaderErrorsNameFileAndLine) {
+  const auto dir = std::filesystem::temp_directory_path() / "telesphere_shader_error_test";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir / "ok.vert") << "#version 450 core\nvoid main() { gl_Position = vec4(0); }\n";
+    std::ofstream(dir / "part.glsl") << "// a helper\nfloat helper() { return undefined_name; }\n";
+    std::ofstream(dir / "broken.frag")
+        << "#version 450 core\n#include \"part.glsl\"\nout vec4 c;\nvoid main() { c = vec4(1); }\n";
+  }
+  std::string error;
+  EXPECT_FALSE(gl::loadProgram((dir / "ok.vert").string(), (dir / "broken.frag").string(), {}, &error));
+  EXPECT_NE(error.find((dir / "part.glsl").string() + ":2:"), std::string::npos) << error;
+  EXPECT_FALSE(gl::loadProgram((dir / "ok.vert").string(), (dir / "missing.frag").string(), {}, &error));
+  EXPECT_NE(error.find("missing.frag"), std::string::npos) << error;
+  std::filesystem::remove_all(dir);
+  // The shipped shaders compile for every model, image format and path.
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    GpuCamera gpu(camera, 4, 4);
+    for (const SourceImage& image :
+         {SourceImage::pixelCoordinates(4, 4), SourceImage::yuv(4, 4, 2, 2, std::vector<std::uint8_t>(24, 128))}) {
+      ASSERT_TRUE(gpu.upload(image));
+      for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
+        EXPECT_TRUE(renderer_->prepare(gpu, path, &error)) << lens << ": " << error;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace telesphere::xr

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+/// @brief What one eye render needs besides the camera: the eye's projection (OpenXR XrFovf
+///        angles and the render-target size), the pose T_cam_eye, and the renderer settings
+///        (mode, path, sphere radius, border colour). Plus the checks that keep NaN/inf and
+///        malformed poses away from the GPU (STYLE.md §14).
+///
+/// Frames (DESIGN.md §2): the eye frame follows the OpenXR view convention (x right, y up,
+/// −z forward); the camera frame is optical (x right, y down, z forward). T_cam_eye maps points
+/// from the eye frame into the camera frame, so an eye looking along the camera's optical axis
+/// with no roll has R_cam_eye = kR_optical_view.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace telesphere::xr {
+
+/// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
+/// with the same origin and viewing direction (x right, y down, z forward): p_optical =
+/// kR_optical_view · p_view. Its own inverse.
+inline const Eigen::Matrix3d kR_optical_view = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal();
+
+/// Field of view as OpenXR's XrFovf: angles (rad) of the left, right, up and down frustum edges
+/// from the view axis, left and down usually negative. Each in (−π/2, π/2), left < right,
+/// down < up. Asymmetric frusta are the norm in headsets.
+struct Fov {
+  double angle_left = -0.7;
+  double angle_right = 0.7;
+  double angle_up = 0.7;
+  double angle_down = -0.7;
+};
+
+/// One eye to render: its projection and where it is relative to the camera.
+struct EyeView {
+  Fov fov;
+  int width = 0;   ///< render-target width, px
+  int height = 0;  ///< render-target height, px
+  /// Eye pose in the camera frame at the image's capture time (DESIGN.md §2).
+  Eigen::Isometry3d T_cam_eye = Eigen::Isometry3d(kR_optical_view);
+};
+
+/// Modes (paper §IV-B). full6d: the sphere is centred on the camera and the eye at its tracked
+/// position. orientation3d: translation ignored (eye at the sphere's centre, only R_cam_eye
+/// used). fixed: the image is head-locked: the tracked pose is ignored and
+/// RenderSettings::T_cam_eye_fixed is used instead.
+enum class RenderMode { kFull6d, kOrientation3d, kFixed };
+
+/// Render paths, the speed/accuracy knob: exact per-fragment projection, a tessellated sphere
+/// with per-vertex projection, or a direction→pixel look-up texture.
+enum class RenderPath { kExact, kMesh, kLut };
+
+std::string_view renderModeName(RenderMode mode);  ///< "full6d", "orientation3d", "fixed"
+std::string_view renderPathName(RenderPath path);  ///< "exact", "mesh", "lut"
+std::optional<RenderMode> parseRenderMode(std::string_view name);
+std::optional<RenderPath> parseRenderPath(std::string_view name);
+
+struct RenderSettings {
+  RenderMode mode = RenderMode::kFull6d;
+  RenderPath path = RenderPath::kExact;
+  /// Sphere radius r (m), finite and > 0: the distance the whole scene is assumed to be at.
+  double radius = 1.0;
+  /// Colour (RGBA, 0..1) of eye pixels the camera did not see: outside the model's valid region,
+  /// outside the image, or rays that miss the sphere when the eye is outside it.
+  Eigen::Vector4f border_rgba{0.0f, 0.0f, 0.0f, 1.0f};
+  /// The head-locked pose of mode fixed (default: eye at the camera, looking along its axis).
+  Eigen::Isometry3d T_cam_eye_fixed = Eigen::Isometry3d(kR_optical_view);
+  /// Mesh path tessellation: rings in θ from the optical axis and segments in azimuth.
+  int mesh_rings = 96;
+  int mesh_segments = 192;
+  /// Look-up-table path: table size (texels per side).
+  int lut_size = 1024;
+};
+
+/// Why `T` cannot be rendered (a NaN/inf entry, a rotation that is not orthonormal with
+/// determinant +1 to 1e-6), or nothing when it is fine.
+std::optional<std::string> checkPose(const Eigen::Isometry3d& T);
+
+/// Why `view` cannot be rendered (size, angles, pose), or nothing.
+std::optional<std::string> checkEyeView(const EyeView& view);
+
+/// Why `settings` cannot be used (radius, border colour, fixed pose, tessellation), or nothing.
+std::optional<std::string> checkRenderSettings(const RenderSettings& settings);
+
+/// The pose the renderer actually uses for `mode`: T_cam_eye (full6d), its rotation only
+/// (orientation3d), or T_cam_eye_fixed (fixed).
+Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& settings);
+
+}  // namespace telesphere::xr

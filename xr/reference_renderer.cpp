@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+/// @brief The CPU reference renderer.
+#include "xr/reference_renderer.h"
+
+#include <cmath>
+
+#include "xr/sphere_geometry.h"
+
+namespace telesphere::xr {
+
+std::optional<Eigen::Vector2d> referenceCameraPixel(const calib::GenericCamera& camera,
+                                                    int image_width, int image_height,
+                                                    const EyeView& view,
+                                                    const RenderSettings& settings, double col,
+                                                    double row) {
+  const Eigen::Isometry3d T_cam_eye = effectiveT_cam_eye(view, settings);
+  const Eigen::Vector3d o = T_cam_eye.translation();
+  const Eigen::Vector3d d =
+      (T_cam_eye.linear() * eyeRay(view.fov, view.width, view.height, col, row)).normalized();
+  const double c = o.squaredNorm() - settings.radius * settings.radius;
+  const auto t = sphereFarHit(o, d, c);
+  if (!t) return std::nullopt;
+  Eigen::Vector2d px;
+  if (!camera.project(o + *t * d, px)) return std::nullopt;
+  if (!(px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= image_width - 0.5 &&
+        px.y() <= image_height - 0.5))
+    return std::nullopt;
+  return px;
+}
+
+std::optional<RgbaImage> renderReference(const calib::GenericCamera& camera,
+                                         const SourceImage& image, const EyeView& view,
+                                         const RenderSettings& settings) {
+  if (checkEyeView(view) || checkRenderSettings(settings) || !image.consistent())
+    return std::nullopt;
+  RgbaImage out;
+  out.width = view.width;
+  out.height = view.height;
+  out.rgba.resize(static_cast<std::size_t>(view.width) * view.height * 4);
+  const Eigen::Vector4f border = settings.border_rgba;
+  for (int row = 0; row < view.height; ++row) {
+    for (int col = 0; col < view.width; ++col) {
+      const auto px =
+          referenceCameraPixel(camera, image.width, image.height, view, settings, col, row);
+      const Eigen::Vector4f value = px ? image.sample(*px).cast<float>() : border;
+      Eigen::Map<Eigen::Vector4f>(&out.rgba[(static_cast<std::size_t>(row) * view.width + col) * 4]) =
+          value;
+    }
+  }
+  return out;
+}
+
+std::ostream& operator<<(std::ostream& os, const ProjectionMapError& e) {
+  return os << "max " << e.max_px << " px, mean " << e.mean_px << " px over " << e.compared
+            << " pixels, " << e.validity_mismatch << " of " << e.total << " differ in validity";
+}
+
+ProjectionMapError compareProjectionMap(const std::vector<float>& rgba,
+                                        const calib::GenericCamera& camera,
+                                        const SourceImage& coordinates, const EyeView& view,
+                                        const RenderSettings& settings) {
+  ProjectionMapError e;
+  double sum = 0.0;
+  for (int row = 0; row < view.height; ++row)
+    for (int col = 0; col < view.width; ++col) {
+      const float* v = &rgba[(static_cast<std::size_t>(row) * view.width + col) * 4];
+      const bool rendered_valid = v[3] > 0.5f;
+      const auto ref = referenceCameraPixel(camera, coordinates.width, coordinates.height, view,
+                                            settings, col, row);
+      ++e.total;
+      if (rendered_valid != bool(ref)) {
+        ++e.validity_mismatch;
+        continue;
+      }
+      if (!ref) continue;
+      const Eigen::Vector4d expected = coordinates.sample(*ref);
+      const double err = std::hypot(v[0] - expected[0], v[1] - expected[1]);
+      e.max_px = std::max(e.max_px, err);
+      sum += err;
+      ++e.compared;
+    }
+  e.mean_px = e.compared ? sum / e.compared : 0.0;
+  return e;
+}
+
+}  // namespace telesphere::xr
