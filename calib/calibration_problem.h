@@ -134,4 +134,20 @@ class ProgressCallback : public ceres::IterationCallback {
   int residuals_;
 };
 
+/// The reprojection residual r = project(p_cam) − observed (px). A point the model cannot project
+/// contributes nothing this step (r = 0) instead of failing the solver's step.
+template <typename Cam, typename T>
+bool reprojectionResidual(const Cam& cam, const Eigen::Matrix<T, 3, 1>& p_cam,
+                          const Eigen::Vector2d& observed_px, T* r) {
+  typename Cam::Vec2 px;
+  if (!cam.project(p_cam, px)) {
+    r[0] = T(0);
+    r[1] = T(0);
+    return true;
+  }
+  r[0] = px[0] - T(observed_px.x());
+  r[1] = px[1] - T(observed_px.y());
+  return true;
+}
+
 }  // namespace telesphere::calib::detail

@@ -143,15 +143,7 @@ struct MarkerCornerCost {
     const Eigen::Map<const Eigen::Quaternion<T>> q(q_fc);
     const Vec3 p_cam_l = q.conjugate() * (p_flange - Eigen::Map<const Vec3>(t_fc));
     const Vec3 p_cam = T_cam_cam_l.cast<T>() * p_cam_l;
-    typename Cam::Vec2 px;
-    if (!cam.project(p_cam, px)) {
-      r[0] = T(0);
-      r[1] = T(0);
-      return true;
-    }
-    r[0] = px[0] - T(observed_px.x());
-    r[1] = px[1] - T(observed_px.y());
-    return true;
+    return detail::reprojectionResidual(cam, p_cam, observed_px, r);
   }
 };
 

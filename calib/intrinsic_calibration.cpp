@@ -55,15 +55,7 @@ struct BoardCornerCost {
     const Cam& cam = detail::cachedCamera<Cam>(intrinsics);
     const Eigen::Matrix<T, 3, 1> p_cam =
         detail::transformPoint(q_cam_board, t_cam_board, p_board.cast<T>().eval());
-    typename Cam::Vec2 px;
-    if (!cam.project(p_cam, px)) {  // contributes nothing this step
-      r[0] = T(0);
-      r[1] = T(0);
-      return true;
-    }
-    r[0] = px[0] - T(observed_px.x());
-    r[1] = px[1] - T(observed_px.y());
-    return true;
+    return detail::reprojectionResidual(cam, p_cam, observed_px, r);
   }
 };
 
@@ -81,15 +73,7 @@ struct StereoCornerCost {
     const Eigen::Matrix<T, 3, 1> p_cam_l =
         detail::transformPoint(q_l_b, t_l_b, p_board.cast<T>().eval());
     const Eigen::Matrix<T, 3, 1> p_cam_r = detail::transformPoint(q_r_l, t_r_l, p_cam_l);
-    typename Cam::Vec2 px;
-    if (!cam.project(p_cam_r, px)) {
-      r[0] = T(0);
-      r[1] = T(0);
-      return true;
-    }
-    r[0] = px[0] - T(observed_px.x());
-    r[1] = px[1] - T(observed_px.y());
-    return true;
+    return detail::reprojectionResidual(cam, p_cam_r, observed_px, r);
   }
 };
 
