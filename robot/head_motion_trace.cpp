@@ -2,13 +2,13 @@
 /// @brief Head-motion trace analysis and writers (see head_motion_trace.h).
 #include "robot/head_motion_trace.h"
 
-#include <png.h>
+#include "shaders/png_io.h"
+
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <functional>
 
@@ -92,33 +92,6 @@ void drawSeries(Canvas& canvas, const Panel& p, const std::vector<HeadMotionSamp
   }
 }
 
-/// Encodes the canvas as an 8-bit RGB PNG into `file`. libpng reports errors by longjmp; no
-/// local is modified after setjmp.
-bool encodePng(std::FILE* file, const Canvas& canvas) {
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info) {
-    png_destroy_write_struct(&png, nullptr);
-    return false;
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    return false;
-  }
-  png_init_io(png, file);
-  png_set_IHDR(png, info, static_cast<png_uint_32>(canvas.width()),
-               static_cast<png_uint_32>(canvas.height()), 8, PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  const std::size_t stride = static_cast<std::size_t>(canvas.width()) * 3;
-  for (int y = 0; y < canvas.height(); ++y)
-    png_write_row(png, canvas.pixels().data() + static_cast<std::size_t>(y) * stride);
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  return true;
-}
-
 }  // namespace
 
 HeadLatencies measureHeadLatencies(const std::vector<HeadMotionSample>& trace, double v_thr) {
@@ -170,10 +143,7 @@ bool writeHeadMotionPng(const std::filesystem::path& path,
   drawSeries(canvas, deviation, trace, [](const HeadMotionSample& s) { return s.deviation; },
              Rgb{20, 150, 60});
 
-  std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (!file) return false;
-  const bool encoded = encodePng(file, canvas);
-  return std::fclose(file) == 0 && encoded;
+  return gl::writePng(path.string(), canvas.width(), canvas.height(), 3, canvas.pixels().data());
 }
 
 }  // namespace telesphere::robot
