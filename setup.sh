@@ -23,7 +23,7 @@ packages=(
   # maths, calibration, vision
   libeigen3-dev libceres-dev libopencv-dev libopencv-contrib-dev
   # cameras
-  libaravis-dev aravis-tools
+  libaravis-dev aravis-tools iproute2
   # rendering and XR
   libglm-dev libopenxr-dev libopenxr-loader1 libegl-dev libgl-dev libgles-dev libglfw3-dev
   libegl-mesa0 libgl1-mesa-dri libpng-dev
@@ -35,6 +35,8 @@ packages=(
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   # tests, benchmarks and fuzzing (libFuzzer comes with clang's runtime)
   libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev
+  # a real OpenXR runtime for the integration test: Debian trixie's Monado in a side root
+  debootstrap zstd
 )
 
 missing=()
@@ -72,6 +74,17 @@ case "$what" in
     cmake -S . -B build-test -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON "${launcher[@]}"
     cmake --build build-test -j "$jobs"
+    # Monado (Debian trixie) for the OpenXR integration test, built once and cached outside the
+    # repo (tests/xr/monado/README.md). Needs root the first time; without it the test is skipped.
+    monado_root=${TELESPHERE_MONADO_ROOT:-${TELESPHERE_MONADO_CACHE:-/var/cache/telesphere}/monado-trixie}
+    if sh tests/xr/monado/build_trixie_root.sh "$monado_root"; then
+      export TELESPHERE_MONADO_ROOT=$monado_root
+    elif [[ -n ${CI:-} ]]; then
+      echo "setup: CI needs the Monado root for the OpenXR integration test (see above)" >&2
+      exit 1
+    else
+      echo "setup: no Monado root: the OpenXR integration test will be skipped" >&2
+    fi
     ctest --test-dir build-test --output-on-failure -j "$jobs"
     # libFuzzer targets need clang: a separate tree, each target fuzzed briefly from its corpus.
     CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
