@@ -23,6 +23,9 @@
 #include "calib/hand_eye_samples.h"
 #include "calib/intrinsic_calibration.h"
 #include "calib/target_detection.h"
+#ifdef TELESPHERE_CALIB_HAS_ROBOT
+#include "robot/xarm6_kinematics.h"
+#endif
 
 namespace {
 
@@ -172,6 +175,9 @@ int runIntrinsics(const IntrinsicsArgs& args) {
     return 2;
   }
   std::cout << calib::kalibrStyleSummary(*result);
+  for (const auto& cam : result->cameras)
+    if (!cam.degeneracy_warning.empty())
+      std::cerr << "telesphere-calib: WARNING: " << cam.degeneracy_warning << "\n";
   const auto format = *calib::parseFormatName(args.format);
   if (auto error = calib::saveCalibrationFile(result->toSystemCalibration(), args.out, format)) {
     std::cerr << "telesphere-calib: " << error->describe() << "\n";
@@ -186,12 +192,35 @@ int runIntrinsics(const IntrinsicsArgs& args) {
   return 0;
 }
 
+/// The head arm's forward kinematics for sample files with joint angles (q_head): the xArm 6
+/// model of robot/xarm6_kinematics.h when the robot library is part of the build.
+telesphere::calib::HeadArmForwardKinematics headArmForwardKinematics() {
+#ifdef TELESPHERE_CALIB_HAS_ROBOT
+  return [kinematics = telesphere::robot::Xarm6Kinematics()](const std::vector<double>& q, std::string* error)
+             -> std::optional<Eigen::Isometry3d> {
+    if (q.size() != static_cast<std::size_t>(telesphere::robot::Xarm6Kinematics::kDof)) {
+      *error = "expected " + std::to_string(telesphere::robot::Xarm6Kinematics::kDof) +
+               " xArm 6 joint angles (rad), got " + std::to_string(q.size());
+      return std::nullopt;
+    }
+    const telesphere::robot::JointVector joints = Eigen::Map<const telesphere::robot::JointVector>(q.data());
+    if (!kinematics.withinLimits(joints, 1e-6)) {
+      *error = "the joint angles are outside the xArm 6 joint limits";
+      return std::nullopt;
+    }
+    return kinematics.forward(joints);
+  };
+#else
+  return {};
+#endif
+}
+
 int runHandEye(const std::string& samples_path, const std::string& calib_path, const std::string& out,
                const std::string& format_name) {
   namespace calib = telesphere::calib;
   auto system = load(calib_path);
   if (!system) return 1;
-  const auto file = calib::loadHandEyeSamples(samples_path, progressLine);
+  const auto file = calib::loadHandEyeSamples(samples_path, progressLine, headArmForwardKinematics());
   if (!file) {
     std::cerr << "telesphere-calib: " << file.error().describe() << "\n";
     return 1;

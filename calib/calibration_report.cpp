@@ -100,6 +100,12 @@ std::string kalibrStyleSummary(const IntrinsicResult& result) {
     std::snprintf(buf, sizeof buf, "  coverage: %.0f%% of a 16x16 grid of image cells hold corners\n",
                   100.0 * coverageFraction(cam));
     os << buf;
+    if (std::isfinite(cam.focal_distortion_correlation)) {
+      std::snprintf(buf, sizeof buf, "  separability: focal length vs distortion multiple correlation %.6f\n",
+                    cam.focal_distortion_correlation);
+      os << buf;
+    }
+    if (!cam.degeneracy_warning.empty()) os << "  WARNING: " << cam.degeneracy_warning << "\n";
     auto views = cam.per_view;
     std::sort(views.begin(), views.end(), [](const ViewError& a, const ViewError& b) { return a.rms_px > b.rms_px; });
     os << "  worst views:";
@@ -132,6 +138,13 @@ std::optional<FileError> saveIntrinsicReport(const IntrinsicResult& result, cons
     const Eigen::VectorXd p = cam.calibration.camera.params();
     c["params"] = std::vector<double>(p.data(), p.data() + p.size());
     c["param_stddev"] = cam.param_stddev;
+    if (std::isfinite(cam.focal_distortion_correlation))
+      c["focal_distortion_correlation"] = cam.focal_distortion_correlation;
+    if (!cam.degeneracy_warning.empty()) c["degeneracy_warning"] = cam.degeneracy_warning;
+    for (Eigen::Index i = 0; i < cam.param_correlation.rows(); ++i) {
+      const Eigen::VectorXd row = cam.param_correlation.row(i).transpose();
+      c["param_correlation"].push_back(std::vector<double>(row.data(), row.data() + row.size()));
+    }
     c["resolution"] = {cam.calibration.width, cam.calibration.height};
     c["rms_px"] = cam.rms_px;
     c["mean_px"] = cam.mean_px;
@@ -169,6 +182,18 @@ FileResult<IntrinsicResult> loadIntrinsicReport(const std::string& path) {
                                                   c.at("resolution").at(1).get<int>()}};
       cam.param_stddev = c.at("param_stddev").get<std::vector<double>>();
       cam.rms_px = c.at("rms_px").get<double>();
+      cam.focal_distortion_correlation = c.value("focal_distortion_correlation", double(NAN));
+      cam.degeneracy_warning = c.value("degeneracy_warning", std::string());
+      if (c.contains("param_correlation")) {
+        const auto rows = c["param_correlation"].get<std::vector<std::vector<double>>>();
+        const auto n = static_cast<Eigen::Index>(rows.size());
+        cam.param_correlation.resize(n, n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+          if (rows[static_cast<std::size_t>(i)].size() != rows.size())
+            return FileError{path, 0, "cameras.param_correlation", "expected a square matrix"};
+          for (Eigen::Index j = 0; j < n; ++j) cam.param_correlation(i, j) = rows[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+        }
+      }
       cam.mean_px = c.at("mean_px").get<double>();
       cam.corners = c.at("corners").get<int>();
       if (c.contains("per_view"))

@@ -12,7 +12,8 @@
 namespace telesphere::calib {
 
 FileResult<HandEyeSampleFile> loadHandEyeSamples(const std::string& path,
-                                                 const std::function<void(const std::string&)>& progress) {
+                                                 const std::function<void(const std::string&)>& progress,
+                                                 const HeadArmForwardKinematics& head_fk) {
   std::ifstream in(path);
   if (!in) return FileError{path, 0, "", "cannot open the sample file"};
   std::stringstream ss;
@@ -36,10 +37,26 @@ FileResult<HandEyeSampleFile> loadHandEyeSamples(const std::string& path,
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const std::string field = "samples[" + std::to_string(i) + "]";
       const YAML::Node s = samples[i];
-      reader.onlyKeys(s, field, {"t_ns", "T_robot_flange", "T_mount_wrist", "image_l", "image_r", "corners_l", "corners_r"});
+      reader.onlyKeys(s, field, {"t_ns", "T_robot_flange", "q_head", "T_mount_wrist", "image_l", "image_r", "corners_l", "corners_r"});
       HandEyeSample sample;
       if (s["t_ns"]) sample.t_ns = static_cast<std::int64_t>(reader.number(s["t_ns"], field + ".t_ns"));
-      sample.T_robot_flange = reader.transform(reader.require(s, "T_robot_flange", field + ".T_robot_flange"), field + ".T_robot_flange");
+      if (s["T_robot_flange"] && s["q_head"])
+        reader.failAtKey(s, "q_head", field + ".q_head", "give either T_robot_flange or q_head, not both");
+      if (const YAML::Node q = s["q_head"]) {
+        if (!q.IsSequence()) reader.fail(q, field + ".q_head", "expected a list of joint angles (rad)");
+        const auto angles = reader.numbers(q, field + ".q_head", -1);
+        if (!head_fk)
+          reader.fail(q, field + ".q_head",
+                      "joint angles need the head arm's forward kinematics, which this program lacks; "
+                      "give T_robot_flange instead");
+        std::string why;
+        const auto T = head_fk(angles, &why);
+        if (!T) reader.fail(q, field + ".q_head", why);
+        sample.T_robot_flange = *T;
+      } else {
+        sample.T_robot_flange = reader.transform(reader.require(s, "T_robot_flange", field + ".T_robot_flange"),
+                                                 field + ".T_robot_flange");
+      }
       sample.T_mount_wrist = reader.transform(reader.require(s, "T_mount_wrist", field + ".T_mount_wrist"), field + ".T_mount_wrist");
       for (int c = 0; c < 2; ++c) {
         const std::string side = c == 0 ? "_l" : "_r";

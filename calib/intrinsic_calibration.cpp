@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
+
+#include <Eigen/LU>
 
 #include "calib/bearing_pose.h"
 #include "calib/calibration_problem.h"
@@ -26,6 +29,11 @@ Eigen::VectorXd defaultParams(const std::string& model, double f, int width, int
     p << f, f, cx, cy, 0, 0, 0, 0;
   }
   return p;
+}
+
+bool IntrinsicResult::degenerate() const {
+  return std::any_of(cameras.begin(), cameras.end(),
+                     [](const CameraIntrinsicResult& c) { return !c.degeneracy_warning.empty(); });
 }
 
 SystemCalibration IntrinsicResult::toSystemCalibration() const {
@@ -289,6 +297,63 @@ CameraIntrinsicResult evaluateCamera(const AprilGrid& target, const CameraState&
   return out;
 }
 
+
+/// Indices of the distortion parameters of `model` (those that can trade off with focal length).
+std::vector<int> intrinsicDistortionIndices(const std::string& model) {
+  if (model == "ds" || model == "eucm") return {4, 5};
+  return {4, 5, 6, 7};  // kb4 k1..k4, pinhole k1 k2 p1 p2
+}
+
+/// Multiple correlation of parameter `focal` with `others` from the correlation matrix C:
+/// R² = 1 − 1/(S⁻¹)₀₀ over the sub-matrix S of (focal, others); 1 when S is singular.
+double intrinsicMultipleCorrelation(const Eigen::MatrixXd& C, int focal, const std::vector<int>& others) {
+  std::vector<int> idx = {focal};
+  idx.insert(idx.end(), others.begin(), others.end());
+  const auto n = static_cast<Eigen::Index>(idx.size());
+  Eigen::MatrixXd S(n, n);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = 0; j < n; ++j) S(i, j) = C(idx[static_cast<std::size_t>(i)], idx[static_cast<std::size_t>(j)]);
+  Eigen::FullPivLU<Eigen::MatrixXd> lu(S);
+  lu.setThreshold(1e-12);
+  if (!lu.isInvertible()) return 1.0;
+  const double inv00 = lu.inverse()(0, 0);
+  if (!(inv00 >= 1.0)) return 1.0;  // numerically lost: treat as inseparable
+  return std::sqrt(std::max(0.0, 1.0 - 1.0 / inv00));
+}
+
+/// Sets param_correlation, focal_distortion_correlation and degeneracy_warning of `cam` from the
+/// covariance `cov` of its parameters (empty when the covariance was rank deficient).
+void intrinsicSeparability(CameraIntrinsicResult& cam, const std::string& model, const Eigen::MatrixXd& cov,
+                           const IntrinsicOptions& options) {
+  const auto names = GenericCamera::paramNames(model);
+  const std::vector<int> distortion = intrinsicDistortionIndices(model);
+  std::string distortion_names;
+  for (int i : distortion)
+    distortion_names.append(distortion_names.empty() ? "" : ", ").append(names[static_cast<std::size_t>(i)]);
+  if (cov.size() == 0) {
+    cam.degeneracy_warning = cam.calibration.label +
+                             ": the parameter covariance is rank deficient: the views do not determine "
+                             "all parameters; show the target near the image rim and strongly tilted";
+    return;
+  }
+  const Eigen::VectorXd d = cov.diagonal().cwiseMax(1e-300).cwiseSqrt();
+  cam.param_correlation = d.cwiseInverse().asDiagonal() * cov * d.cwiseInverse().asDiagonal();
+  const double r_fx = intrinsicMultipleCorrelation(cam.param_correlation, 0, distortion);
+  const double r_fy = intrinsicMultipleCorrelation(cam.param_correlation, 1, distortion);
+  cam.focal_distortion_correlation = std::max(r_fx, r_fy);
+  if (cam.focal_distortion_correlation > options.max_focal_correlation) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.6f (limit %.6f)", cam.focal_distortion_correlation,
+                  options.max_focal_correlation);
+    cam.degeneracy_warning = cam.calibration.label + ": the views do not separate the focal length from " +
+                             distortion_names + " (multiple correlation " + buf +
+                             "): a longer focal length with more distortion fits them as well, so fx, "
+                             "fy and " + distortion_names +
+                             " are unreliable; add views with the target near the image rim and tilted "
+                             "by 30-60 deg";
+  }
+}
+
 }  // namespace
 
 SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
@@ -335,21 +400,62 @@ SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
                           std::to_string(cam.usable.size()) + " views");
       init = initialIntrinsics(*cam.input, target, cam.usable);
     }
-    cam.params.assign(init.data(), init.data() + init.size());
-    const auto camera = GenericCamera::create(cam.input->model, init);
-    std::vector<int> posed;
-    for (int v : cam.usable) {
-      const auto pose = viewPose(*camera, target, cam.input->views[static_cast<std::size_t>(v)]);
-      if (!pose) continue;
-      cam.T_cam_board[v] = detail::PoseBlock::from(*pose);
-      posed.push_back(v);
+    // The double sphere's focal length and xi trade off near the image centre (the centre focal
+    // length is fx/(1 + xi)), and the cost has separate minima along that valley: without a
+    // user start, solve from three values of xi at the same centre focal length and keep the
+    // lowest cost.
+    std::vector<Eigen::VectorXd> starts = {init};
+    if (!cam.input->initial_params && cam.input->model == "ds") {
+      for (const double xi : {-0.3, 0.4}) {
+        Eigen::VectorXd start = init;
+        start[0] = init[0] * (1 + xi);
+        start[1] = init[1] * (1 + xi);
+        start[4] = xi;
+        starts.push_back(start);
+      }
     }
-    cam.usable = posed;
-    if (static_cast<int>(cam.usable.size()) < options.min_views)
-      return CalibrationFailure{CalibrationError::kInitialisationFailed,
-                                cam.input->label + ": board poses could be initialised in only " +
-                                    std::to_string(posed.size()) + " views"};
-    if (auto failure = solveMono(target, cam, options, mono_summary)) return *failure;
+    const std::vector<int> usable = cam.usable;
+    std::optional<CameraState> best;
+    std::optional<CalibrationFailure> last_failure;
+    for (std::size_t k = 0; k < starts.size(); ++k) {
+      CameraState trial;
+      trial.input = cam.input;
+      trial.params.assign(starts[k].data(), starts[k].data() + starts[k].size());
+      const auto camera = GenericCamera::create(cam.input->model, starts[k]);
+      if (!camera) continue;
+      for (int v : usable) {
+        const auto pose = viewPose(*camera, target, cam.input->views[static_cast<std::size_t>(v)]);
+        if (!pose) continue;
+        trial.T_cam_board[v] = detail::PoseBlock::from(*pose);
+        trial.usable.push_back(v);
+      }
+      if (static_cast<int>(trial.usable.size()) < options.min_views) {
+        last_failure = CalibrationFailure{CalibrationError::kInitialisationFailed,
+                                          cam.input->label + ": board poses could be initialised in only " +
+                                              std::to_string(trial.usable.size()) + " views"};
+        continue;
+      }
+      if (starts.size() > 1) {
+        char line[160];
+        std::snprintf(line, sizeof line, "%s: start %zu/%zu: fx %.1f, xi %.2f", cam.input->label.c_str(), k + 1,
+                      starts.size(), starts[k][0], starts[k][4]);
+        report(options, line);
+      }
+      ceres::Solver::Summary summary;
+      if (auto failure = solveMono(target, trial, options, summary)) {
+        last_failure = failure;
+        continue;
+      }
+      if (!best || summary.final_cost < mono_summary.final_cost) {
+        best = std::move(trial);
+        mono_summary = summary;
+      }
+    }
+    if (!best)
+      return last_failure ? *last_failure
+                          : CalibrationFailure{CalibrationError::kInitialisationFailed,
+                                               cam.input->label + ": no valid initial parameters"};
+    cam = std::move(*best);
   }
 
   IntrinsicResult result;
@@ -400,6 +506,7 @@ SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
   }
 
   std::vector<std::vector<double>> stddevs(state.size());
+  std::vector<Eigen::MatrixXd> covariances(state.size());  // unscaled; empty: rank deficient
   if (options.covariance) {
     report(options, "computing parameter covariance");
     ceres::Covariance::Options co;
@@ -412,9 +519,10 @@ SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
       const double sigma2 = 2.0 * result.final_cost / dof;
       for (std::size_t c = 0; c < state.size(); ++c) {
         const int n = static_cast<int>(state[c].params.size());
-        Eigen::MatrixXd cov(n, n);  // row-major or not: only the diagonal is read
+        Eigen::MatrixXd cov(n, n);  // symmetric: row- or column-major read the same
         if (!covariance.GetCovarianceBlock(state[c].params.data(), state[c].params.data(), cov.data()))
           continue;
+        covariances[c] = cov;  // correlations do not depend on the scale
         for (int i = 0; i < n; ++i) stddevs[c].push_back(std::sqrt(std::max(0.0, cov(i, i) * sigma2)));
       }
     }
@@ -430,6 +538,11 @@ SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
     result.cameras.push_back(evaluateCamera(target, state[c], T_l_b,
                                             c == 1 ? std::optional(T_r_l->toIsometry()) : std::nullopt));
     result.cameras[c].param_stddev = stddevs[c];
+    if (options.covariance) {
+      intrinsicSeparability(result.cameras[c], state[c].input->model, covariances[c], options);
+      if (!result.cameras[c].degeneracy_warning.empty())
+        report(options, "WARNING: " + result.cameras[c].degeneracy_warning);
+    }
     if (!(result.cameras[c].rms_px <= options.max_rms_px))
       return CalibrationFailure{CalibrationError::kDiverged,
                                 state[c].input->label + ": the solve diverged: final RMS " +

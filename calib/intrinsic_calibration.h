@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -45,7 +46,11 @@ struct IntrinsicOptions {
   int min_corners_per_view = 12; ///< views with fewer corners are not used
   int min_views = 3;             ///< per camera
   double max_rms_px = 5.0;       ///< a final RMS above this means the solve diverged
-  bool covariance = true;        ///< compute parameter standard deviations
+  bool covariance = true;        ///< compute parameter standard deviations and separability
+  /// Separability check (needs `covariance`): a multiple correlation of fx or fy with the
+  /// model's distortion parameters above this means the views do not separate the focal length
+  /// from the distortion (see CameraIntrinsicResult::degeneracy_warning).
+  double max_focal_correlation = 0.999;
   int num_threads = 1;
   std::function<void(const std::string&)> progress;  ///< one line per step and iteration
 };
@@ -77,6 +82,20 @@ struct CameraIntrinsicResult {
   /// Standard deviation of each parameter (kalibr order) from the covariance, scaled by the
   /// residual variance; empty when the covariance is unavailable (rank deficient).
   std::vector<double> param_stddev;
+  /// Correlation matrix of the parameters (kalibr order) from the covariance; empty when the
+  /// covariance was not computed or is unavailable.
+  Eigen::MatrixXd param_correlation;
+  /// Multiple correlation R of the worse of fx, fy with the model's distortion parameters
+  /// (ds: xi, alpha; eucm: alpha, beta; kb4: k1..k4; pinhole: k1, k2, p1, p2), from
+  /// param_correlation: R² = 1 − 1/(C⁻¹)₀₀ over the sub-matrix C of (focal, distortion). Near 1
+  /// when the views cannot tell a longer focal length from more distortion (e.g. all views
+  /// fronto-parallel at the image centre); NaN when the covariance is unavailable.
+  double focal_distortion_correlation = NAN;
+  /// Empty when the parameters are separable; otherwise a warning for the user naming the
+  /// parameters that trade off and what views would separate them. Set when
+  /// focal_distortion_correlation exceeds IntrinsicOptions::max_focal_correlation or the
+  /// covariance is rank deficient.
+  std::string degeneracy_warning;
 };
 
 struct IntrinsicResult {
@@ -87,6 +106,9 @@ struct IntrinsicResult {
   double final_cost = 0;
   int iterations = 0;
   double solve_seconds = 0;
+
+  /// True when a camera carries a degeneracy warning.
+  bool degenerate() const;
 
   /// The cameras (and T_cam_l_cam_r) as a system calibration.
   SystemCalibration toSystemCalibration() const;

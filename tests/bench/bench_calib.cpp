@@ -21,15 +21,19 @@ constexpr double kNoisePx = 0.3;
 
 struct IntrinsicFigures {
   double rms_px = 0, focal_rel = 0, cx_px = 0, cy_px = 0, xi = 0, alpha = 0, seconds = 0;
+  double correlation = NAN;  ///< focal vs distortion multiple correlation
+  bool degenerate = false;   ///< the solve warned that the views do not separate the parameters
   int corners = 0;
   bool ok = false;
 };
 
+/// `degenerate`: all views fronto-parallel at the image centre instead of spread over the image.
 IntrinsicFigures runIntrinsics(const test::SyntheticCamera& cam, int views, std::uint32_t seed,
-                               const std::string& model = "ds") {
+                               const std::string& model = "ds", bool degenerate = false) {
   std::mt19937 rng(seed);
   const auto grid = test::testGrid();
-  const auto poses = test::spreadBoardPoses(cam, grid, views, 100.0 * M_PI / 180, rng);
+  const auto poses = degenerate ? test::frontoParallelCentreBoardPoses(grid, views, rng)
+                                : test::spreadBoardPoses(cam, grid, views, 100.0 * M_PI / 180, rng);
   calib::CameraViews input;
   input.model = model;
   input.width = cam.width;
@@ -45,6 +49,8 @@ IntrinsicFigures runIntrinsics(const test::SyntheticCamera& cam, int views, std:
   const Eigen::VectorXd t = cam.camera.params();
   f.rms_px = result->cameras[0].rms_px;
   f.corners = result->cameras[0].corners;
+  f.correlation = result->cameras[0].focal_distortion_correlation;
+  f.degenerate = result->degenerate();
   if (model == "ds") {
     f.focal_rel = std::max(std::abs(p[0] / t[0] - 1), std::abs(p[1] / t[1] - 1));
     f.cx_px = std::abs(p[2] - t[2]);
@@ -120,7 +126,7 @@ nlohmann::json runCalib(const BenchContext& ctx) {
 
   // 1. Intrinsics vs number of views.
   Table intr({"image", "views", "corners", "RMS px", "RMS / (σ√2)", "focal err rel", "cx err px",
-              "cy err px", "xi err", "alpha err", "solve s"});
+              "cy err px", "xi err", "alpha err", "f/dist corr", "warning", "solve s"});
   const std::vector<int> view_counts = ctx.quick ? std::vector<int>{10, 20} : std::vector<int>{10, 20, 50, 100};
   std::vector<std::pair<std::string, test::SyntheticCamera>> lenses = {{"1280x1024", test::lens1280()}};
   if (!ctx.quick) lenses.push_back({"3840x2160", test::lens4k()});
@@ -130,13 +136,14 @@ nlohmann::json runCalib(const BenchContext& ctx) {
       ctx.out << "intrinsics: " << name << ", " << n << " views...\n";
       const IntrinsicFigures f = runIntrinsics(cam, n, 100 + static_cast<std::uint32_t>(n));
       if (!f.ok) {
-        intr.addRow({name, std::to_string(n), "-", "failed", "", "", "", "", "", "", formatNumber(f.seconds)});
+        intr.addRow({name, std::to_string(n), "-", "failed", "", "", "", "", "", "", "", "", formatNumber(f.seconds)});
         continue;
       }
       intr.addRow({name, std::to_string(n), std::to_string(f.corners), formatNumber(f.rms_px, 4),
                    formatNumber(f.rms_px / expected_rms, 4), formatNumber(f.focal_rel, 2),
                    formatNumber(f.cx_px, 2), formatNumber(f.cy_px, 2), formatNumber(f.xi, 2),
-                   formatNumber(f.alpha, 2), formatNumber(f.seconds)});
+                   formatNumber(f.alpha, 2), formatNumber(f.correlation, 6), f.degenerate ? "yes" : "no",
+                   formatNumber(f.seconds)});
       json["intrinsics"].push_back({{"image", name}, {"views", n}, {"rms_px", f.rms_px},
                                     {"focal_error_rel", f.focal_rel}, {"cx_error_px", f.cx_px},
                                     {"cy_error_px", f.cy_px}, {"xi_error", f.xi},
@@ -144,13 +151,25 @@ nlohmann::json runCalib(const BenchContext& ctx) {
       if (n == (ctx.quick ? 20 : 50)) headline = f;
     }
   }
+  {
+    // The degeneracy check: all views fronto-parallel at the centre must raise the warning.
+    ctx.out << "intrinsics: 1280x1024, 20 fronto-parallel centre views (degenerate)...\n";
+    const IntrinsicFigures f = runIntrinsics(test::lens1280(), 20, 900, "ds", true);
+    intr.addRow({"1280x1024 fronto-parallel centre", "20", f.ok ? std::to_string(f.corners) : "-",
+                 f.ok ? formatNumber(f.rms_px, 4) : "failed", f.ok ? formatNumber(f.rms_px / expected_rms, 4) : "",
+                 formatNumber(f.focal_rel, 2), formatNumber(f.cx_px, 2), formatNumber(f.cy_px, 2),
+                 formatNumber(f.xi, 2), formatNumber(f.alpha, 2), formatNumber(f.correlation, 6),
+                 f.degenerate ? "yes" : "no", formatNumber(f.seconds)});
+    json["degenerate_set_warned"] = f.degenerate;
+    json["degenerate_set_correlation"] = f.correlation;
+  }
   json["intrinsics_rms_px"] = headline.rms_px;
   json["focal_error_rel"] = headline.focal_rel;
   json["intrinsics_solve_s"] = headline.seconds;
 
   // 2. Rendered images → detection → calibration.
-  Table pipeline({"image", "views", "corners detected", "detect s", "RMS px", "focal err rel",
-                  "cx err px", "xi err", "alpha err", "solve s"});
+  Table pipeline({"image", "views", "views detected", "corners detected", "detect s", "RMS px", "focal err rel",
+                  "cx err px", "xi err", "alpha err", "f/dist corr", "warning", "solve s"});
   {
     const auto cam = test::lens1280();
     const auto grid = test::testGrid();
@@ -162,7 +181,7 @@ nlohmann::json runCalib(const BenchContext& ctx) {
     input.width = cam.width;
     input.height = cam.height;
     double detect_s = 0;
-    int detected = 0;
+    int detected = 0, views_detected = 0;
     for (std::size_t v = 0; v < poses.size(); ++v) {
       calib::RenderOptions ro;
       ro.noise_sigma = 2.0;
@@ -173,6 +192,7 @@ nlohmann::json runCalib(const BenchContext& ctx) {
       input.views.push_back(calib::detectAprilGrid(image, grid));
       detect_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       detected += static_cast<int>(input.views.back().corner_ids.size());
+      views_detected += input.views.back().empty() ? 0 : 1;
     }
     const auto t0 = std::chrono::steady_clock::now();
     const auto result = calib::calibrateIntrinsics(grid, {input});
@@ -180,15 +200,19 @@ nlohmann::json runCalib(const BenchContext& ctx) {
     if (result) {
       const Eigen::VectorXd p = result->cameras[0].calibration.camera.params(), t = cam.camera.params();
       const double focal = std::max(std::abs(p[0] / t[0] - 1), std::abs(p[1] / t[1] - 1));
-      pipeline.addRow({"1280x1024", std::to_string(n), std::to_string(detected), formatNumber(detect_s),
-                       formatNumber(result->cameras[0].rms_px, 4), formatNumber(focal, 2),
+      pipeline.addRow({"1280x1024", std::to_string(n), std::to_string(views_detected), std::to_string(detected),
+                       formatNumber(detect_s), formatNumber(result->cameras[0].rms_px, 4), formatNumber(focal, 2),
                        formatNumber(std::abs(p[2] - t[2]), 2), formatNumber(std::abs(p[4] - t[4]), 2),
-                       formatNumber(std::abs(p[5] - t[5]), 2), formatNumber(solve_s)});
+                       formatNumber(std::abs(p[5] - t[5]), 2),
+                       formatNumber(result->cameras[0].focal_distortion_correlation, 6),
+                       result->degenerate() ? "yes" : "no", formatNumber(solve_s)});
       json["pipeline_rms_px"] = result->cameras[0].rms_px;
       json["pipeline_focal_error_rel"] = focal;
+      json["pipeline_degenerate"] = result->degenerate();
     } else {
-      pipeline.addRow({"1280x1024", std::to_string(n), std::to_string(detected), formatNumber(detect_s),
-                       "failed: " + result.failure().message, "", "", "", "", formatNumber(solve_s)});
+      pipeline.addRow({"1280x1024", std::to_string(n), std::to_string(views_detected), std::to_string(detected),
+                       formatNumber(detect_s), "failed: " + result.failure().message, "", "", "", "", "", "",
+                       formatNumber(solve_s)});
     }
   }
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <vector>
 
@@ -101,10 +102,13 @@ inline calib::TargetObservation observeBoard(const SyntheticCamera& cam, const c
 }
 
 /// `n` board poses spread over the image of `cam` (ring by ring from the centre out to
-/// `max_theta`, beyond 90° for the fisheye), each seen with at least 16 corners.
+/// `max_theta`, beyond 90° for the fisheye, so the image rim is covered), each tilted by up to
+/// `max_tilt` rad about a random axis in the board plane (strong tilts: the foreshortening
+/// separates focal length from distance and distortion) and seen with at least 16 corners.
 inline std::vector<Eigen::Isometry3d> spreadBoardPoses(const SyntheticCamera& cam,
                                                       const calib::AprilGrid& grid, int n,
-                                                      double max_theta, std::mt19937& rng) {
+                                                      double max_theta, std::mt19937& rng,
+                                                      double max_tilt = 1.0) {
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   std::vector<Eigen::Isometry3d> poses;
   std::mt19937 probe_rng(0);
@@ -113,11 +117,23 @@ inline std::vector<Eigen::Isometry3d> spreadBoardPoses(const SyntheticCamera& ca
     const double theta = max_theta * std::sqrt((i + u01(rng)) / n);
     const double phi = 2 * M_PI * u01(rng);
     const double distance = 0.45 + 0.6 * u01(rng);
-    const Eigen::Isometry3d T = boardPoseAt(grid, theta, phi, distance, 0.5 * (u01(rng) - 0.5),
-                                            0.5 * (u01(rng) - 0.5), 0.6 * (u01(rng) - 0.5));
+    const double tilt = max_tilt * u01(rng), tilt_axis = 2 * M_PI * u01(rng);
+    const Eigen::Isometry3d T = boardPoseAt(grid, theta, phi, distance, tilt * std::cos(tilt_axis),
+                                            tilt * std::sin(tilt_axis), 0.6 * (u01(rng) - 0.5));
     if (observeBoard(cam, grid, T, 0.0, probe_rng).corner_ids.size() < 16) continue;
     poses.push_back(T);
   }
+  return poses;
+}
+
+/// A deliberately degenerate set: `n` views with the board fronto-parallel at the image centre
+/// (no tilt, distance 0.45–1.05 m, any roll): focal length and distortion trade off.
+inline std::vector<Eigen::Isometry3d> frontoParallelCentreBoardPoses(const calib::AprilGrid& grid, int n,
+                                                                    std::mt19937& rng) {
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::vector<Eigen::Isometry3d> poses;
+  for (int i = 0; i < n; ++i)
+    poses.push_back(boardPoseAt(grid, 0.0, 0.0, 0.45 + 0.6 * u01(rng), 0.0, 0.0, M_PI * (u01(rng) - 0.5)));
   return poses;
 }
 
@@ -143,11 +159,14 @@ inline HandEyeTruth handEyeTruth() {
 /// A simulated session: the head moves in a sinusoid about two axes (yaw and pitch, or yaw only
 /// when `head_two_axes` is false) while the marker is held at random poses in front of the
 /// cameras; wrist poses follow from the truth. Marker corners observed in both cameras with
-/// Gaussian noise; samples where a corner leaves an image are dropped.
+/// Gaussian noise; samples where a corner leaves an image are dropped. `head_pose_at`, when
+/// given, replaces the sinusoid: T_robot_flange of attempt i (e.g. forward kinematics of joint
+/// angles chosen by the caller).
 inline std::vector<calib::HandEyeSample> simulateHandEyeSession(
     const HandEyeTruth& truth, const SyntheticCamera& cam_l, const SyntheticCamera& cam_r,
     const Eigen::Isometry3d& T_cam_l_cam_r, double marker_size, int n, double noise_px,
-    std::uint32_t seed, bool head_two_axes = true) {
+    std::uint32_t seed, bool head_two_axes = true,
+    const std::function<Eigen::Isometry3d(int)>& head_pose_at = {}) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::normal_distribution<double> noise(0.0, noise_px);
@@ -155,7 +174,7 @@ inline std::vector<calib::HandEyeSample> simulateHandEyeSession(
   std::vector<calib::HandEyeSample> samples;
   for (int i = 0; static_cast<int>(samples.size()) < n && i < 20 * n; ++i) {
     const double phase = 0.37 * i;
-    const Eigen::Isometry3d F = poseOf(
+    const Eigen::Isometry3d F = head_pose_at ? head_pose_at(i) : poseOf(
         Eigen::Vector3d(0, head_two_axes ? 0.35 * std::sin(1.3 * phase) : 0.0, 0.6 * std::sin(phase)),
         Eigen::Vector3d(0.3 + 0.05 * std::sin(phase), 0.05 * std::cos(phase), 1.2 + 0.03 * std::sin(2 * phase)));
     // Marker in front of cam_l, 0.35–0.7 m away, up to ~45° off-axis, facing the camera ±35°.

@@ -4,6 +4,8 @@
 ///        parameters recovered and cost fallen; views beyond 90° off-axis used; failures reported.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "calib/intrinsic_calibration.h"
 #include "tests/calib/calib_synthetic.h"
 
@@ -62,6 +64,55 @@ TEST(IntrinsicCalibration, RecoversDoubleSphereFromPerturbedStart) {
     EXPECT_LT(std::abs(p[i] - truth[i]), 5 * result->cameras[0].param_stddev[static_cast<std::size_t>(i)] + 1e-9)
         << "parameter " << i;
   }
+}
+
+TEST(IntrinsicCalibration, GoodViewsMeetTheAccuracyGoalsAndAreSeparable) {
+  // Views over the whole image, the rim included, strongly tilted; σ = 0.3 px; automatic start.
+  const auto cam = lens1280();
+  std::mt19937 rng(17);
+  const auto poses = test::spreadBoardPoses(cam, testGrid(), 40, 100.0 * M_PI / 180, rng);
+  ASSERT_EQ(poses.size(), 40u);
+  const auto result = calibrateIntrinsics(testGrid(), {syntheticViews(cam, poses, 19)});
+  ASSERT_TRUE(result) << result.failure().message;
+  const auto& c = result->cameras[0];
+  const Eigen::VectorXd p = c.calibration.camera.params(), truth = cam.camera.params();
+  EXPECT_LT(std::abs(p[0] / truth[0] - 1), 1e-3) << p.transpose();  // focal error < 0.1 %
+  EXPECT_LT(std::abs(p[1] / truth[1] - 1), 1e-3) << p.transpose();
+  EXPECT_NEAR(c.rms_px / (kNoisePx * std::sqrt(2.0)), 1.0, 0.05);     // RMS within 5 % of the noise
+  EXPECT_TRUE(c.degeneracy_warning.empty()) << c.degeneracy_warning;
+  EXPECT_FALSE(result->degenerate());
+  EXPECT_LT(c.focal_distortion_correlation, IntrinsicOptions{}.max_focal_correlation);
+  ASSERT_EQ(c.param_correlation.rows(), 6);
+  EXPECT_NEAR(c.param_correlation(4, 4), 1.0, 1e-9);
+  EXPECT_NEAR(c.param_correlation(0, 4), c.param_correlation(4, 0), 1e-9);
+}
+
+TEST(IntrinsicCalibration, WarnsWhenFocalLengthAndDistortionAreNotSeparable) {
+  // Every view fronto-parallel at the image centre: a longer focal length with more distortion
+  // explains the corners as well. The solve must say so instead of answering confidently.
+  const auto cam = lens1280();
+  std::mt19937 rng(23);
+  const auto poses = test::frontoParallelCentreBoardPoses(testGrid(), 12, rng);
+  std::vector<std::string> progress;
+  IntrinsicOptions options;
+  options.progress = [&](const std::string& line) { progress.push_back(line); };
+  const auto result = calibrateIntrinsics(testGrid(), {syntheticViews(cam, poses, 29)}, options);
+  ASSERT_TRUE(result) << result.failure().message;
+  const auto& c = result->cameras[0];
+  EXPECT_TRUE(result->degenerate());
+  EXPECT_GT(c.focal_distortion_correlation, options.max_focal_correlation);
+  EXPECT_NE(c.degeneracy_warning.find("cam_l: the views do not separate the focal length from xi, alpha"),
+            std::string::npos)
+      << c.degeneracy_warning;
+  EXPECT_NE(c.degeneracy_warning.find("image rim"), std::string::npos) << c.degeneracy_warning;
+  EXPECT_TRUE(std::any_of(progress.begin(), progress.end(),
+                          [](const std::string& l) { return l.rfind("WARNING: cam_l:", 0) == 0; }));
+  // Without the covariance there is no separability verdict (and no false alarm).
+  options.covariance = false;
+  const auto unchecked = calibrateIntrinsics(testGrid(), {syntheticViews(cam, poses, 29)}, options);
+  ASSERT_TRUE(unchecked);
+  EXPECT_TRUE(unchecked->cameras[0].degeneracy_warning.empty());
+  EXPECT_TRUE(std::isnan(unchecked->cameras[0].focal_distortion_correlation));
 }
 
 TEST(IntrinsicCalibration, CalibratesTheStereoPairFromAutomaticInitialisation) {
