@@ -30,7 +30,20 @@ JpegEncoder::~JpegEncoder() { tjDestroy(handle_); }
 bool JpegEncoder::encodeRgb(const std::uint8_t* rgb, int width, int height, int stride,
                             const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
                             std::string* error) {
-  if (width <= 0 || height <= 0 || width > 65500 || height > 65500 || stride < 3 * width) {
+  return encode(rgb, width, height, stride, 3, settings, out_jpeg, error);
+}
+
+bool JpegEncoder::encodeGray(const std::uint8_t* gray, int width, int height, int stride,
+                             const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
+                             std::string* error) {
+  return encode(gray, width, height, stride, 1, settings, out_jpeg, error);
+}
+
+bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int stride,
+                         int channels, const JpegSettings& settings,
+                         std::vector<std::uint8_t>& out_jpeg, std::string* error) {
+  if (width <= 0 || height <= 0 || width > 65500 || height > 65500 ||
+      stride < channels * width) {
     *error = "bad image size " + std::to_string(width) + "x" + std::to_string(height) +
              " with stride " + std::to_string(stride);
     return false;
@@ -39,14 +52,15 @@ bool JpegEncoder::encodeRgb(const std::uint8_t* rgb, int width, int height, int 
     *error = "JPEG quality " + std::to_string(settings.quality) + " is outside 1..100";
     return false;
   }
-  const int subsampling = tjSubsampling(settings.subsampling);
+  const int subsampling = channels == 1 ? TJSAMP_GRAY : tjSubsampling(settings.subsampling);
   // Encode straight into our buffer (sized for the worst case) so nothing is copied afterwards.
   const unsigned long capacity = tjBufSize(width, height, subsampling);
   out_jpeg.resize(capacity);
   unsigned char* dst = out_jpeg.data();
   unsigned long size = capacity;
   const int flags = TJFLAG_NOREALLOC | TJFLAG_FASTDCT;
-  if (tjCompress2(handle_, rgb, width, stride, height, TJPF_RGB, &dst, &size, subsampling,
+  if (tjCompress2(handle_, pixels, width, stride, height,
+                  channels == 1 ? TJPF_GRAY : TJPF_RGB, &dst, &size, subsampling,
                   settings.quality, flags) != 0) {
     *error = std::string("tjCompress2: ") + tjGetErrorStr2(handle_);
     return false;

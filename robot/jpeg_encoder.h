@@ -31,7 +31,17 @@ class JpegEncoder {
                  const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
                  std::string* error);
 
+  /// Encodes an 8-bit single-channel image (a Mono8 camera) as a greyscale JPEG; `settings`'
+  /// subsampling is ignored.
+  bool encodeGray(const std::uint8_t* gray, int width, int height, int stride,
+                  const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
+                  std::string* error);
+
  private:
+  bool encode(const std::uint8_t* pixels, int width, int height, int stride, int channels,
+              const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
+              std::string* error);
+
   void* handle_;
 };
 

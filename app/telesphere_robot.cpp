@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: MIT
+/// @brief telesphere-robot: the robot side (DESIGN.md §1, §4, §5). Owns the cameras, the head arm
+///        and the link server:
+///          cameras → stereo pairing → parallel JPEG encode → link (frames, with T_robot_cam at
+///          capture time from the joint-state buffer)
+///          link (head targets) → head controller → arm → joint-state buffer → link (state)
+///
+/// With --sim (the default; the only arm this build can drive) the arm is the simulated xArm 6
+/// and the cameras are synthetic, rendering the default scene through the calibrated lens at the
+/// arm's pose. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
+/// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
+/// Exit codes: 0 ok, 1 bad arguments or files, 2 a camera or the link could not start.
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include "calib/calibration_file.h"
+#include "calib/camera_resolution.h"
+#include "robot/aravis_camera.h"
+#include "robot/head_arm_sim.h"
+#include "robot/head_loop.h"
+#include "robot/synthetic_camera.h"
+#include "robot/synthetic_scene.h"
+#include "robot/video_streamer.h"
+
+namespace {
+
+using namespace telesphere;
+
+std::atomic<bool> g_stop{false};
+extern "C" void onSignal(int) { g_stop = true; }
+
+bool parseSize(const std::string& text, int& width, int& height) {
+  return std::sscanf(text.c_str(), "%dx%d", &width, &height) == 2 && width > 0 && height > 0 &&
+         width <= 16384 && height <= 16384;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"telesphere-robot: cameras, head arm and link server of the robot side"};
+  std::string calib_path = TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml";
+  int port = 5760;
+  std::string size = "640x360";  // the synthetic cameras render in real time at this size
+  double fps = 45.0;
+  int quality = 90;
+  std::string subsampling = "420";
+  double duration_s = 0.0;
+  double stats_period_s = 2.0;
+  std::string camera_left, camera_right;
+  bool auto_nominal = true;
+  double sphere_radius = 1.0;
+  int render_threads = 2;
+  bool sim = false;  // the default anyway; explicit for scripts
+  app.add_flag("--sim", sim, "simulated arm and synthetic cameras (the default)");
+  app.add_option("--calib", calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
+      ->capture_default_str();
+  app.add_option("--port", port, "link base port (frames, state, uplink, control: port..port+3)")
+      ->capture_default_str()->check(CLI::Range(1024, 65532));
+  app.add_option("--size", size, "camera image size WxH (synthetic cameras; the calibration is scaled)")
+      ->capture_default_str();
+  app.add_option("--fps", fps, "camera frame rate, Hz")->capture_default_str()->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--quality", quality, "JPEG quality")->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_option("--subsampling", subsampling, "JPEG chroma subsampling")
+      ->capture_default_str()->check(CLI::IsMember({"420", "422", "444"}));
+  app.add_option("--duration", duration_s, "stop after this many seconds (0: run until SIGINT)")
+      ->capture_default_str();
+  app.add_option("--stats-period", stats_period_s, "seconds between statistics lines (0: none)")
+      ->capture_default_str();
+  app.add_option("--camera-left", camera_left, "Aravis device id (name or serial) of the left camera");
+  app.add_option("--camera-right", camera_right, "Aravis device id of the right camera");
+  app.add_option("--auto-nominal", auto_nominal,
+                 "take the first head pose as the nominal pose (else the console captures it)")
+      ->capture_default_str();
+  app.add_option("--sphere-radius", sphere_radius, "initial sphere radius r, m")->capture_default_str();
+  app.add_option("--render-threads", render_threads, "threads per synthetic camera")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  auto loaded = calib::loadCalibrationFile(calib_path);
+  if (!loaded) {
+    std::cerr << "telesphere-robot: " << loaded.error().describe() << '\n';
+    return 1;
+  }
+  const calib::SystemCalibration& calibration = *loaded;
+  if (calibration.cameras.size() != 2 || !calibration.T_cam_l_cam_r || !calibration.T_flange_cam_l) {
+    std::cerr << "telesphere-robot: " << calib_path
+              << ": needs two cameras, T_cam_l_cam_r and T_flange_cam_l (run telesphere-calib "
+                 "intrinsics and handeye first)\n";
+    return 1;
+  }
+  if (sim && !camera_left.empty()) {
+    std::cerr << "telesphere-robot: --sim uses synthetic cameras; drop --camera-left/--camera-right\n";
+    return 1;
+  }
+  if (camera_left.empty() != camera_right.empty()) {
+    std::cerr << "telesphere-robot: give both --camera-left and --camera-right, or neither (--sim)\n";
+    return 1;
+  }
+  int width = 0, height = 0;
+  if (!parseSize(size, width, height)) {
+    std::cerr << "telesphere-robot: --size '" << size << "' is not WxH\n";
+    return 1;
+  }
+  robot::JpegSettings jpeg;
+  jpeg.quality = quality;
+  jpeg.subsampling = subsampling == "444"   ? robot::ChromaSubsampling::k444
+                     : subsampling == "422" ? robot::ChromaSubsampling::k422
+                                            : robot::ChromaSubsampling::k420;
+
+  std::signal(SIGINT, onSignal);
+  std::signal(SIGTERM, onSignal);
+
+  // The head loop: simulated arm (no xArm driver in this build), controller, joint-state buffer.
+  robot::SteadyClock clock;
+  robot::HeadControllerConfig controller_config;
+  controller_config.geometry.T_flange_cam_l = *calibration.T_flange_cam_l;
+  controller_config.geometry.T_cam_l_cam_r = *calibration.T_cam_l_cam_r;
+  robot::HeadController controller(controller_config);
+  robot::SimulatedArmConfig arm_config;
+  {  // start at the nominal head pose so the first frames already look where the operator will
+    const auto ik = controller.kinematics().inverse(
+        controller_config.T_robot_nom * controller_config.geometry.T_flange_head().inverse(),
+        robot::JointVector::Zero(), controller_config.ik);
+    if (ik.status == robot::IkResult::Status::kConverged) arm_config.q_initial = ik.q;
+  }
+  robot::SimulatedArm arm(clock, arm_config);
+  robot::JointStateBuffer joints(controller_config.geometry);
+
+  link::LinkEndpoints endpoints;
+  endpoints.base_port = port;
+  std::unique_ptr<link::LinkServer> server;
+  try {
+    server = std::make_unique<link::LinkServer>(endpoints);
+  } catch (const std::exception& e) {
+    std::cerr << "telesphere-robot: cannot open the link on ports " << port << ".." << port + 3
+              << ": " << e.what() << '\n';
+    return 2;
+  }
+  robot::HeadLoopConfig loop_config;
+  loop_config.auto_nominal = auto_nominal;
+  loop_config.sphere_radius = sphere_radius;
+  robot::HeadLoop loop(arm, controller, joints, *server, clock, loop_config);
+  server->setControlHandler([&loop](const link::proto::ControlRequest& r) { return loop.handleControl(r); });
+
+  // Camera poses at capture time; before any joint state, the pose at the initial configuration.
+  const Eigen::Isometry3d T_robot_cam_l0 =
+      controller.kinematics().forward(arm_config.q_initial) * *calibration.T_flange_cam_l;
+  const Eigen::Isometry3d T_robot_cam_r0 = T_robot_cam_l0 * *calibration.T_cam_l_cam_r;
+  const robot::CameraPoseAt poses = [&joints](robot::CameraSide side, std::int64_t t_ns) {
+    return joints.T_robot_cam(side, t_ns);
+  };
+
+  std::unique_ptr<robot::CameraSource> left, right;
+  if (camera_left.empty()) {
+    auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene());
+    const auto make = [&](int index, robot::CameraSide side, const Eigen::Isometry3d& T0,
+                          const char* name) -> std::unique_ptr<robot::CameraSource> {
+      std::string error;
+      const auto camera = calib::atResolution(calibration.cameras[index], width, height, &error);
+      if (!camera) {
+        std::cerr << "telesphere-robot: " << error << '\n';
+        return nullptr;
+      }
+      robot::SyntheticCameraOptions options;
+      options.name = name;
+      options.fps = fps;
+      options.threads = render_threads;
+      return std::make_unique<robot::SyntheticCamera>(
+          camera->camera, width, height, scene,
+          [&joints, side, T0](std::int64_t t_ns) { return joints.T_robot_cam(side, t_ns).value_or(T0); },
+          clock, options);
+    };
+    left = make(0, robot::CameraSide::kLeft, T_robot_cam_l0, "synthetic-left");
+    right = make(1, robot::CameraSide::kRight, T_robot_cam_r0, "synthetic-right");
+    if (!left || !right) return 1;
+  } else {
+    for (auto [id, out] : {std::pair{&camera_left, &left}, std::pair{&camera_right, &right}}) {
+      robot::AravisCameraOptions options;
+      options.device_id = *id;
+      options.frame_rate_hz = fps;
+      *out = std::make_unique<robot::AravisCamera>(options);
+    }
+  }
+  for (robot::CameraSource* camera : {left.get(), right.get()}) {
+    std::string error;
+    if (!camera->start(&error)) {
+      std::cerr << "telesphere-robot: camera " << camera->name() << ": " << error << '\n';
+      return 2;
+    }
+  }
+
+  robot::StereoPairerOptions pairing;
+  pairing.tolerance_ns = static_cast<std::int64_t>(0.25e9 / fps);  // a quarter period
+  robot::StereoPairSource pairs(*left, *right, pairing);
+  robot::VideoStreamerConfig video_config;
+  video_config.jpeg = jpeg;
+  video_config.T_robot_cam_l_fixed = T_robot_cam_l0;
+  video_config.T_robot_cam_r_fixed = T_robot_cam_r0;
+  robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
+
+  std::thread head_thread([&] { loop.run(g_stop); });
+  pairs.start();
+  video.start();
+  std::cerr << "telesphere-robot: " << (camera_left.empty() ? "simulated arm, synthetic cameras " : "cameras ")
+            << width << "x" << height << " at " << fps << " Hz, link on port " << port << '\n';
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto next_stats = t0 + std::chrono::duration<double>(stats_period_s);
+  std::uint64_t frames_before = 0;
+  while (!g_stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const auto now = std::chrono::steady_clock::now();
+    if (duration_s > 0 && now - t0 >= std::chrono::duration<double>(duration_s)) g_stop = true;
+    if (stats_period_s > 0 && now >= next_stats) {
+      const auto v = video.stats();
+      const auto p = pairs.stats();
+      std::fprintf(stderr,
+                   "telesphere-robot: %.1f fps sent, encode %.1f ms, capture->sent %.1f ms, pairs "
+                   "dropped %llu, poses from joints %llu / fixed %llu, head targets sent %lld\n",
+                   double(v.frames_sent - frames_before) / stats_period_s, v.encode_ms_last,
+                   double(v.capture_to_sent_ns_last) * 1e-6,
+                   static_cast<unsigned long long>(p.dropped[0].total() + p.dropped[1].total()),
+                   static_cast<unsigned long long>(v.poses_from_joints),
+                   static_cast<unsigned long long>(v.poses_fixed),
+                   static_cast<long long>(loop.targetsSent()));
+      frames_before = v.frames_sent;
+      next_stats += std::chrono::duration<double>(stats_period_s);
+    }
+  }
+  video.stop();
+  pairs.stop();
+  left->stop();
+  right->stop();
+  head_thread.join();
+  const auto v = video.stats();
+  std::fprintf(stderr, "telesphere-robot: stopped after %llu frames\n",
+               static_cast<unsigned long long>(v.frames_sent));
+  return 0;
+}

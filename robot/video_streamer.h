@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot side of the video path (DESIGN.md §4): takes stereo pairs, encodes both
+///        images in parallel, attaches each camera's pose T_robot_cam at its capture time (from
+///        the joint-state buffer; the fixed calibrated pose, flagged as such, when the buffer
+///        cannot say) and publishes the frame on the link with its capture and encode stamps.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "robot/clock.h"
+#include "robot/joint_state_buffer.h"
+#include "robot/link/link_server.h"
+#include "robot/stereo_encoder.h"
+#include "robot/stereo_pairer.h"
+
+namespace telesphere::robot {
+
+/// T_robot_cam of one camera at a capture time, or nothing when it is not known.
+using CameraPoseAt = std::function<std::optional<Eigen::Isometry3d>(CameraSide, std::int64_t t_ns)>;
+
+struct VideoStreamerConfig {
+  JpegSettings jpeg;
+  /// Used, and flagged POSE_SOURCE_FIXED_CALIBRATION, when CameraPoseAt has no answer.
+  Eigen::Isometry3d T_robot_cam_l_fixed = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d T_robot_cam_r_fixed = Eigen::Isometry3d::Identity();
+};
+
+struct VideoStreamerStats {
+  std::uint64_t frames_sent = 0;
+  std::uint64_t encode_failures = 0;
+  std::uint64_t poses_from_joints = 0;  ///< camera images whose pose came from joint states
+  std::uint64_t poses_fixed = 0;        ///< … from the fixed calibration
+  double encode_ms_last = 0.0;          ///< wall time of the last pair's (parallel) encode
+  std::int64_t capture_to_sent_ns_last = 0;
+  std::string last_error;
+};
+
+class VideoStreamer {
+ public:
+  VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
+                CameraPoseAt poses, const VideoStreamerConfig& config);
+  ~VideoStreamer();
+  VideoStreamer(const VideoStreamer&) = delete;
+  VideoStreamer& operator=(const VideoStreamer&) = delete;
+
+  /// Starts the streaming thread (the pair source must be started by the caller).
+  void start();
+  void stop();
+
+  /// One pair: encode and publish (what the thread does per pair); false on an encode failure.
+  bool publish(const StereoFrame& pair);
+
+  void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
+  VideoStreamerStats stats() const;
+
+ private:
+  void run();
+
+  StereoPairSource& pairs_;
+  link::LinkServer& server_;
+  const Clock& clock_;
+  CameraPoseAt poses_;
+  VideoStreamerConfig config_;
+  StereoEncoder encoder_;
+  std::uint64_t sequence_ = 0;
+  mutable std::mutex stats_mutex_;
+  VideoStreamerStats stats_;
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace telesphere::robot

@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+/// @brief StereoEncoder: both sides encode (RGB8 and Mono8), decode back close to the input,
+///        formats it cannot encode are refused with the side named, settings change live, and
+///        output buffers are reused only once nobody else holds them.
+#include <gtest/gtest.h>
+#include <turbojpeg.h>
+
+#include <cmath>
+#include <random>
+
+#include "robot/stereo_encoder.h"
+
+namespace telesphere::robot {
+namespace {
+
+CameraFrame testFrame(int width, int height, PixelFormat format, std::uint32_t seed) {
+  CameraFrame f;
+  f.width = width;
+  f.height = height;
+  f.format = format;
+  f.stride_bytes = width * bytesPerPixel(format);
+  auto pixels = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(f.stride_bytes) * height);
+  // Smooth content (JPEG-friendly) with a seed-dependent phase so the two sides differ.
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < f.stride_bytes; ++x)
+      (*pixels)[static_cast<std::size_t>(y) * f.stride_bytes + x] = static_cast<std::uint8_t>(
+          127.5 + 100.0 * std::sin(0.05 * x + 0.07 * y + seed));
+  f.pixels = pixels;
+  return f;
+}
+
+/// Decodes to the frame's own pixel layout and returns the RMS difference.
+double rmsAfterRoundTrip(const CameraFrame& f, const std::vector<std::uint8_t>& jpeg) {
+  tjhandle h = tjInitDecompress();
+  std::vector<std::uint8_t> out(f.pixels->size());
+  const int pf = f.format == PixelFormat::kMono8 ? TJPF_GRAY : TJPF_RGB;
+  EXPECT_EQ(tjDecompress2(h, jpeg.data(), jpeg.size(), out.data(), f.width, f.stride_bytes,
+                          f.height, pf, 0), 0) << tjGetErrorStr2(h);
+  tjDestroy(h);
+  double sum = 0;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double d = double(out[i]) - double((*f.pixels)[i]);
+    sum += d * d;
+  }
+  return std::sqrt(sum / double(out.size()));
+}
+
+TEST(StereoEncoder, EncodesBothSidesAndTheyDecodeBack) {
+  SteadyClock clock;
+  StereoEncoder encoder(clock, {90, ChromaSubsampling::k444});
+  for (PixelFormat format : {PixelFormat::kRgb8, PixelFormat::kMono8}) {
+    const CameraFrame left = testFrame(320, 240, format, 1), right = testFrame(320, 240, format, 2);
+    EncodedPair out;
+    std::string error;
+    const std::int64_t before = clock.nowNs();
+    ASSERT_TRUE(encoder.encode(left, right, out, &error)) << error;
+    ASSERT_TRUE(out.left.jpeg && out.right.jpeg);
+    EXPECT_LT(rmsAfterRoundTrip(left, *out.left.jpeg), 3.0);
+    EXPECT_LT(rmsAfterRoundTrip(right, *out.right.jpeg), 3.0);
+    // The sides are not swapped: left decodes far from right's content.
+    EXPECT_GT(rmsAfterRoundTrip(right, *out.left.jpeg), 20.0);
+    EXPECT_GE(out.left.encoded_ns, before);
+    EXPECT_GE(out.right.encoded_ns, before);
+    EXPECT_GE(out.left.encode_ms, 0.0);
+  }
+}
+
+TEST(StereoEncoder, RefusesBayerAndEmptyFramesNamingTheSide) {
+  SteadyClock clock;
+  StereoEncoder encoder(clock, {});
+  const CameraFrame good = testFrame(64, 48, PixelFormat::kRgb8, 1);
+  CameraFrame bayer = testFrame(64, 48, PixelFormat::kMono8, 1);
+  bayer.format = PixelFormat::kBayerRG8;
+  EncodedPair out;
+  std::string error;
+  EXPECT_FALSE(encoder.encode(good, bayer, out, &error));
+  EXPECT_NE(error.find("right"), std::string::npos) << error;
+  EXPECT_NE(error.find("BayerRG8"), std::string::npos) << error;
+  CameraFrame empty;
+  EXPECT_FALSE(encoder.encode(empty, good, out, &error));
+  EXPECT_NE(error.find("left"), std::string::npos) << error;
+  // And it still works afterwards.
+  EXPECT_TRUE(encoder.encode(good, good, out, &error)) << error;
+}
+
+TEST(StereoEncoder, QualityChangesLiveAndBadQualityFails) {
+  SteadyClock clock;
+  StereoEncoder encoder(clock, {95, ChromaSubsampling::k420});
+  const CameraFrame f = testFrame(256, 256, PixelFormat::kRgb8, 3);
+  EncodedPair high, low;
+  std::string error;
+  ASSERT_TRUE(encoder.encode(f, f, high, &error)) << error;
+  encoder.setSettings({30, ChromaSubsampling::k420});
+  ASSERT_TRUE(encoder.encode(f, f, low, &error)) << error;
+  EXPECT_LT(low.left.jpeg->size(), high.left.jpeg->size());
+  encoder.setSettings({0, ChromaSubsampling::k420});
+  EXPECT_FALSE(encoder.encode(f, f, low, &error));
+  EXPECT_NE(error.find("quality"), std::string::npos) << error;
+}
+
+TEST(StereoEncoder, ReusesABufferOnlyAfterEveryoneReleasedIt) {
+  SteadyClock clock;
+  StereoEncoder encoder(clock, {});
+  const CameraFrame f = testFrame(128, 96, PixelFormat::kRgb8, 4);
+  EncodedPair first, second;
+  std::string error;
+  ASSERT_TRUE(encoder.encode(f, f, first, &error)) << error;
+  const auto held = first.left.jpeg;  // e.g. still queued in the link
+  const std::vector<std::uint8_t> held_bytes = *held;
+  first = {};
+  ASSERT_TRUE(encoder.encode(testFrame(128, 96, PixelFormat::kRgb8, 9), f, second, &error));
+  EXPECT_NE(second.left.jpeg.get(), held.get());  // not overwritten while held
+  EXPECT_EQ(*held, held_bytes);
+  const void* second_ptr = second.left.jpeg.get();
+  second = {};
+  EncodedPair third;
+  ASSERT_TRUE(encoder.encode(f, f, third, &error));
+  // A released buffer comes back (the first free one in the pool: `held`'s is still taken).
+  EXPECT_EQ(third.left.jpeg.get(), second_ptr);
+}
+
+}  // namespace
+}  // namespace telesphere::robot
