@@ -123,14 +123,14 @@ bool GpuCamera::upload(const SourceImage& image, std::string* out_error) {
                           kFloatFormat[image.channels - 1], GL_FLOAT, image.floats.data());
       break;
     case SourceImage::Format::kYuv: {
-      const std::size_t n = static_cast<std::size_t>(width_) * height_;
-      const std::size_t nc = static_cast<std::size_t>(chroma_width_) * chroma_height_;
+      // Straight from the decoder's planes (consistent() checked their sizes): no CPU copy.
+      const YuvPlanes& p = *image.planes;
       glTextureSubImage2D(textures_[0].id(), 0, 0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE,
-                          image.bytes.data());
+                          p.y.data());
       glTextureSubImage2D(textures_[1].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,
-                          GL_UNSIGNED_BYTE, image.bytes.data() + n);
+                          GL_UNSIGNED_BYTE, p.u.data());
       glTextureSubImage2D(textures_[2].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,
-                          GL_UNSIGNED_BYTE, image.bytes.data() + n + nc);
+                          GL_UNSIGNED_BYTE, p.v.data());
       break;
     }
   }

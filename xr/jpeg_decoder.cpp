@@ -14,6 +14,17 @@ JpegDecoder::JpegDecoder() : handle_(tjInitDecompress()) {
 
 JpegDecoder::~JpegDecoder() { tjDestroy(handle_); }
 
+const char* jpegDecodeErrorName(JpegDecodeError error) {
+  switch (error) {
+    case JpegDecodeError::kNone: return "none";
+    case JpegDecodeError::kCorrupt: return "corrupt";
+    case JpegDecodeError::kTooLarge: return "too_large";
+    case JpegDecodeError::kSizeMismatch: return "size_mismatch";
+    case JpegDecodeError::kUnsupported: return "unsupported";
+  }
+  return "unknown";
+}
+
 JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expected_width,
                                     int expected_height, int max_side, YuvPlanes& out,
                                     std::string* error) {

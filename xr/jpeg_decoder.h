@@ -9,21 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "xr/yuv_planes.h"
+
 namespace telesphere::xr {
 
-enum class JpegSubsampling { k420, k422, k444, kGray, kOther };
-
-/// A decoded image's planes, rows tightly packed. For kGray, u and v are empty.
-struct YuvPlanes {
-  int width = 0;
-  int height = 0;
-  int chroma_width = 0;
-  int chroma_height = 0;
-  JpegSubsampling subsampling = JpegSubsampling::k420;
-  std::vector<std::uint8_t> y, u, v;
-};
-
 enum class JpegDecodeError { kNone, kCorrupt, kTooLarge, kSizeMismatch, kUnsupported };
+
+/// "none", "corrupt", "too_large", "size_mismatch", "unsupported".
+const char* jpegDecodeErrorName(JpegDecodeError error);
 
 class JpegDecoder {
  public:

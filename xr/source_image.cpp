@@ -51,16 +51,46 @@ SourceImage SourceImage::floatImage(int width, int height, int channels, std::ve
   return s;
 }
 
-SourceImage SourceImage::yuv(int width, int height, int chroma_width, int chroma_height,
-                             std::vector<std::uint8_t> planes) {
+SourceImage SourceImage::yuv(std::shared_ptr<const YuvPlanes> planes) {
   SourceImage s;
   s.format = Format::kYuv;
+  s.channels = 3;
+  if (planes) {
+    s.width = planes->width;
+    s.height = planes->height;
+    s.chroma_width = planes->chroma_width;
+    s.chroma_height = planes->chroma_height;
+  }
+  s.planes = std::move(planes);
+  return s;
+}
+
+SourceImage SourceImage::yuv(int width, int height, int chroma_width, int chroma_height,
+                             const std::vector<std::uint8_t>& concatenated) {
+  auto p = std::make_shared<YuvPlanes>();
+  p->width = width;
+  p->height = height;
+  p->chroma_width = chroma_width;
+  p->chroma_height = chroma_height;
+  p->subsampling = JpegSubsampling::kOther;
+  const std::size_t n = width > 0 && height > 0 ? static_cast<std::size_t>(width) * height : 0;
+  const std::size_t nc = chroma_width > 0 && chroma_height > 0
+                             ? static_cast<std::size_t>(chroma_width) * chroma_height
+                             : 0;
+  if (n > 0 && nc > 0 && concatenated.size() == n + 2 * nc) {
+    const auto begin = concatenated.begin();
+    p->y.assign(begin, begin + static_cast<std::ptrdiff_t>(n));
+    p->u.assign(begin + static_cast<std::ptrdiff_t>(n), begin + static_cast<std::ptrdiff_t>(n + nc));
+    p->v.assign(begin + static_cast<std::ptrdiff_t>(n + nc), concatenated.end());
+  } else {
+    p->y = concatenated;  // wrong size: kept whole, so that consistent() says no
+  }
+  SourceImage s = yuv(std::shared_ptr<const YuvPlanes>(std::move(p)));
+  // The sizes the caller claimed, even when the buffer disagrees with them.
   s.width = width;
   s.height = height;
-  s.channels = 3;
   s.chroma_width = chroma_width;
   s.chroma_height = chroma_height;
-  s.bytes = std::move(planes);
   return s;
 }
 
@@ -82,10 +112,15 @@ bool SourceImage::consistent() const {
     case Format::kRgb8: return channels == 3 && bytes.size() == n * 3;
     case Format::kFloat:
       return channels >= 1 && channels <= 4 && floats.size() == n * static_cast<std::size_t>(channels);
-    case Format::kYuv:
+    case Format::kYuv: {
+      if (!planes || planes->width != width || planes->height != height ||
+          planes->chroma_width != chroma_width || planes->chroma_height != chroma_height)
+        return false;
+      const std::size_t nc = static_cast<std::size_t>(chroma_width) * chroma_height;
       return chroma_width > 0 && chroma_height > 0 && chroma_width <= width &&
-             chroma_height <= height &&
-             bytes.size() == n + 2 * static_cast<std::size_t>(chroma_width) * chroma_height;
+             chroma_height <= height && planes->y.size() == n && planes->u.size() == nc &&
+             planes->v.size() == nc;
+    }
   }
   return false;
 }
@@ -107,18 +142,16 @@ Eigen::Vector4d SourceImage::sample(const Eigen::Vector2d& px) const {
         });
       break;
     case Format::kYuv: {
-      const std::size_t n = static_cast<std::size_t>(width) * height;
-      const std::size_t nc = static_cast<std::size_t>(chroma_width) * chroma_height;
       const double Y = bilinear(u, v, width, height, [&](int x, int y) {
-        return bytes[static_cast<std::size_t>(y) * width + x] / 255.0;
+        return planes->y[static_cast<std::size_t>(y) * width + x] / 255.0;
       });
-      const auto chroma = [&](std::size_t offset) {
+      const auto chroma = [&](const std::vector<std::uint8_t>& plane) {
         return bilinear(u, v, chroma_width, chroma_height, [&](int x, int y) {
-                 return bytes[offset + static_cast<std::size_t>(y) * chroma_width + x] / 255.0;
+                 return plane[static_cast<std::size_t>(y) * chroma_width + x] / 255.0;
                }) -
                128.0 / 255.0;
       };
-      const double cb = chroma(n), cr = chroma(n + nc);
+      const double cb = chroma(planes->u), cr = chroma(planes->v);
       out.head<3>() << Y + 1.402 * cr, Y - 0.344136 * cb - 0.714136 * cr, Y + 1.772 * cb;
       out.head<3>() = out.head<3>().cwiseMax(0.0).cwiseMin(1.0);
       break;

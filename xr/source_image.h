@@ -2,12 +2,16 @@
 /// @brief A camera image as the renderer takes it: 8-bit RGB, float (1–4 channels; tests put
 ///        each texel's own pixel coordinates in it), or JPEG-native YUV planes (Y full size, Cb
 ///        and Cr subsampled, any factor) that are converted to RGB in the shader, never on the
-///        CPU. sample() is the double-precision twin of the GPU's bilinear lookup.
+///        CPU. sample() is the double-precision twin of the GPU's bilinear lookup. YUV images
+///        share the decoder's planes (a shared pointer, never a copy of the pixels).
 #pragma once
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
+
+#include "xr/yuv_planes.h"
 
 namespace telesphere::xr {
 
@@ -20,13 +24,18 @@ struct SourceImage {
   int channels = 3;        ///< kRgb8: 3; kFloat: 1..4; kYuv: 3 (planes)
   int chroma_width = 0;    ///< kYuv: Cb/Cr plane size
   int chroma_height = 0;
-  std::vector<std::uint8_t> bytes;  ///< kRgb8: RGB rows top first; kYuv: Y, then Cb, then Cr
+  std::vector<std::uint8_t> bytes;  ///< kRgb8: RGB rows top first
   std::vector<float> floats;        ///< kFloat: rows top first, `channels` per texel
+  std::shared_ptr<const YuvPlanes> planes;  ///< kYuv: the Y, Cb, Cr planes (shared, not copied)
 
   static SourceImage rgb8(int width, int height, std::vector<std::uint8_t> rgb);
   static SourceImage floatImage(int width, int height, int channels, std::vector<float> data);
+  /// The decoder's planes as they are (no pixel is copied); sizes taken from them.
+  static SourceImage yuv(std::shared_ptr<const YuvPlanes> planes);
+  /// Y, then Cb, then Cr concatenated (tests, tools): split into new planes, i.e. copied once.
+  /// A buffer of the wrong size gives an image that is not consistent().
   static SourceImage yuv(int width, int height, int chroma_width, int chroma_height,
-                         std::vector<std::uint8_t> planes);
+                         const std::vector<std::uint8_t>& concatenated);
 
   /// The image whose texel (x, y) holds its own pixel coordinates (x, y) (RG float): rendering
   /// it gives the projection map, in camera pixels.

@@ -1,0 +1,176 @@
+// SPDX-License-Identifier: MIT
+/// @brief DecodePool: every job decoded exactly as a lone JpegDecoder decodes it, bad JPEGs
+///        answered with their reason, plane buffers recycled (bounded, never reused while held,
+///        valid after the pool is gone); SourceImage::yuv takes the planes without a copy.
+#include <gtest/gtest.h>
+
+#include "tests/xr/jpeg_test_images.h"
+#include "xr/decode_pool.h"
+#include "xr/source_image.h"
+
+namespace telesphere::xr {
+namespace {
+
+YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
+  JpegDecoder decoder;
+  YuvPlanes planes;
+  std::string error;
+  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  return planes;
+}
+
+void expectSamePlanes(const YuvPlanes& a, const YuvPlanes& b) {
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_EQ(a.chroma_width, b.chroma_width);
+  EXPECT_EQ(a.chroma_height, b.chroma_height);
+  EXPECT_EQ(a.subsampling, b.subsampling);
+  EXPECT_TRUE(a.y == b.y);
+  EXPECT_TRUE(a.u == b.u);
+  EXPECT_TRUE(a.v == b.v);
+}
+
+DecodeJob jobFor(const std::vector<std::uint8_t>& jpeg, int w = 0, int h = 0) {
+  DecodeJob job;
+  job.jpeg = jpeg;
+  job.expected_width = w;
+  job.expected_height = h;
+  return job;
+}
+
+TEST(DecodePool, DefaultsToOneThreadPerCore) {
+  DecodePool pool;
+  EXPECT_EQ(pool.threads(), static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  DecodePool three(3);
+  EXPECT_EQ(three.threads(), 3);
+}
+
+TEST(DecodePool, ManyJobsInParallelMatchAReferenceDecode) {
+  std::vector<std::vector<std::uint8_t>> jpegs;
+  const int subsamps[] = {TJSAMP_420, TJSAMP_444, TJSAMP_422, TJSAMP_GRAY};
+  for (std::uint32_t i = 0; i < 12; ++i)
+    jpegs.push_back(test::texturedJpeg(96 + 8 * static_cast<int>(i), 64, i, subsamps[i % 4]));
+  DecodePool pool(3);
+  std::vector<std::future<DecodeResult>> futures;
+  for (const auto& jpeg : jpegs) futures.push_back(pool.submit(jobFor(jpeg)));
+  for (std::size_t i = 0; i < jpegs.size(); ++i) {
+    const DecodeResult r = futures[i].get();
+    ASSERT_EQ(r.error, JpegDecodeError::kNone) << r.message;
+    ASSERT_TRUE(r.planes);
+    EXPECT_GE(r.decode_ms, 0.0);
+    expectSamePlanes(*r.planes, referenceDecode(jpegs[i]));
+  }
+}
+
+TEST(DecodePool, BadJpegsComeBackWithTheirReason) {
+  DecodePool pool(2);
+  const auto good = test::texturedJpeg(64, 48, 1);
+  const std::vector<std::uint8_t> truncated(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2));
+  const auto huge = test::withHeaderSize(good, 60000, 60000);
+  const auto unsupported = test::texturedJpeg(64, 48, 2, TJSAMP_411);
+  const std::vector<std::uint8_t> empty;
+  const struct {
+    DecodeJob job;
+    JpegDecodeError expected;
+  } cases[] = {{jobFor(truncated), JpegDecodeError::kCorrupt},
+               {jobFor(empty), JpegDecodeError::kCorrupt},
+               {jobFor(huge), JpegDecodeError::kTooLarge},
+               {jobFor(good, 640, 480), JpegDecodeError::kSizeMismatch},
+               {jobFor(unsupported), JpegDecodeError::kUnsupported}};
+  for (const auto& c : cases) {
+    const DecodeResult r = pool.submit(c.job).get();
+    EXPECT_EQ(r.error, c.expected) << jpegDecodeErrorName(c.expected) << ": " << r.message;
+    EXPECT_FALSE(r.planes);
+    EXPECT_FALSE(r.message.empty());
+  }
+  const DecodeResult r = pool.submit(jobFor(good, 64, 48)).get();
+  EXPECT_EQ(r.error, JpegDecodeError::kNone) << r.message;
+  // 60000² planes were never allocated: no plane set grew beyond the good image.
+  EXPECT_LE(r.planes->y.capacity(), std::size_t{64} * 48);
+}
+
+TEST(DecodePool, PlaneBuffersAreRecycledButNeverWhileHeld) {
+  DecodePool pool(2);
+  const auto a = test::texturedJpeg(128, 96, 3);
+  const auto b = test::texturedJpeg(128, 96, 4);
+  for (int i = 0; i < 20; ++i) {
+    const DecodeResult r = pool.submit(jobFor(i % 2 ? a : b)).get();
+    ASSERT_EQ(r.error, JpegDecodeError::kNone);
+  }  // each result released before the next job: one plane set serves them all
+  EXPECT_EQ(pool.planesAllocated(), 1u);
+
+  const DecodeResult held = pool.submit(jobFor(a)).get();
+  const std::uint8_t* held_y = held.planes->y.data();
+  for (int i = 0; i < 10; ++i) {
+    const DecodeResult r = pool.submit(jobFor(b)).get();
+    ASSERT_EQ(r.error, JpegDecodeError::kNone);
+    EXPECT_NE(r.planes->y.data(), held_y);
+  }
+  expectSamePlanes(*held.planes, referenceDecode(a));  // untouched by the later decodes
+  EXPECT_EQ(pool.planesAllocated(), 2u);
+}
+
+TEST(DecodePool, ResultsOutliveThePool) {
+  const auto jpeg = test::texturedJpeg(80, 60, 5);
+  std::shared_ptr<const YuvPlanes> planes;
+  {
+    DecodePool pool(1);
+    planes = pool.submit(jobFor(jpeg)).get().planes;
+  }
+  ASSERT_TRUE(planes);
+  expectSamePlanes(*planes, referenceDecode(jpeg));
+  planes.reset();  // the pool's recycler is gone: freed, not recycled (ASan checks)
+}
+
+TEST(DecodePool, JobsQueuedAtDestructionStillFinish) {
+  const auto jpeg = test::texturedJpeg(160, 120, 6);
+  std::vector<std::future<DecodeResult>> futures;
+  {
+    DecodePool pool(1);
+    for (int i = 0; i < 8; ++i) futures.push_back(pool.submit(jobFor(jpeg)));
+  }
+  for (auto& f : futures) EXPECT_EQ(f.get().error, JpegDecodeError::kNone);
+}
+
+TEST(SourceImageYuv, TakesTheDecodersPlanesWithoutACopy) {
+  const auto jpeg = test::texturedJpeg(66, 50, 7);
+  DecodePool pool(1);
+  const DecodeResult r = pool.submit(jobFor(jpeg)).get();
+  ASSERT_TRUE(r.planes);
+  const SourceImage image = SourceImage::yuv(r.planes);
+  EXPECT_EQ(image.planes.get(), r.planes.get());
+  EXPECT_EQ(image.planes->y.data(), r.planes->y.data());
+  EXPECT_TRUE(image.bytes.empty());
+  EXPECT_EQ(image.width, 66);
+  EXPECT_EQ(image.height, 50);
+  EXPECT_EQ(image.chroma_width, 33);
+  EXPECT_EQ(image.chroma_height, 25);
+  EXPECT_TRUE(image.consistent());
+  // sample() reads the shared planes. At luma texel (10, 20) the chroma planes (33×25) are
+  // sampled at (4.75, 9.75): texels 4..5 × 9..10 with weights 0.75 toward the second.
+  const auto& p = *r.planes;
+  const auto chroma = [&](const std::vector<std::uint8_t>& c) {
+    const auto at = [&](int x, int y) { return c[static_cast<std::size_t>(y) * 33 + x] / 255.0; };
+    const double top = 0.25 * at(4, 9) + 0.75 * at(5, 9);
+    const double bottom = 0.25 * at(4, 10) + 0.75 * at(5, 10);
+    return 0.25 * top + 0.75 * bottom - 128.0 / 255.0;
+  };
+  const double Y = p.y[20 * 66 + 10] / 255.0, cb = chroma(p.u), cr = chroma(p.v);
+  const Eigen::Vector4d s = image.sample(Eigen::Vector2d(10, 20));
+  EXPECT_NEAR(s.x(), std::clamp(Y + 1.402 * cr, 0.0, 1.0), 1e-9);
+  EXPECT_NEAR(s.y(), std::clamp(Y - 0.344136 * cb - 0.714136 * cr, 0.0, 1.0), 1e-9);
+  EXPECT_NEAR(s.z(), std::clamp(Y + 1.772 * cb, 0.0, 1.0), 1e-9);
+  // Planes of the wrong size, or none, are not consistent.
+  EXPECT_FALSE(SourceImage::yuv(nullptr).consistent());
+  auto bad = std::make_shared<YuvPlanes>(p);
+  bad->v.pop_back();
+  EXPECT_FALSE(SourceImage::yuv(std::shared_ptr<const YuvPlanes>(bad)).consistent());
+  auto gray = std::make_shared<YuvPlanes>(p);
+  gray->u.clear();
+  gray->v.clear();
+  gray->chroma_width = gray->chroma_height = 0;
+  EXPECT_FALSE(SourceImage::yuv(std::shared_ptr<const YuvPlanes>(gray)).consistent());
+}
+
+}  // namespace
+}  // namespace telesphere::xr

@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: MIT
+/// @brief StereoFrameDecoder on a real LinkServer + LinkClient over loopback: decoded planes equal
+///        a reference decode and reach SourceImage without a copy; corrupt, truncated, oversized,
+///        mismatched and unsupported frames are dropped with their counted reason and the next good
+///        frame still arrives; a slow consumer sees only ever-newer frames, superseded frames are
+///        counted and plane memory stays bounded; per-stage latency figures are filled.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "robot/link/link_client.h"
+#include "robot/link/link_server.h"
+#include "tests/xr/jpeg_test_images.h"
+#include "xr/source_image.h"
+#include "xr/stereo_frame_decoder.h"
+
+namespace telesphere::xr {
+namespace {
+
+using namespace std::chrono_literals;
+
+link::LinkEndpoints stereoEndpoints(int n) {
+  link::LinkEndpoints e;
+  e.base_port = 27300 + 10 * n;
+  return e;
+}
+
+/// Polls `condition` every millisecond for up to `limit`; true when it came true.
+template <typename F>
+bool eventually(F condition, std::chrono::milliseconds limit = 10000ms) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(1ms);
+  }
+  return condition();
+}
+
+using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
+
+Bytes share(std::vector<std::uint8_t> v) { return std::make_shared<const std::vector<std::uint8_t>>(std::move(v)); }
+
+link::proto::StereoFrame message(std::uint64_t sequence, int w, int h) {
+  link::proto::StereoFrame f;
+  f.set_sequence(sequence);
+  const std::int64_t now = link::linkNowNs();
+  for (auto* image : {f.mutable_left(), f.mutable_right()}) {
+    image->set_width(static_cast<std::uint32_t>(w));
+    image->set_height(static_cast<std::uint32_t>(h));
+    image->set_capture_ns(now - 7'000'000);
+  }
+  f.mutable_stamps()->set_capture_ns(now - 7'000'000);  // 7 ms before now
+  f.mutable_stamps()->set_encoded_ns(now - 2'000'000);  // encoding took 5 ms
+  return f;
+}
+
+YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
+  JpegDecoder decoder;
+  YuvPlanes planes;
+  std::string error;
+  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  return planes;
+}
+
+bool samePlanes(const YuvPlanes& a, const YuvPlanes& b) {
+  return a.width == b.width && a.height == b.height && a.y == b.y && a.u == b.u && a.v == b.v;
+}
+
+struct Rig {
+  explicit Rig(int n, StereoFrameDecoder::Options options = {})
+      : server(stereoEndpoints(n)), client(stereoEndpoints(n)), decoder(client, options) {}
+
+  /// Publishes good frames (sequence 1, 2, …) until one is decoded (a PUB drops what it sends
+  /// before the SUB has joined), then one more and waits for exactly that one: frames arrive in
+  /// order, so once it is out, no earlier frame is still on its way. Returns it.
+  std::shared_ptr<const DecodedStereoFrame> connect() {
+    for (int i = 0; i < 500; ++i) {
+      server.publishStereoFrame(message(++sequence, 64, 48), left, right);
+      if (decoder.waitNewer(0, 20ms)) return good();
+    }
+    return nullptr;
+  }
+
+  /// Publishes a good frame and waits for it to come out decoded (sent again, same sequence,
+  /// if the PUB socket lost it: what is tested here is the decoder, not ZeroMQ's delivery).
+  std::shared_ptr<const DecodedStereoFrame> good() {
+    const std::uint64_t s = ++sequence;
+    for (int attempt = 0; attempt < 20; ++attempt) {
+      server.publishStereoFrame(message(s, 64, 48), left, right);
+      if (auto f = decoder.waitNewer(s - 1, 500ms)) return f;
+    }
+    return nullptr;
+  }
+
+  link::LinkServer server;
+  link::LinkClient client;
+  StereoFrameDecoder decoder;
+  std::uint64_t sequence = 0;
+  std::vector<std::uint8_t> left_jpeg = test::texturedJpeg(64, 48, 11);
+  std::vector<std::uint8_t> right_jpeg = test::texturedJpeg(64, 48, 12, TJSAMP_444);
+  Bytes left = share(left_jpeg), right = share(right_jpeg);
+};
+
+TEST(StereoFrameDecoder, DecodesBothImagesAsAReferenceDecoderDoes) {
+  StereoFrameDecoder::Options options;
+  options.threads = 2;
+  Rig rig(0, options);
+  ASSERT_TRUE(rig.connect());
+  const auto f = rig.good();
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->frame.sequence(), rig.sequence);
+  ASSERT_TRUE(f->left && f->right);
+  EXPECT_TRUE(samePlanes(*f->left, referenceDecode(rig.left_jpeg)));
+  EXPECT_TRUE(samePlanes(*f->right, referenceDecode(rig.right_jpeg)));
+  EXPECT_EQ(f->right->subsampling, JpegSubsampling::k444);
+  const auto& st = f->frame.stamps();
+  EXPECT_GE(st.received_ns(), st.sent_ns());  // one clock on loopback
+  EXPECT_GE(st.decoded_ns(), st.received_ns());
+  // The renderer's hand-over: the same planes, not a copy.
+  const SourceImage image = SourceImage::yuv(f->left);
+  EXPECT_EQ(image.planes.get(), f->left.get());
+  EXPECT_EQ(image.planes->y.data(), f->left->y.data());
+  EXPECT_TRUE(image.consistent());
+  EXPECT_EQ(rig.decoder.newest(), f);
+  EXPECT_FALSE(rig.decoder.waitNewer(rig.sequence, 30ms));  // nothing newer was sent
+}
+
+TEST(StereoFrameDecoder, BadFramesAreDroppedWithTheirReasonAndTheStreamResumes) {
+  Rig rig(1);
+  ASSERT_TRUE(rig.connect());
+  const auto good = rig.left_jpeg;
+  struct Case {
+    const char* name;
+    std::vector<std::uint8_t> jpeg;
+    int message_w, message_h;
+    FrameDropReason reason;
+  };
+  std::vector<std::uint8_t> corrupt = good;
+  for (std::size_t i = corrupt.size() / 3; i < corrupt.size() - 2; ++i)
+    corrupt[i] = static_cast<std::uint8_t>(i * 37);  // entropy data and EOI overwritten
+  const std::vector<Case> cases = {
+      {"truncated", std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2)), 64, 48, FrameDropReason::kCorrupt},
+      {"garbage", std::vector<std::uint8_t>(900, 0x5a), 64, 48, FrameDropReason::kCorrupt},
+      {"corrupt", corrupt, 64, 48, FrameDropReason::kCorrupt},
+      {"60000x60000 header", test::withHeaderSize(good, 60000, 60000), 64, 48, FrameDropReason::kTooLarge},
+      {"message says 80x48", good, 80, 48, FrameDropReason::kSizeMismatch},
+      {"4:1:1", test::texturedJpeg(64, 48, 13, TJSAMP_411), 64, 48, FrameDropReason::kUnsupported},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.name);
+    const auto before = rig.decoder.stats();
+    const std::uint64_t bad_sequence = ++rig.sequence;
+    // The bad image on the right, a good one on the left: the whole pair goes.
+    rig.server.publishStereoFrame(message(bad_sequence, c.message_w, c.message_h), rig.left, share(c.jpeg));
+    ASSERT_TRUE(eventually([&] { return rig.decoder.stats().dropped(c.reason) == before.dropped(c.reason) + 1; }));
+    const auto after = rig.decoder.stats();
+    EXPECT_EQ(after.decoded, before.decoded);
+    ASSERT_TRUE(rig.decoder.newest());
+    EXPECT_LT(rig.decoder.newest()->frame.sequence(), bad_sequence);  // never published
+    const auto next = rig.good();
+    ASSERT_TRUE(next);
+    EXPECT_EQ(next->frame.sequence(), rig.sequence);
+    EXPECT_TRUE(samePlanes(*next->right, referenceDecode(rig.right_jpeg)));
+  }
+  // A message claiming 100000×100000 never gets past the link (nothing allocated for it).
+  const auto link_before = rig.client.stats().dropped(link::DropReason::kBadImageSize);
+  rig.server.publishStereoFrame(message(++rig.sequence, 100000, 100000), rig.left, rig.right);
+  ASSERT_TRUE(eventually([&] { return rig.client.stats().dropped(link::DropReason::kBadImageSize) > link_before; }));
+  ASSERT_TRUE(rig.good());
+  EXPECT_LE(rig.decoder.pool().planesAllocated(), 8u);  // bad frames allocated nothing extra
+}
+
+TEST(StereoFrameDecoder, ASlowConsumerSeesOnlyNewerFramesAndNothingQueues) {
+  StereoFrameDecoder::Options options;
+  options.threads = 1;  // slow: left and right one after the other
+  Rig rig(2, options);
+  ASSERT_TRUE(rig.connect());
+  // Large enough that decoding takes far longer than publishing a burst.
+  constexpr int kW = 1280, kH = 960;
+  const auto big_left = test::texturedJpeg(kW, kH, 21);
+  const auto big_right = test::texturedJpeg(kW, kH, 22);
+  const Bytes l = share(big_left), r = share(big_right);
+  const auto held = rig.decoder.newest();  // a consumer that keeps an old frame meanwhile
+  const YuvPlanes held_copy = *held->left;
+  constexpr int kBurst = 40;
+  for (int i = 0; i < kBurst; ++i) rig.server.publishStereoFrame(message(++rig.sequence, kW, kH), l, r);
+  const std::uint64_t last = rig.sequence;
+
+  // The consumer reads now and then; what it sees only ever gets newer, ending at the last frame.
+  // (The PUB socket drops what exceeds its high-water mark, so the last frame is sent again,
+  // same sequence, whenever the consumer waited in vain.)
+  std::uint64_t seen = held->frame.sequence();
+  for (int round = 0; round < 200 && seen != last; ++round) {
+    const auto f = rig.decoder.waitNewer(seen, 200ms);
+    if (!f) {
+      rig.server.publishStereoFrame(message(last, kW, kH), l, r);
+      continue;
+    }
+    EXPECT_GT(f->frame.sequence(), seen);
+    seen = f->frame.sequence();
+    std::this_thread::sleep_for(5ms);  // a slow consumer
+  }
+  ASSERT_EQ(seen, last);
+  EXPECT_TRUE(samePlanes(*rig.decoder.newest()->left, referenceDecode(big_left)));
+  const auto s = rig.decoder.stats();
+  // Frames that arrived while a pair was decoding were superseded (or replaced unread), not
+  // queued: decoding one pair takes far longer than publishing the burst.
+  EXPECT_GT(s.dropped(FrameDropReason::kSuperseded) + s.replaced_unread, 0u);
+  // Plane sets stay bounded (slot + held + in flight + free), and the held frame is intact.
+  EXPECT_LE(rig.decoder.pool().planesAllocated(), 10u);
+  EXPECT_TRUE(samePlanes(*held->left, held_copy));
+}
+
+TEST(StereoFrameDecoder, StatsCoverEveryStage) {
+  Rig rig(3);
+  ASSERT_TRUE(rig.connect());
+  ASSERT_TRUE(eventually([&] { return rig.client.clock().estimate().has_value(); }));
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(rig.good());
+  const auto s = rig.decoder.stats();
+  EXPECT_GE(s.decoded, 6u);
+  EXPECT_GT(s.fps, 0.0);
+  EXPECT_GE(s.decode.n, 10u);
+  EXPECT_GT(s.decode.p50_ms, 0.0);
+  EXPECT_GE(s.decode.p99_ms, s.decode.p50_ms);
+  EXPECT_NEAR(s.capture_to_encoded.p50_ms, 5.0, 1e-9);  // as stamped by message()
+  EXPECT_GE(s.encoded_to_sent.n, 6u);
+  EXPECT_GE(s.encoded_to_sent.p50_ms, 2.0);  // encoded 2 ms before the message was made
+  EXPECT_GE(s.sent_to_received.n, 5u);
+  // One clock on loopback: the offset estimate is good to half a round trip.
+  const double half_rtt_ms = 0.5e-6 * static_cast<double>(rig.client.clock().estimate()->round_trip_ns);
+  EXPECT_GE(s.sent_to_received.p50_ms, -half_rtt_ms - 2.0);  // 2 ms: the estimate may have moved
+  EXPECT_GE(s.received_to_decoded.n, 6u);
+  EXPECT_GE(s.received_to_decoded.p50_ms, 0.0);
+  EXPECT_GE(s.capture_to_decoded.n, 5u);
+  EXPECT_GE(s.capture_to_decoded.p50_ms, 7.0 - half_rtt_ms - 2.0);
+  for (int r = 0; r < static_cast<int>(FrameDropReason::kCount); ++r) {
+    if (static_cast<FrameDropReason>(r) == FrameDropReason::kSuperseded) continue;
+    EXPECT_EQ(s.dropped_by_reason[static_cast<std::size_t>(r)], 0u) << frameDropReasonName(static_cast<FrameDropReason>(r));
+  }
+}
+
+}  // namespace
+}  // namespace telesphere::xr

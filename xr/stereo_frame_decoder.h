@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator's video path from the link to the renderer (DESIGN.md §4): a receive
+///        thread takes the newest stereo frame from the LinkClient (latest wins: frames that
+///        arrive while one is decoding replace each other and are counted "superseded"), decodes
+///        left and right in parallel on a DecodePool, checks each JPEG header against the
+///        message's width × height, stamps decoded_ns (client clock) and publishes the pair into a
+///        one-slot, latest-wins hand-over. The renderer takes `newest()` and wraps the planes in
+///        SourceImage::yuv without copying them. Bad frames (corrupt, truncated, too large,
+///        mismatched, unsupported) are dropped with a counted reason and a rate-limited log line;
+///        the stream resumes with the next good frame.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string_view>
+#include <thread>
+
+#include "robot/link/link_client.h"
+#include "xr/decode_pool.h"
+
+namespace telesphere::xr {
+
+/// One decoded stereo pair; immutable once published, shared with every reader.
+struct DecodedStereoFrame {
+  link::proto::StereoFrame frame;  ///< as received, stamps.decoded_ns set (client clock)
+  std::shared_ptr<const YuvPlanes> left, right;
+};
+
+/// Why a stereo frame never reached the renderer (operator side, after the link's own checks).
+enum class FrameDropReason : int {
+  kSuperseded,    ///< a newer frame arrived while this one waited for the decoder
+  kCorrupt,       ///< corrupt or truncated JPEG data
+  kTooLarge,      ///< a JPEG header beyond the side limit (refused before any allocation)
+  kSizeMismatch,  ///< JPEG header size differs from the message's width × height
+  kUnsupported,   ///< a chroma subsampling the renderer does not take
+  kCount
+};
+
+std::string_view frameDropReasonName(FrameDropReason reason);
+
+/// Median and 99th percentile of the recent samples (ms); n = 0 when there were none.
+struct LatencyFigure {
+  double p50_ms = 0;
+  double p99_ms = 0;
+  std::size_t n = 0;
+};
+
+struct StereoDecodeStats {
+  double fps = 0;                  ///< published pairs per second over the recent window
+  std::uint64_t decoded = 0;       ///< pairs published
+  std::uint64_t replaced_unread = 0;  ///< published pairs replaced before any reader got them
+  std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_by_reason{};
+  std::uint64_t dropped(FrameDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
+  LatencyFigure decode;               ///< one JPEG's decode on a worker
+  LatencyFigure capture_to_encoded;   ///< robot clock
+  LatencyFigure encoded_to_sent;      ///< robot clock
+  LatencyFigure sent_to_received;     ///< robot → client clock through the ping offset estimate
+  LatencyFigure received_to_decoded;  ///< client clock: waiting + decoding both images
+  LatencyFigure capture_to_decoded;   ///< robot → client clock through the offset estimate
+};
+
+class StereoFrameDecoder {
+ public:
+  struct Options {
+    int threads = 0;  ///< decode threads; ≤ 0: hardware_concurrency
+    int max_side = static_cast<int>(link::kMaxImageSide);  ///< px per side
+    bool check_message_size = true;  ///< header must equal the message's width × height
+    std::chrono::milliseconds poll{20};  ///< how long the receive thread waits per round
+    std::size_t stats_window = 512;      ///< samples kept per latency figure
+  };
+
+  /// Starts the receive thread on `client`, which must outlive this object.
+  StereoFrameDecoder(link::LinkClient& client, Options options);
+  explicit StereoFrameDecoder(link::LinkClient& client) : StereoFrameDecoder(client, Options{}) {}
+  /// Stops the receive thread (within one poll period) and the pool.
+  ~StereoFrameDecoder();
+  StereoFrameDecoder(const StereoFrameDecoder&) = delete;
+  StereoFrameDecoder& operator=(const StereoFrameDecoder&) = delete;
+
+  /// The newest decoded pair, or null before the first one. Never blocks on decoding.
+  std::shared_ptr<const DecodedStereoFrame> newest() const;
+  /// Waits up to `timeout` for a pair whose sequence is greater than after_sequence; null when
+  /// none came (the sequence restarts when the robot does: then pass 0).
+  std::shared_ptr<const DecodedStereoFrame> waitNewer(std::uint64_t after_sequence,
+                                                      std::chrono::milliseconds timeout) const;
+
+  StereoDecodeStats stats() const;
+  const DecodePool& pool() const { return pool_; }
+
+ private:
+  void receive();
+  void decodePair(link::ReceivedFrame received);
+  void drop(FrameDropReason reason, std::uint64_t sequence, const char* side, const std::string& why);
+
+  link::LinkClient& client_;
+  Options options_;
+  std::uint64_t superseded_at_start_ = 0;  ///< the client's superseded count when we started
+
+  mutable std::mutex slot_mutex_;
+  mutable std::condition_variable published_;
+  std::shared_ptr<const DecodedStereoFrame> slot_;
+  mutable bool slot_read_ = true;
+
+  mutable std::mutex stats_mutex_;
+  std::uint64_t decoded_ = 0;
+  std::uint64_t replaced_unread_ = 0;
+  std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_{};
+  std::array<std::int64_t, static_cast<int>(FrameDropReason::kCount)> last_log_ns_{};
+  std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> unlogged_{};
+  std::deque<std::int64_t> publish_ns_;
+  std::array<std::deque<double>, 6> samples_ms_;
+
+  DecodePool pool_;  // after the state its workers' results feed; before the thread that uses it
+  std::atomic<bool> running_{true};
+  std::thread receiver_;
+};
+
+}  // namespace telesphere::xr
