@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+/// @brief The deterministic scene `telesphere-xr openxr` shows while no camera images arrive:
+///        one double-sphere fisheye (the simulated head's lens scaled to 960×540) looking at a
+///        coloured checkerboard image, placed at the nominal head pose. The same scene is
+///        rendered offscreen by the Monado integration test to check the swapchain contents.
+///
+/// Mapping (DESIGN.md §2 with the camera in place of the robot head): at the first valid frame
+/// the HMD pose (midpoint of the eyes) with pitch and roll removed becomes T_vr_nom; then
+/// T_cam_eye = T_cam_nom · T_vr_nom⁻¹ · T_vr_eye with T_cam_nom = kR_optical_view (the nominal
+/// view looks along the camera's optical axis).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "calib/generic_camera.h"
+#include "xr/source_image.h"
+
+namespace telesphere::xr {
+
+struct OpenXrTestScene {
+  static constexpr int kImageWidth = 960;
+  static constexpr int kImageHeight = 540;
+
+  /// The scene's camera model (ds, calibrated for kImageWidth × kImageHeight).
+  static calib::GenericCamera camera();
+  /// The checkerboard: 40 px squares, red rising left → right, green top → bottom, blue
+  /// alternating 64/192 between squares, plus a white cross at the image centre.
+  static SourceImage image();
+};
+
+/// T_vr_hmd with pitch and roll removed: the yaw about the vr +y axis (OpenXR: y up, −z
+/// forward) that turns −z towards the horizontal projection of the HMD's forward direction,
+/// and the same position. Looking straight up or down (no horizontal forward) keeps yaw 0.
+Eigen::Isometry3d yawOnlyPose(const Eigen::Isometry3d& T_vr_hmd);
+
+}  // namespace telesphere::xr
