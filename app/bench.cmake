@@ -3,6 +3,6 @@
 if(TELESPHERE_BUILD_TESTS)
   get_property(bench_topics GLOBAL PROPERTY TELESPHERE_BENCH_TOPICS)
   add_executable(telesphere-bench telesphere_bench.cpp)
-  target_link_libraries(telesphere-bench PRIVATE telesphere_bench_core ${bench_topics}
+  target_link_libraries(telesphere-bench PRIVATE telesphere_bench_core ${bench_topics} spdlog::spdlog
     telesphere_warnings)
 endif()

@@ -5,6 +5,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
 
 #include "tests/bench/bench_topic.h"
 
@@ -23,6 +25,8 @@ int main(int argc, char** argv) {
     if (topic.add_options) topic.add_options(*sub);
   }
   CLI11_PARSE(app, argc, argv);
+  // Library log lines (the link's, …) go to stderr: stdout carries only tables or the JSON.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("telesphere-bench"));
   for (const auto& topic : benchTopics()) {
     if (!app.got_subcommand(topic.name)) continue;
     try {

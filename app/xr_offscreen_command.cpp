@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-xr offscreen`: options, the run, the statistics table and JSON.
+#include "app/xr_offscreen_command.h"
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "calib/calibration_file.h"
+#include "xr/offscreen_operator.h"
+
+namespace telesphere::app {
+namespace {
+
+std::atomic<bool> g_offscreen_stop{false};
+extern "C" void onOffscreenSignal(int) { g_offscreen_stop = true; }
+
+}  // namespace
+
+CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
+  CLI::App* c = app.add_subcommand(
+      "offscreen", "operator loop without a headset: trajectory-driven head, EGL offscreen, stats");
+  c->add_option("--calib", o.calib, "system calibration (two cameras)")->required();
+  c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
+  c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  c->add_option("--trajectory", o.trajectory, "head poses CSV: t,px,py,pz,qx,qy,qz,qw (default: demo motion)");
+  c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
+  c->add_option("--rate", o.rate_hz, "display rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  c->add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT)")->capture_default_str();
+  c->add_option("--mode", o.mode, "full6d | orientation3d | fixed")->capture_default_str();
+  c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
+  c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
+  c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
+  c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
+  c->add_option("--wait", o.wait_s, "seconds to wait for the first frame")->capture_default_str();
+  return c;
+}
+
+int runOffscreenCommand(const OffscreenCommandOptions& o) {
+  const auto fail = [](int code, const std::string& message) {
+    std::cerr << "telesphere-xr offscreen: " << message << '\n';
+    return code;
+  };
+  auto calibration = calib::loadCalibrationFile(o.calib);
+  if (!calibration) return fail(1, calibration.error().describe());
+  std::string error;
+  std::optional<xr::HeadTrajectory> trajectory =
+      o.trajectory.empty() ? std::optional<xr::HeadTrajectory>(xr::HeadTrajectory::demo())
+                           : xr::HeadTrajectory::load(o.trajectory, &error);
+  if (!trajectory) return fail(1, error);
+  xr::OffscreenOperatorOptions options;
+  options.endpoints.host = o.host;
+  options.endpoints.base_port = o.port;
+  if (std::sscanf(o.eye_size.c_str(), "%dx%d", &options.eye_width, &options.eye_height) != 2 ||
+      options.eye_width <= 0 || options.eye_height <= 0 || options.eye_width > 8192 ||
+      options.eye_height > 8192)
+    return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
+  options.rate_hz = o.rate_hz;
+  options.duration_s = o.duration_s;
+  const auto mode = xr::parseRenderMode(o.mode);
+  const auto path = xr::parseRenderPath(o.path);
+  if (!mode) return fail(1, "--mode '" + o.mode + "': use full6d, orientation3d or fixed");
+  if (!path) return fail(1, "--path '" + o.path + "': use exact, mesh or lut");
+  options.render.mode = *mode;
+  options.render.path = *path;
+  options.render.radius = o.radius;
+  if (const auto why = xr::checkRenderSettings(options.render)) return fail(1, *why);
+  options.png_every_frames = o.png_every;
+  options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
+  if (!o.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out_dir, ec);
+    if (ec) return fail(1, o.out_dir + ": " + ec.message());
+    options.png_dir = o.out_dir;
+  }
+  std::signal(SIGINT, onOffscreenSignal);
+  std::signal(SIGTERM, onOffscreenSignal);
+  const auto stats = xr::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
+  if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
+
+  std::printf("| figure | value |\n|---|---:|\n");
+  std::printf("| display frames | %llu |\n| fps | %.1f |\n| render ms p50 / p99 (both eyes) | %.1f / %.1f |\n",
+              static_cast<unsigned long long>(stats->frames), stats->fps, stats->render_ms_p50, stats->render_ms_p99);
+  std::printf("| missed frames at %.0f Hz | %llu |\n| camera frames shown | %llu |\n", o.rate_hz,
+              static_cast<unsigned long long>(stats->missed_frames),
+              static_cast<unsigned long long>(stats->stereo_frames_shown));
+  std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", stats->image_age_p50_ms,
+              stats->image_age_p99_ms);
+  std::printf("| head targets sent | %llu |\n| nominal pose from the robot | %s |\n",
+              static_cast<unsigned long long>(stats->head_targets_sent), stats->nominal_from_robot ? "yes" : "no");
+  if (!o.out_dir.empty()) {
+    nlohmann::json j = {{"frames", stats->frames},
+                        {"fps", stats->fps},
+                        {"render_ms", stats->render_ms_p50},
+                        {"render_ms_p99", stats->render_ms_p99},
+                        {"missed_frames", stats->missed_frames},
+                        {"stereo_frames_shown", stats->stereo_frames_shown},
+                        {"image_age_p50_ms", stats->image_age_p50_ms},
+                        {"image_age_p99_ms", stats->image_age_p99_ms},
+                        {"head_targets_sent", stats->head_targets_sent},
+                        {"nominal_from_robot", stats->nominal_from_robot}};
+    std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+  }
+  return 0;
+}
+
+}  // namespace telesphere::app

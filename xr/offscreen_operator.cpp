@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: MIT
+/// @brief runOffscreenOperator: the paced frame loop on an EGL surfaceless context.
+#include "xr/offscreen_operator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+#include <vector>
+
+#include "robot/link/link_client.h"
+#include "robot/link/link_pose.h"
+#include "shaders/egl_context.h"
+#include "shaders/offscreen_target.h"
+#include "shaders/png_io.h"
+#include "xr/stereo_frame_decoder.h"
+#include "xr/stereo_view_renderer.h"
+
+namespace telesphere::xr {
+namespace {
+
+double offscreenPercentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))];
+}
+
+/// Both eyes side by side (left | right) as one RGBA image.
+bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& left,
+                  const gl::OffscreenTarget& right, std::string* error) {
+  const auto l = left.readRgba8(), r = right.readRgba8();
+  const int w = left.width(), h = left.height();
+  std::vector<std::uint8_t> both(static_cast<std::size_t>(2 * w) * h * 4);
+  for (int y = 0; y < h; ++y) {
+    std::copy_n(l.begin() + std::size_t(y) * w * 4, w * 4, both.begin() + std::size_t(y) * 2 * w * 4);
+    std::copy_n(r.begin() + std::size_t(y) * w * 4, w * 4, both.begin() + (std::size_t(y) * 2 * w + w) * 4);
+  }
+  return gl::writePng(path, 2 * w, h, 4, both.data(), error);
+}
+
+}  // namespace
+
+std::optional<OffscreenOperatorStats> runOffscreenOperator(
+    const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
+    const OffscreenOperatorOptions& options, const std::atomic<bool>& stop, std::string* error) {
+  if (calibration.cameras.size() != 2) {
+    *error = "the calibration needs two cameras";
+    return std::nullopt;
+  }
+  if (!(options.rate_hz > 0.0 && options.rate_hz <= 1000.0)) {
+    *error = "display rate must be in (0, 1000] Hz";
+    return std::nullopt;
+  }
+  auto context = gl::EglContext::createSurfaceless(error);
+  if (!context || !context->makeCurrent()) {
+    if (error->empty()) *error = "cannot make the EGL context current";
+    return std::nullopt;
+  }
+  gl::OffscreenTarget left_target(options.eye_width, options.eye_height);
+  gl::OffscreenTarget right_target(options.eye_width, options.eye_height);
+  if (!left_target.complete() || !right_target.complete()) {
+    *error = "cannot create " + std::to_string(options.eye_width) + "x" +
+             std::to_string(options.eye_height) + " render targets";
+    return std::nullopt;
+  }
+
+  link::LinkClient client(options.endpoints);
+  StereoFrameDecoder decoder(client);
+  StereoViewRenderer view_renderer(calibration, options.render);
+
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options.rate_hz));
+  const auto to_ns = [](Clock::time_point t) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  };
+
+  // Wait for the first decoded frame so a slow robot start does not count as missed frames.
+  const auto first_deadline = Clock::now() + options.wait_first_frame;
+  while (!decoder.newest() && !stop.load()) {
+    if (Clock::now() > first_deadline) {
+      *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
+               std::to_string(options.wait_first_frame.count()) + " ms (is telesphere-robot running?)";
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+
+  OffscreenOperatorStats stats;
+  std::vector<double> render_ms, age_ms, upload_ms;
+  Eigen::Isometry3d T_hmd_eye[2];
+  for (int eye = 0; eye < 2; ++eye) {
+    T_hmd_eye[eye] = Eigen::Isometry3d::Identity();
+    T_hmd_eye[eye].translation().x() = (eye == 0 ? -0.5 : 0.5) * options.ipd;
+  }
+  std::optional<Eigen::Isometry3d> T_robot_vr_fallback;
+  std::uint64_t last_shown_sequence = 0;
+  const auto t0 = Clock::now();
+  auto frame_start = t0;
+  auto last_stats_sent = t0;
+  std::uint64_t frames_at_last_stats = 0;
+  while (!stop.load()) {
+    if (options.duration_s > 0 && frame_start - t0 >= std::chrono::duration<double>(options.duration_s)) break;
+    const auto display = frame_start + period;  // shown at the next refresh
+    const double display_s = std::chrono::duration<double>(display - t0).count();
+    const Eigen::Isometry3d T_vr_hmd = trajectory.sample(display_s, options.loop_trajectory);
+
+    link::proto::HeadTarget target;
+    target.set_t_ns(link::linkNowNs());
+    target.set_predicted_display_ns(to_ns(display));
+    link::toLinkPose(T_vr_hmd, target.mutable_t_vr_hmd());
+    target.set_valid(true);
+    client.sendHeadTarget(target);
+    ++stats.head_targets_sent;
+
+    const auto work_start = Clock::now();
+    const auto newest = decoder.newest();
+    if (!view_renderer.setFrame(newest, error)) return std::nullopt;
+    const auto uploaded = Clock::now();
+    const auto& frame = view_renderer.frame();
+    Eigen::Isometry3d T_robot_vr;
+    const auto state = client.latestRobotState();
+    if (state && state->nominal_set()) {
+      T_robot_vr = link::fromLinkPose(state->t_robot_vr());
+      stats.nominal_from_robot = true;
+    } else {
+      if (!T_robot_vr_fallback && frame) {
+        // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
+        T_robot_vr_fallback = link::fromLinkPose(frame->frame.left().t_robot_cam()) *
+                              Eigen::Isometry3d(kR_optical_view) * (T_vr_hmd * T_hmd_eye[0]).inverse();
+      }
+      T_robot_vr = T_robot_vr_fallback.value_or(Eigen::Isometry3d::Identity());
+    }
+    EyeView view;
+    view.fov = options.fov;
+    view.width = options.eye_width;
+    view.height = options.eye_height;
+    for (int eye = 0; eye < 2; ++eye) {
+      const GLuint fb = eye == 0 ? left_target.framebuffer() : right_target.framebuffer();
+      if (!view_renderer.renderEye(eye, T_robot_vr, T_vr_hmd * T_hmd_eye[eye], view, fb, error))
+        return std::nullopt;
+    }
+    glFinish();
+    const auto work_end = Clock::now();
+    ++stats.frames;
+    render_ms.push_back(std::chrono::duration<double, std::milli>(work_end - work_start).count());
+    if (frame) {
+      ++stats.frames_with_image;
+      if (frame->frame.sequence() != last_shown_sequence) {
+        ++stats.stereo_frames_shown;
+        last_shown_sequence = frame->frame.sequence();
+        upload_ms.push_back(std::chrono::duration<double, std::milli>(uploaded - work_start).count());
+      }
+      const std::int64_t capture_server = frame->frame.stamps().capture_ns();
+      const std::int64_t capture_client = client.clock().serverToClient(capture_server).value_or(capture_server);
+      age_ms.push_back(double(to_ns(std::max(display, work_end)) - capture_client) * 1e-6);
+    }
+    if (options.png_every_frames > 0 && !options.png_dir.empty() &&
+        stats.frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(stats.frames));
+      if (!writeEyesPng(options.png_dir + name, left_target, right_target, error)) return std::nullopt;
+    }
+
+    // Statistics for the console, once a second.
+    if (work_end - last_stats_sent >= std::chrono::seconds(1)) {
+      link::proto::XrStats xr_stats;
+      xr_stats.set_t_ns(link::linkNowNs());
+      xr_stats.set_fps(double(stats.frames - frames_at_last_stats) /
+                       std::chrono::duration<double>(work_end - last_stats_sent).count());
+      xr_stats.set_render_ms(offscreenPercentile(render_ms, 0.5));
+      xr_stats.set_missed_frames(stats.missed_frames);
+      xr_stats.set_image_age_p50_ms(offscreenPercentile(age_ms, 0.5));
+      xr_stats.set_image_age_p99_ms(offscreenPercentile(age_ms, 0.99));
+      client.sendXrStats(xr_stats);
+      last_stats_sent = work_end;
+      frames_at_last_stats = stats.frames;
+    }
+
+    // Pace: the next frame starts at the refresh; an overrun misses refreshes, never bursts.
+    frame_start += period;
+    if (work_end > display) {
+      const auto behind = (work_end - frame_start) / period + 1;
+      stats.missed_frames += static_cast<std::uint64_t>(behind);
+      frame_start += behind * period;
+    }
+    std::this_thread::sleep_until(frame_start);
+  }
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  stats.fps = seconds > 0 ? double(stats.frames) / seconds : 0.0;
+  stats.render_ms_p50 = offscreenPercentile(render_ms, 0.5);
+  stats.render_ms_p99 = offscreenPercentile(render_ms, 0.99);
+  stats.image_age_p50_ms = offscreenPercentile(age_ms, 0.5);
+  stats.image_age_p99_ms = offscreenPercentile(age_ms, 0.99);
+  stats.upload_ms_p50 = offscreenPercentile(upload_ms, 0.5);
+  stats.pose_to_display_ms = std::chrono::duration<double, std::milli>(period).count();
+  if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", left_target, right_target, error))
+    return std::nullopt;
+  return stats;
+}
+
+}  // namespace telesphere::xr

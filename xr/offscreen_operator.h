@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator app without a headset (DESIGN.md §7, issue "operator app"): an EGL
+///        surfaceless context, head poses from a trajectory, the same per-frame work as with a
+///        headset — newest decoded stereo frame → both eyes rendered → head target sent to the
+///        robot — paced at the headset's rate. Writes statistics and, optionally, PNGs of the
+///        eyes. Used by tests, the benchmark and the README's demo.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "calib/system_calibration.h"
+#include "robot/link/link_endpoints.h"
+#include "xr/eye_view.h"
+#include "xr/head_trajectory.h"
+
+namespace telesphere::xr {
+
+struct OffscreenOperatorOptions {
+  link::LinkEndpoints endpoints;
+  int eye_width = 1440;   ///< px per eye (the paper's Vive Pro Eye)
+  int eye_height = 1600;
+  Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
+  double ipd = 0.064;                 ///< m
+  double rate_hz = 90.0;              ///< display rate the loop paces at
+  double duration_s = 10.0;           ///< 0: until `stop`
+  bool loop_trajectory = true;
+  RenderSettings render;
+  std::string png_dir;       ///< when set: eyes_last.png (side by side) at the end
+  int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
+  std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
+};
+
+struct OffscreenOperatorStats {
+  std::uint64_t frames = 0;          ///< display frames rendered
+  std::uint64_t missed_frames = 0;   ///< frames whose work overran the display period
+  std::uint64_t frames_with_image = 0;
+  std::uint64_t stereo_frames_shown = 0;  ///< distinct camera frames displayed
+  double fps = 0;
+  double render_ms_p50 = 0, render_ms_p99 = 0;       ///< both eyes, incl. upload, to glFinish
+  double image_age_p50_ms = 0, image_age_p99_ms = 0;  ///< capture → display
+  double pose_to_display_ms = 0;  ///< head-pose sample → display (the pacing's lead)
+  double upload_ms_p50 = 0;
+  std::uint64_t head_targets_sent = 0;
+  bool nominal_from_robot = false;  ///< T_robot_vr came from the robot (else the fallback)
+};
+
+/// Runs the loop; nothing, with the reason in *error, when GL, the calibration or the link do
+/// not allow it (or no frame arrived in wait_first_frame).
+std::optional<OffscreenOperatorStats> runOffscreenOperator(
+    const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
+    const OffscreenOperatorOptions& options, const std::atomic<bool>& stop, std::string* error);
+
+}  // namespace telesphere::xr

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: MIT
+/// @brief StereoViewRenderer: per-frame upload of both cameras' planes, per-eye render.
+#include "xr/stereo_view_renderer.h"
+
+#include <chrono>
+
+#include "calib/camera_resolution.h"
+#include "robot/link/link_pose.h"
+
+namespace telesphere::xr {
+namespace {
+
+std::int64_t stereoViewNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+StereoViewRenderer::StereoViewRenderer(const calib::SystemCalibration& calibration,
+                                       const RenderSettings& settings)
+    : calibration_(calibration), settings_(settings) {}
+
+StereoViewRenderer::~StereoViewRenderer() = default;
+
+bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame,
+                                  std::string* error) {
+  if (!frame || (frame_ && frame_->frame.sequence() == frame->frame.sequence())) return true;
+  if (calibration_.cameras.size() != 2) {
+    *error = "the calibration needs two cameras for a stereo view";
+    return false;
+  }
+  for (int i = 0; i < 2; ++i) {
+    const auto& planes = i == 0 ? frame->left : frame->right;
+    if (!planes) {
+      *error = "frame " + std::to_string(frame->frame.sequence()) + " has no decoded image";
+      return false;
+    }
+    if (!cameras_[i] || cameras_[i]->imageWidth() != planes->width ||
+        cameras_[i]->imageHeight() != planes->height) {
+      const auto scaled = calib::atResolution(calibration_.cameras[i], planes->width, planes->height, error);
+      if (!scaled) return false;
+      cameras_[i] = std::make_unique<GpuCamera>(scaled->camera, planes->width, planes->height);
+      if (!renderer_.prepare(*cameras_[i], settings_.path, error)) return false;
+    }
+    if (!cameras_[i]->upload(SourceImage::yuv(planes), error)) return false;
+  }
+  frame_ = frame;
+  uploaded_ns_ = stereoViewNowNs();
+  return true;
+}
+
+bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
+                                   const Eigen::Isometry3d& T_vr_eye, EyeView view,
+                                   GLuint framebuffer, std::string* error) {
+  if (eye < 0 || eye > 1) {
+    *error = "eye must be 0 (left) or 1 (right)";
+    return false;
+  }
+  if (!frame_ || !cameras_[eye]) {  // nothing received yet: the border colour only
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    glViewport(0, 0, view.width, view.height);
+    const Eigen::Vector4f& c = settings_.border_rgba;
+    glClearColor(c[0], c[1], c[2], c[3]);
+    glClear(GL_COLOR_BUFFER_BIT);
+    return true;
+  }
+  const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
+  const Eigen::Isometry3d T_robot_cam = link::fromLinkPose(image.t_robot_cam());
+  view.T_cam_eye = T_robot_cam.inverse() * T_robot_vr * T_vr_eye;
+  if (const auto why = checkPose(view.T_cam_eye)) {
+    *error = "eye pose: " + *why;
+    return false;
+  }
+  return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
+}
+
+}  // namespace telesphere::xr

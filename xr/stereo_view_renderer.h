@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+/// @brief What the operator sees (DESIGN.md §2–§3): the newest decoded stereo frame rendered for
+///        both eyes, left eye from the left camera and right eye from the right one. The eye
+///        poses come in the VR frame; the nominal mapping T_robot_vr (published by the robot
+///        once the nominal pose is captured) and each camera's pose at capture time
+///        (T_robot_cam, carried by the frame) give T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye.
+///        Shared by the OpenXR, desktop and offscreen modes; needs a current GL context.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "calib/system_calibration.h"
+#include "xr/gpu_camera.h"
+#include "xr/spherical_renderer.h"
+#include "xr/stereo_frame_decoder.h"
+
+namespace telesphere::xr {
+
+class StereoViewRenderer {
+ public:
+  /// `calibration` needs two cameras; their models are rescaled to the frames' resolution.
+  StereoViewRenderer(const calib::SystemCalibration& calibration, const RenderSettings& settings);
+  ~StereoViewRenderer();
+  StereoViewRenderer(const StereoViewRenderer&) = delete;
+  StereoViewRenderer& operator=(const StereoViewRenderer&) = delete;
+
+  /// Uploads `frame` unless it is the one already on the GPU (same sequence); false with the
+  /// reason when its size cannot be matched to the calibration or an upload fails.
+  bool setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame, std::string* error);
+  /// The frame on the GPU (null before the first), and when its upload finished (steady ns).
+  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return frame_; }
+  std::int64_t uploadedNs() const { return uploaded_ns_; }
+
+  /// Renders eye `eye` (0 left, 1 right) into `framebuffer` (width×height of `view`): `view`'s
+  /// T_cam_eye is ignored and computed from T_robot_vr and T_vr_eye. Border colour where there
+  /// is no frame yet. False with the reason on bad input or a GL failure.
+  bool renderEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
+                 EyeView view, GLuint framebuffer, std::string* error);
+
+  void setSettings(const RenderSettings& settings) { settings_ = settings; }
+  const RenderSettings& settings() const { return settings_; }
+
+ private:
+  calib::SystemCalibration calibration_;
+  RenderSettings settings_;
+  SphericalRenderer renderer_;
+  std::array<std::unique_ptr<GpuCamera>, 2> cameras_;
+  std::shared_ptr<const DecodedStereoFrame> frame_;
+  std::int64_t uploaded_ns_ = 0;
+};
+
+}  // namespace telesphere::xr
