@@ -98,14 +98,10 @@ int runStill(const StillOptions& o) {
   if (!(size >> view.width >> x >> view.height) || x != 'x' || !size.eof())
     return fail(1, "--size must be WIDTHxHEIGHT, got \"" + o.size + "\"");
 
-  xr::RenderSettings settings;
-  settings.radius = o.radius;
-  const auto mode = xr::parseRenderMode(o.mode);
-  const auto path = xr::parseRenderPath(o.path);
-  if (!mode) return fail(1, "--mode must be full6d, orientation3d or fixed, got \"" + o.mode + "\"");
-  if (!path) return fail(1, "--path must be exact, mesh or lut, got \"" + o.path + "\"");
-  settings.mode = *mode;
-  settings.path = *path;
+  std::string settings_error;
+  auto parsed = xr::renderSettingsFromText(o.mode, o.path, o.radius, &settings_error);
+  if (!parsed) return fail(1, settings_error);
+  xr::RenderSettings settings = *parsed;
   const auto border = numbers(o.border, 4);
   if (!border) return fail(1, "--border needs 4 numbers \"r g b a\" in 0..1");
   settings.border_rgba << float((*border)[0]), float((*border)[1]), float((*border)[2]), float((*border)[3]);
@@ -186,15 +182,10 @@ std::string openXrStates(const xr::SessionStateMachine& machine) {
 }
 
 int runOpenXr(const OpenXrCommandOptions& o) {
-  xr::RenderSettings settings;
-  settings.radius = o.radius;
-  const auto mode = xr::parseRenderMode(o.mode);
-  const auto path = xr::parseRenderPath(o.path);
-  if (!mode) return openXrFail(1, "--mode must be full6d, orientation3d or fixed, got \"" + o.mode + "\"");
-  if (!path) return openXrFail(1, "--path must be exact, mesh or lut, got \"" + o.path + "\"");
-  settings.mode = *mode;
-  settings.path = *path;
-  if (auto e = xr::checkRenderSettings(settings)) return openXrFail(1, *e);
+  std::string settings_error;
+  const auto parsed = xr::renderSettingsFromText(o.mode, o.path, o.radius, &settings_error);
+  if (!parsed) return openXrFail(1, settings_error);
+  const xr::RenderSettings settings = *parsed;
   xr::OpenXrOptions options;
   if (o.colour == "auto") options.colour = xr::SwapchainColour::kAuto;
   else if (o.colour == "srgb") options.colour = xr::SwapchainColour::kSrgb;

@@ -61,14 +61,9 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
     return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
   options.rate_hz = o.rate_hz;
   options.duration_s = o.duration_s;
-  const auto mode = xr::parseRenderMode(o.mode);
-  const auto path = xr::parseRenderPath(o.path);
-  if (!mode) return fail(1, "--mode '" + o.mode + "': use full6d, orientation3d or fixed");
-  if (!path) return fail(1, "--path '" + o.path + "': use exact, mesh or lut");
-  options.render.mode = *mode;
-  options.render.path = *path;
-  options.render.radius = o.radius;
-  if (const auto why = xr::checkRenderSettings(options.render)) return fail(1, *why);
+  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  if (!render) return fail(1, error);
+  options.render = *render;
   options.png_every_frames = o.png_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
   if (!o.out_dir.empty()) {

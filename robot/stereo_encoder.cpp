@@ -131,6 +131,7 @@ JpegSettings StereoEncoder::settings() const {
 bool StereoEncoder::encode(const CameraFrame& left, const CameraFrame& right, EncodedPair& out,
                            std::string* error) {
   const JpegSettings s = settings();
+  out.settings = s;
   {
     std::lock_guard lock(impl_->mutex);
     impl_->job = &right;

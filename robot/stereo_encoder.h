@@ -24,6 +24,7 @@ struct EncodedImage {
 
 struct EncodedPair {
   EncodedImage left, right;
+  JpegSettings settings;  ///< what both were encoded with (settings may change between pairs)
 };
 
 class StereoEncoder {

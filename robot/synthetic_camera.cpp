@@ -119,8 +119,13 @@ bool SyntheticCamera::render(std::int64_t t_ns, std::vector<std::uint8_t>& rgb,
 CameraFrame SyntheticCamera::renderAt(std::int64_t t_ns) const {
   auto pixels = std::make_shared<std::vector<std::uint8_t>>();
   render(t_ns, *pixels, nullptr);
+  return frameOf(t_ns, std::move(pixels));
+}
+
+CameraFrame SyntheticCamera::frameOf(std::int64_t capture_ns,
+                                     std::shared_ptr<std::vector<std::uint8_t>> pixels) const {
   CameraFrame frame;
-  frame.capture_ns = t_ns;
+  frame.capture_ns = capture_ns;
   frame.exposure_us = options_.exposure_us;
   frame.format = PixelFormat::kRgb8;
   frame.width = width_;
@@ -177,15 +182,7 @@ void SyntheticCamera::run() {
     const std::int64_t capture_ns = phase + k * period_ns_;
     auto pixels = std::make_shared<std::vector<std::uint8_t>>();
     if (!render(capture_ns, *pixels, &stop_requested_)) return;
-    CameraFrame frame;
-    frame.capture_ns = capture_ns;
-    frame.exposure_us = options_.exposure_us;
-    frame.format = PixelFormat::kRgb8;
-    frame.width = width_;
-    frame.height = height_;
-    frame.stride_bytes = 3 * width_;
-    frame.pixels = std::move(pixels);
-    frame.timestamp_from_hardware = true;
+    CameraFrame frame = frameOf(capture_ns, std::move(pixels));
     {
       std::lock_guard<std::mutex> lock(mutex_);
       if (stop_requested_.load()) return;

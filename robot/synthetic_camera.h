@@ -85,6 +85,8 @@ class SyntheticCamera final : public CameraSource {
   /// Renders into `rgb`; false when `cancel` was raised before it finished.
   bool render(std::int64_t t_ns, std::vector<std::uint8_t>& rgb, const std::atomic<bool>* cancel) const;
   void run();
+  /// The frame for pixels rendered at capture_ns (sequence set by the caller).
+  CameraFrame frameOf(std::int64_t capture_ns, std::shared_ptr<std::vector<std::uint8_t>> pixels) const;
 
   calib::GenericCamera camera_;
   int width_, height_;

@@ -66,7 +66,7 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
     stats_.last_error = error;
     return false;
   }
-  const JpegSettings settings = encoder_.settings();
+  const JpegSettings& settings = encoded.settings;  // not settings(): it may have changed since
 
   link::proto::StereoFrame message;
   message.set_sequence(++sequence_);

@@ -102,4 +102,27 @@ Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& 
   return view.T_cam_eye;
 }
 
+std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
+                                                     double radius, std::string* error) {
+  RenderSettings settings;
+  const auto m = parseRenderMode(mode);
+  const auto p = parseRenderPath(path);
+  if (!m) {
+    *error = "render mode must be full6d, orientation3d or fixed, got \"" + std::string(mode) + "\"";
+    return std::nullopt;
+  }
+  if (!p) {
+    *error = "render path must be exact, mesh or lut, got \"" + std::string(path) + "\"";
+    return std::nullopt;
+  }
+  settings.mode = *m;
+  settings.path = *p;
+  settings.radius = radius;
+  if (auto why = checkRenderSettings(settings)) {
+    *error = *why;
+    return std::nullopt;
+  }
+  return settings;
+}
+
 }  // namespace telesphere::xr

@@ -13,17 +13,12 @@
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
+#include "xr/latency_figure.h"
 #include "xr/stereo_frame_decoder.h"
 #include "xr/stereo_view_renderer.h"
 
 namespace telesphere::xr {
 namespace {
-
-double offscreenPercentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))];
-}
 
 /// Both eyes side by side (left | right) as one RGBA image.
 bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& left,
@@ -167,10 +162,11 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
       xr_stats.set_t_ns(link::linkNowNs());
       xr_stats.set_fps(double(stats.frames - frames_at_last_stats) /
                        std::chrono::duration<double>(work_end - last_stats_sent).count());
-      xr_stats.set_render_ms(offscreenPercentile(render_ms, 0.5));
+      const LatencyFigure age = latencyFigure(age_ms);
+      xr_stats.set_render_ms(latencyFigure(render_ms).p50_ms);
       xr_stats.set_missed_frames(stats.missed_frames);
-      xr_stats.set_image_age_p50_ms(offscreenPercentile(age_ms, 0.5));
-      xr_stats.set_image_age_p99_ms(offscreenPercentile(age_ms, 0.99));
+      xr_stats.set_image_age_p50_ms(age.p50_ms);
+      xr_stats.set_image_age_p99_ms(age.p99_ms);
       client.sendXrStats(xr_stats);
       last_stats_sent = work_end;
       frames_at_last_stats = stats.frames;
@@ -187,11 +183,12 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   stats.fps = seconds > 0 ? double(stats.frames) / seconds : 0.0;
-  stats.render_ms_p50 = offscreenPercentile(render_ms, 0.5);
-  stats.render_ms_p99 = offscreenPercentile(render_ms, 0.99);
-  stats.image_age_p50_ms = offscreenPercentile(age_ms, 0.5);
-  stats.image_age_p99_ms = offscreenPercentile(age_ms, 0.99);
-  stats.upload_ms_p50 = offscreenPercentile(upload_ms, 0.5);
+  const LatencyFigure render = latencyFigure(render_ms), age = latencyFigure(age_ms);
+  stats.render_ms_p50 = render.p50_ms;
+  stats.render_ms_p99 = render.p99_ms;
+  stats.image_age_p50_ms = age.p50_ms;
+  stats.image_age_p99_ms = age.p99_ms;
+  stats.upload_ms_p50 = latencyFigure(upload_ms).p50_ms;
   stats.pose_to_display_ms = std::chrono::duration<double, std::milli>(period).count();
   if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", left_target, right_target, error))
     return std::nullopt;

@@ -30,21 +30,6 @@ FrameDropReason stereoDropReason(JpegDecodeError error) {
   return FrameDropReason::kCorrupt;
 }
 
-LatencyFigure stereoPercentiles(const std::deque<double>& samples) {
-  LatencyFigure f;
-  f.n = samples.size();
-  if (samples.empty()) return f;
-  std::vector<double> v(samples.begin(), samples.end());
-  const auto at = [&](double q) {
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5);
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-    return v[k];
-  };
-  f.p50_ms = at(0.5);
-  f.p99_ms = at(0.99);
-  return f;
-}
-
 }  // namespace
 
 std::string_view frameDropReasonName(FrameDropReason reason) {
@@ -206,12 +191,15 @@ StereoDecodeStats StereoFrameDecoder::stats() const {
     }
   if (recent >= 2 && publish_ns_.back() > first)
     s.fps = static_cast<double>(recent - 1) * 1e9 / static_cast<double>(publish_ns_.back() - first);
-  s.decode = stereoPercentiles(samples_ms_[kDecodeMs]);
-  s.capture_to_encoded = stereoPercentiles(samples_ms_[kCaptureEncoded]);
-  s.encoded_to_sent = stereoPercentiles(samples_ms_[kEncodedSent]);
-  s.sent_to_received = stereoPercentiles(samples_ms_[kSentReceived]);
-  s.received_to_decoded = stereoPercentiles(samples_ms_[kReceivedDecoded]);
-  s.capture_to_decoded = stereoPercentiles(samples_ms_[kCaptureDecoded]);
+  const auto figure = [this](std::size_t i) {
+    return latencyFigure(std::vector<double>(samples_ms_[i].begin(), samples_ms_[i].end()));
+  };
+  s.decode = figure(kDecodeMs);
+  s.capture_to_encoded = figure(kCaptureEncoded);
+  s.encoded_to_sent = figure(kEncodedSent);
+  s.sent_to_received = figure(kSentReceived);
+  s.received_to_decoded = figure(kReceivedDecoded);
+  s.capture_to_decoded = figure(kCaptureDecoded);
   return s;
 }
 

@@ -23,6 +23,7 @@
 
 #include "robot/link/link_client.h"
 #include "xr/decode_pool.h"
+#include "xr/latency_figure.h"
 
 namespace telesphere::xr {
 
@@ -43,13 +44,6 @@ enum class FrameDropReason : int {
 };
 
 std::string_view frameDropReasonName(FrameDropReason reason);
-
-/// Median and 99th percentile of the recent samples (ms); n = 0 when there were none.
-struct LatencyFigure {
-  double p50_ms = 0;
-  double p99_ms = 0;
-  std::size_t n = 0;
-};
 
 struct StereoDecodeStats {
   double fps = 0;                  ///< published pairs per second over the recent window

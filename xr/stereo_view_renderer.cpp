@@ -2,21 +2,11 @@
 /// @brief StereoViewRenderer: per-frame upload of both cameras' planes, per-eye render.
 #include "xr/stereo_view_renderer.h"
 
-#include <chrono>
-
 #include "calib/camera_resolution.h"
+#include "robot/link/link_endpoints.h"
 #include "robot/link/link_pose.h"
 
 namespace telesphere::xr {
-namespace {
-
-std::int64_t stereoViewNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
 
 StereoViewRenderer::StereoViewRenderer(const calib::SystemCalibration& calibration,
                                        const RenderSettings& settings)
@@ -47,7 +37,7 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
     if (!cameras_[i]->upload(SourceImage::yuv(planes), error)) return false;
   }
   frame_ = frame;
-  uploaded_ns_ = stereoViewNowNs();
+  uploaded_ns_ = link::linkNowNs();
   return true;
 }
 

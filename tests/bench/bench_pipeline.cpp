@@ -65,12 +65,6 @@ struct PipelineRun {
   bool sustained = false;
 };
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * double(v.size())))];
-}
-
 PipelineRun runPipeline(const std::vector<robot::CameraFrame>& left_frames,
                         const std::vector<robot::CameraFrame>& right_frames, double rate_hz,
                         double seconds, int port) {
@@ -107,8 +101,9 @@ PipelineRun runPipeline(const std::vector<robot::CameraFrame>& left_frames,
   run.camera_lost = robot_side.left.stats().lost + robot_side.right.stats().lost - lost_at_warm;
   run.decoded_seen = latency_ms.size();
   run.dropped = run.sent > run.decoded_seen ? run.sent - run.decoded_seen : 0;
-  run.p50_ms = percentile(latency_ms, 0.5);
-  run.p99_ms = percentile(latency_ms, 0.99);
+  const xr::LatencyFigure latency = xr::latencyFigure(latency_ms);
+  run.p50_ms = latency.p50_ms;
+  run.p99_ms = latency.p99_ms;
   const double mean_bytes = latency_ms.empty() ? 0.0 : double(bytes) / double(latency_ms.size());
   run.bandwidth_mb_s = mean_bytes * double(run.sent) / seconds * 1e-6;
   run.decode = decoder.stats();
