@@ -97,7 +97,8 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
                         {"image_age_p50_ms", stats->image_age_p50_ms},
                         {"image_age_p99_ms", stats->image_age_p99_ms},
                         {"head_targets_sent", stats->head_targets_sent},
-                        {"nominal_from_robot", stats->nominal_from_robot}};
+                        {"nominal_from_robot", stats->nominal_from_robot},
+                        {"settings_changes", stats->settings_changes}};
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
   }
   return 0;

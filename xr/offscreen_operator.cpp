@@ -8,14 +8,10 @@
 #include <thread>
 #include <vector>
 
-#include "robot/link/link_client.h"
-#include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
-#include "xr/latency_figure.h"
-#include "xr/stereo_frame_decoder.h"
-#include "xr/stereo_view_renderer.h"
+#include "xr/operator_view.h"
 
 namespace telesphere::xr {
 namespace {
@@ -59,9 +55,10 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     return std::nullopt;
   }
 
-  link::LinkClient client(options.endpoints);
-  StereoFrameDecoder decoder(client);
-  StereoViewRenderer view_renderer(calibration, options.render);
+  OperatorViewOptions view_options;
+  view_options.endpoints = options.endpoints;
+  view_options.render = options.render;
+  OperatorView operator_view(calibration, view_options);
 
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options.rate_hz));
@@ -71,7 +68,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
 
   // Wait for the first decoded frame so a slow robot start does not count as missed frames.
   const auto first_deadline = Clock::now() + options.wait_first_frame;
-  while (!decoder.newest() && !stop.load()) {
+  while (!operator_view.decoder().newest() && !stop.load()) {
     if (Clock::now() > first_deadline) {
       *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
                std::to_string(options.wait_first_frame.count()) + " ms (is telesphere-robot running?)";
@@ -81,95 +78,40 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   }
 
   OffscreenOperatorStats stats;
-  std::vector<double> render_ms, age_ms, upload_ms;
   Eigen::Isometry3d T_hmd_eye[2];
   for (int eye = 0; eye < 2; ++eye) {
     T_hmd_eye[eye] = Eigen::Isometry3d::Identity();
     T_hmd_eye[eye].translation().x() = (eye == 0 ? -0.5 : 0.5) * options.ipd;
   }
-  std::optional<Eigen::Isometry3d> T_robot_vr_fallback;
-  std::uint64_t last_shown_sequence = 0;
   const auto t0 = Clock::now();
   auto frame_start = t0;
-  auto last_stats_sent = t0;
-  std::uint64_t frames_at_last_stats = 0;
   while (!stop.load()) {
     if (options.duration_s > 0 && frame_start - t0 >= std::chrono::duration<double>(options.duration_s)) break;
     const auto display = frame_start + period;  // shown at the next refresh
     const double display_s = std::chrono::duration<double>(display - t0).count();
     const Eigen::Isometry3d T_vr_hmd = trajectory.sample(display_s, options.loop_trajectory);
 
-    link::proto::HeadTarget target;
-    target.set_t_ns(link::linkNowNs());
-    target.set_predicted_display_ns(to_ns(display));
-    link::toLinkPose(T_vr_hmd, target.mutable_t_vr_hmd());
-    target.set_valid(true);
-    client.sendHeadTarget(target);
-    ++stats.head_targets_sent;
-
     const auto work_start = Clock::now();
-    const auto newest = decoder.newest();
-    if (!view_renderer.setFrame(newest, error)) return std::nullopt;
-    const auto uploaded = Clock::now();
-    const auto& frame = view_renderer.frame();
-    Eigen::Isometry3d T_robot_vr;
-    const auto state = client.latestRobotState();
-    if (state && state->nominal_set()) {
-      T_robot_vr = link::fromLinkPose(state->t_robot_vr());
-      stats.nominal_from_robot = true;
-    } else {
-      if (!T_robot_vr_fallback && frame) {
-        // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
-        T_robot_vr_fallback = link::fromLinkPose(frame->frame.left().t_robot_cam()) *
-                              Eigen::Isometry3d(kR_optical_view) * (T_vr_hmd * T_hmd_eye[0]).inverse();
-      }
-      T_robot_vr = T_robot_vr_fallback.value_or(Eigen::Isometry3d::Identity());
-    }
+    if (!operator_view.beginFrame(T_vr_hmd, to_ns(display), true, error)) return std::nullopt;
     EyeView view;
     view.fov = options.fov;
     view.width = options.eye_width;
     view.height = options.eye_height;
     for (int eye = 0; eye < 2; ++eye) {
       const GLuint fb = eye == 0 ? left_target.framebuffer() : right_target.framebuffer();
-      if (!view_renderer.renderEye(eye, T_robot_vr, T_vr_hmd * T_hmd_eye[eye], view, fb, error))
-        return std::nullopt;
+      if (!operator_view.renderEye(eye, T_vr_hmd * T_hmd_eye[eye], view, fb, error)) return std::nullopt;
     }
     glFinish();
     const auto work_end = Clock::now();
     ++stats.frames;
-    render_ms.push_back(std::chrono::duration<double, std::milli>(work_end - work_start).count());
-    if (frame) {
-      ++stats.frames_with_image;
-      if (frame->frame.sequence() != last_shown_sequence) {
-        ++stats.stereo_frames_shown;
-        last_shown_sequence = frame->frame.sequence();
-        upload_ms.push_back(std::chrono::duration<double, std::milli>(uploaded - work_start).count());
-      }
-      const std::int64_t capture_server = frame->frame.stamps().capture_ns();
-      const std::int64_t capture_client = client.clock().serverToClient(capture_server).value_or(capture_server);
-      age_ms.push_back(double(to_ns(std::max(display, work_end)) - capture_client) * 1e-6);
-    }
+    operator_view.endFrame(to_ns(std::max(display, work_end)),
+                           std::chrono::duration<double, std::milli>(work_end - work_start).count(),
+                           stats.missed_frames);
     if (options.png_every_frames > 0 && !options.png_dir.empty() &&
         stats.frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
       char name[64];
       std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(stats.frames));
       if (!writeEyesPng(options.png_dir + name, left_target, right_target, error)) return std::nullopt;
-    }
-
-    // Statistics for the console, once a second.
-    if (work_end - last_stats_sent >= std::chrono::seconds(1)) {
-      link::proto::XrStats xr_stats;
-      xr_stats.set_t_ns(link::linkNowNs());
-      xr_stats.set_fps(double(stats.frames - frames_at_last_stats) /
-                       std::chrono::duration<double>(work_end - last_stats_sent).count());
-      const LatencyFigure age = latencyFigure(age_ms);
-      xr_stats.set_render_ms(latencyFigure(render_ms).p50_ms);
-      xr_stats.set_missed_frames(stats.missed_frames);
-      xr_stats.set_image_age_p50_ms(age.p50_ms);
-      xr_stats.set_image_age_p99_ms(age.p99_ms);
-      client.sendXrStats(xr_stats);
-      last_stats_sent = work_end;
-      frames_at_last_stats = stats.frames;
     }
 
     // Pace: the next frame starts at the refresh; an overrun misses refreshes, never bursts.
@@ -183,12 +125,17 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   stats.fps = seconds > 0 ? double(stats.frames) / seconds : 0.0;
-  const LatencyFigure render = latencyFigure(render_ms), age = latencyFigure(age_ms);
-  stats.render_ms_p50 = render.p50_ms;
-  stats.render_ms_p99 = render.p99_ms;
-  stats.image_age_p50_ms = age.p50_ms;
-  stats.image_age_p99_ms = age.p99_ms;
-  stats.upload_ms_p50 = latencyFigure(upload_ms).p50_ms;
+  const OperatorViewStats view_stats = operator_view.stats();
+  stats.frames_with_image = view_stats.frames_with_image;
+  stats.stereo_frames_shown = view_stats.stereo_frames_shown;
+  stats.render_ms_p50 = view_stats.render_ms_p50;
+  stats.render_ms_p99 = view_stats.render_ms_p99;
+  stats.image_age_p50_ms = view_stats.image_age_p50_ms;
+  stats.image_age_p99_ms = view_stats.image_age_p99_ms;
+  stats.upload_ms_p50 = view_stats.upload_ms_p50;
+  stats.head_targets_sent = view_stats.head_targets_sent;
+  stats.nominal_from_robot = view_stats.nominal_from_robot;
+  stats.settings_changes = view_stats.settings_changes;
   stats.pose_to_display_ms = std::chrono::duration<double, std::milli>(period).count();
   if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", left_target, right_target, error))
     return std::nullopt;

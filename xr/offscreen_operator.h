@@ -45,6 +45,7 @@ struct OffscreenOperatorStats {
   double upload_ms_p50 = 0;
   std::uint64_t head_targets_sent = 0;
   bool nominal_from_robot = false;  ///< T_robot_vr came from the robot (else the fallback)
+  std::uint64_t settings_changes = 0;  ///< mode/radius changes followed from the robot
 };
 
 /// Runs the loop; nothing, with the reason in *error, when GL, the calibration or the link do

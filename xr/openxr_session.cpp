@@ -4,11 +4,15 @@
 
 #define XR_USE_GRAPHICS_API_OPENGL 1
 #define XR_USE_PLATFORM_EGL 1
+#define XR_USE_TIMESPEC 1
+#include <time.h>
+
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstring>
 
 #include "shaders/gl_objects.h"
@@ -44,7 +48,8 @@ std::string noRuntimeHelp() {
          "libopenxr1-monado, then run monado-service) or SteamVR (set it as the OpenXR runtime "
          "in its settings); the loader finds the active runtime through "
          "/etc/xdg/openxr/1/active_runtime.json or $XR_RUNTIME_JSON. Without a headset: "
-         "`telesphere-xr still` renders offscreen (EGL, no display), and "
+         "`telesphere-xr desktop` shows the robot's cameras in a window moved by mouse and "
+         "keyboard, `telesphere-xr offscreen` runs the loop headless from a trajectory, and "
          "tests/xr/monado/run_with_monado.sh runs any command against a headless simulated "
          "Monado (see xr/README.md, \"OpenXR session\").";
 }
@@ -54,6 +59,8 @@ struct OpenXrSession::Impl {
   XrSystemId system = XR_NULL_SYSTEM_ID;
   XrSession session = XR_NULL_HANDLE;
   XrSpace space = XR_NULL_HANDLE;
+  /// XR_KHR_convert_timespec_time: XrTime → CLOCK_MONOTONIC (the link's steady clock).
+  PFN_xrConvertTimeToTimespecTimeKHR time_to_timespec = nullptr;
   struct Eye {
     XrSwapchain swapchain = XR_NULL_HANDLE;
     std::vector<XrSwapchainImageOpenGLKHR> images;
@@ -116,8 +123,9 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
   }
 
   auto impl = std::make_unique<Impl>();
-  const std::array<const char*, 2> enabled{XR_KHR_OPENGL_ENABLE_EXTENSION_NAME,
-                                           XR_MNDX_EGL_ENABLE_EXTENSION_NAME};
+  std::vector<const char*> enabled{XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_MNDX_EGL_ENABLE_EXTENSION_NAME};
+  const bool has_timespec = openXrHasExtension(extensions, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
+  if (has_timespec) enabled.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
   auto instance_info = xrStruct<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
   std::strncpy(instance_info.applicationInfo.applicationName, options.application_name.c_str(),
                XR_MAX_APPLICATION_NAME_SIZE - 1);
@@ -135,6 +143,9 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
     }
     return nullptr;
   }
+  if (has_timespec &&
+      !TELESPHERE_CHECK_XR(xrGetInstanceProcAddr(impl->instance, "xrConvertTimeToTimespecTimeKHR", reinterpret_cast<PFN_xrVoidFunction*>(&impl->time_to_timespec)), error))
+    return nullptr;
   auto instance_props = xrStruct<XrInstanceProperties>(XR_TYPE_INSTANCE_PROPERTIES);
   if (!TELESPHERE_CHECK_XR(xrGetInstanceProperties(impl->instance, &instance_props), error)) return nullptr;
 
@@ -335,6 +346,13 @@ bool OpenXrSession::pollEvents(std::string* out_error) {
   }
 }
 
+std::int64_t OpenXrSession::steadyNsFromXrTime(std::int64_t xr_time) const {
+  if (!impl_->time_to_timespec) return 0;
+  timespec ts{};
+  if (XR_FAILED(impl_->time_to_timespec(impl_->instance, XrTime(xr_time), &ts))) return 0;
+  return std::int64_t(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 bool OpenXrSession::requestExit(std::string* out_error) {
   return apply(machine_.requestExit(), out_error);
 }
@@ -356,6 +374,13 @@ bool OpenXrSession::frame(const OpenXrRenderEye& render, const OpenXrReadEye& re
     return handleResult(false, result);
   r.waited = true;
   r.predicted_display_time_ns = frame_state.predictedDisplayTime;
+  r.predicted_display_period_ns = frame_state.predictedDisplayPeriod;
+  r.predicted_display_steady_ns = steadyNsFromXrTime(frame_state.predictedDisplayTime);
+  if (r.predicted_display_steady_ns == 0) {  // no conversion: one display period from now
+    r.predicted_display_steady_ns =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count() +
+        frame_state.predictedDisplayPeriod;
+  }
   const std::uint64_t frame_index = frame_index_++;
 
   std::array<XrCompositionLayerProjectionView, 2> layer_views{};
@@ -391,6 +416,7 @@ bool OpenXrSession::frame(const OpenXrRenderEye& render, const OpenXrReadEye& re
         e.eye = i;
         e.frame_index = frame_index;
         e.predicted_display_time_ns = frame_state.predictedDisplayTime;
+        e.predicted_display_steady_ns = r.predicted_display_steady_ns;
         e.T_vr_eye = isometryFromXrPose(views[std::size_t(i)].pose);
         e.T_vr_hmd = midpointPose(isometryFromXrPose(views[0].pose), isometryFromXrPose(views[1].pose));
         e.fov = fovFromXr(views[std::size_t(i)].fov);

@@ -44,6 +44,7 @@ struct OpenXrEye {
   int eye = 0;                      ///< 0 left, 1 right
   std::uint64_t frame_index = 0;    ///< counts frames waited for, from 0
   std::int64_t predicted_display_time_ns = 0;  ///< XrTime of the frame (runtime clock, ns)
+  std::int64_t predicted_display_steady_ns = 0;  ///< the same instant in the link's steady clock
   Eigen::Isometry3d T_vr_eye;       ///< eye pose in the reference space (OpenXR view frame)
   Eigen::Isometry3d T_vr_hmd;       ///< midpoint of both eyes' poses this frame
   Fov fov;                          ///< the eye's XrFovf
@@ -64,6 +65,10 @@ struct OpenXrFrameResult {
   bool submitted = false;  ///< xrEndFrame got a projection layer with both views
   bool views_valid = false;
   std::int64_t predicted_display_time_ns = 0;
+  /// The same instant in the steady clock (CLOCK_MONOTONIC, the link's clock): through
+  /// XR_KHR_convert_timespec_time where offered, else now + the predicted display period.
+  std::int64_t predicted_display_steady_ns = 0;
+  std::int64_t predicted_display_period_ns = 0;  ///< the runtime's display period
 };
 
 class OpenXrSession {
@@ -88,6 +93,10 @@ class OpenXrSession {
   /// read_back (may be empty) sees each rendered swapchain image before it is released.
   bool frame(const OpenXrRenderEye& render, const OpenXrReadEye& read_back,
              OpenXrFrameResult* out_result, std::string* out_error = nullptr);
+
+  /// An XrTime in the steady clock (CLOCK_MONOTONIC) through XR_KHR_convert_timespec_time; 0
+  /// when the runtime does not offer the conversion.
+  std::int64_t steadyNsFromXrTime(std::int64_t xr_time) const;
 
   /// Ask to quit: xrRequestExitSession while running (the runtime then stops the session).
   bool requestExit(std::string* out_error = nullptr);

@@ -15,7 +15,7 @@ TEST(OpenXrNoRuntime, SaysHowToGetARuntimeAndHowToRunWithoutAHeadset) {
   // A runtime manifest that does not exist: the loader finds no runtime.
   const std::string command =
       "env XR_RUNTIME_JSON=/nonexistent/telesphere-no-runtime.json XDG_CONFIG_DIRS=/nonexistent "
-      "XDG_CONFIG_HOME=/nonexistent '" TELESPHERE_BINARY_DIR "/bin/telesphere-xr' openxr --frames 1 2>&1";
+      "XDG_CONFIG_HOME=/nonexistent '" TELESPHERE_BINARY_DIR "/bin/telesphere-xr' openxr --test-scene --frames 1 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;

@@ -7,7 +7,9 @@
 ///        exits by itself, cleanly, when the service stops. Skipped, saying why, when
 ///        TELESPHERE_MONADO_ROOT does not name a root.
 #include <gtest/gtest.h>
+#include <fcntl.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -15,14 +17,21 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <atomic>
+#include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "calib/calibration_file.h"
+#include "calib/camera_resolution.h"
+#include "robot/link/link_client.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 #include "xr/openxr_test_scene.h"
 #include "xr/spherical_renderer.h"
+#include "xr/yuv_planes_file.h"
 
 namespace telesphere::test {
 namespace {
@@ -85,11 +94,15 @@ long long monadoNumberAfter(const std::string& text, const std::string& key) {
 }
 
 struct LoggedEye {
+  int session = 0;
   long long frame = 0;
   int eye = 0;
   xr::EyeView view;
   bool srgb = true;
   std::string png;
+  unsigned long long sequence = 0;  ///< the robot's stereo frame shown (0: test scene / none)
+  std::string mode;
+  double radius = 0;
 };
 
 std::vector<LoggedEye> monadoReadPoses(const std::string& path) {
@@ -102,19 +115,23 @@ std::vector<LoggedEye> monadoReadPoses(const std::string& path) {
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) f.push_back(cell);
-    if (f.size() != 18) continue;
+    if (f.size() != 22) continue;
     LoggedEye e;
-    e.frame = std::stoll(f[0]);
-    e.eye = std::stoi(f[1]);
-    const Eigen::Quaterniond q(std::stod(f[9]), std::stod(f[6]), std::stod(f[7]), std::stod(f[8]));
+    e.session = std::stoi(f[0]);
+    e.frame = std::stoll(f[1]);
+    e.eye = std::stoi(f[2]);
+    const Eigen::Quaterniond q(std::stod(f[10]), std::stod(f[7]), std::stod(f[8]), std::stod(f[9]));
     e.view.T_cam_eye = Eigen::Isometry3d::Identity();
     e.view.T_cam_eye.linear() = q.normalized().toRotationMatrix();
-    e.view.T_cam_eye.translation() << std::stod(f[3]), std::stod(f[4]), std::stod(f[5]);
-    e.view.fov = {std::stod(f[10]), std::stod(f[11]), std::stod(f[12]), std::stod(f[13])};
-    e.view.width = std::stoi(f[14]);
-    e.view.height = std::stoi(f[15]);
-    e.srgb = f[16] == "1";
-    e.png = f[17];
+    e.view.T_cam_eye.translation() << std::stod(f[4]), std::stod(f[5]), std::stod(f[6]);
+    e.view.fov = {std::stod(f[11]), std::stod(f[12]), std::stod(f[13]), std::stod(f[14])};
+    e.view.width = std::stoi(f[15]);
+    e.view.height = std::stoi(f[16]);
+    e.srgb = f[17] == "1";
+    e.png = f[18];
+    e.sequence = std::stoull(f[19]);
+    e.mode = f[20];
+    e.radius = std::stod(f[21]);
     out.push_back(e);
   }
   return out;
@@ -181,7 +198,7 @@ void monadoExpectFocusedAndMatching(const std::string& colour, bool linear) {
   const fs::path dir = monadoScratch(colour);
   const int frames = 12;
   const MonadoRun run = monadoRunCommand(
-      monadoXrCommand("", "--frames " + std::to_string(frames) + " --swapchain-colour " + colour +
+      monadoXrCommand("", "--test-scene --frames " + std::to_string(frames) + " --swapchain-colour " + colour +
                               " --readback-dir " + monadoQuote(dir.string())),
       240);
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -224,7 +241,7 @@ TEST(OpenXrMonado, LinearSwapchainHoldsTheDecodedColours) {
 TEST(OpenXrMonado, AppExitsCleanlyWhenTheServiceStops) {
   SKIP_WITHOUT_MONADO_ROOT();
   // No --frames: the app would run until Ctrl-C; the service goes away under it.
-  const MonadoRun run = monadoRunCommand(monadoXrCommand("--stop-service-after 8", ""), 120);
+  const MonadoRun run = monadoRunCommand(monadoXrCommand("--stop-service-after 8", "--test-scene --reconnect 0"), 120);
   EXPECT_EQ(run.exit_code, 4) << "4 = the runtime went away during the session\n" << run.output;
   EXPECT_NE(run.output.find("the OpenXR runtime went away"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("focused: yes"), std::string::npos) << "it was running first\n" << run.output;
@@ -236,12 +253,199 @@ TEST(OpenXrMonado, SigintEndsTheSessionCleanly) {
   SKIP_WITHOUT_MONADO_ROOT();
   // The wrapper forwards SIGINT to the app; `timeout -s INT` sends it after 8 s (and, with
   // --preserve-status, exits with the wrapper's status, i.e. the app's).
-  const std::string command = "timeout --preserve-status -s INT 8 " + monadoXrCommand("", "");
+  const std::string command = "timeout --preserve-status -s INT 8 " + monadoXrCommand("", "--test-scene");
   const MonadoRun run = monadoRunCommand(command, 120);
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("interrupted: ending the session"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("STOPPING"), std::string::npos) << run.output;
   EXPECT_EQ(run.output.find("AddressSanitizer"), std::string::npos) << run.output;
+}
+
+TEST(OpenXrMonado, ReconnectsWhenTheRuntimeRestarts) {
+  SKIP_WITHOUT_MONADO_ROOT();
+  // The service stops 7 s in and starts again 2 s later; the app waits for it (--reconnect),
+  // starts a second session, and ends both cleanly on Ctrl-C.
+  const std::string command = "timeout --preserve-status -s INT 25 " +
+                              monadoXrCommand("--restart-service-after 7", "--test-scene --reconnect 30");
+  const MonadoRun run = monadoRunCommand(command, 150);
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("waiting up to 30 s for it to come back"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("session 2: runtime: Monado"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("sessions: 2"), std::string::npos) << run.output;
+  const auto second = run.output.find(" | ", run.output.find("states: "));
+  ASSERT_NE(second, std::string::npos) << "two sessions' states\n" << run.output;
+  EXPECT_NE(run.output.find("FOCUSED", second), std::string::npos) << "the second session ran\n" << run.output;
+  EXPECT_EQ(run.output.find("AddressSanitizer"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("runtime error:"), std::string::npos) << run.output;
+}
+
+/// telesphere-robot in the background: simulated arm, synthetic cameras, the link on `port`.
+class MonadoRobot {
+ public:
+  MonadoRobot(int port, const std::string& log_path) {
+    const std::string bin = std::string(TELESPHERE_BINARY_DIR) + "/bin/telesphere-robot";
+    const std::string port_text = std::to_string(port);
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int fd = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+      }
+      execl(bin.c_str(), bin.c_str(), "--sim", "--size", "320x180", "--fps", "15", "--port", port_text.c_str(),
+            "--duration", "300", "--stats-period", "1", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+  }
+  ~MonadoRobot() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  MonadoRobot(const MonadoRobot&) = delete;
+  MonadoRobot& operator=(const MonadoRobot&) = delete;
+  /// SIGINT, then its exit code (-1 when it had to be killed or never started).
+  int stop() {
+    if (pid_ <= 0) return -1;
+    kill(pid_, SIGINT);
+    int status = 0;
+    for (int i = 0; i < 100; ++i) {
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = 0;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+std::string monadoReadFile(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
+  SKIP_WITHOUT_MONADO_ROOT();
+  const fs::path dir = monadoScratch("robot");
+  const int port = 27800;
+  MonadoRobot robot(port, (dir / "robot.log").string());
+
+  // The console: waits for the app's statistics to come through the robot, then changes the
+  // mode and the sphere radius there; the app must follow both live.
+  std::atomic<bool> done{false};
+  std::atomic<bool> saw_xr_stats{false}, saw_nominal{false}, changed{false};
+  std::string console_error;
+  std::thread console([&] {
+    link::LinkEndpoints endpoints;
+    endpoints.base_port = port;
+    link::LinkClient client(endpoints, link::LinkClient::Options{false, std::chrono::milliseconds(200)});
+    while (!done.load()) {
+      if (const auto state = client.latestRobotState(); state && state->nominal_set()) saw_nominal = true;
+      const auto stats = client.latestXrStats();
+      if (stats && stats->fps() > 0) saw_xr_stats = true;
+      if (saw_xr_stats && !changed) {
+        link::proto::ControlRequest mode;
+        mode.set_set_mode("orientation3d");
+        link::proto::ControlRequest radius;
+        radius.set_set_sphere_radius(2.5);
+        const auto a = client.request(mode, std::chrono::milliseconds(3000));
+        const auto b = client.request(radius, std::chrono::milliseconds(3000));
+        if (!a || !a->ok() || !b || !b->ok()) console_error = "the robot did not accept the console's changes";
+        changed = true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+
+  const MonadoRun run = monadoRunCommand(
+      monadoXrCommand("", "--calib " + monadoQuote(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml") +
+                              " --port " + std::to_string(port) + " --frames 120 --readback-dir " +
+                              monadoQuote(dir.string()) + " --out " + monadoQuote(dir.string())),
+      300);
+  done = true;
+  console.join();
+  const int robot_code = robot.stop();
+  const std::string robot_log = monadoReadFile(dir / "robot.log");
+  ASSERT_EQ(run.exit_code, 0) << run.output << "\n--- robot\n" << robot_log;
+  EXPECT_EQ(robot_code, 0) << robot_log;
+  EXPECT_NE(run.output.find("focused: yes"), std::string::npos) << run.output;
+  EXPECT_EQ(run.output.find("AddressSanitizer"), std::string::npos) << run.output;
+  EXPECT_GE(monadoNumberAfter(run.output, "submitted "), 120) << run.output;
+
+  // Head targets reached the robot: it captured the nominal pose from them and published it.
+  EXPECT_NE(robot_log.find("nominal pose captured"), std::string::npos) << robot_log;
+  EXPECT_TRUE(saw_nominal.load());
+  EXPECT_TRUE(saw_xr_stats.load()) << "the app's statistics did not reach the console through the robot";
+  EXPECT_TRUE(changed.load());
+  EXPECT_EQ(console_error, "");
+  const std::string stats = monadoReadFile(dir / "stats.json");
+  EXPECT_NE(stats.find("\"nominal_from_robot\": true"), std::string::npos) << stats;
+  EXPECT_EQ(stats.find("\"head_targets_sent\": 0"), std::string::npos) << stats;
+  EXPECT_EQ(stats.find("\"stereo_frames_shown\": 0"), std::string::npos) << stats;
+
+  // Every image logged; the first ones in the start settings, the last ones in the console's.
+  const auto eyes = monadoReadPoses((dir / "poses.csv").string());
+  ASSERT_GE(eyes.size(), 240u);
+  EXPECT_EQ(eyes.front().mode, "full6d");
+  EXPECT_DOUBLE_EQ(eyes.front().radius, 1.0);
+  EXPECT_EQ(eyes.back().mode, "orientation3d");
+  EXPECT_DOUBLE_EQ(eyes.back().radius, 2.5);
+
+  // Swapchain images against the renderer offscreen, from the very planes the app showed.
+  std::vector<LoggedEye> sample;
+  for (const LoggedEye& e : eyes)
+    if (e.sequence > 0 && (sample.size() < 2 || sample.back().mode != e.mode)) sample.push_back(e);
+  sample.push_back(eyes[eyes.size() - 2]);
+  sample.push_back(eyes[eyes.size() - 1]);
+  const auto calibration = calib::loadCalibrationFile(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml");
+  ASSERT_TRUE(calibration);
+  std::string error;
+  const auto context = gl::EglContext::createSurfaceless(&error);
+  ASSERT_TRUE(context) << error;
+  xr::SphericalRenderer renderer;
+  for (const LoggedEye& e : sample) {
+    ASSERT_GT(e.sequence, 0u) << e.png;
+    char name[80];
+    std::snprintf(name, sizeof name, "planes_%06llu_eye%d.yuv", e.sequence, e.eye);
+    auto planes = xr::readYuvPlanes((dir / name).string(), &error);
+    ASSERT_TRUE(planes) << error;
+    const auto camera = calib::atResolution(calibration->cameras[std::size_t(e.eye)], planes->width, planes->height, &error);
+    ASSERT_TRUE(camera) << error;
+    xr::GpuCamera gpu(camera->camera, planes->width, planes->height);
+    ASSERT_TRUE(gpu.upload(xr::SourceImage::yuv(std::make_shared<const xr::YuvPlanes>(std::move(*planes))), &error)) << error;
+    xr::RenderSettings settings;
+    settings.mode = xr::parseRenderMode(e.mode).value();
+    settings.radius = e.radius;
+    ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;
+    gl::OffscreenTarget target(e.view.width, e.view.height, GL_RGBA8);
+    ASSERT_TRUE(renderer.render(gpu, e.view, settings, target.framebuffer(), &error)) << error;
+    const auto reference = target.readRgba8();
+    const auto png = gl::readPng((dir / e.png).string(), &error);
+    ASSERT_TRUE(png) << error;
+    ASSERT_EQ(png->rgba.size(), reference.size());
+    double sum = 0;
+    std::size_t over = 0, count = 0;
+    int max = 0;
+    for (std::size_t i = 0; i < reference.size(); ++i) {
+      if (i % 4 == 3) continue;
+      const int diff = std::abs(int(png->rgba[i]) - int(reference[i]));
+      max = std::max(max, diff);
+      sum += diff;
+      over += diff > 8 ? 1 : 0;
+      ++count;
+    }
+    std::cout << e.png << " (frame " << e.sequence << ", " << e.mode << ", r " << e.radius
+              << ") vs offscreen: max " << max << ", mean " << sum / double(count) << "\n";
+    EXPECT_LT(sum / double(count), 0.5) << e.png;
+    EXPECT_LT(double(over) / double(count), 0.002) << e.png;
+  }
 }
 
 }  // namespace

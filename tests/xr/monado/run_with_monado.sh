@@ -2,10 +2,12 @@
 # SPDX-License-Identifier: MIT
 ## @brief Runs a command against a headless Monado OpenXR runtime from a Debian trixie root.
 ##
-## Usage: run_with_monado.sh [--stop-service-after SECONDS] [--timeout SECONDS] ROOT -- CMD [ARGS...]
+## Usage: run_with_monado.sh [--stop-service-after S] [--restart-service-after S] [--timeout S] ROOT -- CMD [ARGS...]
 ##   ROOT   a tree made by build_trixie_root.sh (no root privileges needed to run)
 ##   --stop-service-after S   stop monado-service S seconds after CMD started (to test that CMD
 ##                            notices the runtime going away and exits by itself)
+##   --restart-service-after S  stop monado-service S seconds after CMD started and start it
+##                            again 2 s later (to test that CMD reconnects to the new runtime)
 ##   --timeout S              seconds to wait for the service's socket (default 30)
 ## Starts monado-service (null compositor, simulated HMD, no stdin) in a private short
 ## XDG_RUNTIME_DIR, waits for its IPC socket, runs CMD through trixie's dynamic loader with
@@ -19,10 +21,12 @@ say() { printf 'run_with_monado: %s\n' "$*" >&2; }
 die() { say "error: $*"; exit 125; }
 
 STOP_AFTER=
+RESTART_AFTER=
 WAIT_S=30
 while [ $# -gt 0 ]; do
   case "$1" in
     --stop-service-after) [ $# -ge 2 ] || die "--stop-service-after needs SECONDS"; STOP_AFTER=$2; shift 2 ;;
+    --restart-service-after) [ $# -ge 2 ] || die "--restart-service-after needs SECONDS"; RESTART_AFTER=$2; shift 2 ;;
     --timeout) [ $# -ge 2 ] || die "--timeout needs SECONDS"; WAIT_S=$2; shift 2 ;;
     -h|--help) sed -n 's/^## \{0,1\}//p' "$0"; exit 0 ;;
     --) die "ROOT missing before --" ;;
@@ -43,18 +47,22 @@ M=$T/usr/lib/x86_64-linux-gnu
 # The IPC socket path must fit sockaddr_un (108 bytes): keep the folder short.
 W=$(mktemp -d /tmp/xrrun.XXXXXX)
 mkdir -m 700 "$W/xdg"
-SERVICE_PID=
 TIMER_PID=
 CMD_PID=
+# The service's pid lives in a file: a service restarted by the timer is still stopped by cleanup.
+service_pid() { cat "$W/service.pid" 2>/dev/null || true; }
+# Running and not a zombie (a service stopped by the timer subshell stays a zombie until we reap it).
+alive() { kill -0 "$1" 2>/dev/null && ! grep -q '^[0-9]* ([^)]*) Z' "/proc/$1/stat" 2>/dev/null; }
 stop_service() {
-  if [ -n "$SERVICE_PID" ] && kill -0 "$SERVICE_PID" 2>/dev/null; then
-    kill -TERM "$SERVICE_PID" 2>/dev/null || true
+  pid=$(service_pid)
+  if [ -n "$pid" ] && alive "$pid"; then
+    kill -TERM "$pid" 2>/dev/null || true
     i=0
-    while kill -0 "$SERVICE_PID" 2>/dev/null && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
-    kill -KILL "$SERVICE_PID" 2>/dev/null || true
-    wait "$SERVICE_PID" 2>/dev/null || true
+    while alive "$pid" && [ $i -lt 50 ]; do sleep 0.1; i=$((i + 1)); done
+    kill -KILL "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
   fi
-  SERVICE_PID=
+  rm -f "$W/service.pid"
 }
 cleanup() {
   [ -z "$TIMER_PID" ] || kill "$TIMER_PID" 2>/dev/null || true
@@ -77,28 +85,37 @@ export XRT_COMPOSITOR_NULL=1 SIMULATED_ENABLE=1 XRT_NO_STDIN=1
 # Told to the command so it can say which runtime it ran against.
 export TELESPHERE_MONADO_ROOT_USED="$T"
 
-"$LD" --library-path "$LP" "$T/usr/bin/monado-service" > "$W/service.log" 2>&1 < /dev/null &
-SERVICE_PID=$!
-i=0
-limit=$((WAIT_S * 10))
-until [ -S "$W/xdg/monado_comp_ipc" ]; do
-  if ! kill -0 "$SERVICE_PID" 2>/dev/null; then
-    tail -n 30 "$W/service.log" >&2 || true
-    SERVICE_PID=
-    die "monado-service exited before its socket appeared (log above)"
-  fi
-  i=$((i + 1))
-  if [ $i -gt "$limit" ]; then
-    tail -n 30 "$W/service.log" >&2 || true
-    die "monado-service did not create $W/xdg/monado_comp_ipc within ${WAIT_S} s (log above)"
-  fi
-  sleep 0.1
-done
+start_service() {
+  rm -f "$W/xdg/monado_comp_ipc"
+  "$LD" --library-path "$LP" "$T/usr/bin/monado-service" >> "$W/service.log" 2>&1 < /dev/null &
+  pid=$!
+  echo "$pid" > "$W/service.pid"
+  i=0
+  limit=$((WAIT_S * 10))
+  until [ -S "$W/xdg/monado_comp_ipc" ]; do
+    if ! alive "$pid"; then
+      tail -n 30 "$W/service.log" >&2 || true
+      rm -f "$W/service.pid"
+      die "monado-service exited before its socket appeared (log above)"
+    fi
+    i=$((i + 1))
+    if [ $i -gt "$limit" ]; then
+      tail -n 30 "$W/service.log" >&2 || true
+      die "monado-service did not create $W/xdg/monado_comp_ipc within ${WAIT_S} s (log above)"
+    fi
+    sleep 0.1
+  done
+}
+start_service
 
 "$LD" --library-path "$LP" "$@" &
 CMD_PID=$!
 if [ -n "$STOP_AFTER" ]; then
-  ( sleep "$STOP_AFTER"; kill -TERM "$SERVICE_PID" 2>/dev/null; say "stopped monado-service after ${STOP_AFTER} s" ) &
+  ( sleep "$STOP_AFTER"; stop_service; say "stopped monado-service after ${STOP_AFTER} s" ) &
+  TIMER_PID=$!
+elif [ -n "$RESTART_AFTER" ]; then
+  ( sleep "$RESTART_AFTER"; stop_service; say "stopped monado-service after ${RESTART_AFTER} s"
+    sleep 2; start_service; say "started monado-service again" ) &
   TIMER_PID=$!
 fi
 # `wait` returns early when a trapped signal arrives: wait again until CMD is really gone.

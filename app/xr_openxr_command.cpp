@@ -1,0 +1,425 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-xr openxr`: options, the session loop (with reconnect), the per-eye work,
+///        readback, statistics.
+#include "app/xr_openxr_command.h"
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include "calib/calibration_file.h"
+#include "robot/link/link_pose.h"
+#include "shaders/egl_context.h"
+#include "shaders/png_io.h"
+#include "xr/openxr_session.h"
+#include "xr/openxr_test_scene.h"
+#include "xr/operator_view.h"
+#include "xr/spherical_renderer.h"
+#include "xr/yuv_planes_file.h"
+
+namespace telesphere::app {
+namespace {
+
+volatile std::sig_atomic_t g_openxr_interrupted = 0;
+extern "C" void onOpenXrInterrupt(int) { g_openxr_interrupted = 1; }
+
+int openXrFail(int code, const std::string& message) {
+  std::cerr << "telesphere-xr openxr: " << message << "\n";
+  return code;
+}
+
+/// Reads the framebuffer's colour attachment 0 as RGBA8 rows top first.
+std::vector<std::uint8_t> openXrReadRgba(GLuint framebuffer, int width, int height) {
+  std::vector<std::uint8_t> bottom_up(std::size_t(width) * std::size_t(height) * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  std::vector<std::uint8_t> top_down(bottom_up.size());
+  const std::size_t row = std::size_t(width) * 4;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(bottom_up.begin() + std::ptrdiff_t(std::size_t(height - 1 - y) * row), row,
+                top_down.begin() + std::ptrdiff_t(std::size_t(y) * row));
+  return top_down;
+}
+
+std::string openXrStates(const xr::SessionStateMachine& machine) {
+  std::string text;
+  for (const xr::SessionState s : machine.history()) {
+    if (!text.empty()) text.append(" ");
+    text.append(xr::sessionStateName(s));
+  }
+  return text.empty() ? "(none)" : text;
+}
+
+std::int64_t openXrSteadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+/// Counters over all sessions of one run.
+struct OpenXrRunCounters {
+  std::uint64_t waited = 0, submitted = 0, not_rendered = 0, missed = 0;
+  int sessions = 0;
+  bool focused_ever = false;
+};
+
+/// The per-eye work of one run: the robot's frames through OperatorView, or the test scene.
+class OpenXrEyeWork {
+ public:
+  OpenXrEyeWork(const OpenXrCommandOptions& o, const xr::RenderSettings& settings) : o_(o), settings_(settings) {}
+
+  /// Loads the calibration and connects (robot mode) or uploads the test scene. Exit code or 0.
+  int prepare(std::string* error) {
+    if (!o_.readback_dir.empty()) {
+      std::error_code ec;
+      std::filesystem::create_directories(o_.readback_dir, ec);
+      if (ec) {
+        *error = o_.readback_dir + ": cannot create the folder: " + ec.message();
+        return 1;
+      }
+      pose_log_.open(o_.readback_dir + "/poses.csv");
+      if (!pose_log_) {
+        *error = o_.readback_dir + "/poses.csv: cannot write";
+        return 1;
+      }
+      pose_log_ << "session,frame,eye,predicted_display_time_ns,tx,ty,tz,qx,qy,qz,qw,"
+                   "angle_left,angle_right,angle_up,angle_down,width,height,srgb_swapchain,png,"
+                   "sequence,mode,radius\n";
+      pose_log_ << std::setprecision(17);
+    }
+    if (o_.test_scene) {
+      camera_ = std::make_unique<xr::GpuCamera>(xr::OpenXrTestScene::camera(), xr::OpenXrTestScene::kImageWidth,
+                                                xr::OpenXrTestScene::kImageHeight);
+      if (!camera_->upload(xr::OpenXrTestScene::image(), error)) return 3;
+      if (!renderer_.prepare(*camera_, settings_.path, error)) return 3;
+      return 0;
+    }
+    auto calibration = calib::loadCalibrationFile(o_.calib);
+    if (!calibration) {
+      *error = calibration.error().describe();
+      return 1;
+    }
+    if (calibration->cameras.size() != 2) {
+      *error = o_.calib + ": the calibration has " + std::to_string(calibration->cameras.size()) +
+               " camera(s); the operator view needs two";
+      return 1;
+    }
+    xr::OperatorViewOptions options;
+    options.endpoints.host = o_.host;
+    options.endpoints.base_port = o_.port;
+    options.render = settings_;
+    view_ = std::make_unique<xr::OperatorView>(*calibration, options);
+    return 0;
+  }
+
+  void newSession(int session) {
+    session_ = session;
+    T_vr_nom_.reset();
+  }
+
+  /// Renders one eye; false (reason in error()) stops the run.
+  bool render(const xr::OpenXrEye& eye) {
+    xr::EyeView view;
+    view.fov = eye.fov;
+    view.width = eye.width;
+    view.height = eye.height;
+    std::uint64_t sequence = 0;
+    xr::RenderSettings used = settings_;
+    if (view_) {
+      if (eye.eye == 0) {
+        work_start_ns_ = openXrSteadyNowNs();
+        if (!view_->beginFrame(eye.T_vr_hmd, eye.predicted_display_steady_ns, true, &error_)) return false;
+      }
+      if (!view_->renderEye(eye.eye, eye.T_vr_eye, view, eye.framebuffer, &error_)) return false;
+      used = view_->settings();
+      if (const auto& frame = view_->frame()) {
+        sequence = frame->frame.sequence();
+        const auto& image = eye.eye == 0 ? frame->frame.left() : frame->frame.right();
+        view.T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * view_->T_robot_vr() * eye.T_vr_eye;
+        if (pose_log_.is_open() && saved_planes_.insert({sequence, eye.eye}).second) {
+          char name[80];
+          std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);
+          if (!xr::writeYuvPlanes(o_.readback_dir + name, *(eye.eye == 0 ? frame->left : frame->right), &error_))
+            return false;
+        }
+      }
+    } else {
+      // The nominal pose: the HMD pose of the session's first rendered frame, pitch and roll removed.
+      if (!T_vr_nom_) T_vr_nom_ = xr::yawOnlyPose(eye.T_vr_hmd);
+      view.T_cam_eye = Eigen::Isometry3d(xr::kR_optical_view) * T_vr_nom_->inverse() * eye.T_vr_eye;
+      if (!renderer_.render(*camera_, view, settings_, eye.framebuffer, &error_)) return false;
+    }
+    if (pose_log_.is_open()) {
+      const Eigen::Quaterniond q(view.T_cam_eye.linear());
+      const Eigen::Vector3d t = view.T_cam_eye.translation();
+      char png[64];
+      std::snprintf(png, sizeof png, "s%d_frame%05llu_eye%d.png", session_,
+                    static_cast<unsigned long long>(eye.frame_index), eye.eye);
+      pose_log_ << session_ << "," << eye.frame_index << "," << eye.eye << "," << eye.predicted_display_time_ns << ","
+                << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z() << ","
+                << q.w() << "," << view.fov.angle_left << "," << view.fov.angle_right << "," << view.fov.angle_up
+                << "," << view.fov.angle_down << "," << eye.width << "," << eye.height << ","
+                << (eye.srgb_swapchain ? 1 : 0) << "," << png << "," << sequence << ","
+                << xr::renderModeName(used.mode) << "," << used.radius << "\n";
+    }
+    return true;
+  }
+
+  /// Saves the swapchain image (readback mode).
+  void readBack(const xr::OpenXrEye& eye) {
+    if (o_.readback_dir.empty()) return;
+    char png[64];
+    std::snprintf(png, sizeof png, "/s%d_frame%05llu_eye%d.png", session_,
+                  static_cast<unsigned long long>(eye.frame_index), eye.eye);
+    const auto pixels = openXrReadRgba(eye.framebuffer, eye.width, eye.height);
+    std::string write_error;
+    if (!gl::writePng(o_.readback_dir + png, eye.width, eye.height, 4, pixels.data(), &write_error))
+      std::cerr << "telesphere-xr openxr: " << write_error << "\n";
+  }
+
+  /// After a submitted frame: statistics (robot mode).
+  void frameDone(const xr::OpenXrFrameResult& frame, std::uint64_t missed) {
+    if (!view_ || !frame.submitted) return;
+    view_->endFrame(frame.predicted_display_steady_ns, double(openXrSteadyNowNs() - work_start_ns_) * 1e-6, missed);
+  }
+
+  const std::string& error() const { return error_; }
+  xr::OperatorView* view() { return view_.get(); }
+
+ private:
+  const OpenXrCommandOptions& o_;
+  xr::RenderSettings settings_;
+  std::unique_ptr<xr::OperatorView> view_;
+  std::unique_ptr<xr::GpuCamera> camera_;
+  xr::SphericalRenderer renderer_;
+  std::optional<Eigen::Isometry3d> T_vr_nom_;
+  std::ofstream pose_log_;
+  std::set<std::pair<std::uint64_t, int>> saved_planes_;
+  std::string error_;
+  int session_ = 0;
+  std::int64_t work_start_ns_ = 0;
+};
+
+enum class SessionEnd { kFinished, kLost, kFailed };
+
+/// Runs one session until it ends; the exit code in *code when it failed.
+SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, const OpenXrCommandOptions& o,
+                            OpenXrRunCounters& counters, int* code) {
+  std::string error;
+  std::optional<std::chrono::steady_clock::time_point> exit_asked;
+  bool interrupted_reported = false;
+  std::int64_t last_display_xr = 0;
+  const auto render = [&](const xr::OpenXrEye& eye) { return work.render(eye); };
+  const auto read_back = [&](const xr::OpenXrEye& eye) { work.readBack(eye); };
+  while (true) {
+    const bool want_exit = g_openxr_interrupted != 0 || (o.frames > 0 && counters.submitted >= std::uint64_t(o.frames));
+    if (want_exit && !exit_asked) {
+      if (g_openxr_interrupted != 0 && !interrupted_reported) {
+        std::cout << "interrupted: ending the session" << std::endl;
+        interrupted_reported = true;
+      }
+      exit_asked = std::chrono::steady_clock::now();
+      if (!session.requestExit(&error) && !session.lost()) {
+        *code = openXrFail(3, error);
+        return SessionEnd::kFailed;
+      }
+    }
+    if (exit_asked && std::chrono::steady_clock::now() - *exit_asked > std::chrono::duration<double>(o.exit_timeout_s)) {
+      std::cerr << "telesphere-xr openxr: the runtime did not end the session within " << o.exit_timeout_s
+                << " s of xrRequestExitSession; destroying it\n";
+      return SessionEnd::kFinished;
+    }
+    if (!session.pollEvents(&error) && !session.lost()) {
+      *code = openXrFail(3, error);
+      return SessionEnd::kFailed;
+    }
+    if (session.state().reached(xr::SessionState::kFocused)) counters.focused_ever = true;
+    if (session.lost()) {
+      std::cerr << "telesphere-xr openxr: the OpenXR runtime went away during the session ("
+                << (error.empty() ? std::string("instance loss pending") : error) << ")\n";
+      return SessionEnd::kLost;
+    }
+    if (session.state().finished()) return SessionEnd::kFinished;
+    if (!session.state().shouldSyncFrames()) {
+      // Not running yet (or no longer): events arrive without frames; poll at 100 Hz.
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      continue;
+    }
+    xr::OpenXrFrameResult frame;
+    if (!session.frame(render, read_back, &frame, &error)) {
+      if (session.lost()) {
+        std::cerr << "telesphere-xr openxr: the OpenXR runtime went away during the session (" << error << ")\n";
+        return SessionEnd::kLost;
+      }
+      *code = openXrFail(3, work.error().empty() ? error : work.error());
+      return SessionEnd::kFailed;
+    }
+    if (!work.error().empty()) {
+      *code = openXrFail(3, work.error());
+      return SessionEnd::kFailed;
+    }
+    if (frame.waited) {
+      ++counters.waited;
+      // Display periods skipped between this frame and the previous one: missed refreshes.
+      if (last_display_xr != 0 && frame.predicted_display_period_ns > 0) {
+        const std::int64_t gap = frame.predicted_display_time_ns - last_display_xr;
+        const std::int64_t periods = (gap + frame.predicted_display_period_ns / 2) / frame.predicted_display_period_ns;
+        if (periods > 1) counters.missed += std::uint64_t(periods - 1);
+      }
+      last_display_xr = frame.predicted_display_time_ns;
+    }
+    if (frame.submitted) ++counters.submitted;
+    else if (frame.waited) ++counters.not_rendered;
+    work.frameDone(frame, counters.missed);
+  }
+}
+
+}  // namespace
+
+CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
+  CLI::App* c = app.add_subcommand("openxr", "the operator app in a headset (OpenXR: SteamVR, Monado, ...)");
+  c->add_option("--calib", x.calib, "system calibration (two cameras): show telesphere-robot's frames");
+  c->add_flag("--test-scene", x.test_scene, "show the built-in test scene instead (no robot)");
+  c->add_option("--host", x.host, "robot (telesphere-robot) address")->capture_default_str();
+  c->add_option("--port", x.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  c->add_option("--frames", x.frames, "end the session after N submitted frames (0: until Ctrl-C)")
+      ->capture_default_str();
+  c->add_option("--readback-dir", x.readback_dir,
+                "save every swapchain image as PNG plus poses.csv (the T_cam_eye, fov, size, camera frame, "
+                "mode and radius each image was rendered with) and the camera images shown (YUV planes) here");
+  c->add_option("--out", x.out_dir, "folder for stats.json at the end");
+  c->add_option("--radius", x.radius, "sphere radius r (m) until the robot says otherwise")->capture_default_str();
+  c->add_option("--mode", x.mode, "full6d | orientation3d | fixed, until the robot says otherwise")
+      ->capture_default_str();
+  c->add_option("--path", x.path, "exact | mesh | lut")->capture_default_str();
+  c->add_option("--swapchain-colour", x.colour, "auto | srgb | linear: swapchain format kind (auto prefers sRGB)")
+      ->capture_default_str();
+  c->add_option("--exit-timeout", x.exit_timeout_s,
+                "seconds to wait for the runtime to end the session after an exit request")
+      ->capture_default_str();
+  c->add_option("--reconnect", x.reconnect_s,
+                "seconds to wait for the runtime to come back when it goes away (0: exit with code 4)")
+      ->capture_default_str()->check(CLI::Range(0.0, 86400.0));
+  return c;
+}
+
+int runOpenXrCommand(const OpenXrCommandOptions& o) {
+  std::string error;
+  const auto parsed = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  if (!parsed) return openXrFail(1, error);
+  xr::OpenXrOptions options;
+  if (o.colour == "auto") options.colour = xr::SwapchainColour::kAuto;
+  else if (o.colour == "srgb") options.colour = xr::SwapchainColour::kSrgb;
+  else if (o.colour == "linear") options.colour = xr::SwapchainColour::kLinear;
+  else return openXrFail(1, "--swapchain-colour must be auto, srgb or linear, got \"" + o.colour + "\"");
+  if (o.frames < 0) return openXrFail(1, "--frames must be >= 0");
+  if (o.test_scene == !o.calib.empty())
+    return openXrFail(1, o.test_scene ? "give either --calib (the robot's frames) or --test-scene, not both"
+                                      : "needs --calib FILE (show telesphere-robot's cameras) or --test-scene");
+  if (!o.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out_dir, ec);
+    if (ec) return openXrFail(1, o.out_dir + ": cannot create the folder: " + ec.message());
+  }
+
+  const auto context = gl::EglContext::createSurfaceless(&error);
+  if (!context) return openXrFail(2, "no OpenGL 4.5 context: " + error);
+  OpenXrEyeWork work(o, *parsed);
+  if (const int code = work.prepare(&error)) return openXrFail(code, error);
+
+  std::signal(SIGINT, onOpenXrInterrupt);
+  std::signal(SIGTERM, onOpenXrInterrupt);
+  OpenXrRunCounters counters;
+  int code = 0;
+  std::optional<std::chrono::steady_clock::time_point> reconnect_until;
+  std::string states;
+  const auto t0 = std::chrono::steady_clock::now();
+  while (g_openxr_interrupted == 0) {
+    xr::OpenXrFailure failure = xr::OpenXrFailure::kNone;
+    auto session = xr::OpenXrSession::create(options, &error, &failure);
+    if (!session) {
+      if (reconnect_until && failure == xr::OpenXrFailure::kNoRuntime) {
+        if (std::chrono::steady_clock::now() < *reconnect_until) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(500));
+          continue;
+        }
+        code = openXrFail(4, "the OpenXR runtime did not come back within " + std::to_string(o.reconnect_s) +
+                                 " s; start it again and rerun");
+        break;
+      }
+      code = openXrFail(failure == xr::OpenXrFailure::kNoRuntime ? 5 : 3, error);
+      break;
+    }
+    reconnect_until.reset();
+    work.newSession(++counters.sessions);
+    std::cout << "session " << counters.sessions << ": runtime: " << session->runtimeName()
+              << "; system: " << session->systemName() << "; binding: " << session->graphicsBinding()
+              << "; space: " << session->referenceSpace()
+              << "; swapchain: " << xr::glFormatName(session->swapchainFormat().format) << " " << session->eyeWidth()
+              << "x" << session->eyeHeight() << " per eye" << std::endl;
+    const SessionEnd end = runOpenXrSession(*session, work, o, counters, &code);
+    if (!states.empty()) states += " | ";
+    states += openXrStates(session->state());
+    session.reset();
+    if (end == SessionEnd::kFailed) break;
+    if (end == SessionEnd::kFinished) break;
+    // Lost: wait for the runtime to come back, or give up.
+    if (o.reconnect_s <= 0.0 || g_openxr_interrupted != 0) {
+      code = openXrFail(4, "the OpenXR runtime went away during the session; start the runtime again and rerun");
+      break;
+    }
+    std::cout << "the OpenXR runtime went away; waiting up to " << o.reconnect_s << " s for it to come back"
+              << std::endl;
+    reconnect_until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                             std::chrono::duration<double>(o.reconnect_s));
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::cout << "frames: requested " << o.frames << ", waited " << counters.waited << ", submitted "
+            << counters.submitted << " with a projection layer, " << counters.not_rendered
+            << " ended without layers (not visible or pose invalid), " << counters.missed << " display periods missed\n";
+  std::cout << "sessions: " << counters.sessions << "\n";
+  std::cout << "states: " << (states.empty() ? std::string("(none)") : states) << "\n";
+  std::cout << "focused: " << (counters.focused_ever ? "yes" : "no") << std::endl;
+  nlohmann::json j = {{"sessions", counters.sessions},
+                      {"frames_requested", o.frames},
+                      {"frames_waited", counters.waited},
+                      {"frames_submitted", counters.submitted},
+                      {"frames_without_layers", counters.not_rendered},
+                      {"missed_frames", counters.missed},
+                      {"fps", seconds > 0 ? double(counters.submitted) / seconds : 0.0},
+                      {"focused", counters.focused_ever}};
+  if (xr::OperatorView* view = work.view()) {
+    const xr::OperatorViewStats s = view->stats();
+    std::cout << "robot frames: " << s.stereo_frames_shown << " shown; image age p50/p99 " << s.image_age_p50_ms
+              << "/" << s.image_age_p99_ms << " ms; head-pose → display " << s.pose_to_display_ms_p50
+              << " ms; head targets sent " << s.head_targets_sent << "; nominal from the robot "
+              << (s.nominal_from_robot ? "yes" : "no") << "; settings changes " << s.settings_changes << std::endl;
+    j["render_ms"] = s.render_ms_p50;
+    j["render_ms_p99"] = s.render_ms_p99;
+    j["image_age_p50_ms"] = s.image_age_p50_ms;
+    j["image_age_p99_ms"] = s.image_age_p99_ms;
+    j["pose_to_display_ms"] = s.pose_to_display_ms_p50;
+    j["stereo_frames_shown"] = s.stereo_frames_shown;
+    j["head_targets_sent"] = s.head_targets_sent;
+    j["nominal_from_robot"] = s.nominal_from_robot;
+    j["settings_changes"] = s.settings_changes;
+  }
+  if (!o.out_dir.empty()) std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+  return code;
+}
+
+}  // namespace telesphere::app

@@ -1,0 +1,192 @@
+// SPDX-License-Identifier: MIT
+/// @brief OperatorView: head target out, newest frame up, robot settings followed, eyes rendered.
+#include "xr/operator_view.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "robot/link/link_pose.h"
+#include "xr/latency_figure.h"
+
+namespace telesphere::xr {
+
+OperatorView::OperatorView(const calib::SystemCalibration& calibration,
+                           const OperatorViewOptions& options)
+    : client_(options.endpoints),
+      decoder_(client_),
+      renderer_(calibration, options.render),
+      options_(options),
+      control_thread_([this] { controlWorker(); }) {}
+
+OperatorView::~OperatorView() {
+  {
+    std::lock_guard lock(control_mutex_);
+    control_stop_ = true;
+  }
+  control_wake_.notify_all();
+  control_thread_.join();
+}
+
+bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns,
+                              bool valid, std::string* error) {
+  frame_begin_ns_ = link::linkNowNs();
+  link::proto::HeadTarget target;
+  target.set_t_ns(frame_begin_ns_);
+  target.set_predicted_display_ns(display_ns);
+  link::toLinkPose(valid ? T_vr_hmd : Eigen::Isometry3d::Identity(), target.mutable_t_vr_hmd());
+  target.set_valid(valid);
+  client_.sendHeadTarget(target);
+  ++stats_.head_targets_sent;
+  if (valid) {
+    T_vr_hmd_ = T_vr_hmd;
+    pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
+  }
+
+  // The robot's state: nominal mapping, and (when followed) mode and radius.
+  const auto state = client_.latestRobotState();
+  if (state && state->nominal_set()) {
+    T_robot_vr_ = link::fromLinkPose(state->t_robot_vr());
+    stats_.nominal_from_robot = true;
+  } else if (T_robot_vr_stand_in_) {
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  if (state && options_.follow_robot_settings) {
+    RenderSettings settings = renderer_.settings();
+    if (const auto mode = parseRenderMode(state->mode())) settings.mode = *mode;
+    if (std::isfinite(state->sphere_radius()) && state->sphere_radius() > 0.0)
+      settings.radius = state->sphere_radius();
+    if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
+      spdlog::info("operator view: mode {} radius {} m (from the robot; was {} {} m)",
+                   renderModeName(settings.mode), settings.radius,
+                   renderModeName(renderer_.settings().mode), renderer_.settings().radius);
+      renderer_.setSettings(settings);
+      ++stats_.settings_changes;
+    }
+  }
+
+  const auto before = renderer_.frame();
+  if (!renderer_.setFrame(decoder_.newest(), error)) return false;
+  uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
+  return true;
+}
+
+bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                             GLuint framebuffer, std::string* error) {
+  if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
+    // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
+    T_robot_vr_stand_in_ = link::fromLinkPose(renderer_.frame()->frame.left().t_robot_cam()) *
+                           Eigen::Isometry3d(kR_optical_view) * T_vr_eye.inverse();
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  return renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
+}
+
+void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) {
+  ++stats_.frames;
+  render_ms_.push_back(render_ms);
+  if (const auto& frame = renderer_.frame()) {
+    ++stats_.frames_with_image;
+    if (frame->frame.sequence() != last_shown_sequence_) {
+      ++stats_.stereo_frames_shown;
+      last_shown_sequence_ = frame->frame.sequence();
+    }
+    if (uploaded_this_frame_ns_ >= 0)
+      upload_ms_.push_back(double(uploaded_this_frame_ns_ - frame_begin_ns_) * 1e-6);
+    const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
+    const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
+    age_ms_.push_back(double(shown_ns - capture) * 1e-6);
+  }
+
+  // Statistics for the console, once a second, over the last second.
+  const std::int64_t now = link::linkNowNs();
+  if (last_stats_ns_ == 0) last_stats_ns_ = now;
+  if (now - last_stats_ns_ >= 1'000'000'000) {
+    link::proto::XrStats xr_stats;
+    xr_stats.set_t_ns(now);
+    xr_stats.set_fps(double(stats_.frames - frames_at_last_stats_) / (double(now - last_stats_ns_) * 1e-9));
+    const LatencyFigure age = latencyFigure({age_ms_.begin() + std::ptrdiff_t(age_at_last_stats_), age_ms_.end()});
+    const LatencyFigure render =
+        latencyFigure({render_ms_.begin() + std::ptrdiff_t(render_at_last_stats_), render_ms_.end()});
+    xr_stats.set_render_ms(render.p50_ms);
+    xr_stats.set_missed_frames(missed_frames);
+    xr_stats.set_image_age_p50_ms(age.p50_ms);
+    xr_stats.set_image_age_p99_ms(age.p99_ms);
+    client_.sendXrStats(xr_stats);
+    last_stats_ns_ = now;
+    frames_at_last_stats_ = stats_.frames;
+    age_at_last_stats_ = age_ms_.size();
+    render_at_last_stats_ = render_ms_.size();
+  }
+}
+
+OperatorViewStats OperatorView::stats() const {
+  OperatorViewStats out = stats_;
+  const LatencyFigure render = latencyFigure(render_ms_), age = latencyFigure(age_ms_);
+  out.render_ms_p50 = render.p50_ms;
+  out.render_ms_p99 = render.p99_ms;
+  out.image_age_p50_ms = age.p50_ms;
+  out.image_age_p99_ms = age.p99_ms;
+  out.upload_ms_p50 = latencyFigure(upload_ms_).p50_ms;
+  out.pose_to_display_ms_p50 = latencyFigure(pose_lead_ms_).p50_ms;
+  return out;
+}
+
+void OperatorView::requestCaptureNominal() {
+  link::proto::ControlRequest request;
+  request.set_capture_nominal(true);
+  sendControl(std::move(request), "capture_nominal");
+}
+
+void OperatorView::requestMode(RenderMode mode) {
+  link::proto::ControlRequest request;
+  request.set_set_mode(std::string(renderModeName(mode)));
+  sendControl(std::move(request), "set_mode " + std::string(renderModeName(mode)));
+}
+
+void OperatorView::requestRadius(double radius_m) {
+  link::proto::ControlRequest request;
+  request.set_set_sphere_radius(radius_m);
+  sendControl(std::move(request), "set_sphere_radius " + std::to_string(radius_m));
+}
+
+std::string OperatorView::lastControlResult() const {
+  std::lock_guard lock(control_mutex_);
+  return last_control_result_;
+}
+
+void OperatorView::sendControl(link::proto::ControlRequest request, std::string what) {
+  {
+    std::lock_guard lock(control_mutex_);
+    control_queue_.emplace_back(std::move(request), std::move(what));
+  }
+  control_wake_.notify_all();
+}
+
+void OperatorView::controlWorker() {
+  std::unique_lock lock(control_mutex_);
+  for (;;) {
+    control_wake_.wait(lock, [&] { return control_stop_ || !control_queue_.empty(); });
+    if (control_stop_) return;
+    auto [request, what] = std::move(control_queue_.front());
+    control_queue_.pop_front();
+    lock.unlock();
+    const auto reply = client_.request(std::move(request), std::chrono::milliseconds(2000));
+    std::string result;
+    if (!reply) {
+      result = what + ": no reply from the robot within 2 s (is telesphere-robot running?)";
+      spdlog::warn("operator view: {}", result);
+    } else if (!reply->ok()) {
+      result = what + ": refused: " + reply->error();
+      spdlog::warn("operator view: {}", result);
+    } else {
+      result = what + ": ok";
+      spdlog::info("operator view: {}", result);
+    }
+    lock.lock();
+    last_control_result_ = result;
+  }
+}
+
+}  // namespace telesphere::xr

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+/// @brief The per-frame work of the operator app that does not depend on where the head pose
+///        comes from or where the eyes go (DESIGN.md §2–§4), shared by the OpenXR, desktop and
+///        offscreen modes: the head pose at the predicted display time goes to the robot as the
+///        head target (link clock, latest wins); the newest decoded stereo frame goes to the
+///        GPU; the robot's mode and sphere radius are followed live (the console changes them
+///        through the robot); the nominal mapping T_robot_vr comes from the robot once the
+///        nominal pose is captured (before that, a stand-in that puts the head at the left
+///        camera); both eyes are rendered through it. Control requests (capture the nominal
+///        pose, change mode or radius) are sent without blocking the frame loop.
+///
+///        Frame protocol, on the thread whose GL context is current:
+///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "calib/system_calibration.h"
+#include "robot/link/link_client.h"
+#include "robot/link/link_endpoints.h"
+#include "xr/eye_view.h"
+#include "xr/stereo_frame_decoder.h"
+#include "xr/stereo_view_renderer.h"
+
+namespace telesphere::xr {
+
+struct OperatorViewOptions {
+  link::LinkEndpoints endpoints;
+  /// Until the robot's state says otherwise: mode and radius are then the robot's.
+  RenderSettings render;
+  /// Follow the mode and radius the robot publishes (off: the command line's stay).
+  bool follow_robot_settings = true;
+};
+
+/// Whole-run figures of the operator loop (the loop adds its own pacing figures).
+struct OperatorViewStats {
+  std::uint64_t frames = 0;               ///< endFrame calls
+  std::uint64_t frames_with_image = 0;    ///< of those, frames that showed a camera image
+  std::uint64_t stereo_frames_shown = 0;  ///< distinct camera frames displayed
+  std::uint64_t head_targets_sent = 0;
+  std::uint64_t settings_changes = 0;     ///< mode/radius changes taken from the robot
+  double render_ms_p50 = 0, render_ms_p99 = 0;
+  double image_age_p50_ms = 0, image_age_p99_ms = 0;  ///< capture → display
+  double upload_ms_p50 = 0;
+  double pose_to_display_ms_p50 = 0;  ///< head-pose sample (frame start) → predicted display
+  bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
+};
+
+class OperatorView {
+ public:
+  OperatorView(const calib::SystemCalibration& calibration, const OperatorViewOptions& options);
+  ~OperatorView();
+  OperatorView(const OperatorView&) = delete;
+  OperatorView& operator=(const OperatorView&) = delete;
+
+  /// Start of a display frame. `T_vr_hmd` is the head pose predicted for `display_ns` (link
+  /// clock, steady ns); `valid` false sends an invalid target (the robot holds). Uploads the
+  /// newest stereo frame, takes mode/radius/nominal from the robot's state. False with the
+  /// reason when the upload fails (a frame that does not fit the calibration).
+  bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid,
+                  std::string* error);
+  /// Renders eye `eye` (0 left, 1 right) whose pose in the VR frame is `T_vr_eye` into
+  /// `framebuffer` (fov and size from `view`). Border colour before the first frame.
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                 GLuint framebuffer, std::string* error);
+  /// End of the frame: `shown_ns` is when it is displayed (link clock), `render_ms` the work
+  /// of both eyes. Sends XrStats to the robot once a second.
+  void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames);
+
+  /// Asks the robot to capture the nominal pose from the latest head target / to change the
+  /// mode / the sphere radius. Never blocks: the reply is logged, and the new values reach
+  /// this view through the robot's state.
+  void requestCaptureNominal();
+  void requestMode(RenderMode mode);
+  void requestRadius(double radius_m);
+
+  /// The newest decoded frame is on the GPU (anything to show).
+  bool hasImage() const { return renderer_.frame() != nullptr; }
+  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
+  const RenderSettings& settings() const { return renderer_.settings(); }
+  const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
+  /// The last control reply's text ("capture_nominal: ok", "set_mode: refused: …"), for a UI.
+  std::string lastControlResult() const;
+
+  link::LinkClient& client() { return client_; }
+  StereoFrameDecoder& decoder() { return decoder_; }
+  OperatorViewStats stats() const;
+
+ private:
+  void sendControl(link::proto::ControlRequest request, std::string what);
+  void controlWorker();
+
+  link::LinkClient client_;
+  StereoFrameDecoder decoder_;
+  StereoViewRenderer renderer_;
+  OperatorViewOptions options_;
+  Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
+  Eigen::Isometry3d T_vr_hmd_ = Eigen::Isometry3d::Identity();
+  std::uint64_t last_shown_sequence_ = 0;
+  std::int64_t uploaded_this_frame_ns_ = -1;  ///< upload time when this frame uploaded a new image
+  std::int64_t frame_begin_ns_ = 0;
+  OperatorViewStats stats_;
+  std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
+  std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;
+  std::int64_t last_stats_ns_ = 0;
+  std::uint64_t frames_at_last_stats_ = 0;
+
+  mutable std::mutex control_mutex_;
+  std::condition_variable control_wake_;
+  std::deque<std::pair<link::proto::ControlRequest, std::string>> control_queue_;
+  std::string last_control_result_;
+  bool control_stop_ = false;
+  std::thread control_thread_;
+};
+
+}  // namespace telesphere::xr
