@@ -28,7 +28,7 @@ packages=(
   libglm-dev libopenxr-dev libopenxr-loader1 libegl-dev libgl-dev libgles-dev libglfw3-dev
   libegl-mesa0 libgl1-mesa-dri libpng-dev
   # desktop mode and mirror window, tested on a virtual X server (key and mouse input via XTest)
-  xvfb libxtst-dev
+  xvfb libxtst-dev xdotool
   # console
   qt6-base-dev libsqlite3-dev
   # video path and link

@@ -9,6 +9,8 @@
 ///   openxr --calib FILE [--port P] | --test-scene   [--frames N] [--readback-dir DIR] [--out DIR]
 ///          [--radius R] [--mode M] [--path P] [--swapchain-colour auto|srgb|linear] [--reconnect S]
 /// the operator app in a headset (app/xr_openxr_command.h, xr/README.md "OpenXR session").
+///   desktop --calib FILE [--port P] [--eye-size WxH] [--window-size WxH] [--duration S] [--out DIR]
+/// the operator app in a window, mouse and keyboard move the head (app/xr_desktop_command.h).
 ///   offscreen --calib FILE [--port P] [--trajectory CSV] [--eye-size WxH] [--duration S] [--out DIR]
 /// the operator loop without a headset: frames from telesphere-robot, head poses from a trajectory,
 /// both eyes rendered offscreen at the display rate (app/xr_offscreen_command.h).
@@ -23,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "app/xr_desktop_command.h"
 #include "app/xr_offscreen_command.h"
 #include "app/xr_openxr_command.h"
 #include "calib/calibration_file.h"
@@ -157,6 +160,11 @@ int main(int argc, char** argv) {
   telesphere::app::OpenXrCommandOptions openxr_options;
   telesphere::app::addOpenXrCommand(app, openxr_options)->callback([&] {
     code = telesphere::app::runOpenXrCommand(openxr_options);
+  });
+
+  telesphere::app::DesktopCommandOptions desktop_options;
+  telesphere::app::addDesktopCommand(app, desktop_options)->callback([&] {
+    code = telesphere::app::runDesktopCommand(desktop_options);
   });
 
   telesphere::app::OffscreenCommandOptions offscreen_options;

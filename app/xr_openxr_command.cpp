@@ -3,6 +3,8 @@
 ///        readback, statistics.
 #include "app/xr_openxr_command.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -19,7 +21,9 @@
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
+#include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
+#include "xr/desktop_window.h"
 #include "xr/openxr_session.h"
 #include "xr/openxr_test_scene.h"
 #include "xr/operator_view.h"
@@ -73,6 +77,8 @@ struct OpenXrRunCounters {
   std::uint64_t waited = 0, submitted = 0, not_rendered = 0, missed = 0;
   int sessions = 0;
   bool focused_ever = false;
+  /// Submitted frames per second from the first submitted frame on (session start-up excluded).
+  std::optional<std::chrono::steady_clock::time_point> first_submitted, last_submitted;
 };
 
 /// The per-eye work of one run: the robot's frames through OperatorView, or the test scene.
@@ -177,8 +183,20 @@ class OpenXrEyeWork {
     return true;
   }
 
-  /// Saves the swapchain image (readback mode).
+  /// Copies the swapchain image for the mirror window (when there is one) and saves it
+  /// (readback mode).
   void readBack(const xr::OpenXrEye& eye) {
+    if (o_.mirror) {
+      auto& target = mirror_[std::size_t(eye.eye)];
+      if (!target || target->width() != eye.width || target->height() != eye.height)
+        target = std::make_unique<gl::OffscreenTarget>(eye.width, eye.height, GL_SRGB8_ALPHA8);
+      // sRGB swapchain: the bytes as they are; linear swapchain: encoded to sRGB on the way.
+      if (!eye.srgb_swapchain) glEnable(GL_FRAMEBUFFER_SRGB);
+      glBlitNamedFramebuffer(eye.framebuffer, target->framebuffer(), 0, 0, eye.width, eye.height, 0, 0, eye.width,
+                             eye.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      glDisable(GL_FRAMEBUFFER_SRGB);
+      mirror_ready_ = mirror_[0] && mirror_[1];
+    }
     if (o_.readback_dir.empty()) return;
     char png[64];
     std::snprintf(png, sizeof png, "/s%d_frame%05llu_eye%d.png", session_,
@@ -198,6 +216,43 @@ class OpenXrEyeWork {
   const std::string& error() const { return error_; }
   xr::OperatorView* view() { return view_.get(); }
 
+  /// What the mirror window shows now, as a PNG (false with the reason when nothing was shown).
+  bool saveMirror(xr::DesktopWindow& window, const std::string& path, std::string* error) {
+    if (!mirror_ready_) {
+      *error = "the mirror never got an eye image";
+      return false;
+    }
+    if (!window.compose(mirror_[0]->framebuffer(), mirror_[1]->framebuffer(), mirror_[0]->width(),
+                        mirror_[0]->height(), error))
+      return false;
+    const auto pixels = window.readBackBufferRgba();
+    return gl::writePng(path, window.framebufferWidth(), window.framebufferHeight(), 4, pixels.data(), error);
+  }
+
+  /// Shows the newest eye images in the mirror window and handles its keys (N nominal, M
+  /// mode, +/- radius, Escape quit → false).
+  bool mirror(xr::DesktopWindow& window) {
+    window.pollEvents();
+    (void)window.headInput();  // the head is the headset's; only the commands count here
+    const xr::DesktopCommands c = window.takeCommands();
+    if (view_) {
+      if (c.capture_nominal) view_->requestCaptureNominal();
+      if (c.cycle_mode) {
+        const xr::RenderMode m = view_->settings().mode;
+        view_->requestMode(m == xr::RenderMode::kFull6d          ? xr::RenderMode::kOrientation3d
+                           : m == xr::RenderMode::kOrientation3d ? xr::RenderMode::kFixed
+                                                                 : xr::RenderMode::kFull6d);
+      }
+      if (c.radius_up) view_->requestRadius(std::min(view_->settings().radius * 1.25, 1000.0));
+      if (c.radius_down) view_->requestRadius(std::max(view_->settings().radius / 1.25, 0.05));
+    }
+    std::string mirror_error;
+    if (mirror_ready_ && !window.present(mirror_[0]->framebuffer(), mirror_[1]->framebuffer(), mirror_[0]->width(),
+                                         mirror_[0]->height(), &mirror_error))
+      std::cerr << "telesphere-xr openxr: mirror: " << mirror_error << "\n";
+    return !(c.quit || window.shouldClose());
+  }
+
  private:
   const OpenXrCommandOptions& o_;
   xr::RenderSettings settings_;
@@ -210,13 +265,15 @@ class OpenXrEyeWork {
   std::string error_;
   int session_ = 0;
   std::int64_t work_start_ns_ = 0;
+  std::array<std::unique_ptr<gl::OffscreenTarget>, 2> mirror_;
+  bool mirror_ready_ = false;
 };
 
 enum class SessionEnd { kFinished, kLost, kFailed };
 
 /// Runs one session until it ends; the exit code in *code when it failed.
 SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, const OpenXrCommandOptions& o,
-                            OpenXrRunCounters& counters, int* code) {
+                            xr::DesktopWindow* window, OpenXrRunCounters& counters, int* code) {
   std::string error;
   std::optional<std::chrono::steady_clock::time_point> exit_asked;
   bool interrupted_reported = false;
@@ -224,6 +281,7 @@ SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, con
   const auto render = [&](const xr::OpenXrEye& eye) { return work.render(eye); };
   const auto read_back = [&](const xr::OpenXrEye& eye) { work.readBack(eye); };
   while (true) {
+    if (window && !work.mirror(*window)) g_openxr_interrupted = 1;  // the mirror window was closed
     const bool want_exit = g_openxr_interrupted != 0 || (o.frames > 0 && counters.submitted >= std::uint64_t(o.frames));
     if (want_exit && !exit_asked) {
       if (g_openxr_interrupted != 0 && !interrupted_reported) {
@@ -280,9 +338,18 @@ SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, con
       }
       last_display_xr = frame.predicted_display_time_ns;
     }
-    if (frame.submitted) ++counters.submitted;
-    else if (frame.waited) ++counters.not_rendered;
+    if (frame.submitted) {
+      ++counters.submitted;
+      counters.last_submitted = std::chrono::steady_clock::now();
+      if (!counters.first_submitted) counters.first_submitted = counters.last_submitted;
+    } else if (frame.waited) {
+      ++counters.not_rendered;
+    }
     work.frameDone(frame, counters.missed);
+    if (frame.capture_nominal_pressed && work.view()) {
+      std::cout << "controller: capture the nominal pose" << std::endl;
+      work.view()->requestCaptureNominal();
+    }
   }
 }
 
@@ -312,6 +379,13 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
   c->add_option("--reconnect", x.reconnect_s,
                 "seconds to wait for the runtime to come back when it goes away (0: exit with code 4)")
       ->capture_default_str()->check(CLI::Range(0.0, 86400.0));
+  c->add_option("--binding", x.binding,
+                 "auto | egl | glx: the OpenGL binding (auto: EGL where the runtime offers "
+                 "XR_MNDX_egl_enable, else GLX in a window)")
+      ->capture_default_str();
+  c->add_flag("--mirror", x.mirror,
+              "also show both eyes in a desktop window (needs an X display); its keys: N capture the "
+              "nominal pose, M cycle the mode, +/- sphere radius, Esc quit");
   return c;
 }
 
@@ -334,8 +408,23 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
     if (ec) return openXrFail(1, o.out_dir + ": cannot create the folder: " + ec.message());
   }
 
-  const auto context = gl::EglContext::createSurfaceless(&error);
-  if (!context) return openXrFail(2, "no OpenGL 4.5 context: " + error);
+  // The GL context the session renders with: EGL (headless, or the mirror window's on X11) where
+  // the runtime offers XR_MNDX_egl_enable, else GLX in a window (SteamVR).
+  if (o.binding != "auto" && o.binding != "egl" && o.binding != "glx")
+    return openXrFail(1, "--binding must be auto, egl or glx, got \"" + o.binding + "\"");
+  bool glx = o.binding == "glx";
+  if (o.binding == "auto") glx = !xr::openXrRuntimeOffers("XR_MNDX_egl_enable").value_or(true);
+  std::unique_ptr<xr::DesktopWindow> window;
+  std::unique_ptr<gl::EglContext> context;
+  if (o.mirror || glx) {
+    window = xr::DesktopWindow::create(1280, 720, "telesphere-xr openxr — mirror", &error,
+                                       glx ? xr::DesktopContextApi::kGlx : xr::DesktopContextApi::kEgl);
+    if (!window)
+      return openXrFail(2, (glx ? "the GLX binding needs a window: " : "no mirror window: ") + error);
+  } else {
+    context = gl::EglContext::createSurfaceless(&error);
+    if (!context) return openXrFail(2, "no OpenGL 4.5 context: " + error);
+  }
   OpenXrEyeWork work(o, *parsed);
   if (const int code = work.prepare(&error)) return openXrFail(code, error);
 
@@ -369,7 +458,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
               << "; space: " << session->referenceSpace()
               << "; swapchain: " << xr::glFormatName(session->swapchainFormat().format) << " " << session->eyeWidth()
               << "x" << session->eyeHeight() << " per eye" << std::endl;
-    const SessionEnd end = runOpenXrSession(*session, work, o, counters, &code);
+    const SessionEnd end = runOpenXrSession(*session, work, o, window.get(), counters, &code);
     if (!states.empty()) states += " | ";
     states += openXrStates(session->state());
     session.reset();
@@ -387,7 +476,8 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double submit_seconds =
+      counters.first_submitted ? std::chrono::duration<double>(*counters.last_submitted - *counters.first_submitted).count() : 0.0;
   std::cout << "frames: requested " << o.frames << ", waited " << counters.waited << ", submitted "
             << counters.submitted << " with a projection layer, " << counters.not_rendered
             << " ended without layers (not visible or pose invalid), " << counters.missed << " display periods missed\n";
@@ -400,7 +490,8 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
                       {"frames_submitted", counters.submitted},
                       {"frames_without_layers", counters.not_rendered},
                       {"missed_frames", counters.missed},
-                      {"fps", seconds > 0 ? double(counters.submitted) / seconds : 0.0},
+                      {"fps", submit_seconds > 0 ? double(counters.submitted - 1) / submit_seconds : 0.0},
+                      {"run_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"focused", counters.focused_ever}};
   if (xr::OperatorView* view = work.view()) {
     const xr::OperatorViewStats s = view->stats();
@@ -418,7 +509,11 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
     j["nominal_from_robot"] = s.nominal_from_robot;
     j["settings_changes"] = s.settings_changes;
   }
-  if (!o.out_dir.empty()) std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+  if (!o.out_dir.empty()) {
+    std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+    if (window && o.mirror && !work.saveMirror(*window, o.out_dir + "/mirror_last.png", &error))
+      std::cerr << "telesphere-xr openxr: mirror_last.png: " << error << "\n";
+  }
   return code;
 }
 

@@ -26,6 +26,9 @@ struct OpenXrCommandOptions {
   double exit_timeout_s = 5.0;
   double reconnect_s = 30.0;  ///< 0: exit (code 4) when the runtime goes away
   bool mirror = false;        ///< a desktop window showing both eyes
+  /// auto: EGL where the runtime offers XR_MNDX_egl_enable (no display needed), else GLX
+  /// (Xlib; needs an X display, the window is the drawable); egl; glx.
+  std::string binding = "auto";
 };
 
 CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& options);

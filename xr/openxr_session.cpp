@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @brief OpenXrSession: instance, EGL graphics binding, swapchains, events and the frame loop.
+/// @brief OpenXrSession: instance, EGL or GLX graphics binding, swapchains, actions, events and
+///        the frame loop.
 #include "xr/openxr_session.h"
 
 #define XR_USE_GRAPHICS_API_OPENGL 1
@@ -17,6 +18,7 @@
 
 #include "shaders/gl_objects.h"
 #include "xr/openxr_check.h"
+#include "xr/openxr_glx_binding.h"
 #include "xr/openxr_pose.h"
 #include "xr/openxr_struct.h"
 
@@ -42,6 +44,15 @@ void setFailure(OpenXrFailure* out, OpenXrFailure f) {
 
 }  // namespace
 
+std::optional<bool> openXrRuntimeOffers(const char* name) {
+  std::uint32_t count = 0;
+  if (XR_FAILED(xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr))) return std::nullopt;
+  std::vector<XrExtensionProperties> extensions(count, xrStruct<XrExtensionProperties>(XR_TYPE_EXTENSION_PROPERTIES));
+  if (XR_FAILED(xrEnumerateInstanceExtensionProperties(nullptr, count, &count, extensions.data()))) return std::nullopt;
+  extensions.resize(count);
+  return openXrHasExtension(extensions, name);
+}
+
 std::string noRuntimeHelp() {
   return "no OpenXR runtime is available. To use a headset install and start one: Monado "
          "(https://monado.freedesktop.org; Debian/Ubuntu: apt install monado-service "
@@ -61,6 +72,9 @@ struct OpenXrSession::Impl {
   XrSpace space = XR_NULL_HANDLE;
   /// XR_KHR_convert_timespec_time: XrTime → CLOCK_MONOTONIC (the link's steady clock).
   PFN_xrConvertTimeToTimespecTimeKHR time_to_timespec = nullptr;
+  /// The operator's controller buttons: select (either hand) captures the nominal pose.
+  XrActionSet action_set = XR_NULL_HANDLE;
+  XrAction capture_nominal = XR_NULL_HANDLE;
   struct Eye {
     XrSwapchain swapchain = XR_NULL_HANDLE;
     std::vector<XrSwapchainImageOpenGLKHR> images;
@@ -75,6 +89,7 @@ struct OpenXrSession::Impl {
     for (Eye& e : eyes)
       if (e.swapchain != XR_NULL_HANDLE) xrDestroySwapchain(e.swapchain);
     if (space != XR_NULL_HANDLE) xrDestroySpace(space);
+    if (action_set != XR_NULL_HANDLE) xrDestroyActionSet(action_set);
     if (session != XR_NULL_HANDLE) xrDestroySession(session);
     if (instance != XR_NULL_HANDLE) xrDestroyInstance(instance);
   }
@@ -90,10 +105,12 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
   std::string local_error;
   std::string* error = out_error ? out_error : &local_error;
 
+  // The binding follows the current context: EGL (XR_MNDX_egl_enable) or GLX (Xlib).
   const EGLDisplay egl_display = eglGetCurrentDisplay();
   const EGLContext egl_context = eglGetCurrentContext();
-  if (egl_display == EGL_NO_DISPLAY || egl_context == EGL_NO_CONTEXT) {
-    *error = "OpenXrSession::create needs a current EGL OpenGL context on this thread";
+  const bool use_egl = egl_display != EGL_NO_DISPLAY && egl_context != EGL_NO_CONTEXT;
+  if (!use_egl && !glxContextCurrent()) {
+    *error = "OpenXrSession::create needs a current EGL or GLX OpenGL context on this thread";
     return nullptr;
   }
 
@@ -112,18 +129,18 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
   extensions.resize(count);
   const bool has_gl = openXrHasExtension(extensions, XR_KHR_OPENGL_ENABLE_EXTENSION_NAME);
   const bool has_egl = openXrHasExtension(extensions, XR_MNDX_EGL_ENABLE_EXTENSION_NAME);
-  if (!has_gl || !has_egl) {
+  if (!has_gl || (use_egl && !has_egl)) {
     *error = std::string("the OpenXR runtime offers ") +
-             (has_gl ? "XR_KHR_opengl_enable but not XR_MNDX_egl_enable"
-                     : "no OpenGL binding (XR_KHR_opengl_enable)") +
-             "; telesphere-xr renders with OpenGL on an EGL context and needs both (Monado "
-             "offers them). The GLX (Xlib) binding is not implemented yet.";
+             (has_gl ? "XR_KHR_opengl_enable but not XR_MNDX_egl_enable, which an EGL context needs; "
+                       "use a GLX context instead (telesphere-xr openxr --binding glx, needs an X display)"
+                     : "no OpenGL binding (XR_KHR_opengl_enable); telesphere-xr renders with OpenGL");
     setFailure(out_failure, OpenXrFailure::kNoGraphicsBinding);
     return nullptr;
   }
 
   auto impl = std::make_unique<Impl>();
-  std::vector<const char*> enabled{XR_KHR_OPENGL_ENABLE_EXTENSION_NAME, XR_MNDX_EGL_ENABLE_EXTENSION_NAME};
+  std::vector<const char*> enabled{XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
+  if (use_egl) enabled.push_back(XR_MNDX_EGL_ENABLE_EXTENSION_NAME);
   const bool has_timespec = openXrHasExtension(extensions, XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
   if (has_timespec) enabled.push_back(XR_KHR_CONVERT_TIMESPEC_TIME_EXTENSION_NAME);
   auto instance_info = xrStruct<XrInstanceCreateInfo>(XR_TYPE_INSTANCE_CREATE_INFO);
@@ -192,10 +209,15 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
     return nullptr;
   }
 
-  // The session on the current EGL context.
+  // The session on the current context.
+  std::shared_ptr<const void> glx_binding;
+  if (!use_egl) {
+    glx_binding = makeGlxSessionBinding(error);
+    if (!glx_binding) return nullptr;
+  }
   EGLint config_id = 0;
   EGLConfig egl_config = EGL_NO_CONFIG_KHR;
-  if (eglQueryContext(egl_display, egl_context, EGL_CONFIG_ID, &config_id) && config_id != 0) {
+  if (use_egl && eglQueryContext(egl_display, egl_context, EGL_CONFIG_ID, &config_id) && config_id != 0) {
     const EGLint attributes[] = {EGL_CONFIG_ID, config_id, EGL_NONE};
     EGLint n = 0;
     if (!eglChooseConfig(egl_display, attributes, &egl_config, 1, &n) || n != 1)
@@ -207,13 +229,14 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
   binding.config = egl_config;
   binding.context = egl_context;
   auto session_info = xrStruct<XrSessionCreateInfo>(XR_TYPE_SESSION_CREATE_INFO);
-  session_info.next = &binding;
+  session_info.next = use_egl ? static_cast<const void*>(&binding) : glx_binding.get();
   session_info.systemId = impl->system;
   if (!TELESPHERE_CHECK_XR(xrCreateSession(impl->instance, &session_info, &impl->session), error))
     return nullptr;
   // Monado's client may leave its own context current: ours is the one we render with.
-  if (eglGetCurrentContext() != egl_context)
+  if (use_egl && eglGetCurrentContext() != egl_context)
     eglMakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context);
+  if (!use_egl) restoreGlxContext(glx_binding);
 
   // Reference space: STAGE where offered, else LOCAL.
   std::uint32_t space_count = 0;
@@ -228,6 +251,42 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
   space_info.poseInReferenceSpace.orientation.w = 1.0f;
   if (!TELESPHERE_CHECK_XR(xrCreateReferenceSpace(impl->session, &space_info, &impl->space), error))
     return nullptr;
+
+  // Actions: "capture nominal pose" on the select button of a simple controller in either hand
+  // (runtimes map it to their controllers' trigger or A button).
+  auto set_info = xrStruct<XrActionSetCreateInfo>(XR_TYPE_ACTION_SET_CREATE_INFO);
+  std::strncpy(set_info.actionSetName, "operator", XR_MAX_ACTION_SET_NAME_SIZE - 1);
+  std::strncpy(set_info.localizedActionSetName, "Operator", XR_MAX_LOCALIZED_ACTION_SET_NAME_SIZE - 1);
+  if (!TELESPHERE_CHECK_XR(xrCreateActionSet(impl->instance, &set_info, &impl->action_set), error)) return nullptr;
+  std::array<XrPath, 2> hands{};
+  if (!TELESPHERE_CHECK_XR(xrStringToPath(impl->instance, "/user/hand/left", &hands[0]), error) ||
+      !TELESPHERE_CHECK_XR(xrStringToPath(impl->instance, "/user/hand/right", &hands[1]), error))
+    return nullptr;
+  auto action_info = xrStruct<XrActionCreateInfo>(XR_TYPE_ACTION_CREATE_INFO);
+  action_info.actionType = XR_ACTION_TYPE_BOOLEAN_INPUT;
+  std::strncpy(action_info.actionName, "capture_nominal", XR_MAX_ACTION_NAME_SIZE - 1);
+  std::strncpy(action_info.localizedActionName, "Capture the nominal pose", XR_MAX_LOCALIZED_ACTION_NAME_SIZE - 1);
+  action_info.countSubactionPaths = std::uint32_t(hands.size());
+  action_info.subactionPaths = hands.data();
+  if (!TELESPHERE_CHECK_XR(xrCreateAction(impl->action_set, &action_info, &impl->capture_nominal), error))
+    return nullptr;
+  std::array<XrActionSuggestedBinding, 2> bindings{};
+  const char* select_paths[2] = {"/user/hand/left/input/select/click", "/user/hand/right/input/select/click"};
+  for (std::size_t i = 0; i < 2; ++i) {
+    bindings[i].action = impl->capture_nominal;
+    if (!TELESPHERE_CHECK_XR(xrStringToPath(impl->instance, select_paths[i], &bindings[i].binding), error))
+      return nullptr;
+  }
+  auto suggested = xrStruct<XrInteractionProfileSuggestedBinding>(XR_TYPE_INTERACTION_PROFILE_SUGGESTED_BINDING);
+  if (!TELESPHERE_CHECK_XR(xrStringToPath(impl->instance, "/interaction_profiles/khr/simple_controller", &suggested.interactionProfile), error))
+    return nullptr;
+  suggested.countSuggestedBindings = std::uint32_t(bindings.size());
+  suggested.suggestedBindings = bindings.data();
+  if (!TELESPHERE_CHECK_XR(xrSuggestInteractionProfileBindings(impl->instance, &suggested), error)) return nullptr;
+  auto attach = xrStruct<XrSessionActionSetsAttachInfo>(XR_TYPE_SESSION_ACTION_SETS_ATTACH_INFO);
+  attach.countActionSets = 1;
+  attach.actionSets = &impl->action_set;
+  if (!TELESPHERE_CHECK_XR(xrAttachSessionActionSets(impl->session, &attach), error)) return nullptr;
 
   // Swapchains.
   std::uint32_t format_count = 0;
@@ -284,7 +343,7 @@ std::unique_ptr<OpenXrSession> OpenXrSession::create(const OpenXrOptions& option
                            std::to_string(XR_VERSION_MINOR(instance_props.runtimeVersion)) + "." +
                            std::to_string(XR_VERSION_PATCH(instance_props.runtimeVersion));
   session->system_name_ = system_props.systemName;
-  session->binding_ = XR_MNDX_EGL_ENABLE_EXTENSION_NAME;
+  session->binding_ = use_egl ? XR_MNDX_EGL_ENABLE_EXTENSION_NAME : "XR_KHR_opengl_enable (Xlib/GLX)";
   session->space_name_ = has_stage ? "STAGE" : "LOCAL";
   session->format_ = *format;
   session->width_ = width;
@@ -385,6 +444,20 @@ bool OpenXrSession::frame(const OpenXrRenderEye& render, const OpenXrReadEye& re
 
   std::array<XrCompositionLayerProjectionView, 2> layer_views{};
   bool rendered = false;
+  if (machine_.state() == SessionState::kFocused) {  // input only reaches the focused app
+    XrActiveActionSet active{impl_->action_set, XR_NULL_PATH};
+    auto sync = xrStruct<XrActionsSyncInfo>(XR_TYPE_ACTIONS_SYNC_INFO);
+    sync.countActiveActionSets = 1;
+    sync.activeActionSets = &active;
+    if (!TELESPHERE_CHECK_XR_RESULT(xrSyncActions(impl_->session, &sync), out_error, &result))
+      return handleResult(false, result);
+    auto get = xrStruct<XrActionStateGetInfo>(XR_TYPE_ACTION_STATE_GET_INFO);
+    get.action = impl_->capture_nominal;
+    auto state = xrStruct<XrActionStateBoolean>(XR_TYPE_ACTION_STATE_BOOLEAN);
+    if (!TELESPHERE_CHECK_XR_RESULT(xrGetActionStateBoolean(impl_->session, &get, &state), out_error, &result))
+      return handleResult(false, result);
+    r.capture_nominal_pressed = state.isActive && state.changedSinceLastSync && state.currentState;
+  }
   if (frame_state.shouldRender && machine_.shouldRender()) {
     auto locate_info = xrStruct<XrViewLocateInfo>(XR_TYPE_VIEW_LOCATE_INFO);
     locate_info.viewConfigurationType = kOpenXrViewConfig;

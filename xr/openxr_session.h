@@ -4,7 +4,8 @@
 ///        reference space STAGE else LOCAL, one swapchain per eye (sRGB where offered), the
 ///        session life cycle (SessionStateMachine) and the frame loop xrWaitFrame →
 ///        xrBeginFrame → xrLocateViews at the predicted display time → a render callback per
-///        eye → projection layer → xrEndFrame. Every OpenXR call is checked where it is made
+///        eye → projection layer → xrEndFrame. One action, "capture the nominal pose", on the
+///        select button of /interaction_profiles/khr/simple_controller in either hand. Every OpenXR call is checked where it is made
 ///        (TELESPHERE_CHECK_XR). Views whose pose is not valid are not rendered: that frame is
 ///        ended without layers.
 ///
@@ -15,6 +16,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,12 +71,17 @@ struct OpenXrFrameResult {
   /// XR_KHR_convert_timespec_time where offered, else now + the predicted display period.
   std::int64_t predicted_display_steady_ns = 0;
   std::int64_t predicted_display_period_ns = 0;  ///< the runtime's display period
+  /// The operator pressed "capture nominal pose" (a controller's select button) since the
+  /// last frame (only while FOCUSED).
+  bool capture_nominal_pressed = false;
 };
 
 class OpenXrSession {
  public:
-  /// Creates instance, system, session, space and swapchains. Needs a current EGL OpenGL 4.5
-  /// context on this thread (gl::EglContext): the session renders through it. Nothing, with
+  /// Creates instance, system, session, space and swapchains. Needs a current OpenGL 4.5
+  /// context on this thread: EGL (gl::EglContext, or a DesktopWindow made through EGL) gives the
+  /// XR_MNDX_egl_enable binding, GLX (a DesktopWindow with a native context) the Xlib binding of
+  /// XR_KHR_opengl_enable. The session renders through it. Nothing, with
   /// the reason in out_error and its kind in out_failure, when that fails.
   static std::unique_ptr<OpenXrSession> create(const OpenXrOptions& options,
                                                std::string* out_error = nullptr,
@@ -127,6 +134,10 @@ class OpenXrSession {
   int width_ = 0, height_ = 0;
   std::uint64_t frame_index_ = 0;
 };
+
+/// Whether the active OpenXR runtime offers instance extension `name`; nothing when no runtime
+/// answers.
+std::optional<bool> openXrRuntimeOffers(const char* name);
 
 /// The message for "no OpenXR runtime": how to get one (Monado, SteamVR) and how to run
 /// without a headset.

@@ -3,9 +3,16 @@
 ///        machine's GL) at headset resolution per eye, fed on loopback by a robot-side video
 ///        path replaying 2×4K frames at 45 Hz: sustained frame rate, render time per frame (both
 ///        eyes, upload included), missed display frames at 90 Hz, and the age of the displayed
-///        image (capture → display) p50/p99; per render path, the speed/accuracy knob.
+///        image (capture → display) p50/p99; per render path, the speed/accuracy knob. With a
+///        Monado root (--monado-root or TELESPHERE_MONADO_ROOT), also `telesphere-xr openxr`
+///        against headless Monado fed by telesphere-robot: frames submitted vs requested.
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "tests/bench/bench_table.h"
@@ -16,6 +23,50 @@
 
 namespace telesphere::bench {
 namespace {
+
+std::string g_xr_bench_monado_root;
+
+std::string xrBenchQuote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += (c == '\'') ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// telesphere-robot (simulated, 640×360 at 15 Hz) + `telesphere-xr openxr` under headless Monado
+/// (null compositor, simulated HMD) for `frames` frames; the app's stats.json, or an error.
+nlohmann::json runXrBenchMonado(const BenchContext& ctx, int frames) {
+  namespace fs = std::filesystem;
+  const fs::path bin = fs::read_symlink("/proc/self/exe").parent_path();
+  const fs::path src = TELESPHERE_SOURCE_DIR;
+  char dir_template[] = "/tmp/telesphere-bench-monado.XXXXXX";
+  const char* dir = mkdtemp(dir_template);
+  if (!dir) return {{"error", "cannot create a scratch folder"}};
+  const std::string out = dir;
+  const std::string command =
+      "LSAN_OPTIONS=suppressions=" + xrBenchQuote((src / "tests/xr/monado/lsan_monado.supp").string()) + " sh -c " +
+      xrBenchQuote(xrBenchQuote((bin / "telesphere-robot").string()) +
+                   " --sim --size 640x360 --fps 15 --port 27690 --duration 600 > " + xrBenchQuote(out + "/robot.log") +
+                   " 2>&1 & r=$!; " + xrBenchQuote((src / "tests/xr/monado/run_with_monado.sh").string()) + " " +
+                   xrBenchQuote(g_xr_bench_monado_root) + " -- " + xrBenchQuote((bin / "telesphere-xr").string()) +
+                   " openxr --calib " + xrBenchQuote((src / "calib/data/sim_calibration.yaml").string()) +
+                   " --port 27690 --frames " + std::to_string(frames) + " --out " + xrBenchQuote(out) + " > " +
+                   xrBenchQuote(out + "/xr.log") + " 2>&1; rc=$?; kill -INT $r; wait $r; exit $rc");
+  ctx.out << "xr: openxr against Monado (" << g_xr_bench_monado_root << "), " << frames << " frames…\n" << std::flush;
+  const int status = std::system(command.c_str());
+  nlohmann::json stats;
+  std::ifstream in(out + "/stats.json");
+  if (status != 0 || !in) {
+    std::ifstream log(out + "/xr.log");
+    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    if (text.size() > 2000) text = text.substr(text.size() - 2000);
+    ctx.out << "xr: the Monado run failed (status " << status << "):\n" << text << '\n';
+    stats = {{"error", "the Monado run failed with status " + std::to_string(status)}};
+  } else {
+    in >> stats;
+  }
+  fs::remove_all(out);
+  return stats;
+}
 
 struct XrBenchCase {
   xr::RenderPath path;
@@ -83,6 +134,25 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
   ctx.out << "\nOffscreen operator loop, 2×4K JPEG input at 45 Hz on loopback, paced at 90 Hz, "
           << seconds << " s each\n";
   table.print(ctx.out);
+
+  if (!g_xr_bench_monado_root.empty()) {
+    const int frames = ctx.quick ? 40 : 400;
+    const nlohmann::json m = runXrBenchMonado(ctx, frames);
+    json["monado"] = m;
+    if (!m.contains("error")) {
+      Table monado({"frames requested", "waited", "submitted", "fps", "render ms p50", "p99", "missed periods",
+                    "camera frames shown", "image age p50 ms", "p99", "head pose → display ms"});
+      monado.addRow({std::to_string(frames), std::to_string(m.value("frames_waited", 0)),
+                     std::to_string(m.value("frames_submitted", 0)), formatNumber(m.value("fps", 0.0)),
+                     formatNumber(m.value("render_ms", 0.0)), formatNumber(m.value("render_ms_p99", 0.0)),
+                     std::to_string(m.value("missed_frames", 0)), std::to_string(m.value("stereo_frames_shown", 0)),
+                     formatNumber(m.value("image_age_p50_ms", 0.0)), formatNumber(m.value("image_age_p99_ms", 0.0)),
+                     formatNumber(m.value("pose_to_display_ms", 0.0))});
+      ctx.out << "\ntelesphere-xr openxr against Monado 25 (null compositor paces at 20 Hz, simulated HMD, "
+                 "320×240 per eye), fed by telesphere-robot (simulated, 2×640×360 at 15 Hz)\n";
+      monado.print(ctx.out);
+    }
+  }
   return json;
 }
 
@@ -93,5 +163,12 @@ TELESPHERE_BENCH_TOPIC(xr, telesphere::bench::BenchTopic{
                                "xr",
                                "operator frame loop offscreen: fps, render ms, missed frames, "
                                "image age, per render path",
-                               {},
+                               [](CLI::App& c) {
+                                 const char* env = std::getenv("TELESPHERE_MONADO_ROOT");
+                                 telesphere::bench::g_xr_bench_monado_root = env ? env : "";
+                                 c.add_option("--monado-root", telesphere::bench::g_xr_bench_monado_root,
+                                              "a Monado trixie root (tests/xr/monado/build_trixie_root.sh): "
+                                              "also run telesphere-xr openxr against it (default "
+                                              "$TELESPHERE_MONADO_ROOT)");
+                               },
                                telesphere::bench::runXrBench});

@@ -194,17 +194,24 @@ fs::path monadoScratch(const std::string& name) {
   return dir;
 }
 
-void monadoExpectFocusedAndMatching(const std::string& colour, bool linear) {
-  const fs::path dir = monadoScratch(colour);
+/// `binding` "egl" runs headless; "glx" runs on a private Xvfb (tests/xr/with_xvfb.sh) with the
+/// Xlib binding and the mirror window.
+void monadoExpectFocusedAndMatching(const std::string& colour, bool linear, const std::string& binding = "egl") {
+  const fs::path dir = monadoScratch(colour + "-" + binding);
   const int frames = 12;
-  const MonadoRun run = monadoRunCommand(
+  std::string command =
       monadoXrCommand("", "--test-scene --frames " + std::to_string(frames) + " --swapchain-colour " + colour +
-                              " --readback-dir " + monadoQuote(dir.string())),
-      240);
+                              " --binding " + binding + (binding == "glx" ? " --mirror" : "") + " --readback-dir " +
+                              monadoQuote(dir.string()) + " --out " + monadoQuote(dir.string()));
+  if (binding == "glx")
+    command = monadoQuote(std::string(TELESPHERE_SOURCE_DIR) + "/tests/xr/with_xvfb.sh") + " " + command;
+  const MonadoRun run = monadoRunCommand(command, 240);
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("focused: yes"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("FOCUSED"), std::string::npos) << run.output;
-  EXPECT_NE(run.output.find("binding: XR_MNDX_egl_enable"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(binding == "glx" ? "binding: XR_KHR_opengl_enable (Xlib/GLX)" : "binding: XR_MNDX_egl_enable"),
+            std::string::npos)
+      << run.output;
   EXPECT_EQ(run.output.find("AddressSanitizer"), std::string::npos) << run.output;
   const long long submitted = monadoNumberAfter(run.output, "submitted ");
   EXPECT_GE(submitted, frames) << run.output;
@@ -226,11 +233,32 @@ void monadoExpectFocusedAndMatching(const std::string& colour, bool linear) {
             << ", share > 8: " << d.fraction_over_8 << "\n";
   EXPECT_LT(d.mean, linear ? 1.0 : 0.5);
   EXPECT_LT(d.fraction_over_8, 0.002);
+  if (binding == "glx") {
+    // The mirror window showed both eyes: each half of its last picture has the scene's colours
+    // (not only the letterbox black).
+    std::string error;
+    const auto mirror = gl::readPng((dir / "mirror_last.png").string(), &error);
+    ASSERT_TRUE(mirror) << error;
+    for (int half = 0; half < 2; ++half) {
+      std::size_t lit = 0;
+      for (int y = 0; y < mirror->height; ++y)
+        for (int x = half * mirror->width / 2; x < (half + 1) * mirror->width / 2; ++x) {
+          const std::uint8_t* p = &mirror->rgba[(std::size_t(y) * std::size_t(mirror->width) + std::size_t(x)) * 4];
+          lit += (p[0] > 40 || p[1] > 40 || p[2] > 40) ? 1 : 0;
+        }
+      EXPECT_GT(lit, std::size_t(mirror->width) * std::size_t(mirror->height) / 8) << "mirror half " << half;
+    }
+  }
 }
 
 TEST(OpenXrMonado, SrgbSwapchainReachesFocusedAndShowsTheOffscreenRender) {
   SKIP_WITHOUT_MONADO_ROOT();
   monadoExpectFocusedAndMatching("srgb", false);
+}
+
+TEST(OpenXrMonado, GlxBindingWithMirrorWindowShowsTheOffscreenRender) {
+  SKIP_WITHOUT_MONADO_ROOT();
+  monadoExpectFocusedAndMatching("srgb", false, "glx");
 }
 
 TEST(OpenXrMonado, LinearSwapchainHoldsTheDecodedColours) {

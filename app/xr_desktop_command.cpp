@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-xr desktop`: options, the window loop, keys → robot requests, statistics.
+#include "app/xr_desktop_command.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "calib/calibration_file.h"
+#include "shaders/offscreen_target.h"
+#include "shaders/png_io.h"
+#include "xr/desktop_window.h"
+#include "xr/operator_view.h"
+#include "xr/virtual_head.h"
+
+namespace telesphere::app {
+namespace {
+
+std::atomic<bool> g_desktop_stop{false};
+extern "C" void onDesktopSignal(int) { g_desktop_stop = true; }
+
+bool desktopParseSize(const std::string& text, int& w, int& h) {
+  return std::sscanf(text.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 8192 && h <= 8192;
+}
+
+/// The next mode in the cycle full6d → orientation3d → fixed → full6d (the M key).
+xr::RenderMode desktopNextMode(xr::RenderMode mode) {
+  switch (mode) {
+    case xr::RenderMode::kFull6d: return xr::RenderMode::kOrientation3d;
+    case xr::RenderMode::kOrientation3d: return xr::RenderMode::kFixed;
+    case xr::RenderMode::kFixed: return xr::RenderMode::kFull6d;
+  }
+  return xr::RenderMode::kFull6d;
+}
+
+bool desktopWriteEyes(const std::string& path, const gl::OffscreenTarget& left, const gl::OffscreenTarget& right,
+                      std::string* error) {
+  const auto l = left.readRgba8(), r = right.readRgba8();
+  const int w = left.width(), h = left.height();
+  std::vector<std::uint8_t> both(static_cast<std::size_t>(2 * w) * std::size_t(h) * 4);
+  for (int y = 0; y < h; ++y) {
+    std::copy_n(l.begin() + std::ptrdiff_t(std::size_t(y) * std::size_t(w) * 4), w * 4,
+                both.begin() + std::ptrdiff_t(std::size_t(y) * 2 * std::size_t(w) * 4));
+    std::copy_n(r.begin() + std::ptrdiff_t(std::size_t(y) * std::size_t(w) * 4), w * 4,
+                both.begin() + std::ptrdiff_t((std::size_t(y) * 2 * std::size_t(w) + std::size_t(w)) * 4));
+  }
+  return gl::writePng(path, 2 * w, h, 4, both.data(), error);
+}
+
+}  // namespace
+
+CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
+  CLI::App* c = app.add_subcommand(
+      "desktop", "operator app in a window: mouse and keyboard move the head (needs an X display)");
+  c->add_option("--calib", o.calib, "system calibration (two cameras)")->required();
+  c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
+  c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
+  c->add_option("--window-size", o.window_size, "window size WxH")->capture_default_str();
+  c->add_option("--rate", o.rate_hz, "frames per second")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
+  c->add_option("--duration", o.duration_s, "seconds to run (0: until closed)")->capture_default_str();
+  c->add_option("--ipd", o.ipd, "distance between the eyes, m")->capture_default_str()->check(CLI::Range(0.0, 0.2));
+  c->add_option("--mode", o.mode, "full6d | orientation3d | fixed, until the robot says otherwise")
+      ->capture_default_str();
+  c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
+  c->add_option("--radius", o.radius, "sphere radius r (m), until the robot says otherwise")->capture_default_str();
+  c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png at the end");
+  return c;
+}
+
+int runDesktopCommand(const DesktopCommandOptions& o) {
+  const auto fail = [](int code, const std::string& message) {
+    std::cerr << "telesphere-xr desktop: " << message << '\n';
+    return code;
+  };
+  int eye_w = 0, eye_h = 0, win_w = 0, win_h = 0;
+  if (!desktopParseSize(o.eye_size, eye_w, eye_h)) return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
+  if (!desktopParseSize(o.window_size, win_w, win_h))
+    return fail(1, "--window-size '" + o.window_size + "' is not WxH (1..8192)");
+  std::string error;
+  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  if (!render) return fail(1, error);
+  auto calibration = calib::loadCalibrationFile(o.calib);
+  if (!calibration) return fail(1, calibration.error().describe());
+  if (calibration->cameras.size() != 2) return fail(1, o.calib + ": the operator view needs two cameras");
+  if (!o.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out_dir, ec);
+    if (ec) return fail(1, o.out_dir + ": " + ec.message());
+  }
+
+  auto window = xr::DesktopWindow::create(win_w, win_h, "telesphere-xr desktop", &error);
+  if (!window) return fail(2, error + " (without a display: `telesphere-xr offscreen`)");
+  gl::OffscreenTarget left(eye_w, eye_h), right(eye_w, eye_h);
+  if (!left.complete() || !right.complete()) return fail(3, "cannot create " + o.eye_size + " eye targets");
+
+  xr::OperatorViewOptions view_options;
+  view_options.endpoints.host = o.host;
+  view_options.endpoints.base_port = o.port;
+  view_options.render = *render;
+  xr::OperatorView view(*calibration, view_options);
+  xr::VirtualHead head;
+  Eigen::Isometry3d T_hmd_eye[2];
+  for (int eye = 0; eye < 2; ++eye) {
+    T_hmd_eye[eye] = Eigen::Isometry3d::Identity();
+    T_hmd_eye[eye].translation().x() = (eye == 0 ? -0.5 : 0.5) * o.ipd;
+  }
+  xr::EyeView eye_view;  // about 100° × 104° like the paper's headset, at this aspect
+  eye_view.width = eye_w;
+  eye_view.height = eye_h;
+  eye_view.fov = {-0.87, 0.87, 0.90, -0.90};
+  std::cout << "telesphere-xr desktop: W/A/S/D walk, R/F up/down, drag with the left mouse button to look, "
+               "N capture the nominal pose, M cycle the mode, +/- sphere radius, Home reset, Esc quit"
+            << std::endl;
+
+  std::signal(SIGINT, onDesktopSignal);
+  std::signal(SIGTERM, onDesktopSignal);
+  using Clock = std::chrono::steady_clock;
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / o.rate_hz));
+  const auto to_ns = [](Clock::time_point t) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  };
+  const auto t0 = Clock::now();
+  auto last = t0, next = t0, last_title = t0;
+  std::uint64_t frames = 0, frames_at_title = 0, missed = 0;
+  double last_render_ms = 0;
+  int code = 0;
+  while (!g_desktop_stop.load() && !window->shouldClose()) {
+    const auto now = Clock::now();
+    if (o.duration_s > 0 && now - t0 >= std::chrono::duration<double>(o.duration_s)) break;
+    window->pollEvents();
+    head.step(window->headInput(), std::chrono::duration<double>(now - last).count());
+    last = now;
+    const xr::DesktopCommands commands = window->takeCommands();
+    if (commands.quit) break;
+    if (commands.reset_head) head.reset();
+    if (commands.capture_nominal) view.requestCaptureNominal();
+    if (commands.cycle_mode) view.requestMode(desktopNextMode(view.settings().mode));
+    if (commands.radius_up) view.requestRadius(std::min(view.settings().radius * 1.25, 1000.0));
+    if (commands.radius_down) view.requestRadius(std::max(view.settings().radius / 1.25, 0.05));
+
+    // Shown after this frame's work: the last frame's render time ahead.
+    const std::int64_t display_ns = to_ns(now) + std::int64_t(last_render_ms * 1e6);
+    const Eigen::Isometry3d T_vr_hmd = head.pose();
+    if (!view.beginFrame(T_vr_hmd, display_ns, true, &error)) { code = fail(3, error); break; }
+    bool ok = true;
+    for (int eye = 0; eye < 2 && ok; ++eye)
+      ok = view.renderEye(eye, T_vr_hmd * T_hmd_eye[eye], eye_view, eye == 0 ? left.framebuffer() : right.framebuffer(),
+                          &error);
+    if (!ok || !window->present(left.framebuffer(), right.framebuffer(), eye_w, eye_h, &error)) {
+      code = fail(3, error);
+      break;
+    }
+    const auto done = Clock::now();
+    last_render_ms = std::chrono::duration<double, std::milli>(done - now).count();
+    ++frames;
+    view.endFrame(to_ns(done), last_render_ms, missed);
+    if (done - last_title >= std::chrono::seconds(1)) {
+      char title[256];
+      const xr::RenderSettings& s = view.settings();
+      std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m%s",
+                    double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
+                    std::string(xr::renderModeName(s.mode)).c_str(), s.radius,
+                    view.hasImage() ? "" : " — waiting for the robot");
+      window->setTitle(title);
+      last_title = done;
+      frames_at_title = frames;
+    }
+    next += period;
+    if (done > next) {
+      const auto behind = (done - next) / period + 1;
+      missed += std::uint64_t(behind);
+      next += behind * period;
+    }
+    std::this_thread::sleep_until(next);
+  }
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const xr::OperatorViewStats s = view.stats();
+  std::printf("desktop: %llu frames, %.1f fps, render+present ms p50/p99 %.1f/%.1f, %llu missed at %.0f Hz, "
+              "%llu camera frames shown, image age p50/p99 %.1f/%.1f ms, %llu head targets sent, nominal from the "
+              "robot: %s\n",
+              static_cast<unsigned long long>(frames), seconds > 0 ? double(frames) / seconds : 0.0, s.render_ms_p50,
+              s.render_ms_p99, static_cast<unsigned long long>(missed), o.rate_hz,
+              static_cast<unsigned long long>(s.stereo_frames_shown), s.image_age_p50_ms, s.image_age_p99_ms,
+              static_cast<unsigned long long>(s.head_targets_sent), s.nominal_from_robot ? "yes" : "no");
+  if (!o.out_dir.empty()) {
+    const Eigen::Vector3d p = head.position();
+    nlohmann::json j = {{"frames", frames},
+                        {"fps", seconds > 0 ? double(frames) / seconds : 0.0},
+                        {"render_ms", s.render_ms_p50},
+                        {"render_ms_p99", s.render_ms_p99},
+                        {"missed_frames", missed},
+                        {"stereo_frames_shown", s.stereo_frames_shown},
+                        {"image_age_p50_ms", s.image_age_p50_ms},
+                        {"image_age_p99_ms", s.image_age_p99_ms},
+                        {"head_targets_sent", s.head_targets_sent},
+                        {"nominal_from_robot", s.nominal_from_robot},
+                        {"settings_changes", s.settings_changes},
+                        {"mode", std::string(xr::renderModeName(view.settings().mode))},
+                        {"radius", view.settings().radius},
+                        {"head_position", {p.x(), p.y(), p.z()}},
+                        {"head_yaw", head.yaw()},
+                        {"head_pitch", head.pitch()},
+                        {"last_control", view.lastControlResult()}};
+    std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+    if (code == 0 && !desktopWriteEyes(o.out_dir + "/eyes_last.png", left, right, &error)) code = fail(3, error);
+  }
+  return code;
+}
+
+}  // namespace telesphere::app
