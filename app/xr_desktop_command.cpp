@@ -15,7 +15,7 @@
 
 #include "calib/calibration_file.h"
 #include "shaders/offscreen_target.h"
-#include "shaders/png_io.h"
+#include "xr/eyes_png.h"
 #include "xr/desktop_window.h"
 #include "xr/operator_view.h"
 #include "xr/virtual_head.h"
@@ -28,30 +28,6 @@ extern "C" void onDesktopSignal(int) { g_desktop_stop = true; }
 
 bool desktopParseSize(const std::string& text, int& w, int& h) {
   return std::sscanf(text.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 8192 && h <= 8192;
-}
-
-/// The next mode in the cycle full6d → orientation3d → fixed → full6d (the M key).
-xr::RenderMode desktopNextMode(xr::RenderMode mode) {
-  switch (mode) {
-    case xr::RenderMode::kFull6d: return xr::RenderMode::kOrientation3d;
-    case xr::RenderMode::kOrientation3d: return xr::RenderMode::kFixed;
-    case xr::RenderMode::kFixed: return xr::RenderMode::kFull6d;
-  }
-  return xr::RenderMode::kFull6d;
-}
-
-bool desktopWriteEyes(const std::string& path, const gl::OffscreenTarget& left, const gl::OffscreenTarget& right,
-                      std::string* error) {
-  const auto l = left.readRgba8(), r = right.readRgba8();
-  const int w = left.width(), h = left.height();
-  std::vector<std::uint8_t> both(static_cast<std::size_t>(2 * w) * std::size_t(h) * 4);
-  for (int y = 0; y < h; ++y) {
-    std::copy_n(l.begin() + std::ptrdiff_t(std::size_t(y) * std::size_t(w) * 4), w * 4,
-                both.begin() + std::ptrdiff_t(std::size_t(y) * 2 * std::size_t(w) * 4));
-    std::copy_n(r.begin() + std::ptrdiff_t(std::size_t(y) * std::size_t(w) * 4), w * 4,
-                both.begin() + std::ptrdiff_t((std::size_t(y) * 2 * std::size_t(w) + std::size_t(w)) * 4));
-  }
-  return gl::writePng(path, 2 * w, h, 4, both.data(), error);
 }
 
 }  // namespace
@@ -142,9 +118,9 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (commands.quit) break;
     if (commands.reset_head) head.reset();
     if (commands.capture_nominal) view.requestCaptureNominal();
-    if (commands.cycle_mode) view.requestMode(desktopNextMode(view.settings().mode));
-    if (commands.radius_up) view.requestRadius(std::min(view.settings().radius * 1.25, 1000.0));
-    if (commands.radius_down) view.requestRadius(std::max(view.settings().radius / 1.25, 0.05));
+    if (commands.cycle_mode) view.requestNextMode();
+    if (commands.radius_up) view.requestRadiusScaled(1.25);
+    if (commands.radius_down) view.requestRadiusScaled(1.0 / 1.25);
 
     // Shown after this frame's work: the last frame's render time ahead.
     const std::int64_t display_ns = to_ns(now) + std::int64_t(last_render_ms * 1e6);
@@ -212,7 +188,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
                         {"head_pitch", head.pitch()},
                         {"last_control", view.lastControlResult()}};
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
-    if (code == 0 && !desktopWriteEyes(o.out_dir + "/eyes_last.png", left, right, &error)) code = fail(3, error);
+    if (code == 0 && !xr::writeEyesPng(o.out_dir + "/eyes_last.png", left, right, &error)) code = fail(3, error);
   }
   return code;
 }

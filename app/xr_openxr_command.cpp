@@ -237,14 +237,9 @@ class OpenXrEyeWork {
     const xr::DesktopCommands c = window.takeCommands();
     if (view_) {
       if (c.capture_nominal) view_->requestCaptureNominal();
-      if (c.cycle_mode) {
-        const xr::RenderMode m = view_->settings().mode;
-        view_->requestMode(m == xr::RenderMode::kFull6d          ? xr::RenderMode::kOrientation3d
-                           : m == xr::RenderMode::kOrientation3d ? xr::RenderMode::kFixed
-                                                                 : xr::RenderMode::kFull6d);
-      }
-      if (c.radius_up) view_->requestRadius(std::min(view_->settings().radius * 1.25, 1000.0));
-      if (c.radius_down) view_->requestRadius(std::max(view_->settings().radius / 1.25, 0.05));
+      if (c.cycle_mode) view_->requestNextMode();
+      if (c.radius_up) view_->requestRadiusScaled(1.25);
+      if (c.radius_down) view_->requestRadiusScaled(1.0 / 1.25);
     }
     std::string mirror_error;
     if (mirror_ready_ && !window.present(mirror_[0]->framebuffer(), mirror_[1]->framebuffer(), mirror_[0]->width(),

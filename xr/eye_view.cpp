@@ -25,6 +25,15 @@ std::string_view renderPathName(RenderPath path) {
   return "?";
 }
 
+RenderMode nextRenderMode(RenderMode mode) {
+  switch (mode) {
+    case RenderMode::kFull6d: return RenderMode::kOrientation3d;
+    case RenderMode::kOrientation3d: return RenderMode::kFixed;
+    case RenderMode::kFixed: return RenderMode::kFull6d;
+  }
+  return RenderMode::kFull6d;
+}
+
 std::optional<RenderMode> parseRenderMode(std::string_view name) {
   for (RenderMode m : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed})
     if (renderModeName(m) == name) return m;

@@ -54,6 +54,8 @@ enum class RenderPath { kExact, kMesh, kLut };
 std::string_view renderModeName(RenderMode mode);  ///< "full6d", "orientation3d", "fixed"
 std::string_view renderPathName(RenderPath path);  ///< "exact", "mesh", "lut"
 std::optional<RenderMode> parseRenderMode(std::string_view name);
+/// The next mode in the operator's cycle full6d → orientation3d → fixed → full6d (the M key).
+RenderMode nextRenderMode(RenderMode mode);
 std::optional<RenderPath> parseRenderPath(std::string_view name);
 
 struct RenderSettings {

@@ -10,26 +10,10 @@
 
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
-#include "shaders/png_io.h"
+#include "xr/eyes_png.h"
 #include "xr/operator_view.h"
 
 namespace telesphere::xr {
-namespace {
-
-/// Both eyes side by side (left | right) as one RGBA image.
-bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& left,
-                  const gl::OffscreenTarget& right, std::string* error) {
-  const auto l = left.readRgba8(), r = right.readRgba8();
-  const int w = left.width(), h = left.height();
-  std::vector<std::uint8_t> both(static_cast<std::size_t>(2 * w) * h * 4);
-  for (int y = 0; y < h; ++y) {
-    std::copy_n(l.begin() + std::size_t(y) * w * 4, w * 4, both.begin() + std::size_t(y) * 2 * w * 4);
-    std::copy_n(r.begin() + std::size_t(y) * w * 4, w * 4, both.begin() + (std::size_t(y) * 2 * w + w) * 4);
-  }
-  return gl::writePng(path, 2 * w, h, 4, both.data(), error);
-}
-
-}  // namespace
 
 std::optional<OffscreenOperatorStats> runOffscreenOperator(
     const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,

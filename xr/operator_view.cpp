@@ -4,6 +4,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -149,6 +150,10 @@ void OperatorView::requestRadius(double radius_m) {
   link::proto::ControlRequest request;
   request.set_set_sphere_radius(radius_m);
   sendControl(std::move(request), "set_sphere_radius " + std::to_string(radius_m));
+}
+
+void OperatorView::requestRadiusScaled(double factor) {
+  requestRadius(std::clamp(settings().radius * factor, 0.05, 1000.0));
 }
 
 std::string OperatorView::lastControlResult() const {

@@ -82,6 +82,10 @@ class OperatorView {
   void requestCaptureNominal();
   void requestMode(RenderMode mode);
   void requestRadius(double radius_m);
+  /// The operator's keys: the next mode of the cycle; the radius times `factor`, kept in the
+  /// robot's accepted range [0.05, 1000] m.
+  void requestNextMode() { requestMode(nextRenderMode(settings().mode)); }
+  void requestRadiusScaled(double factor);
 
   /// The newest decoded frame is on the GPU (anything to show).
   bool hasImage() const { return renderer_.frame() != nullptr; }
