@@ -73,7 +73,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   }
 
   auto window = xr::DesktopWindow::create(win_w, win_h, "telesphere-xr desktop", &error);
-  if (!window) return fail(2, error + " (without a display: `telesphere-xr offscreen`)");
+  if (!window) return fail(2, error);
   gl::OffscreenTarget left(eye_w, eye_h), right(eye_w, eye_h);
   if (!left.complete() || !right.complete()) return fail(3, "cannot create " + o.eye_size + " eye targets");
 

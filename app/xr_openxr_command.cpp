@@ -473,6 +473,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   std::signal(SIGTERM, SIG_DFL);
   const double submit_seconds =
       counters.first_submitted ? std::chrono::duration<double>(*counters.last_submitted - *counters.first_submitted).count() : 0.0;
+  if (counters.sessions == 0) return code;  // the one message above says why
   std::cout << "frames: requested " << o.frames << ", waited " << counters.waited << ", submitted "
             << counters.submitted << " with a projection layer, " << counters.not_rendered
             << " ended without layers (not visible or pose invalid), " << counters.missed << " display periods missed\n";

@@ -29,6 +29,7 @@ TEST(OpenXrNoRuntime, SaysHowToGetARuntimeAndHowToRunWithoutAHeadset) {
   EXPECT_NE(output.find("Monado"), std::string::npos) << output;
   EXPECT_NE(output.find("SteamVR"), std::string::npos) << output;
   EXPECT_NE(output.find("Without a headset"), std::string::npos) << output;
+  EXPECT_EQ(output.find("frames: requested"), std::string::npos) << "only the one message\n" << output;
   EXPECT_EQ(output.find("AddressSanitizer"), std::string::npos) << output;
 }
 
