@@ -141,10 +141,14 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (done - last_title >= std::chrono::seconds(1)) {
       char title[256];
       const xr::RenderSettings& s = view.settings();
+      char robot[64] = "";
+      if (!view.hasImage())
+        std::snprintf(robot, sizeof robot, " — waiting for the robot");
+      else if (view.secondsWithoutNewFrame() > xr::OperatorView::kSilentRobotS)
+        std::snprintf(robot, sizeof robot, " — robot silent for %.0f s", view.secondsWithoutNewFrame());
       std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m%s",
                     double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
-                    std::string(xr::renderModeName(s.mode)).c_str(), s.radius,
-                    view.hasImage() ? "" : " — waiting for the robot");
+                    std::string(xr::renderModeName(s.mode)).c_str(), s.radius, robot);
       window->setTitle(title);
       last_title = done;
       frames_at_title = frames;

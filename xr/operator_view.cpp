@@ -19,6 +19,8 @@ OperatorView::OperatorView(const calib::SystemCalibration& calibration,
       decoder_(client_),
       renderer_(calibration, options.render),
       options_(options),
+      frame_begin_ns_(link::linkNowNs()),
+      last_new_frame_ns_(frame_begin_ns_),
       control_thread_([this] { controlWorker(); }) {}
 
 OperatorView::~OperatorView() {
@@ -70,6 +72,16 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   const auto before = renderer_.frame();
   if (!renderer_.setFrame(decoder_.newest(), error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
+  if (uploaded_this_frame_ns_ >= 0) {
+    last_new_frame_ns_ = frame_begin_ns_;
+    if (robot_silent_) spdlog::info("operator view: camera frames from the robot again");
+    robot_silent_ = false;
+  } else if (!robot_silent_ && secondsWithoutNewFrame() > kSilentRobotS) {
+    robot_silent_ = true;
+    spdlog::warn("operator view: no new camera frame from the robot at {} for {:.1f} s{}",
+                 options_.endpoints.connect(0), secondsWithoutNewFrame(),
+                 hasImage() ? " (showing the last one)" : " (is telesphere-robot running?)");
+  }
   return true;
 }
 

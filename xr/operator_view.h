@@ -89,6 +89,11 @@ class OperatorView {
 
   /// The newest decoded frame is on the GPU (anything to show).
   bool hasImage() const { return renderer_.frame() != nullptr; }
+  /// Seconds since the last new camera frame went up (since construction before the first), as
+  /// of the last beginFrame. The view keeps showing the last frame while the robot is silent;
+  /// a warning is logged when this passes kSilentRobotS, and a note when frames come back.
+  double secondsWithoutNewFrame() const { return double(frame_begin_ns_ - last_new_frame_ns_) * 1e-9; }
+  static constexpr double kSilentRobotS = 2.0;
   const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   const RenderSettings& settings() const { return renderer_.settings(); }
   const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
@@ -113,6 +118,8 @@ class OperatorView {
   std::uint64_t last_shown_sequence_ = 0;
   std::int64_t uploaded_this_frame_ns_ = -1;  ///< upload time when this frame uploaded a new image
   std::int64_t frame_begin_ns_ = 0;
+  std::int64_t last_new_frame_ns_ = 0;  ///< set at construction, then at every new frame
+  bool robot_silent_ = false;           ///< the silence warning was given
   OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
   std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: MIT
+/// @brief OperatorView against a real LinkServer on loopback and a real GL context (EGL
+///        surfaceless): the border colour before any frame; head targets reach the robot with
+///        the predicted display time; the robot's mode, radius and nominal mapping are followed,
+///        and nonsense in the robot state (unknown mode, NaN or negative radius) is not; the
+///        operator's requests reach the robot's control handler (next mode, radius steps clamped
+///        to the accepted range); silence from the robot is measured.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "calib/calibration_file.h"
+#include "robot/link/link_pose.h"
+#include "robot/link/link_server.h"
+#include "shaders/egl_context.h"
+#include "shaders/offscreen_target.h"
+#include "tests/xr/jpeg_test_images.h"
+#include "xr/operator_view.h"
+
+namespace telesphere::xr {
+namespace {
+
+using namespace std::chrono_literals;
+
+link::LinkEndpoints operatorViewEndpoints() {
+  link::LinkEndpoints e;
+  e.base_port = 27380;
+  return e;
+}
+
+template <typename F>
+bool operatorViewEventually(F condition, std::chrono::milliseconds limit = 10000ms) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < end) {
+    if (condition()) return true;
+    std::this_thread::sleep_for(2ms);
+  }
+  return condition();
+}
+
+class OperatorViewTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string error;
+    context_ = gl::EglContext::createSurfaceless(&error);
+    ASSERT_TRUE(context_) << error;
+    auto calibration = calib::loadCalibrationFile(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml");
+    ASSERT_TRUE(calibration) << calibration.error().describe();
+    server_ = std::make_unique<link::LinkServer>(operatorViewEndpoints());
+    server_->setControlHandler([this](const link::proto::ControlRequest& r) {
+      std::lock_guard lock(mutex_);
+      requests_.push_back(r);
+      link::proto::ControlReply reply;
+      reply.set_ok(true);
+      return reply;
+    });
+    OperatorViewOptions options;
+    options.endpoints = operatorViewEndpoints();
+    options.render.border_rgba << 0.0f, 0.0f, 1.0f, 1.0f;
+    view_ = std::make_unique<OperatorView>(*calibration, options);
+    target_ = std::make_unique<gl::OffscreenTarget>(32, 32);
+    eye_.width = eye_.height = 32;
+    eye_.fov = {-0.5, 0.5, 0.5, -0.5};
+  }
+
+  /// Publishes a 64×36 stereo frame (the calibration's 16:9) with both cameras looking along
+  /// the robot's -z (left at x = -0.03 m, right at +0.03 m).
+  void publishFrame() {
+    link::proto::StereoFrame f;
+    f.set_sequence(++sequence_);
+    const std::int64_t now = link::linkNowNs();
+    f.mutable_stamps()->set_capture_ns(now - 5'000'000);
+    for (int i = 0; i < 2; ++i) {
+      auto* image = i == 0 ? f.mutable_left() : f.mutable_right();
+      image->set_width(64);
+      image->set_height(36);
+      image->set_capture_ns(now - 5'000'000);
+      Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
+      T_robot_cam.translation().x() = i == 0 ? -0.03 : 0.03;
+      link::toLinkPose(T_robot_cam, image->mutable_t_robot_cam());
+    }
+    server_->publishStereoFrame(f, jpeg_, jpeg_);
+  }
+
+  bool frame(std::int64_t display_ns = 0, std::string* error = nullptr) {
+    std::string local;
+    return view_->beginFrame(T_vr_hmd_, display_ns ? display_ns : link::linkNowNs() + 11'000'000, true,
+                             error ? error : &local);
+  }
+
+  std::vector<link::proto::ControlRequest> requests() {
+    std::lock_guard lock(mutex_);
+    return requests_;
+  }
+
+  std::unique_ptr<gl::EglContext> context_;
+  std::unique_ptr<link::LinkServer> server_;
+  std::unique_ptr<OperatorView> view_;
+  std::unique_ptr<gl::OffscreenTarget> target_;
+  EyeView eye_;
+  Eigen::Isometry3d T_vr_hmd_ = Eigen::Isometry3d::Identity();
+  std::uint64_t sequence_ = 0;
+  link::SharedBytes jpeg_ = std::make_shared<const std::vector<std::uint8_t>>(test::texturedJpeg(64, 36, 5));
+  std::mutex mutex_;
+  std::vector<link::proto::ControlRequest> requests_;
+};
+
+TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImage) {
+  std::string error;
+  ASSERT_TRUE(frame(0, &error)) << error;
+  EXPECT_FALSE(view_->hasImage());
+  ASSERT_TRUE(view_->renderEye(0, T_vr_hmd_, eye_, target_->framebuffer(), &error)) << error;
+  auto pixels = target_->readRgba8();
+  EXPECT_EQ(pixels[0], 0);
+  EXPECT_EQ(pixels[2], 255);  // the border colour: blue
+  ASSERT_TRUE(operatorViewEventually([&] {
+    publishFrame();
+    return frame() && view_->hasImage();
+  }));
+  ASSERT_TRUE(view_->renderEye(0, T_vr_hmd_, eye_, target_->framebuffer(), &error)) << error;
+  pixels = target_->readRgba8();
+  std::size_t blue = 0;
+  for (std::size_t i = 0; i < pixels.size(); i += 4) blue += (pixels[i] == 0 && pixels[i + 1] == 0 && pixels[i + 2] == 255);
+  EXPECT_LT(blue, pixels.size() / 4 / 2) << "the camera image fills the view";
+}
+
+TEST_F(OperatorViewTest, HeadTargetsReachTheRobotWithThePredictedDisplayTime) {
+  T_vr_hmd_.translation() << 0.1, 1.6, -0.2;
+  const std::int64_t display = link::linkNowNs() + 22'000'000;
+  ASSERT_TRUE(operatorViewEventually([&] {
+    frame(display);
+    const auto t = server_->latestHeadTarget();
+    return t && t->predicted_display_ns() == display;
+  }));
+  const auto target = server_->latestHeadTarget();
+  EXPECT_TRUE(target->valid());
+  EXPECT_NEAR(link::fromLinkPose(target->t_vr_hmd()).translation().z(), -0.2, 1e-12);
+  EXPECT_GE(view_->stats().head_targets_sent, 1u);
+}
+
+TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsense) {
+  link::proto::RobotState state;
+  state.set_mode("orientation3d");
+  state.set_sphere_radius(3.0);
+  state.set_nominal_set(true);
+  Eigen::Isometry3d T_robot_vr = Eigen::Isometry3d::Identity();
+  T_robot_vr.translation() << 0.5, -0.2, 1.0;
+  link::toLinkPose(T_robot_vr, state.mutable_t_robot_vr());
+  ASSERT_TRUE(operatorViewEventually([&] {
+    server_->publishRobotState(state);
+    frame();
+    return view_->settings().mode == RenderMode::kOrientation3d;
+  }));
+  EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0);
+  EXPECT_TRUE(view_->T_robot_vr().isApprox(T_robot_vr));
+  EXPECT_TRUE(view_->stats().nominal_from_robot);
+  EXPECT_EQ(view_->stats().settings_changes, 1u);
+
+  // Nonsense from the robot changes nothing.
+  for (const double radius : {std::nan(""), -1.0, 0.0, std::numeric_limits<double>::infinity()}) {
+    state.set_mode("warp");
+    state.set_sphere_radius(radius);
+    state.set_t_ns(state.t_ns() + 1);
+    server_->publishRobotState(state);
+    std::this_thread::sleep_for(50ms);
+    frame();
+    EXPECT_EQ(view_->settings().mode, RenderMode::kOrientation3d) << radius;
+    EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0) << radius;
+  }
+}
+
+TEST_F(OperatorViewTest, OperatorRequestsReachTheRobotClampedToItsRange) {
+  view_->requestNextMode();            // full6d → orientation3d
+  view_->requestRadiusScaled(1.25);    // 1 m → 1.25 m
+  view_->requestRadiusScaled(1e9);     // clamped to 1000 m
+  view_->requestRadiusScaled(1e-9);    // clamped to 0.05 m
+  view_->requestCaptureNominal();
+  ASSERT_TRUE(operatorViewEventually([&] { return requests().size() == 5; }));
+  const auto r = requests();
+  EXPECT_EQ(r[0].set_mode(), "orientation3d");
+  EXPECT_DOUBLE_EQ(r[1].set_sphere_radius(), 1.25);
+  EXPECT_DOUBLE_EQ(r[2].set_sphere_radius(), 1000.0);
+  EXPECT_DOUBLE_EQ(r[3].set_sphere_radius(), 0.05);
+  EXPECT_TRUE(r[4].capture_nominal());
+  EXPECT_TRUE(operatorViewEventually([&] { return view_->lastControlResult() == "capture_nominal: ok"; }));
+}
+
+TEST_F(OperatorViewTest, MeasuresSilenceFromTheRobot) {
+  ASSERT_TRUE(operatorViewEventually([&] {
+    publishFrame();
+    return frame() && view_->hasImage();
+  }));
+  EXPECT_LT(view_->secondsWithoutNewFrame(), 0.5);
+  // The robot goes quiet (frames published before the first one showed may still be decoding:
+  // let them arrive and go up first).
+  std::this_thread::sleep_for(200ms);
+  frame();
+  std::this_thread::sleep_for(400ms);
+  frame();
+  EXPECT_GE(view_->secondsWithoutNewFrame(), 0.4);
+  EXPECT_TRUE(view_->hasImage()) << "the last frame stays on screen";
+  ASSERT_TRUE(operatorViewEventually([&] {
+    publishFrame();
+    return frame() && view_->secondsWithoutNewFrame() < 0.1;
+  }));
+}
+
+}  // namespace
+}  // namespace telesphere::xr
