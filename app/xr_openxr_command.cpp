@@ -66,11 +66,6 @@ std::string openXrStates(const xr::SessionStateMachine& machine) {
   return text.empty() ? "(none)" : text;
 }
 
-std::int64_t openXrSteadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 /// Counters over all sessions of one run.
 struct OpenXrRunCounters {
@@ -145,7 +140,7 @@ class OpenXrEyeWork {
     xr::RenderSettings used = settings_;
     if (view_) {
       if (eye.eye == 0) {
-        work_start_ns_ = openXrSteadyNowNs();
+        work_start_ns_ = link::linkNowNs();
         if (!view_->beginFrame(eye.T_vr_hmd, eye.predicted_display_steady_ns, true, &error_)) return false;
       }
       if (!view_->renderEye(eye.eye, eye.T_vr_eye, view, eye.framebuffer, &error_)) return false;
@@ -210,7 +205,7 @@ class OpenXrEyeWork {
   /// After a submitted frame: statistics (robot mode).
   void frameDone(const xr::OpenXrFrameResult& frame, std::uint64_t missed) {
     if (!view_ || !frame.submitted) return;
-    view_->endFrame(frame.predicted_display_steady_ns, double(openXrSteadyNowNs() - work_start_ns_) * 1e-6, missed);
+    view_->endFrame(frame.predicted_display_steady_ns, double(link::linkNowNs() - work_start_ns_) * 1e-6, missed);
   }
 
   const std::string& error() const { return error_; }

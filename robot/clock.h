@@ -3,8 +3,9 @@
 ///        so that tests and benchmarks drive time themselves (SimClock, robot/sim_clock.h).
 #pragma once
 
-#include <chrono>
 #include <cstdint>
+
+#include "robot/link/link_endpoints.h"
 
 namespace telesphere::robot {
 
@@ -15,14 +16,10 @@ class Clock {
   virtual std::int64_t nowNs() const = 0;
 };
 
-/// std::chrono::steady_clock in ns.
+/// The link's steady clock (link::linkNowNs): robot-side stamps and link stamps are one clock.
 class SteadyClock final : public Clock {
  public:
-  std::int64_t nowNs() const override {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
-        .count();
-  }
+  std::int64_t nowNs() const override { return link::linkNowNs(); }
 };
 
 }  // namespace telesphere::robot

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "robot/link/link_endpoints.h"
 #include "shaders/gl_objects.h"
 #include "xr/openxr_check.h"
 #include "xr/openxr_glx_binding.h"
@@ -437,7 +438,7 @@ bool OpenXrSession::frame(const OpenXrRenderEye& render, const OpenXrReadEye& re
   r.predicted_display_steady_ns = steadyNsFromXrTime(frame_state.predictedDisplayTime);
   if (r.predicted_display_steady_ns == 0) {  // no conversion: one display period from now
     r.predicted_display_steady_ns =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count() +
+        link::linkNowNs() +
         frame_state.predictedDisplayPeriod;
   }
   const std::uint64_t frame_index = frame_index_++;

@@ -101,10 +101,7 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
   render_ms_.push_back(render_ms);
   if (const auto& frame = renderer_.frame()) {
     ++stats_.frames_with_image;
-    if (frame->frame.sequence() != last_shown_sequence_) {
-      ++stats_.stereo_frames_shown;
-      last_shown_sequence_ = frame->frame.sequence();
-    }
+    if (uploaded_this_frame_ns_ >= 0) ++stats_.stereo_frames_shown;
     if (uploaded_this_frame_ns_ >= 0)
       upload_ms_.push_back(double(uploaded_this_frame_ns_ - frame_begin_ns_) * 1e-6);
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();

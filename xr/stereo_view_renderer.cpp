@@ -16,7 +16,9 @@ StereoViewRenderer::~StereoViewRenderer() = default;
 
 bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame,
                                   std::string* error) {
-  if (!frame || (frame_ && frame_->frame.sequence() == frame->frame.sequence())) return true;
+  // The same decoded frame object: already up. (Not compared by sequence number: a restarted
+  // robot counts from 1 again.)
+  if (!frame || frame == frame_) return true;
   if (calibration_.cameras.size() != 2) {
     *error = "the calibration needs two cameras for a stereo view";
     return false;

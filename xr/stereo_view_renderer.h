@@ -28,7 +28,7 @@ class StereoViewRenderer {
   StereoViewRenderer(const StereoViewRenderer&) = delete;
   StereoViewRenderer& operator=(const StereoViewRenderer&) = delete;
 
-  /// Uploads `frame` unless it is the one already on the GPU (same sequence); false with the
+  /// Uploads `frame` unless it is the one already on the GPU (the same object); false with the
   /// reason when its size cannot be matched to the calibration or an upload fails.
   bool setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame, std::string* error);
   /// The frame on the GPU (null before the first), and when its upload finished (steady ns).

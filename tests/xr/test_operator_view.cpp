@@ -208,5 +208,26 @@ TEST_F(OperatorViewTest, MeasuresSilenceFromTheRobot) {
   }));
 }
 
+TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {
+  const auto shown_frame = [&] {
+    const bool ok = frame();
+    view_->endFrame(link::linkNowNs(), 1.0, 0);
+    return ok;
+  };
+  sequence_ = 5000;
+  ASSERT_TRUE(operatorViewEventually([&] {
+    publishFrame();
+    return shown_frame() && view_->hasImage();
+  }));
+  ASSERT_GT(view_->frame()->frame.sequence(), 5000u);
+  const auto shown_before = view_->stats().stereo_frames_shown;
+  sequence_ = 0;  // telesphere-robot restarted
+  ASSERT_TRUE(operatorViewEventually([&] {
+    publishFrame();
+    return shown_frame() && view_->frame()->frame.sequence() < 5000u;
+  })) << "frames of the restarted robot must replace the old ones";
+  EXPECT_GT(view_->stats().stereo_frames_shown, shown_before);
+}
+
 }  // namespace
 }  // namespace telesphere::xr
