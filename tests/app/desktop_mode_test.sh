@@ -5,8 +5,8 @@
 #        (simulated) on loopback, and keys and mouse sent through XTest (xdotool). Checks that W
 #        walks the head forward, that a drag with the left button turns it, that N asks the robot
 #        to capture the nominal pose again, that M changes the mode at the robot and the view
-#        follows, that camera frames are shown and the eye images written, and that both programs
-#        exit cleanly. Skips (exit 77) when there is no display or xdotool is missing.
+#        follows, that camera frames are shown and the eye images written, and that Escape ends
+#        the app and both programs exit cleanly. Skips (exit 77) when there is no display or xdotool is missing.
 # Usage: desktop_mode_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -27,7 +27,7 @@ xdotool getmouselocation >/dev/null 2>&1 || fail "cannot talk to the X server at
 "$bin/telesphere-robot" --sim --size 320x180 --fps 15 --port "$port" --duration 120 > "$out/robot.log" 2>&1 &
 robot=$!
 "$bin/telesphere-xr" desktop --calib "$src/calib/data/sim_calibration.yaml" --port "$port" \
-  --eye-size 320x352 --window-size 640x352 --rate 30 --duration 14 --out "$out" > "$out/xr.log" 2>&1 &
+  --eye-size 320x352 --window-size 640x352 --rate 30 --duration 90 --out "$out" > "$out/xr.log" 2>&1 &
 app=$!
 
 # Wait for the window and for the first camera frames ("waiting for the robot" leaves the title).
@@ -46,6 +46,8 @@ sleep 0.3; xdotool mouseup --window "$win" 1                                    
 xdotool key --window "$win" n                                                           # capture nominal
 sleep 1.0
 xdotool key --window "$win" m                                                           # next mode
+sleep 1.5
+xdotool key --window "$win" Escape                                                      # quit
 rc=0; wait "$app" || rc=$?
 app=
 [ "$rc" -eq 0 ] || fail "telesphere-xr desktop exited with $rc"
