@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
 #include "shaders/offscreen_target.h"
 #include "xr/eyes_png.h"
@@ -174,23 +175,16 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
               static_cast<unsigned long long>(s.head_targets_sent), s.nominal_from_robot ? "yes" : "no");
   if (!o.out_dir.empty()) {
     const Eigen::Vector3d p = head.position();
-    nlohmann::json j = {{"frames", frames},
-                        {"fps", seconds > 0 ? double(frames) / seconds : 0.0},
-                        {"render_ms", s.render_ms_p50},
-                        {"render_ms_p99", s.render_ms_p99},
-                        {"missed_frames", missed},
-                        {"stereo_frames_shown", s.stereo_frames_shown},
-                        {"image_age_p50_ms", s.image_age_p50_ms},
-                        {"image_age_p99_ms", s.image_age_p99_ms},
-                        {"head_targets_sent", s.head_targets_sent},
-                        {"nominal_from_robot", s.nominal_from_robot},
-                        {"settings_changes", s.settings_changes},
-                        {"mode", std::string(xr::renderModeName(view.settings().mode))},
-                        {"radius", view.settings().radius},
-                        {"head_position", {p.x(), p.y(), p.z()}},
-                        {"head_yaw", head.yaw()},
-                        {"head_pitch", head.pitch()},
-                        {"last_control", view.lastControlResult()}};
+    nlohmann::json j = operatorStatsJson(s);
+    j.update({{"frames", frames},
+              {"fps", seconds > 0 ? double(frames) / seconds : 0.0},
+              {"missed_frames", missed},
+              {"mode", std::string(xr::renderModeName(view.settings().mode))},
+              {"radius", view.settings().radius},
+              {"head_position", {p.x(), p.y(), p.z()}},
+              {"head_yaw", head.yaw()},
+              {"head_pitch", head.pitch()},
+              {"last_control", view.lastControlResult()}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
     if (code == 0 && !xr::writeEyesPng(o.out_dir + "/eyes_last.png", left, right, &error)) code = fail(3, error);
   }

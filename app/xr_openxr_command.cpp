@@ -18,6 +18,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
@@ -490,15 +491,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
               << "/" << s.image_age_p99_ms << " ms; head-pose → display " << s.pose_to_display_ms_p50
               << " ms; head targets sent " << s.head_targets_sent << "; nominal from the robot "
               << (s.nominal_from_robot ? "yes" : "no") << "; settings changes " << s.settings_changes << std::endl;
-    j["render_ms"] = s.render_ms_p50;
-    j["render_ms_p99"] = s.render_ms_p99;
-    j["image_age_p50_ms"] = s.image_age_p50_ms;
-    j["image_age_p99_ms"] = s.image_age_p99_ms;
-    j["pose_to_display_ms"] = s.pose_to_display_ms_p50;
-    j["stereo_frames_shown"] = s.stereo_frames_shown;
-    j["head_targets_sent"] = s.head_targets_sent;
-    j["nominal_from_robot"] = s.nominal_from_robot;
-    j["settings_changes"] = s.settings_changes;
+    j.update(operatorStatsJson(s));
   }
   if (!o.out_dir.empty()) {
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';

@@ -42,10 +42,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   target.set_valid(valid);
   client_.sendHeadTarget(target);
   ++stats_.head_targets_sent;
-  if (valid) {
-    T_vr_hmd_ = T_vr_hmd;
-    pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
-  }
+  if (valid) pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
 
   // The robot's state: nominal mapping, and (when followed) mode and radius.
   const auto state = client_.latestRobotState();

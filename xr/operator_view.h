@@ -114,7 +114,6 @@ class OperatorView {
   OperatorViewOptions options_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
-  Eigen::Isometry3d T_vr_hmd_ = Eigen::Isometry3d::Identity();
   std::int64_t uploaded_this_frame_ns_ = -1;  ///< upload time when this frame uploaded a new image
   std::int64_t frame_begin_ns_ = 0;
   std::int64_t last_new_frame_ns_ = 0;  ///< set at construction, then at every new frame

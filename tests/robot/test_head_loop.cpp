@@ -7,6 +7,7 @@
 
 #include <thread>
 
+#include "tests/eventually.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
 #include "robot/link/link_client.h"
@@ -17,15 +18,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds limit = 5000ms) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(1ms);
-  }
-  return condition();
-}
+using ::telesphere::test::eventually;
 
 link::proto::HeadTarget target(std::int64_t t_ns, const Eigen::Vector3d& position) {
   link::proto::HeadTarget t;

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "tests/eventually.h"
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
@@ -29,16 +30,6 @@ link::LinkEndpoints operatorViewEndpoints() {
   link::LinkEndpoints e;
   e.base_port = 27380;
   return e;
-}
-
-template <typename F>
-bool operatorViewEventually(F condition, std::chrono::milliseconds limit = 10000ms) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(2ms);
-  }
-  return condition();
 }
 
 class OperatorViewTest : public ::testing::Test {
@@ -116,7 +107,7 @@ TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImag
   auto pixels = target_->readRgba8();
   EXPECT_EQ(pixels[0], 0);
   EXPECT_EQ(pixels[2], 255);  // the border colour: blue
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return frame() && view_->hasImage();
   }));
@@ -130,7 +121,7 @@ TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImag
 TEST_F(OperatorViewTest, HeadTargetsReachTheRobotWithThePredictedDisplayTime) {
   T_vr_hmd_.translation() << 0.1, 1.6, -0.2;
   const std::int64_t display = link::linkNowNs() + 22'000'000;
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     frame(display);
     const auto t = server_->latestHeadTarget();
     return t && t->predicted_display_ns() == display;
@@ -149,7 +140,7 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
   Eigen::Isometry3d T_robot_vr = Eigen::Isometry3d::Identity();
   T_robot_vr.translation() << 0.5, -0.2, 1.0;
   link::toLinkPose(T_robot_vr, state.mutable_t_robot_vr());
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     server_->publishRobotState(state);
     frame();
     return view_->settings().mode == RenderMode::kOrientation3d;
@@ -178,18 +169,18 @@ TEST_F(OperatorViewTest, OperatorRequestsReachTheRobotClampedToItsRange) {
   view_->requestRadiusScaled(1e9);     // clamped to 1000 m
   view_->requestRadiusScaled(1e-9);    // clamped to 0.05 m
   view_->requestCaptureNominal();
-  ASSERT_TRUE(operatorViewEventually([&] { return requests().size() == 5; }));
+  ASSERT_TRUE(::telesphere::test::eventually([&] { return requests().size() == 5; }));
   const auto r = requests();
   EXPECT_EQ(r[0].set_mode(), "orientation3d");
   EXPECT_DOUBLE_EQ(r[1].set_sphere_radius(), 1.25);
   EXPECT_DOUBLE_EQ(r[2].set_sphere_radius(), 1000.0);
   EXPECT_DOUBLE_EQ(r[3].set_sphere_radius(), 0.05);
   EXPECT_TRUE(r[4].capture_nominal());
-  EXPECT_TRUE(operatorViewEventually([&] { return view_->lastControlResult() == "capture_nominal: ok"; }));
+  EXPECT_TRUE(::telesphere::test::eventually([&] { return view_->lastControlResult() == "capture_nominal: ok"; }));
 }
 
 TEST_F(OperatorViewTest, MeasuresSilenceFromTheRobot) {
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return frame() && view_->hasImage();
   }));
@@ -202,7 +193,7 @@ TEST_F(OperatorViewTest, MeasuresSilenceFromTheRobot) {
   frame();
   EXPECT_GE(view_->secondsWithoutNewFrame(), 0.4);
   EXPECT_TRUE(view_->hasImage()) << "the last frame stays on screen";
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return frame() && view_->secondsWithoutNewFrame() < 0.1;
   }));
@@ -215,14 +206,14 @@ TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {
     return ok;
   };
   sequence_ = 5000;
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return shown_frame() && view_->hasImage();
   }));
   ASSERT_GT(view_->frame()->frame.sequence(), 5000u);
   const auto shown_before = view_->stats().stereo_frames_shown;
   sequence_ = 0;  // telesphere-robot restarted
-  ASSERT_TRUE(operatorViewEventually([&] {
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return shown_frame() && view_->frame()->frame.sequence() < 5000u;
   })) << "frames of the restarted robot must replace the old ones";

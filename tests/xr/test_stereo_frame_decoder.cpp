@@ -8,6 +8,7 @@
 
 #include <thread>
 
+#include "tests/eventually.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_server.h"
 #include "tests/xr/jpeg_test_images.h"
@@ -25,16 +26,7 @@ link::LinkEndpoints stereoEndpoints(int n) {
   return e;
 }
 
-/// Polls `condition` every millisecond for up to `limit`; true when it came true.
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds limit = 10000ms) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(1ms);
-  }
-  return condition();
-}
+using ::telesphere::test::eventually;
 
 using Bytes = std::shared_ptr<const std::vector<std::uint8_t>>;
 

@@ -7,6 +7,7 @@
 #include <thread>
 #include <zmq.hpp>
 
+#include "tests/eventually.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_server.h"
 
@@ -21,16 +22,7 @@ LinkEndpoints endpoints(int n) {
   return e;
 }
 
-/// Polls `condition` every millisecond for up to `limit`; true when it came true.
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds limit = 5000ms) {
-  const auto end = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < end) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(1ms);
-  }
-  return condition();
-}
+using ::telesphere::test::eventually;
 
 SharedBytes bytes(std::size_t n, std::uint8_t seed) {
   auto v = std::make_shared<std::vector<std::uint8_t>>(n);

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator view's figures as the JSON keys every `telesphere-xr` mode writes to its
+///        stats.json (the keys `telesphere-bench xr --json` also uses).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "xr/operator_view.h"
+
+namespace telesphere::app {
+
+inline nlohmann::json operatorStatsJson(const xr::OperatorViewStats& s) {
+  return {{"render_ms", s.render_ms_p50},
+          {"render_ms_p99", s.render_ms_p99},
+          {"image_age_p50_ms", s.image_age_p50_ms},
+          {"image_age_p99_ms", s.image_age_p99_ms},
+          {"pose_to_display_ms", s.pose_to_display_ms_p50},
+          {"stereo_frames_shown", s.stereo_frames_shown},
+          {"head_targets_sent", s.head_targets_sent},
+          {"nominal_from_robot", s.nominal_from_robot},
+          {"settings_changes", s.settings_changes}};
+}
+
+}  // namespace telesphere::app
