@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief Test JPEGs made with TurboJPEG directly (tjCompress2): a seeded, textured RGB image
 ///        (gradients, stripes, a disc, noise) so that decoding errors show, and header surgery
-///        that makes a JPEG claim another size.
+///        that makes a JPEG claim another size; the reference decode the decoder tests compare with.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,7 +10,10 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
+
+#include "xr/jpeg_decoder.h"
 
 namespace telesphere::xr::test {
 
@@ -65,6 +68,16 @@ inline std::vector<std::uint8_t> withHeaderSize(std::vector<std::uint8_t> jpeg, 
   }
   ADD_FAILURE() << "no SOF0 marker";
   return jpeg;
+}
+
+/// `jpeg` decoded by a lone JpegDecoder (no size limit below 8192 px): what the pooled and
+/// linked decoders must reproduce exactly.
+inline YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
+  JpegDecoder decoder;
+  YuvPlanes planes;
+  std::string error;
+  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  return planes;
 }
 
 }  // namespace telesphere::xr::test

@@ -11,13 +11,7 @@
 namespace telesphere::xr {
 namespace {
 
-YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
-  JpegDecoder decoder;
-  YuvPlanes planes;
-  std::string error;
-  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
-  return planes;
-}
+using test::referenceDecode;
 
 void expectSamePlanes(const YuvPlanes& a, const YuvPlanes& b) {
   EXPECT_EQ(a.width, b.width);

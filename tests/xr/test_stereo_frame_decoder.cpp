@@ -46,13 +46,7 @@ link::proto::StereoFrame message(std::uint64_t sequence, int w, int h) {
   return f;
 }
 
-YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
-  JpegDecoder decoder;
-  YuvPlanes planes;
-  std::string error;
-  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
-  return planes;
-}
+using test::referenceDecode;
 
 bool samePlanes(const YuvPlanes& a, const YuvPlanes& b) {
   return a.width == b.width && a.height == b.height && a.y == b.y && a.u == b.u && a.v == b.v;
