@@ -10,6 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
 #include "xr/offscreen_operator.h"
 
@@ -77,28 +78,20 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   const auto stats = xr::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 
+  const xr::OperatorViewStats& v = stats->view;
   std::printf("| figure | value |\n|---|---:|\n");
   std::printf("| display frames | %llu |\n| fps | %.1f |\n| render ms p50 / p99 (both eyes) | %.1f / %.1f |\n",
-              static_cast<unsigned long long>(stats->frames), stats->fps, stats->render_ms_p50, stats->render_ms_p99);
+              static_cast<unsigned long long>(v.frames), stats->fps, v.render_ms_p50, v.render_ms_p99);
   std::printf("| missed frames at %.0f Hz | %llu |\n| camera frames shown | %llu |\n", o.rate_hz,
               static_cast<unsigned long long>(stats->missed_frames),
-              static_cast<unsigned long long>(stats->stereo_frames_shown));
-  std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", stats->image_age_p50_ms,
-              stats->image_age_p99_ms);
+              static_cast<unsigned long long>(v.stereo_frames_shown));
+  std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", v.image_age_p50_ms,
+              v.image_age_p99_ms);
   std::printf("| head targets sent | %llu |\n| nominal pose from the robot | %s |\n",
-              static_cast<unsigned long long>(stats->head_targets_sent), stats->nominal_from_robot ? "yes" : "no");
+              static_cast<unsigned long long>(v.head_targets_sent), v.nominal_from_robot ? "yes" : "no");
   if (!o.out_dir.empty()) {
-    nlohmann::json j = {{"frames", stats->frames},
-                        {"fps", stats->fps},
-                        {"render_ms", stats->render_ms_p50},
-                        {"render_ms_p99", stats->render_ms_p99},
-                        {"missed_frames", stats->missed_frames},
-                        {"stereo_frames_shown", stats->stereo_frames_shown},
-                        {"image_age_p50_ms", stats->image_age_p50_ms},
-                        {"image_age_p99_ms", stats->image_age_p99_ms},
-                        {"head_targets_sent", stats->head_targets_sent},
-                        {"nominal_from_robot", stats->nominal_from_robot},
-                        {"settings_changes", stats->settings_changes}};
+    nlohmann::json j = operatorStatsJson(v);
+    j.update({{"frames", v.frames}, {"fps", stats->fps}, {"missed_frames", stats->missed_frames}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
   }
   return 0;

@@ -62,6 +62,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   }
 
   OffscreenOperatorStats stats;
+  std::uint64_t frames = 0;
   Eigen::Isometry3d T_hmd_eye[2];
   for (int eye = 0; eye < 2; ++eye) {
     T_hmd_eye[eye] = Eigen::Isometry3d::Identity();
@@ -87,14 +88,14 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     }
     glFinish();
     const auto work_end = Clock::now();
-    ++stats.frames;
+    ++frames;
     operator_view.endFrame(to_ns(std::max(display, work_end)),
                            std::chrono::duration<double, std::milli>(work_end - work_start).count(),
                            stats.missed_frames);
     if (options.png_every_frames > 0 && !options.png_dir.empty() &&
-        stats.frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
+        frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
       char name[64];
-      std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(stats.frames));
+      std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(frames));
       if (!writeEyesPng(options.png_dir + name, left_target, right_target, error)) return std::nullopt;
     }
 
@@ -108,19 +109,8 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     std::this_thread::sleep_until(frame_start);
   }
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  stats.fps = seconds > 0 ? double(stats.frames) / seconds : 0.0;
-  const OperatorViewStats view_stats = operator_view.stats();
-  stats.frames_with_image = view_stats.frames_with_image;
-  stats.stereo_frames_shown = view_stats.stereo_frames_shown;
-  stats.render_ms_p50 = view_stats.render_ms_p50;
-  stats.render_ms_p99 = view_stats.render_ms_p99;
-  stats.image_age_p50_ms = view_stats.image_age_p50_ms;
-  stats.image_age_p99_ms = view_stats.image_age_p99_ms;
-  stats.upload_ms_p50 = view_stats.upload_ms_p50;
-  stats.head_targets_sent = view_stats.head_targets_sent;
-  stats.nominal_from_robot = view_stats.nominal_from_robot;
-  stats.settings_changes = view_stats.settings_changes;
-  stats.pose_to_display_ms = std::chrono::duration<double, std::milli>(period).count();
+  stats.fps = seconds > 0 ? double(frames) / seconds : 0.0;
+  stats.view = operator_view.stats();
   if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", left_target, right_target, error))
     return std::nullopt;
   return stats;

@@ -15,6 +15,7 @@
 #include "robot/link/link_endpoints.h"
 #include "xr/eye_view.h"
 #include "xr/head_trajectory.h"
+#include "xr/operator_view.h"
 
 namespace telesphere::xr {
 
@@ -33,19 +34,12 @@ struct OffscreenOperatorOptions {
   std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
 };
 
+/// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's
+/// own pacing figures.
 struct OffscreenOperatorStats {
-  std::uint64_t frames = 0;          ///< display frames rendered
-  std::uint64_t missed_frames = 0;   ///< frames whose work overran the display period
-  std::uint64_t frames_with_image = 0;
-  std::uint64_t stereo_frames_shown = 0;  ///< distinct camera frames displayed
+  OperatorViewStats view;
+  std::uint64_t missed_frames = 0;  ///< display periods missed because the work overran
   double fps = 0;
-  double render_ms_p50 = 0, render_ms_p99 = 0;       ///< both eyes, incl. upload, to glFinish
-  double image_age_p50_ms = 0, image_age_p99_ms = 0;  ///< capture → display
-  double pose_to_display_ms = 0;  ///< head-pose sample → display (the pacing's lead)
-  double upload_ms_p50 = 0;
-  std::uint64_t head_targets_sent = 0;
-  bool nominal_from_robot = false;  ///< T_robot_vr came from the robot (else the fallback)
-  std::uint64_t settings_changes = 0;  ///< mode/radius changes followed from the robot
 };
 
 /// Runs the loop; nothing, with the reason in *error, when GL, the calibration or the link do

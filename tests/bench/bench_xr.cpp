@@ -15,6 +15,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/operator_stats_json.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/prerendered_frames.h"
@@ -116,19 +117,16 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
       json["error"] = error;
       continue;
     }
+    const xr::OperatorViewStats& v = stats->view;
     table.addRow({std::string(xr::renderPathName(c.path)), std::to_string(c.eye_width) + "x" + std::to_string(c.eye_height),
-                  formatNumber(stats->fps), formatNumber(stats->render_ms_p50), formatNumber(stats->render_ms_p99),
-                  std::to_string(stats->missed_frames), std::to_string(stats->stereo_frames_shown),
-                  formatNumber(stats->image_age_p50_ms), formatNumber(stats->image_age_p99_ms)});
+                  formatNumber(stats->fps), formatNumber(v.render_ms_p50), formatNumber(v.render_ms_p99),
+                  std::to_string(stats->missed_frames), std::to_string(v.stereo_frames_shown),
+                  formatNumber(v.image_age_p50_ms), formatNumber(v.image_age_p99_ms)});
     if (&c == &cases.front()) {
+      json.update(app::operatorStatsJson(v));
       json["fps"] = stats->fps;
-      json["render_ms"] = stats->render_ms_p50;
-      json["render_ms_p99"] = stats->render_ms_p99;
       json["missed_frames"] = stats->missed_frames;
-      json["image_age_p50_ms"] = stats->image_age_p50_ms;
-      json["image_age_p99_ms"] = stats->image_age_p99_ms;
-      json["pose_to_display_ms"] = stats->pose_to_display_ms;
-      json["upload_ms"] = stats->upload_ms_p50;
+      json["upload_ms"] = v.upload_ms_p50;
     }
   }
   ctx.out << "\nOffscreen operator loop, 2×4K JPEG input at 45 Hz on loopback, paced at 90 Hz, "
