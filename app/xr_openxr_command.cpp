@@ -22,6 +22,7 @@
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
+#include "shaders/framebuffer_readback.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 #include "xr/desktop_window.h"
@@ -40,22 +41,6 @@ extern "C" void onOpenXrInterrupt(int) { g_openxr_interrupted = 1; }
 int openXrFail(int code, const std::string& message) {
   std::cerr << "telesphere-xr openxr: " << message << "\n";
   return code;
-}
-
-/// Reads the framebuffer's colour attachment 0 as RGBA8 rows top first.
-std::vector<std::uint8_t> openXrReadRgba(GLuint framebuffer, int width, int height) {
-  std::vector<std::uint8_t> bottom_up(std::size_t(width) * std::size_t(height) * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  std::vector<std::uint8_t> top_down(bottom_up.size());
-  const std::size_t row = std::size_t(width) * 4;
-  for (int y = 0; y < height; ++y)
-    std::copy_n(bottom_up.begin() + std::ptrdiff_t(std::size_t(height - 1 - y) * row), row,
-                top_down.begin() + std::ptrdiff_t(std::size_t(y) * row));
-  return top_down;
 }
 
 std::string openXrStates(const xr::SessionStateMachine& machine) {
@@ -197,7 +182,7 @@ class OpenXrEyeWork {
     char png[64];
     std::snprintf(png, sizeof png, "/s%d_frame%05llu_eye%d.png", session_,
                   static_cast<unsigned long long>(eye.frame_index), eye.eye);
-    const auto pixels = openXrReadRgba(eye.framebuffer, eye.width, eye.height);
+    const auto pixels = gl::readFramebufferRgba8(eye.framebuffer, GL_COLOR_ATTACHMENT0, eye.width, eye.height);
     std::string write_error;
     if (!gl::writePng(o_.readback_dir + png, eye.width, eye.height, 4, pixels.data(), &write_error))
       std::cerr << "telesphere-xr openxr: " << write_error << "\n";

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "shaders/egl_context.h"
+#include "shaders/framebuffer_readback.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -312,29 +313,7 @@ bool DesktopWindow::compose(GLuint left_framebuffer, GLuint right_framebuffer, i
 void DesktopWindow::swapBuffers() { glfwSwapBuffers(window_); }
 
 std::vector<std::uint8_t> DesktopWindow::readBackBufferRgba() const {
-  const int width = framebufferWidth(), height = framebufferHeight();
-  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(std::max(width, 0)) *
-                                   static_cast<std::size_t>(std::max(height, 0)) * 4);
-  if (pixels.empty()) return pixels;
-  GLint read_binding = 0, pack_buffer = 0, pack_alignment = 4;
-  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_binding);
-  glGetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &pack_buffer);
-  glGetIntegerv(GL_PACK_ALIGNMENT, &pack_alignment);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glNamedFramebufferReadBuffer(0, GL_BACK);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
-  glPixelStorei(GL_PACK_ALIGNMENT, pack_alignment);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(pack_buffer));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(read_binding));
-  // GL rows are bottom first; flip to image order.
-  const std::size_t row = static_cast<std::size_t>(width) * 4;
-  for (int y = 0; y < height / 2; ++y)
-    std::swap_ranges(pixels.begin() + static_cast<std::ptrdiff_t>(y * row),
-                     pixels.begin() + static_cast<std::ptrdiff_t>((y + 1) * row),
-                     pixels.begin() + static_cast<std::ptrdiff_t>((height - 1 - y) * row));
-  return pixels;
+  return gl::readFramebufferRgba8(0, GL_BACK, framebufferWidth(), framebufferHeight());
 }
 
 int DesktopWindow::framebufferWidth() const {
