@@ -98,9 +98,10 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
   render_ms_.push_back(render_ms);
   if (const auto& frame = renderer_.frame()) {
     ++stats_.frames_with_image;
-    if (uploaded_this_frame_ns_ >= 0) ++stats_.stereo_frames_shown;
-    if (uploaded_this_frame_ns_ >= 0)
+    if (uploaded_this_frame_ns_ >= 0) {
+      ++stats_.stereo_frames_shown;
       upload_ms_.push_back(double(uploaded_this_frame_ns_ - frame_begin_ns_) * 1e-6);
+    }
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
     const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
     age_ms_.push_back(double(shown_ns - capture) * 1e-6);
