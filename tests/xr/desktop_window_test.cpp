@@ -487,11 +487,15 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
     dy += input.mouse_dy_px;
     if (look != nullptr) *look = input.look;
   };
-  for (int i = 0; i < 20; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    window->pollEvents();
-    accumulate();
-  }
+  // 100 ms of events with nothing expected to move the head.
+  const auto pumpIdle = [&] {
+    for (int i = 0; i < 20; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      window->pollEvents();
+      accumulate();
+    }
+  };
+  pumpIdle();
   EXPECT_EQ(dx, 0.0);
   EXPECT_EQ(dy, 0.0);
   XTestFakeButtonEvent(x_display_, 1, True, 0);
@@ -514,11 +518,7 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
   dx = dy = 0;
   XTestFakeMotionEvent(x_display_, -1, cx + 60, cy + 60, 0);
   XFlush(x_display_);
-  for (int i = 0; i < 20; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    window->pollEvents();
-    accumulate();
-  }
+  pumpIdle();
   EXPECT_EQ(dx, 0.0);
   EXPECT_EQ(dy, 0.0);
 
