@@ -24,6 +24,11 @@ std::optional<ClockSync::Estimate> ClockSync::estimate() const {
   });
 }
 
+void ClockSync::reset() {
+  std::lock_guard lock(mutex_);
+  samples_.clear();
+}
+
 std::optional<std::int64_t> ClockSync::serverToClient(std::int64_t server_ns) const {
   const auto e = estimate();
   if (!e) return std::nullopt;

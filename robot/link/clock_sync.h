@@ -28,6 +28,8 @@ class ClockSync {
   /// Adds one ping exchange; ignores samples whose receive precedes their send.
   void addSample(std::int64_t client_send_ns, std::int64_t server_ns, std::int64_t client_receive_ns);
   std::optional<Estimate> estimate() const;
+  /// Forgets every sample (the server restarted: its clock may be another machine's).
+  void reset();
   /// Server time converted to the client clock (nothing before the first sample).
   std::optional<std::int64_t> serverToClient(std::int64_t server_ns) const;
 

@@ -14,15 +14,14 @@
 namespace telesphere::link {
 namespace {
 
-zmq::socket_t connectSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint) {
+zmq::socket_t connectSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint,
+                            int receive_hwm = 1000) {
   zmq::socket_t socket(context, type);
+  socket.set(zmq::sockopt::rcvhwm, receive_hwm);
   socket.set(zmq::sockopt::linger, 0);
   socket.set(zmq::sockopt::reconnect_ivl, 100);
   socket.set(zmq::sockopt::reconnect_ivl_max, 1000);
-  if (type == zmq::socket_type::sub) {
-    socket.set(zmq::sockopt::subscribe, "");
-    socket.set(zmq::sockopt::rcvhwm, 8);
-  }
+  if (type == zmq::socket_type::sub) socket.set(zmq::sockopt::subscribe, "");
   if (type == zmq::socket_type::push) socket.set(zmq::sockopt::sndhwm, 8);
   socket.connect(endpoint);
   return socket;
@@ -36,10 +35,14 @@ zmq::message_t serialise(proto::Envelope& envelope) {
   return message;
 }
 
-/// The three parts of a frame message, kept alive together.
+/// The three parts of a frame or preview message, kept alive together.
 struct FrameParts {
   zmq::message_t envelope, left, right;
 };
+
+/// Frames: a short receive queue (latest wins anyway). State: long, for lossless telemetry.
+constexpr int kFramesReceiveHwm = 8;
+constexpr int kStateReceiveHwm = 20000;
 
 }  // namespace
 
@@ -57,6 +60,10 @@ struct LinkClient::Impl {
   std::optional<ReceivedFrame> newest;
   std::optional<proto::RobotState> robot_state;
   std::optional<proto::XrStats> xr_stats;
+  std::optional<proto::RobotHealth> robot_health;
+  std::deque<proto::Envelope> telemetry;
+  std::optional<ReceivedPreview> preview;
+  LinkActivity activity;
   std::deque<proto::Envelope> outbox;  // control requests for the receive thread to send
   std::map<std::uint64_t, proto::ControlReply> replies;
   std::uint64_t next_id = 1;
@@ -66,10 +73,13 @@ struct LinkClient::Impl {
 
   Impl(const LinkEndpoints& e, Options o)
       : options(o),
-        state(connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kState))),
+        state(connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kState),
+                            kStateReceiveHwm)),
         uplink(connectSocket(context, zmq::socket_type::push, e.connect(LinkEndpoints::kUplink))),
         control(connectSocket(context, zmq::socket_type::dealer, e.connect(LinkEndpoints::kControl))) {
-    if (options.frames) frames = connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kFrames));
+    if (options.frames)
+      frames = connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kFrames),
+                             kFramesReceiveHwm);
     receiver = std::thread([this] { receive(); });
   }
 
@@ -127,12 +137,8 @@ struct LinkClient::Impl {
         stats.countDrop(DropReason::kBadPartCount, "frames");
         continue;
       }
-      DropReason why{};
-      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
-      if (!envelope) {
-        stats.countDrop(why, "frames");
-        continue;
-      }
+      auto envelope = stats.parse(parts[0].data(), parts[0].size(), "frames");
+      if (!envelope) continue;
       if (!envelope->has_stereo_frame()) {
         stats.countDrop(DropReason::kUnexpectedBody, "frames");
         continue;
@@ -162,26 +168,71 @@ struct LinkClient::Impl {
   void drainState() {
     std::vector<zmq::message_t> parts;
     while (receiveAll(state, parts)) {
-      if (parts.size() != 1) {
+      const std::int64_t now = linkNowNs();
+      if (parts.size() != 1 && parts.size() != 3) {
         stats.countDrop(DropReason::kBadPartCount, "state");
         continue;
       }
-      DropReason why{};
-      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
-      if (!envelope) {
-        stats.countDrop(why, "state");
+      auto envelope = stats.parse(parts[0].data(), parts[0].size(), "state");
+      if (!envelope) continue;
+      if (envelope->has_preview_frame() != (parts.size() == 3)) {  // only previews carry images
+        stats.countDrop(DropReason::kBadPartCount, "state");
+        continue;
+      }
+      if (envelope->has_preview_frame()) {
+        takePreview(std::move(*envelope), parts, now);
         continue;
       }
       stats.countReceived();
       std::lock_guard lock(mutex);
-      if (envelope->has_robot_state()) {
-        robot_state = envelope->robot_state();
-      } else if (envelope->has_xr_stats()) {
-        xr_stats = envelope->xr_stats();
-      } else {
-        stats.countDrop(DropReason::kUnexpectedBody, "state");
+      switch (envelope->body_case()) {
+        case proto::Envelope::kRobotState:
+          robot_state = std::move(*envelope->mutable_robot_state());
+          activity.robot_state_ns = now;
+          break;
+        case proto::Envelope::kRobotHealth:
+          robot_health = std::move(*envelope->mutable_robot_health());
+          activity.robot_state_ns = now;
+          break;
+        case proto::Envelope::kXrStats:
+          xr_stats = std::move(*envelope->mutable_xr_stats());
+          activity.xr_ns = now;
+          break;
+        case proto::Envelope::kRobotTelemetry:
+        case proto::Envelope::kXrTelemetry:
+          (envelope->has_robot_telemetry() ? activity.robot_state_ns : activity.xr_ns) = now;
+          if (!options.telemetry) break;
+          if (telemetry.size() >= options.telemetry_queue) {
+            telemetry.pop_front();
+            ++activity.telemetry_overflow;
+          }
+          telemetry.push_back(std::move(*envelope));
+          break;
+        default:
+          stats.countDrop(DropReason::kUnexpectedBody, "state");
       }
     }
+  }
+
+  void takePreview(proto::Envelope envelope, std::vector<zmq::message_t>& parts, std::int64_t now) {
+    const proto::PreviewFrame& p = envelope.preview_frame();
+    if (p.width() == 0 || p.height() == 0 || p.width() > kMaxImageSide || p.height() > kMaxImageSide ||
+        p.left_jpeg_bytes() != parts[1].size() || p.right_jpeg_bytes() != parts[2].size()) {
+      stats.countDrop(DropReason::kBadImageSize, "preview");
+      return;
+    }
+    stats.countReceived();
+    if (!options.previews) return;
+    auto storage = std::make_shared<FrameParts>(
+        FrameParts{std::move(parts[0]), std::move(parts[1]), std::move(parts[2])});
+    ReceivedPreview out;
+    out.preview = std::move(*envelope.mutable_preview_frame());
+    out.left_jpeg = {static_cast<const std::uint8_t*>(storage->left.data()), storage->left.size()};
+    out.right_jpeg = {static_cast<const std::uint8_t*>(storage->right.data()), storage->right.size()};
+    out.storage = std::move(storage);
+    std::lock_guard lock(mutex);
+    preview = std::move(out);
+    activity.robot_state_ns = now;
   }
 
   void drainControl() {
@@ -192,14 +243,11 @@ struct LinkClient::Impl {
         stats.countDrop(DropReason::kBadPartCount, "control");
         continue;
       }
-      DropReason why{};
-      auto envelope = parseEnvelope(parts[0].data(), parts[0].size(), &why);
-      if (!envelope) {
-        stats.countDrop(why, "control");
-        continue;
-      }
+      auto envelope = stats.parse(parts[0].data(), parts[0].size(), "control");
+      if (!envelope) continue;
       stats.countReceived();
       if (envelope->has_pong()) {
+        notePong(envelope->pong(), now);
         clock.addSample(envelope->pong().client_send_ns(), envelope->pong().server_ns(), now);
       } else if (envelope->has_control_reply()) {
         {
@@ -211,6 +259,19 @@ struct LinkClient::Impl {
         stats.countDrop(DropReason::kUnexpectedBody, "control");
       }
     }
+  }
+
+  /// A new server instance restarted its clock (maybe on another machine): start the offset
+  /// estimate afresh, so no sample of the old process mixes with the new one's.
+  void notePong(const proto::Pong& pong, std::int64_t now) {
+    std::lock_guard lock(mutex);
+    activity.robot_pong_ns = now;
+    if (pong.server_instance() == activity.robot_instance) return;
+    if (activity.robot_instance != 0) {
+      ++activity.robot_restarts;
+      clock.reset();
+    }
+    activity.robot_instance = pong.server_instance();
   }
 
   void sendUp(proto::Envelope envelope) {
@@ -274,6 +335,37 @@ std::optional<proto::ControlReply> LinkClient::request(proto::ControlRequest req
   proto::ControlReply reply = std::move(impl_->replies[id]);
   impl_->replies.erase(id);
   return reply;
+}
+
+std::optional<proto::RobotHealth> LinkClient::latestRobotHealth() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->robot_health;
+}
+
+std::vector<proto::Envelope> LinkClient::takeTelemetry() {
+  std::lock_guard lock(impl_->mutex);
+  std::vector<proto::Envelope> out(std::make_move_iterator(impl_->telemetry.begin()),
+                                   std::make_move_iterator(impl_->telemetry.end()));
+  impl_->telemetry.clear();
+  return out;
+}
+
+std::optional<ReceivedPreview> LinkClient::takeLatestPreview() {
+  std::lock_guard lock(impl_->mutex);
+  std::optional<ReceivedPreview> out = std::move(impl_->preview);
+  impl_->preview.reset();
+  return out;
+}
+
+LinkActivity LinkClient::activity() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->activity;
+}
+
+void LinkClient::sendXrTelemetry(const proto::XrTelemetry& telemetry) {
+  proto::Envelope envelope;
+  *envelope.mutable_xr_telemetry() = telemetry;
+  impl_->sendUp(std::move(envelope));
 }
 
 const ClockSync& LinkClient::clock() const { return impl_->clock; }

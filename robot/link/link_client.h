@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @brief A client's end of the link (telesphere-xr, telesphere-console): stereo frames with
 ///        latest-frame-wins (a slow consumer drops old frames, never queues them), robot state,
-///        XR stats, head targets and stats up, control requests, and the ping exchange that
-///        keeps the clock offset to the robot.
+///        health and XR stats (latest wins), telemetry (lossless: every batch queued until taken),
+///        preview frames (latest wins), head targets, XR stats and XR telemetry up, control
+///        requests, and the ping exchange that keeps the clock offset to the robot (reset when
+///        the robot restarts, which the pong's server instance tells).
 #pragma once
 
 #include <chrono>
@@ -10,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "robot/link/clock_sync.h"
 #include "robot/link/link_endpoints.h"
@@ -26,10 +29,32 @@ struct ReceivedFrame {
   std::shared_ptr<const void> storage;
 };
 
+/// A received preview frame (small JPEGs of both cameras); spans valid while `storage` lives.
+struct ReceivedPreview {
+  proto::PreviewFrame preview;
+  std::span<const std::uint8_t> left_jpeg;
+  std::span<const std::uint8_t> right_jpeg;
+  std::shared_ptr<const void> storage;
+};
+
+/// When the client last heard each peer (client clock, steady ns; 0: never), and the robot's
+/// process identity as its pongs give it.
+struct LinkActivity {
+  std::int64_t robot_pong_ns = 0;   ///< last pong: the robot's link is up
+  std::int64_t robot_state_ns = 0;  ///< last robot state, health or telemetry
+  std::int64_t xr_ns = 0;           ///< last XR stats or telemetry relayed by the robot
+  std::uint64_t robot_instance = 0;  ///< 0 before the first pong
+  std::uint64_t robot_restarts = 0;  ///< instance changes seen (clock estimate reset each time)
+  std::uint64_t telemetry_overflow = 0;  ///< telemetry batches dropped: the queue was full
+};
+
 class LinkClient {
  public:
   struct Options {
     bool frames = true;  ///< subscribe to stereo frames (the console may not)
+    bool telemetry = false;  ///< queue telemetry batches for takeTelemetry() (the console)
+    bool previews = false;   ///< keep preview frames for takeLatestPreview() (the console)
+    std::size_t telemetry_queue = 20000;  ///< batches kept untaken; beyond, the oldest go
     std::chrono::milliseconds ping_period{200};
   };
 
@@ -46,10 +71,19 @@ class LinkClient {
 
   std::optional<proto::RobotState> latestRobotState() const;
   std::optional<proto::XrStats> latestXrStats() const;
+  std::optional<proto::RobotHealth> latestRobotHealth() const;
+  /// Every telemetry envelope (robot_telemetry, xr_telemetry) received since the last call, in
+  /// arrival order (Options::telemetry; empty otherwise).
+  std::vector<proto::Envelope> takeTelemetry();
+  /// The newest preview not taken yet (Options::previews).
+  std::optional<ReceivedPreview> takeLatestPreview();
+  LinkActivity activity() const;
 
   /// Sends the head target up (the robot keeps only the newest). Never blocks.
   void sendHeadTarget(const proto::HeadTarget& target);
   void sendXrStats(const proto::XrStats& stats);
+  /// Sends a telemetry batch up; the robot republishes it for the console. Never blocks.
+  void sendXrTelemetry(const proto::XrTelemetry& telemetry);
 
   /// Sends a control request and waits for its reply; nothing on timeout (robot not there).
   std::optional<proto::ControlReply> request(proto::ControlRequest request,

@@ -19,7 +19,8 @@ std::string_view dropReasonName(DropReason reason) {
   return "unknown";
 }
 
-std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why) {
+std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why,
+                                             std::uint32_t* peer_version) {
   if (size > kMaxEnvelopeBytes) {
     *why = DropReason::kOversized;
     return std::nullopt;
@@ -32,6 +33,7 @@ std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size,
   }
   if (envelope.schema_version() != kSchemaVersion) {
     *why = DropReason::kWrongSchemaVersion;
+    if (peer_version) *peer_version = envelope.schema_version();
     return std::nullopt;
   }
   return envelope;

@@ -13,8 +13,9 @@
 
 namespace telesphere::link {
 
-/// Bumped on any incompatible change of telesphere_link.proto.
-inline constexpr std::uint32_t kSchemaVersion = 1;
+/// Bumped on any incompatible change of telesphere_link.proto (2: the mode became an enum;
+/// telemetry, health, preview and the console's controls were added).
+inline constexpr std::uint32_t kSchemaVersion = 2;
 /// Largest image side we accept (8K); a 100000×100000 claim is dropped before anything allocates.
 inline constexpr std::uint32_t kMaxImageSide = 8192;
 /// Largest JPEG part we accept (a 8K×8K 4:4:4 JPEG at quality 100 stays below this).
@@ -38,7 +39,9 @@ enum class DropReason : int {
 std::string_view dropReasonName(DropReason reason);
 
 /// Parses bytes into an Envelope of our schema version with a body; otherwise nothing and *why.
-std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why);
+/// For kWrongSchemaVersion, *peer_version (when given) is the version the sender spoke.
+std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why,
+                                             std::uint32_t* peer_version = nullptr);
 
 /// Checks a stereo frame's description against the sizes of its two image parts.
 std::optional<DropReason> checkStereoFrame(const proto::StereoFrame& frame, std::size_t left_bytes,

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <thread>
 #include <zmq.hpp>
@@ -13,12 +14,11 @@
 namespace telesphere::link {
 namespace {
 
-zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint) {
+zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint,
+                         int send_hwm = 1000) {
   zmq::socket_t socket(context, type);
   socket.set(zmq::sockopt::linger, 0);
-  // A PUB past its high-water mark drops the newest message, so keep the queue short: at most
-  // two stereo frames (three parts each) wait per subscriber, older ones are never piled up.
-  if (type == zmq::socket_type::pub) socket.set(zmq::sockopt::sndhwm, 6);
+  socket.set(zmq::sockopt::sndhwm, send_hwm);
   try {
     socket.bind(endpoint);
   } catch (const zmq::error_t& e) {
@@ -32,6 +32,13 @@ zmq::message_t serialise(const proto::Envelope& envelope) {
   zmq::message_t message(envelope.ByteSizeLong());
   envelope.SerializeToArray(message.data(), static_cast<int>(message.size()));
   return message;
+}
+
+std::uint64_t newInstance() {
+  std::random_device device;
+  std::uint64_t id = 0;
+  while (id == 0) id = (std::uint64_t{device()} << 32) ^ device();
+  return id;
 }
 
 /// A message that points into `bytes` and keeps it alive until ZeroMQ is done with it.
@@ -53,12 +60,17 @@ struct LinkServer::Impl {
   std::optional<proto::HeadTarget> head_target;
   std::mutex handler_mutex;
   ControlHandler handler;
+  const std::uint64_t instance = newInstance();
   std::atomic<bool> running{true};
   std::thread service;
 
+  // A PUB past its high-water mark drops the newest message. Frames: keep the queue short, at
+  // most two stereo frames (three parts each) wait per subscriber, older ones never pile up.
+  // State: long enough that telemetry survives a busy subscriber (LinkServer::kStateQueueMessages).
   explicit Impl(const LinkEndpoints& e)
-      : frames(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kFrames))),
-        state(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kState))),
+      : frames(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kFrames), 6)),
+        state(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kState),
+                         LinkServer::kStateQueueMessages)),
         uplink(bindSocket(context, zmq::socket_type::pull, e.bind(LinkEndpoints::kUplink))),
         control(bindSocket(context, zmq::socket_type::router, e.bind(LinkEndpoints::kControl))) {
     uplink.set(zmq::sockopt::rcvhwm, 64);
@@ -96,21 +108,16 @@ struct LinkServer::Impl {
         }
         continue;
       }
-      DropReason why{};
-      auto envelope = parseEnvelope(message.data(), message.size(), &why);
-      if (!envelope) {
-        stats.countDrop(why, "uplink");
-        continue;
-      }
+      auto envelope = stats.parse(message.data(), message.size(), "uplink");
+      if (!envelope) continue;
       stats.countReceived();
       if (envelope->has_head_target()) {
         std::lock_guard lock(head_mutex);
         if (!head_target || envelope->head_target().t_ns() >= head_target->t_ns())
           head_target = envelope->head_target();
-      } else if (envelope->has_xr_stats()) {
-        proto::Envelope out;
-        *out.mutable_xr_stats() = envelope->xr_stats();
-        send(state, state_mutex, std::move(out));
+      } else if (envelope->has_xr_stats() || envelope->has_xr_telemetry()) {
+        // For the console: republished as it came, stamped with the XR app's clock inside.
+        send(state, state_mutex, std::move(*envelope));
       } else {
         stats.countDrop(DropReason::kUnexpectedBody, "uplink");
       }
@@ -134,17 +141,14 @@ struct LinkServer::Impl {
         stats.countDrop(DropReason::kBadPartCount, "control");
         continue;
       }
-      DropReason why{};
-      auto envelope = parseEnvelope(parts[1].data(), parts[1].size(), &why);
-      if (!envelope) {
-        stats.countDrop(why, "control");
-        continue;
-      }
+      auto envelope = stats.parse(parts[1].data(), parts[1].size(), "control");
+      if (!envelope) continue;
       stats.countReceived();
       proto::Envelope reply;
       if (envelope->has_ping()) {
         reply.mutable_pong()->set_client_send_ns(envelope->ping().client_send_ns());
         reply.mutable_pong()->set_server_ns(linkNowNs());
+        reply.mutable_pong()->set_server_instance(instance);
       } else if (envelope->has_control_request()) {
         std::lock_guard lock(handler_mutex);
         if (handler) {
@@ -172,7 +176,7 @@ LinkServer::LinkServer(const LinkEndpoints& endpoints) : impl_(std::make_unique<
 
 LinkServer::~LinkServer() = default;
 
-void LinkServer::publishStereoFrame(proto::StereoFrame frame, SharedBytes left_jpeg,
+std::int64_t LinkServer::publishStereoFrame(proto::StereoFrame frame, SharedBytes left_jpeg,
                                     SharedBytes right_jpeg) {
   frame.mutable_left()->set_jpeg_bytes(static_cast<std::uint32_t>(left_jpeg->size()));
   frame.mutable_right()->set_jpeg_bytes(static_cast<std::uint32_t>(right_jpeg->size()));
@@ -189,6 +193,7 @@ void LinkServer::publishStereoFrame(proto::StereoFrame frame, SharedBytes left_j
       socket.send(zeroCopy(left_jpeg), zmq::send_flags::sndmore | zmq::send_flags::dontwait) &&
       socket.send(zeroCopy(right_jpeg), zmq::send_flags::dontwait))
     impl_->stats.countSent();
+  return now;
 }
 
 void LinkServer::publishRobotState(const proto::RobotState& state) {
@@ -196,6 +201,36 @@ void LinkServer::publishRobotState(const proto::RobotState& state) {
   *envelope.mutable_robot_state() = state;
   impl_->send(impl_->state, impl_->state_mutex, std::move(envelope));
 }
+
+void LinkServer::publishTelemetry(const proto::RobotTelemetry& telemetry) {
+  proto::Envelope envelope;
+  *envelope.mutable_robot_telemetry() = telemetry;
+  impl_->send(impl_->state, impl_->state_mutex, std::move(envelope));
+}
+
+void LinkServer::publishHealth(const proto::RobotHealth& health) {
+  proto::Envelope envelope;
+  *envelope.mutable_robot_health() = health;
+  impl_->send(impl_->state, impl_->state_mutex, std::move(envelope));
+}
+
+void LinkServer::publishPreview(proto::PreviewFrame preview, SharedBytes left_jpeg,
+                                SharedBytes right_jpeg) {
+  preview.set_left_jpeg_bytes(static_cast<std::uint32_t>(left_jpeg->size()));
+  preview.set_right_jpeg_bytes(static_cast<std::uint32_t>(right_jpeg->size()));
+  proto::Envelope envelope;
+  envelope.set_schema_version(kSchemaVersion);
+  envelope.set_sender_clock_ns(linkNowNs());
+  *envelope.mutable_preview_frame() = std::move(preview);
+  std::lock_guard lock(impl_->state_mutex);
+  auto& socket = impl_->state;
+  if (socket.send(serialise(envelope), zmq::send_flags::sndmore | zmq::send_flags::dontwait) &&
+      socket.send(zeroCopy(left_jpeg), zmq::send_flags::sndmore | zmq::send_flags::dontwait) &&
+      socket.send(zeroCopy(right_jpeg), zmq::send_flags::dontwait))
+    impl_->stats.countSent();
+}
+
+std::uint64_t LinkServer::instance() const { return impl_->instance; }
 
 std::optional<proto::HeadTarget> LinkServer::latestHeadTarget() const {
   std::lock_guard lock(impl_->head_mutex);

@@ -1,7 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @brief The robot's end of the link (telesphere-robot): publishes stereo frames and robot state,
-///        takes head targets (latest wins) and XR stats from the uplink, answers control requests
+///        telemetry, health and preview frames for the console; takes head targets (latest wins),
+///        XR stats and XR telemetry from the uplink (the last two republished on the state
+///        channel, so the console hears the XR app through the robot); answers control requests
 ///        and pings. Any number of clients connect, leave and come back without a restart.
+///
+///        The state channel is lossless as long as a subscriber keeps up: its queue holds
+///        kStateQueueMessages per subscriber (tens of seconds of telemetry), and telemetry
+///        batches are numbered so a subscriber can count what it lost when it did not.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +28,8 @@ using SharedBytes = std::shared_ptr<const std::vector<std::uint8_t>>;
 class LinkServer {
  public:
   using ControlHandler = std::function<proto::ControlReply(const proto::ControlRequest&)>;
+  /// Messages queued per state subscriber before the newest are dropped (ZeroMQ's PUB HWM).
+  static constexpr int kStateQueueMessages = 20000;
 
   /// Binds the four sockets; throws std::runtime_error naming the endpoint when a port is taken.
   explicit LinkServer(const LinkEndpoints& endpoints);
@@ -31,8 +39,16 @@ class LinkServer {
 
   /// Publishes [envelope, left, right]; sets the jpeg sizes, stamps.sent_ns and the envelope.
   /// Never blocks: a subscriber that cannot keep up loses frames at its end, not ours.
-  void publishStereoFrame(proto::StereoFrame frame, SharedBytes left_jpeg, SharedBytes right_jpeg);
+  /// Returns the sent_ns stamped into the frame.
+  std::int64_t publishStereoFrame(proto::StereoFrame frame, SharedBytes left_jpeg, SharedBytes right_jpeg);
   void publishRobotState(const proto::RobotState& state);
+  void publishTelemetry(const proto::RobotTelemetry& telemetry);
+  void publishHealth(const proto::RobotHealth& health);
+  /// Publishes [envelope, left, right] on the state channel (sizes set here). Never blocks.
+  void publishPreview(proto::PreviewFrame preview, SharedBytes left_jpeg, SharedBytes right_jpeg);
+
+  /// Random per process, answered in every Pong: clients see a restart as a new value.
+  std::uint64_t instance() const;
 
   /// The newest head target received (by its t_ns), if any.
   std::optional<proto::HeadTarget> latestHeadTarget() const;

@@ -22,12 +22,27 @@ void LinkStats::countDrop(DropReason reason, const char* context) {
   }
 }
 
+std::optional<proto::Envelope> LinkStats::parse(const void* data, std::size_t size, const char* context) {
+  DropReason why{};
+  std::uint32_t peer_version = 0;
+  auto envelope = parseEnvelope(data, size, &why, &peer_version);
+  if (envelope) return envelope;
+  if (why == DropReason::kWrongSchemaVersion &&
+      foreign_schema_version_.exchange(peer_version, std::memory_order_relaxed) != peer_version)
+    spdlog::warn("{}: a peer speaks link schema v{}, this build speaks v{}: its {} messages are "
+                 "dropped (run the same telesphere version on both ends)",
+                 name_, peer_version, kSchemaVersion, context);
+  countDrop(why, context);
+  return std::nullopt;
+}
+
 LinkStatsSnapshot LinkStats::snapshot() const {
   LinkStatsSnapshot s;
   s.received = received_.load(std::memory_order_relaxed);
   s.sent = sent_.load(std::memory_order_relaxed);
   for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
     s.dropped_by_reason[i] = dropped_[i].load(std::memory_order_relaxed);
+  s.foreign_schema_version = foreign_schema_version_.load(std::memory_order_relaxed);
   return s;
 }
 

@@ -5,7 +5,9 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "robot/link/link_schema.h"
@@ -18,6 +20,8 @@ struct LinkStatsSnapshot {
   std::array<std::uint64_t, static_cast<int>(DropReason::kCount)> dropped_by_reason{};
   std::uint64_t dropped(DropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
   std::uint64_t droppedTotal() const;
+  /// The schema version of the last peer that spoke another one (0: none did).
+  std::uint32_t foreign_schema_version = 0;
 };
 
 class LinkStats {
@@ -27,6 +31,9 @@ class LinkStats {
   void countSent() { sent_.fetch_add(1, std::memory_order_relaxed); }
   /// Counts a drop and logs it (rate-limited per reason); `context` says where (e.g. "frames").
   void countDrop(DropReason reason, const char* context);
+  /// parseEnvelope, with a failure counted as a drop (a foreign schema version remembered and
+  /// named in the log). Success is not counted: the caller may still refuse the message.
+  std::optional<proto::Envelope> parse(const void* data, std::size_t size, const char* context);
   LinkStatsSnapshot snapshot() const;
 
  private:
@@ -34,6 +41,7 @@ class LinkStats {
   std::atomic<std::uint64_t> received_{0};
   std::atomic<std::uint64_t> sent_{0};
   std::array<std::atomic<std::uint64_t>, static_cast<int>(DropReason::kCount)> dropped_{};
+  std::atomic<std::uint32_t> foreign_schema_version_{0};
 };
 
 }  // namespace telesphere::link

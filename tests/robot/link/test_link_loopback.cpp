@@ -96,7 +96,7 @@ TEST(LinkLoopback, HeadTargetsLatestWinsAndControlRoundTrips) {
   LinkServer server(endpoints(2));
   server.setControlHandler([](const proto::ControlRequest& r) {
     proto::ControlReply reply;
-    reply.set_ok(r.has_set_mode() && r.set_mode() == "fixed");
+    reply.set_ok(r.has_set_visual_mode() && r.set_visual_mode() == proto::VISUAL_MODE_FIXED);
     if (!reply.ok()) reply.set_error("unknown mode");
     return reply;
   });
@@ -110,11 +110,11 @@ TEST(LinkLoopback, HeadTargetsLatestWinsAndControlRoundTrips) {
   }
   ASSERT_TRUE(eventually([&] { return server.latestHeadTarget() && server.latestHeadTarget()->t_ns() == 5; }));
   proto::ControlRequest request;
-  request.set_set_mode("fixed");
+  request.set_set_visual_mode(proto::VISUAL_MODE_FIXED);
   const auto reply = client.request(request, 3000ms);
   ASSERT_TRUE(reply);
   EXPECT_TRUE(reply->ok());
-  request.set_set_mode("sideways");
+  request.set_set_visual_mode(proto::VISUAL_MODE_ORIENTATION3D);
   const auto refused = client.request(request, 3000ms);
   ASSERT_TRUE(refused);
   EXPECT_FALSE(refused->ok());
@@ -140,12 +140,12 @@ TEST(LinkLoopback, StatsFromTheXrAppReachTheConsole) {
   ASSERT_TRUE(eventually([&] {
     xr.sendXrStats(stats);
     proto::RobotState state;
-    state.set_mode("full6d");
+    state.set_visual_mode(proto::VISUAL_MODE_FULL6D);
     server.publishRobotState(state);
     return console.latestXrStats() && console.latestRobotState();
   }));
   EXPECT_EQ(console.latestXrStats()->fps(), 90);
-  EXPECT_EQ(console.latestRobotState()->mode(), "full6d");
+  EXPECT_EQ(console.latestRobotState()->visual_mode(), proto::VISUAL_MODE_FULL6D);
 }
 
 TEST(LinkLoopback, ReconnectsInAnyOrder) {
@@ -207,6 +207,7 @@ TEST(LinkLoopback, HostileInputIsDroppedWithCountedReasons) {
   EXPECT_GE(s.dropped(DropReason::kGarbage), 1u);
   EXPECT_GE(s.dropped(DropReason::kBadImageSize), 1u);
   EXPECT_GE(s.dropped(DropReason::kWrongSchemaVersion), 1u);
+  EXPECT_EQ(s.foreign_schema_version, kSchemaVersion + 1);  // named, so the console can say it
   EXPECT_GE(s.dropped(DropReason::kBadPartCount), 1u);
 
   // Garbage on the robot's uplink: counted, and the next good head target still gets through.
@@ -224,6 +225,93 @@ TEST(LinkLoopback, HostileInputIsDroppedWithCountedReasons) {
   EXPECT_EQ(server.latestHeadTarget()->t_ns(), 42);
   EXPECT_EQ(server.stats().dropped(DropReason::kGarbage), 1u);
   EXPECT_EQ(server.stats().dropped(DropReason::kBadPartCount), 1u);
+}
+
+TEST(LinkLoopback, TelemetryIsQueuedLosslesslyAndXrTelemetryIsRelayedToTheConsole) {
+  LinkServer server(endpoints(8));
+  LinkClient xr(endpoints(8));
+  LinkClient console(endpoints(8), {.frames = false, .telemetry = true});
+  // A SUB joins late: publish until the first batch arrives, then count exactly.
+  std::uint64_t batch = 0;
+  ASSERT_TRUE(eventually([&] {
+    proto::RobotTelemetry t;
+    t.set_batch(++batch);
+    server.publishTelemetry(t);
+    std::this_thread::sleep_for(2ms);
+    return !console.takeTelemetry().empty();
+  }));
+  const std::uint64_t first = batch + 1;
+  for (int i = 0; i < 3000; ++i) {  // a burst far faster than the console takes them
+    proto::RobotTelemetry t;
+    t.set_batch(++batch);
+    t.add_ticks()->set_t_ns(i);
+    server.publishTelemetry(t);
+  }
+  std::vector<std::uint64_t> got;
+  ASSERT_TRUE(eventually([&] {
+    for (const auto& e : console.takeTelemetry())
+      if (e.has_robot_telemetry()) got.push_back(e.robot_telemetry().batch());
+    return !got.empty() && got.back() == batch;
+  }));
+  ASSERT_EQ(got.size(), 3000u);  // every batch, in order
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i], first + i);
+  EXPECT_EQ(console.activity().telemetry_overflow, 0u);
+
+  // The XR app's telemetry goes up to the robot and comes out on the state channel.
+  proto::XrTelemetry x;
+  x.set_batch(1);
+  x.add_frames()->set_render_ms(4.5);
+  ASSERT_TRUE(eventually([&] {
+    xr.sendXrTelemetry(x);
+    std::this_thread::sleep_for(2ms);
+    for (const auto& e : console.takeTelemetry())
+      if (e.has_xr_telemetry()) return e.xr_telemetry().frames(0).render_ms() == 4.5;
+    return false;
+  }));
+  EXPECT_GT(console.activity().xr_ns, 0);
+  // A client that did not ask for telemetry keeps none.
+  EXPECT_TRUE(xr.takeTelemetry().empty());
+}
+
+TEST(LinkLoopback, ARestartedServerIsSeenAndTheClockEstimateStartsAfresh) {
+  auto server = std::make_unique<LinkServer>(endpoints(9));
+  LinkClient client(endpoints(9), {.frames = false, .ping_period = 10ms});
+  ASSERT_TRUE(eventually([&] { return client.activity().robot_instance == server->instance(); }));
+  EXPECT_EQ(client.activity().robot_restarts, 0u);
+  const std::uint64_t old_instance = server->instance();
+  server.reset();
+  server = std::make_unique<LinkServer>(endpoints(9));
+  EXPECT_NE(server->instance(), old_instance);
+  ASSERT_TRUE(eventually([&] { return client.activity().robot_instance == server->instance(); }));
+  EXPECT_EQ(client.activity().robot_restarts, 1u);
+  EXPECT_TRUE(client.clock().estimate().has_value());  // new samples after the reset
+}
+
+TEST(LinkLoopback, PreviewFramesCarryTwoImagesAndBadOnesAreDropped) {
+  LinkServer server(endpoints(10));
+  LinkClient console(endpoints(10), {.frames = false, .previews = true});
+  proto::PreviewFrame p;
+  p.set_sequence(5);
+  p.set_width(32);
+  p.set_height(18);
+  std::optional<ReceivedPreview> got;
+  ASSERT_TRUE(eventually([&] {
+    server.publishPreview(p, bytes(300, 1), bytes(400, 2));
+    std::this_thread::sleep_for(2ms);
+    return (got = console.takeLatestPreview()).has_value();
+  }));
+  EXPECT_EQ(got->preview.sequence(), 5u);
+  EXPECT_EQ(got->left_jpeg.size(), 300u);
+  EXPECT_EQ(got->right_jpeg.size(), 400u);
+  EXPECT_TRUE(std::equal(got->right_jpeg.begin(), got->right_jpeg.end(), bytes(400, 2)->begin()));
+  p.set_width(100000);
+  const auto before = console.stats().dropped(DropReason::kBadImageSize);
+  ASSERT_TRUE(eventually([&] {
+    server.publishPreview(p, bytes(300, 1), bytes(400, 2));
+    std::this_thread::sleep_for(2ms);
+    return console.stats().dropped(DropReason::kBadImageSize) > before;
+  }));
+  EXPECT_FALSE(console.takeLatestPreview().has_value());
 }
 
 }  // namespace
