@@ -23,6 +23,9 @@
 #include "robot/aravis_camera.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
+#include "robot/preview_streamer.h"
+#include "robot/robot_control.h"
+#include "robot/robot_health_reporter.h"
 #include "robot/synthetic_camera.h"
 #include "robot/synthetic_scene.h"
 #include "robot/video_streamer.h"
@@ -55,6 +58,8 @@ int main(int argc, char** argv) {
   bool auto_nominal = true;
   double sphere_radius = 1.0;
   int render_threads = 2;
+  int preview_width = 320;
+  double preview_hz = 5.0;
   bool sim = false;  // the default anyway; explicit for scripts
   app.add_flag("--sim", sim, "simulated arm and synthetic cameras (the default)");
   app.add_option("--calib", calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
@@ -78,6 +83,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--sphere-radius", sphere_radius, "initial sphere radius r, m")->capture_default_str();
   app.add_option("--render-threads", render_threads, "threads per synthetic camera")->capture_default_str();
+  app.add_option("--preview-width", preview_width, "width of the console's camera preview, px")
+      ->capture_default_str()->check(CLI::Range(16, 1920));
+  app.add_option("--preview-rate", preview_hz, "console preview frames per second (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 30.0));
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = calib::loadCalibrationFile(calib_path);
@@ -140,11 +149,12 @@ int main(int argc, char** argv) {
               << ": " << e.what() << '\n';
     return 2;
   }
+  robot::TelemetryBatcher telemetry;
   robot::HeadLoopConfig loop_config;
   loop_config.auto_nominal = auto_nominal;
   loop_config.sphere_radius = sphere_radius;
+  loop_config.telemetry = &telemetry;
   robot::HeadLoop loop(arm, controller, joints, *server, clock, loop_config);
-  server->setControlHandler([&loop](const link::proto::ControlRequest& r) { return loop.handleControl(r); });
 
   // Camera poses at capture time; before any joint state, the pose at the initial configuration.
   const Eigen::Isometry3d T_robot_cam_l0 =
@@ -196,13 +206,37 @@ int main(int argc, char** argv) {
   robot::StereoPairerOptions pairing;
   pairing.tolerance_ns = static_cast<std::int64_t>(0.25e9 / fps);  // a quarter period
   robot::StereoPairSource pairs(*left, *right, pairing);
+  robot::PreviewOptions preview_options;
+  preview_options.max_width = preview_width;
+  preview_options.rate_hz = preview_hz > 0 ? preview_hz : 1.0;
+  robot::PreviewStreamer preview(*server, preview_options);
   robot::VideoStreamerConfig video_config;
   video_config.jpeg = jpeg;
   video_config.T_robot_cam_l_fixed = T_robot_cam_l0;
   video_config.T_robot_cam_r_fixed = T_robot_cam_r0;
+  video_config.telemetry = &telemetry;
+  if (preview_hz > 0)
+    video_config.on_sent = [&preview](const robot::StereoFrame& pair, std::uint64_t sequence) {
+      preview.offer(pair, sequence);
+    };
   robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
 
+  robot::RobotControl control(loop, &video);
+  server->setControlHandler([&control](const link::proto::ControlRequest& r) { return control.handle(r); });
+  robot::RobotHealthSources health_sources;
+  health_sources.cameras = {left.get(), right.get()};
+  health_sources.pairs = &pairs;
+  health_sources.video = &video;
+  health_sources.loop = &loop;
+  health_sources.control = &control;
+  health_sources.server = server.get();
+  health_sources.telemetry = &telemetry;
+  health_sources.arm = "simulated xArm 6";
+  health_sources.cameras_kind = camera_left.empty() ? "synthetic" : "aravis";
+  robot::RobotHealthReporter health(health_sources, clock);
+
   std::thread head_thread([&] { loop.run(g_stop); });
+  if (preview_hz > 0) preview.start();
   pairs.start();
   video.start();
   std::cerr << "telesphere-robot: " << (camera_left.empty() ? "simulated arm, synthetic cameras " : "cameras ")
@@ -210,11 +244,17 @@ int main(int argc, char** argv) {
 
   const auto t0 = std::chrono::steady_clock::now();
   auto next_stats = t0 + std::chrono::duration<double>(stats_period_s);
+  constexpr auto kHealthPeriod = std::chrono::milliseconds(500);
+  auto next_health = t0;
   std::uint64_t frames_before = 0;
   while (!g_stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const auto now = std::chrono::steady_clock::now();
     if (duration_s > 0 && now - t0 >= std::chrono::duration<double>(duration_s)) g_stop = true;
+    if (now >= next_health) {
+      server->publishHealth(health.make());
+      next_health = now + kHealthPeriod;
+    }
     if (stats_period_s > 0 && now >= next_stats) {
       const auto v = video.stats();
       const auto p = pairs.stats();
@@ -232,10 +272,12 @@ int main(int argc, char** argv) {
     }
   }
   video.stop();
+  preview.stop();
   pairs.stop();
   left->stop();
   right->stop();
   head_thread.join();
+  server->setControlHandler(nullptr);  // the link's thread must not call into what goes next
   const auto v = video.stats();
   std::fprintf(stderr, "telesphere-robot: stopped after %llu frames\n",
                static_cast<unsigned long long>(v.frames_sent));

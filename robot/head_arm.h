@@ -33,6 +33,10 @@ class HeadArm {
   /// The arm's status as last known.
   virtual ArmStatus status() const = 0;
 
+  /// A protective stop on request (the console's stop button): the arm brakes within its limits
+  /// and holds; targets are refused (status kStopped) until clearStop().
+  virtual void stop() = 0;
+
   /// Clears a stop (ArmStatus::kStopped) so that targets are followed again; false if the arm
   /// cannot be re-enabled now (e.g. disconnected).
   virtual bool clearStop() = 0;

@@ -48,6 +48,7 @@ class SimulatedArm final : public HeadArm {
   std::optional<JointState> pollState() override;
   ArmStatus status() const override;
   bool clearStop() override;
+  void stop() override { triggerStop(); }
 
   /// Fault injection: an emergency stop. The arm brakes at its acceleration limit and holds;
   /// targets in flight are lost; sendTarget() fails until clearStop().

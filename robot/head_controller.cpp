@@ -38,6 +38,21 @@ Eigen::Isometry3d stepTowards(const Eigen::Isometry3d& from, const Eigen::Isomet
 
 }  // namespace
 
+const char* headRejectReasonName(HeadRejectReason reason) {
+  switch (reason) {
+    case HeadRejectReason::kNone: return "none";
+    case HeadRejectReason::kNotInitialised: return "not_initialised";
+    case HeadRejectReason::kMissing: return "missing";
+    case HeadRejectReason::kNonFinite: return "non_finite";
+    case HeadRejectReason::kNotRotation: return "not_rotation";
+    case HeadRejectReason::kStale: return "stale";
+    case HeadRejectReason::kFromFuture: return "from_future";
+    case HeadRejectReason::kOutOfOrder: return "out_of_order";
+    case HeadRejectReason::kCount: break;
+  }
+  return "unknown";
+}
+
 Eigen::Isometry3d HeadControllerConfig::defaultNominal() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(0.40, 0.0, 0.45);
@@ -102,8 +117,7 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
   if (!nominal.T_vr_hmd.matrix().allFinite() || !isRotation(nominal.T_vr_hmd.linear(), 1e-3) ||
       !q_current.allFinite())
     return false;
-  const Eigen::Isometry3d T_vr_nom = levelled(nominal.T_vr_hmd * T_hmd_head());
-  T_robot_vr_ = config_.T_robot_nom * T_vr_nom.inverse();
+  T_robot_vr_ = mappingFor(nominal.T_vr_hmd);
   q_last_ = kinematics_.clampToLimits(q_current);
   guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
   filter_.reset(mapped(nominal.T_vr_hmd), nominal.t_ns);
@@ -112,6 +126,42 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
   approaching_ = false;
   initialised_ = true;
   return true;
+}
+
+Eigen::Isometry3d HeadController::mappingFor(const Eigen::Isometry3d& T_vr_hmd) const {
+  const Eigen::Isometry3d T_vr_nom = levelled(T_vr_hmd * T_hmd_head());
+  return config_.T_robot_nom * T_vr_nom.inverse();
+}
+
+bool HeadController::holdNominal(const JointVector& q_current, std::int64_t now_ns) {
+  if (!q_current.allFinite()) return false;
+  if (!initialised_) {
+    // No operator target has been followed yet: the approach starts where the arm is.
+    q_last_ = kinematics_.clampToLimits(q_current);
+    guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+    filter_.reset(guarded_, now_ns);
+    last_tick_ns_ = now_ns;
+    approaching_ = false;
+  }
+  holding_ = true;
+  return true;
+}
+
+void HeadController::restoreMapping(const Eigen::Isometry3d& T_robot_vr) {
+  TS_ASSERT(initialised_ && isRotation(T_robot_vr.linear(), 1e-6), T_robot_vr.matrix());
+  T_robot_vr_ = T_robot_vr;
+}
+
+void HeadController::setCutoffHz(double cutoff_hz) {
+  TS_ASSERT(cutoff_hz > 0, cutoff_hz);
+  config_.cutoff_hz = cutoff_hz;
+  filter_.setCutoffHz(cutoff_hz);
+}
+
+void HeadController::setJumpThreshold(double position, double angle) {
+  TS_ASSERT(position > 0 && angle > 0, position, angle);
+  config_.jump_position = position;
+  config_.jump_angle = angle;
 }
 
 Eigen::Isometry3d HeadController::mapped(const Eigen::Isometry3d& T_vr_hmd) const {
@@ -143,12 +193,14 @@ HeadCommand HeadController::hold(HeadRejectReason reason) {
 }
 
 HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::int64_t now_ns) {
-  if (!initialised_) return hold(HeadRejectReason::kNotInitialised);
+  if (!initialised_ && !holding_) return hold(HeadRejectReason::kNotInitialised);
   const double dt = static_cast<double>(std::max<std::int64_t>(0, now_ns - last_tick_ns_)) * 1e-9;
 
   Eigen::Isometry3d target;
   std::int64_t target_t_ns = now_ns;
-  if (mode_ == HeadMode::kFixed) {
+  if (holding_) {
+    target = config_.T_robot_nom;  // the nominal-pose step: the operator is ignored
+  } else if (mode_ == HeadMode::kFixed) {
     // Operator ignored: the nominal pose pitched 45° down (about the head's y axis, left).
     target = config_.T_robot_nom * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY());
   } else {

@@ -9,6 +9,8 @@
 ///      is the (head-axis) HMD pose recorded at initialise() with pitch and roll removed, and
 ///      T_hmd_head the constant axis change below; per mode: full 6D; orientation only (position
 ///      held at the nominal one); fixed (T_robot_nom pitched 45° down, the operator ignored);
+///      while holdNominal() is on, T_robot_nom itself (the operator ignored, any mode, also
+///      before the first initialise: the console's nominal-pose step);
 ///   3. recursive low-pass filter (PoseLowPassFilter, cut-off a parameter, paper 100 Hz) on the
 ///      sample times;
 ///   4. jump guard: a change beyond jump_position or jump_angle from the last output switches to
@@ -50,6 +52,9 @@ enum class HeadRejectReason {
   kOutOfOrder,      ///< older than the last accepted sample
   kCount
 };
+
+/// "not_initialised", "missing", "non_finite", … (health reports and logs).
+const char* headRejectReasonName(HeadRejectReason reason);
 
 /// One operator head sample: the OpenXR view pose T_vr_hmd observed at t_ns (robot steady clock).
 struct HmdSample {
@@ -104,10 +109,27 @@ class HeadController {
   /// q_current: the output starts from the current head pose, so a distant nominal pose is
   /// approached slowly by the jump guard. False (nothing changes) if the sample is invalid.
   bool initialise(const HmdSample& nominal, const JointVector& q_current);
+  /// The mapping initialise() would set for this head pose: T_robot_nom · levelled(T_vr_hmd ·
+  /// T_hmd_head)⁻¹ (the console shows it before it is confirmed).
+  Eigen::Isometry3d mappingFor(const Eigen::Isometry3d& T_vr_hmd) const;
   bool initialised() const { return initialised_; }
 
   void setMode(HeadMode mode) { mode_ = mode; }
   HeadMode mode() const { return mode_; }
+
+  /// Moves the head to T_robot_nom (through the jump guard's slow approach) and holds it there,
+  /// the operator ignored, until releaseHold(). Without a mapping yet, the approach starts from
+  /// the arm's q_current at now_ns. False (nothing changes) for non-finite joints.
+  bool holdNominal(const JointVector& q_current, std::int64_t now_ns);
+  void releaseHold() { holding_ = false; }
+  bool holding() const { return holding_; }
+
+  /// Restores a mapping T_robot_vr taken from an earlier initialise() (undo); needs one.
+  void restoreMapping(const Eigen::Isometry3d& T_robot_vr);
+
+  /// Low-pass cut-off (> 0; +inf: off) and jump thresholds (> 0), from the next tick on.
+  void setCutoffHz(double cutoff_hz);
+  void setJumpThreshold(double position, double angle);
 
   /// One control tick at now_ns with the newest operator sample (if any).
   HeadCommand tick(const std::optional<HmdSample>& sample, std::int64_t now_ns);
@@ -136,6 +158,7 @@ class HeadController {
   PoseLowPassFilter filter_;
   HeadMode mode_ = HeadMode::kFull6D;
   bool initialised_ = false;
+  bool holding_ = false;
   bool approaching_ = false;
   Eigen::Isometry3d guarded_ = Eigen::Isometry3d::Identity();  ///< jump-guard output
   Eigen::Isometry3d last_operator_target_ = Eigen::Isometry3d::Identity();

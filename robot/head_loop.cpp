@@ -2,6 +2,7 @@
 /// @brief HeadLoop: arm ↔ joint-state buffer ↔ controller ↔ link, once per period.
 #include "robot/head_loop.h"
 
+#include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
 
 #include <chrono>
@@ -11,20 +12,22 @@
 
 namespace telesphere::robot {
 
-std::optional<HeadMode> headModeFromName(const std::string& name) {
-  if (name == "full6d") return HeadMode::kFull6D;
-  if (name == "orientation3d") return HeadMode::kOrientationOnly;
-  if (name == "fixed") return HeadMode::kFixed;
-  return std::nullopt;
+std::optional<HeadMode> headModeOf(link::proto::VisualMode mode) {
+  switch (mode) {
+    case link::proto::VISUAL_MODE_FULL6D: return HeadMode::kFull6D;
+    case link::proto::VISUAL_MODE_ORIENTATION3D: return HeadMode::kOrientationOnly;
+    case link::proto::VISUAL_MODE_FIXED: return HeadMode::kFixed;
+    default: return std::nullopt;
+  }
 }
 
-const char* headModeName(HeadMode mode) {
+link::proto::VisualMode visualModeOf(HeadMode mode) {
   switch (mode) {
-    case HeadMode::kFull6D: return "full6d";
-    case HeadMode::kOrientationOnly: return "orientation3d";
-    case HeadMode::kFixed: return "fixed";
+    case HeadMode::kFull6D: return link::proto::VISUAL_MODE_FULL6D;
+    case HeadMode::kOrientationOnly: return link::proto::VISUAL_MODE_ORIENTATION3D;
+    case HeadMode::kFixed: return link::proto::VISUAL_MODE_FIXED;
   }
-  return "full6d";
+  return link::proto::VISUAL_MODE_FULL6D;
 }
 
 HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
@@ -35,11 +38,17 @@ HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& b
       server_(server),
       clock_(clock),
       config_(config),
+      T_flange_head_(controller.config().geometry.T_flange_head()),
       sphere_radius_(config.sphere_radius) {}
 
 std::optional<JointState> HeadLoop::lastState() const {
   std::lock_guard lock(mutex_);
   return last_state_;
+}
+
+link::proto::NominalStep HeadLoop::nominalStep() const {
+  std::lock_guard lock(mutex_);
+  return step_;
 }
 
 void HeadLoop::tick() {
@@ -57,31 +66,64 @@ void HeadLoop::tick() {
                                                 target->t_ns() != last_target_t_ns_) {
     last_target_t_ns_ = target->t_ns();
     sample = HmdSample{now_ns, link::fromLinkPose(target->t_vr_hmd())};
-    last_sample_ = sample;
+    last_target_ = ArrivedTarget{*sample, target->t_robot_ns()};
   }
   const bool want_nominal =
-      pending_nominal_ || (config_.auto_nominal && !controller_.initialised());
-  if (want_nominal && last_sample_ && last_state_) {
-    if (controller_.initialise(*last_sample_, last_state_->q)) {
+      pending_nominal_ || (config_.auto_nominal && !controller_.initialised() &&
+                           step_ == link::proto::NOMINAL_STEP_FOLLOWING);
+  if (want_nominal && last_target_ && last_state_) {
+    const std::optional<Eigen::Isometry3d> before =
+        controller_.initialised() ? std::optional(controller_.T_robot_vr()) : std::nullopt;
+    if (controller_.initialise(last_target_->sample, last_state_->q)) {
+      if (before) previous_mapping_ = before;
       pending_nominal_ = false;
       std::cerr << "telesphere-robot: nominal pose captured\n";
     }
   }
 
   const HeadCommand command = controller_.tick(sample, now_ns);
-  if (command.send && arm_.sendTarget(command.q_target)) ++targets_sent_;
+  const bool accepted = command.send && arm_.sendTarget(command.q_target);
+  if (accepted) ++targets_sent_;
+
+  if (config_.telemetry) {
+    link::proto::HeadTick t;
+    t.set_t_ns(now_ns);
+    t.set_outcome(accepted                ? link::proto::HEAD_TICK_SENT
+                  : command.send          ? link::proto::HEAD_TICK_ARM_REFUSED
+                  : command.reason == HeadRejectReason::kNotInitialised ? link::proto::HEAD_TICK_NOT_INITIALISED
+                  : command.reason == HeadRejectReason::kMissing        ? link::proto::HEAD_TICK_NO_TARGET
+                                                                        : link::proto::HEAD_TICK_REJECTED);
+    t.set_target_new(sample.has_value());
+    if (sample) {
+      t.set_target_t_ns(last_target_->sampled_robot_ns);
+      t.set_target_arrival_ns(now_ns);
+    }
+    link::toLinkPose(command.T_robot_headTarget, t.mutable_t_robot_head_command());
+    if (last_state_) {
+      link::toLinkPose(controller_.kinematics().forward(last_state_->q) * T_flange_head_,
+                       t.mutable_t_robot_head_measured());
+      t.set_joint_state_ns(last_state_->t_ns);
+    }
+    t.set_approaching(command.approaching);
+    t.set_clamped(command.clamped);
+    t.set_unreachable(command.send && command.ik_status == IkResult::Status::kClosestReachable);
+    config_.telemetry->addTick(t);
+  }
 
   const std::int64_t tick = ticks_++;
+  if (config_.telemetry && config_.telemetry_every_ticks > 0 &&
+      (tick + 1) % config_.telemetry_every_ticks == 0) {
+    if (auto batch = config_.telemetry->takeBatch()) server_.publishTelemetry(*batch);
+  }
   if (config_.state_every_ticks > 0 && tick % config_.state_every_ticks == 0 && last_state_) {
     link::proto::RobotState state;
     state.set_t_ns(last_state_->t_ns);
     for (int i = 0; i < 6; ++i) state.add_joint_positions(last_state_->q[i]);
     link::toLinkPose(controller_.kinematics().forward(last_state_->q), state.mutable_t_robot_flange());
-    state.set_mode(headModeName(controller_.mode()));
-    const ArmStatus status = arm_.status();
-    state.set_arm_ok(status == ArmStatus::kOk);
-    if (status == ArmStatus::kStopped) state.set_fault("arm stopped (fault or emergency stop)");
-    if (status == ArmStatus::kDisconnected) state.set_fault("arm disconnected");
+    state.set_visual_mode(visualModeOf(controller_.mode()));
+    state.set_nominal_step(step_);
+    state.set_arm_ok(arm_.status() == ArmStatus::kOk);
+    state.set_fault(faultLocked());
     state.set_sphere_radius(sphere_radius_);
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
@@ -100,48 +142,246 @@ void HeadLoop::run(const std::atomic<bool>& stop) {
   }
 }
 
+std::string HeadLoop::faultLocked() const {
+  switch (arm_.status()) {
+    case ArmStatus::kOk: return "";
+    case ArmStatus::kStopped:
+      return stop_reason_.empty() ? "arm stopped (fault or emergency stop)" : stop_reason_;
+    case ArmStatus::kDisconnected: return "arm disconnected";
+  }
+  return "";
+}
+
+void HeadLoop::fillSettings(link::proto::RobotSettings* settings) const {
+  std::lock_guard lock(mutex_);
+  settings->set_visual_mode(visualModeOf(controller_.mode()));
+  settings->set_sphere_radius(sphere_radius_);
+  settings->set_filter_cutoff_hz(controller_.config().cutoff_hz);
+  settings->set_jump_position_m(controller_.config().jump_position);
+  settings->set_jump_angle_deg(controller_.config().jump_angle * 180.0 / M_PI);
+}
+
+void HeadLoop::fillHealth(link::proto::RobotHealth* health) const {
+  std::lock_guard lock(mutex_);
+  for (int r = 1; r < static_cast<int>(HeadRejectReason::kCount); ++r) {
+    const auto reason = static_cast<HeadRejectReason>(r);
+    if (reason == HeadRejectReason::kMissing || reason == HeadRejectReason::kNotInitialised) continue;
+    auto* count = health->add_head_rejects();
+    count->set_name(headRejectReasonName(reason));
+    count->set_count(static_cast<std::uint64_t>(controller_.rejectionCount(reason)));
+  }
+  health->set_jumps(static_cast<std::uint64_t>(controller_.jumpCount()));
+  health->set_unreachable(static_cast<std::uint64_t>(controller_.unreachableCount()));
+  health->set_targets_sent(static_cast<std::uint64_t>(targets_sent_.load()));
+  health->set_head_target_age_ns(last_target_ ? clock_.nowNs() - last_target_->sample.t_ns : -1);
+  health->set_arm_ok(arm_.status() == ArmStatus::kOk);
+  health->set_fault(faultLocked());
+}
+
+link::proto::NominalMapping HeadLoop::nominalMappingLocked() const {
+  link::proto::NominalMapping m;
+  m.set_step(step_);
+  m.set_has_previous(step_ != link::proto::NOMINAL_STEP_FOLLOWING ? controller_.initialised()
+                                                                   : previous_mapping_.has_value());
+  const std::optional<ArrivedTarget>& shown = step_ == link::proto::NOMINAL_STEP_CAPTURED ? captured_ : std::nullopt;
+  if (shown) {
+    link::toLinkPose(controller_.mappingFor(shown->sample.T_vr_hmd), m.mutable_t_robot_vr());
+    m.set_mapping_set(true);
+  } else if (controller_.initialised()) {
+    link::toLinkPose(controller_.T_robot_vr(), m.mutable_t_robot_vr());
+    m.set_mapping_set(true);
+  }
+  if (shown) {
+    link::toLinkPose(shown->sample.T_vr_hmd, m.mutable_t_vr_hmd_captured());
+    const link::HeadAngles a = link::headAnglesOf(shown->sample.T_vr_hmd);
+    m.set_yaw_deg(a.yaw * 180.0 / M_PI);
+    m.set_pitch_deg(a.pitch * 180.0 / M_PI);
+    m.set_roll_deg(a.roll * 180.0 / M_PI);
+  }
+  return m;
+}
+
+bool HeadLoop::captureNominalLocked(std::string* error) {
+  const std::int64_t now_ns = clock_.nowNs();
+  if (!last_target_) {
+    *error = "no head pose from the XR app yet: is telesphere-xr running and the headset on?";
+    return false;
+  }
+  const std::int64_t age_ns = now_ns - last_target_->sample.t_ns;
+  if (age_ns > config_.max_capture_age_ns) {
+    *error = "no fresh head pose from the XR app: the newest is " + std::to_string(age_ns / 1'000'000) +
+             " ms old (at most " + std::to_string(config_.max_capture_age_ns / 1'000'000) +
+             " ms): is the headset tracking?";
+    return false;
+  }
+  captured_ = last_target_;
+  step_ = link::proto::NOMINAL_STEP_CAPTURED;
+  return true;
+}
+
+bool HeadLoop::nominalStepLocked(link::proto::NominalStepRequest request, std::string* error) {
+  using link::proto::NominalStep;
+  switch (request) {
+    case link::proto::NOMINAL_REQUEST_HOLD:
+      if (!last_state_) {
+        *error = "no joint state from the arm yet";
+        return false;
+      }
+      if (arm_.status() != ArmStatus::kOk) {
+        *error = "the arm is not ready (" + faultLocked() + "): clear the fault first";
+        return false;
+      }
+      controller_.holdNominal(last_state_->q, clock_.nowNs());
+      captured_.reset();
+      step_ = link::proto::NOMINAL_STEP_HOLDING;
+      return true;
+    case link::proto::NOMINAL_REQUEST_CAPTURE:
+      if (step_ == link::proto::NOMINAL_STEP_FOLLOWING) {
+        *error = "hold the head at the nominal pose first (step HOLD)";
+        return false;
+      }
+      return captureNominalLocked(error);
+    case link::proto::NOMINAL_REQUEST_CONFIRM: {
+      if (step_ != link::proto::NOMINAL_STEP_CAPTURED || !captured_) {
+        *error = "nothing captured to confirm";
+        return false;
+      }
+      if (!last_state_) {
+        *error = "no joint state from the arm yet";
+        return false;
+      }
+      const std::optional<Eigen::Isometry3d> before =
+          controller_.initialised() ? std::optional(controller_.T_robot_vr()) : std::nullopt;
+      if (!controller_.initialise(captured_->sample, last_state_->q)) {
+        *error = "the captured head pose is not a valid pose";
+        return false;
+      }
+      previous_mapping_ = before;
+      controller_.releaseHold();
+      captured_.reset();
+      step_ = link::proto::NOMINAL_STEP_FOLLOWING;
+      std::cerr << "telesphere-robot: nominal pose confirmed\n";
+      return true;
+    }
+    case link::proto::NOMINAL_REQUEST_UNDO:
+      if (step_ != link::proto::NOMINAL_STEP_FOLLOWING) {
+        captured_.reset();
+        controller_.releaseHold();
+        step_ = link::proto::NOMINAL_STEP_FOLLOWING;
+        return true;
+      }
+      if (!previous_mapping_) {
+        *error = "nothing to undo: no earlier nominal pose";
+        return false;
+      }
+      controller_.restoreMapping(*previous_mapping_);
+      previous_mapping_.reset();
+      std::cerr << "telesphere-robot: nominal pose undone\n";
+      return true;
+    default:
+      *error = "unknown nominal step request";
+      return false;
+  }
+}
+
 link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequest& request) {
   link::proto::ControlReply reply;
   reply.set_id(request.id());
-  reply.set_ok(true);
-  std::lock_guard lock(mutex_);
-  switch (request.request_case()) {
-    case link::proto::ControlRequest::kSetMode: {
-      const auto mode = headModeFromName(request.set_mode());
-      if (!mode) {
-        reply.set_ok(false);
-        reply.set_error("unknown mode '" + request.set_mode() + "' (full6d, orientation3d, fixed)");
-      } else {
-        controller_.setMode(*mode);
+  std::string error;
+  bool ok = true;
+  bool nominal = false;
+  {
+    std::lock_guard lock(mutex_);
+    switch (request.request_case()) {
+      case link::proto::ControlRequest::kSetVisualMode:
+        if (const auto mode = headModeOf(request.set_visual_mode())) {
+          controller_.setMode(*mode);
+        } else {
+          ok = false;
+          error = "unknown visual mode " + std::to_string(request.set_visual_mode()) +
+                  " (full6d, orientation3d or fixed)";
+        }
+        break;
+      case link::proto::ControlRequest::kCaptureNominal:
+        nominal = true;
+        if (!last_target_) {
+          ok = false;
+          error = "no head target received yet: put the headset on and try again";
+        } else {
+          pending_nominal_ = true;  // taken by the next tick, which has the newest joint state
+        }
+        break;
+      case link::proto::ControlRequest::kNominalStep:
+        nominal = true;
+        ok = nominalStepLocked(request.nominal_step(), &error);
+        break;
+      case link::proto::ControlRequest::kSetSphereRadius: {
+        const double r = request.set_sphere_radius();
+        if (!(std::isfinite(r) && r >= kMinSphereRadius && r <= kMaxSphereRadius)) {
+          ok = false;
+          error = "sphere radius " + std::to_string(r) + " m is outside [" +
+                  std::to_string(kMinSphereRadius) + ", " + std::to_string(kMaxSphereRadius) + "]";
+        } else {
+          sphere_radius_ = r;
+        }
+        break;
       }
-      break;
+      case link::proto::ControlRequest::kSetFilterCutoffHz: {
+        const double f = request.set_filter_cutoff_hz();
+        if (!(f > 0.0) || std::isnan(f)) {  // +inf is allowed: the filter is off
+          ok = false;
+          error = "filter cut-off " + std::to_string(f) + " Hz must be > 0 (inf: off)";
+        } else {
+          controller_.setCutoffHz(f);
+        }
+        break;
+      }
+      case link::proto::ControlRequest::kSetJumpThreshold: {
+        const double p = request.set_jump_threshold().position_m();
+        const double a = request.set_jump_threshold().angle_deg();
+        if (!(std::isfinite(p) && p > 0.0 && p <= 2.0 && std::isfinite(a) && a > 0.0 && a <= 180.0)) {
+          ok = false;
+          error = "jump threshold " + std::to_string(p) + " m / " + std::to_string(a) +
+                  "° is outside (0, 2] m / (0, 180]°";
+        } else {
+          controller_.setJumpThreshold(p, a * M_PI / 180.0);
+        }
+        break;
+      }
+      case link::proto::ControlRequest::kArmStop:
+        arm_.stop();
+        stop_reason_ = "arm stopped from the console";
+        std::cerr << "telesphere-robot: " << stop_reason_ << '\n';
+        break;
+      case link::proto::ControlRequest::kClearFault:
+        if (arm_.status() == ArmStatus::kOk) break;  // nothing to clear
+        if (!arm_.clearStop()) {
+          ok = false;
+          error = "the arm cannot be re-enabled now (" + faultLocked() + ")";
+        } else {
+          stop_reason_.clear();
+          std::cerr << "telesphere-robot: arm fault cleared\n";
+        }
+        break;
+      case link::proto::ControlRequest::kGetSettings:
+        break;
+      case link::proto::ControlRequest::kCalibrationCapture:
+        ok = false;
+        error = "calibration capture is not available in this build (use telesphere-calib)";
+        break;
+      case link::proto::ControlRequest::kSetJpegQuality:
+        ok = false;
+        error = "JPEG settings belong to the video path, not the head loop";
+        break;
+      default:
+        ok = false;
+        error = "empty control request";
     }
-    case link::proto::ControlRequest::kCaptureNominal:
-      if (!last_sample_) {
-        reply.set_ok(false);
-        reply.set_error("no head target received yet: put the headset on and try again");
-      } else {
-        pending_nominal_ = true;  // taken by the next tick, which has the newest joint state
-      }
-      break;
-    case link::proto::ControlRequest::kSetSphereRadius: {
-      const double r = request.set_sphere_radius();
-      if (!(std::isfinite(r) && r >= 0.05 && r <= 1000.0)) {
-        reply.set_ok(false);
-        reply.set_error("sphere radius " + std::to_string(r) + " m is outside [0.05, 1000]");
-      } else {
-        sphere_radius_ = r;
-      }
-      break;
-    }
-    case link::proto::ControlRequest::kCalibrationCapture:
-      reply.set_ok(false);
-      reply.set_error("calibration capture is not available in this build (use telesphere-calib)");
-      break;
-    default:
-      reply.set_ok(false);
-      reply.set_error("empty control request");
+    if (nominal) *reply.mutable_nominal() = nominalMappingLocked();
   }
+  reply.set_ok(ok);
+  reply.set_error(error);
+  fillSettings(reply.mutable_settings());
   return reply;
 }
 

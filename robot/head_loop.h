@@ -2,12 +2,26 @@
 /// @brief The robot side's 100 Hz head loop (DESIGN.md §5) wired to the link: each tick it runs
 ///        the arm, files its joint states into the joint-state buffer (the video path reads
 ///        capture-time camera poses from there), feeds the newest head target from the operator
-///        to the HeadController, sends the resulting joint target, and publishes the robot state.
-///        It also answers the link's control requests (mode, nominal pose, sphere radius).
+///        to the HeadController, sends the resulting joint target, publishes the robot state and
+///        records one telemetry sample (HeadTick) per tick. It also answers the link's control
+///        requests for the head: visual mode, sphere radius, filter cut-off, jump threshold, arm
+///        stop and clear, and the nominal pose (the headset's one-shot capture, and the console's
+///        guided step below).
 ///
 /// Head-target time: a target is stamped in the operator's clock, so the loop stamps it with
 /// its arrival at the robot (the tick that first sees it) for the controller's staleness
-/// checks. On loopback and a LAN the uplink adds well under a tick (10 ms) to its age.
+/// checks. On loopback and a LAN the uplink adds well under a tick (10 ms) to its age. The
+/// telemetry also carries the target's own stamp in the robot clock (through the XR app's
+/// ping offset) — the time the XR app sampled the pose, in the robot clock — so the console can
+/// plot head-pose → robot latency at the pose's own time.
+///
+/// Nominal-pose step (console, DESIGN.md §2; link NominalStepRequest):
+///   FOLLOWING --HOLD--> HOLDING (the head moves to T_robot_nom and stays; the operator is asked
+///   to look straight ahead) --CAPTURE--> CAPTURED (the newest head pose, if it arrived within
+///   max_capture_age_ns, becomes the pending T_vr_nom; still holding) --CONFIRM--> FOLLOWING with
+///   the new mapping (the old one kept for undo). UNDO from HOLDING or CAPTURED drops the
+///   pending capture and follows with the old mapping; UNDO while FOLLOWING goes back to the
+///   mapping before the last confirm (one level).
 #pragma once
 
 #include <atomic>
@@ -21,19 +35,29 @@
 #include "robot/head_controller.h"
 #include "robot/joint_state_buffer.h"
 #include "robot/link/link_server.h"
+#include "robot/telemetry_batcher.h"
 
 namespace telesphere::robot {
 
 struct HeadLoopConfig {
   std::int64_t period_ns = HeadArm::kStatePeriodNs;  ///< 100 Hz
   int state_every_ticks = 2;                          ///< robot state at 50 Hz
+  int telemetry_every_ticks = 5;                      ///< a telemetry batch every 50 ms
   bool auto_nominal = false;  ///< take the first valid head target as the nominal pose (demo)
   double sphere_radius = 1.0;  ///< m; echoed in the robot state, changed by control requests
+  /// A nominal capture needs a head pose that arrived at most this long ago.
+  std::int64_t max_capture_age_ns = 250'000'000;
+  /// Where the per-tick samples go (with the video path's); null: no telemetry.
+  TelemetryBatcher* telemetry = nullptr;
 };
 
-/// "full6d", "orientation3d", "fixed" ↔ HeadMode; nothing for other text.
-std::optional<HeadMode> headModeFromName(const std::string& name);
-const char* headModeName(HeadMode mode);
+/// The sphere radius the link accepts, m.
+inline constexpr double kMinSphereRadius = 0.05;
+inline constexpr double kMaxSphereRadius = 1000.0;
+
+/// The link's visual mode ↔ the controller's head mode; nothing for VISUAL_MODE_UNSPECIFIED.
+std::optional<HeadMode> headModeOf(link::proto::VisualMode mode);
+link::proto::VisualMode visualModeOf(HeadMode mode);
 
 class HeadLoop {
  public:
@@ -46,26 +70,49 @@ class HeadLoop {
   /// Ticks every period until `stop` becomes true (real time: the clock must be steady).
   void run(const std::atomic<bool>& stop);
 
-  /// A control request from the link (called on the link's thread).
+  /// A control request for the head (called on the link's thread); other requests (JPEG
+  /// settings) are refused with a reason. The reply carries the head's settings.
   link::proto::ControlReply handleControl(const link::proto::ControlRequest& request);
+
+  /// The head's part of the settings (mode, radius, cut-off, jump thresholds).
+  void fillSettings(link::proto::RobotSettings* settings) const;
+  /// The head's and the arm's part of the health report.
+  void fillHealth(link::proto::RobotHealth* health) const;
 
   std::int64_t ticks() const { return ticks_; }
   std::int64_t targetsSent() const { return targets_sent_; }
   std::optional<JointState> lastState() const;
+  link::proto::NominalStep nominalStep() const;
 
  private:
+  /// The newest head target, with when it arrived (robot clock).
+  struct ArrivedTarget {
+    HmdSample sample;  ///< t_ns: the arrival tick
+    std::int64_t sampled_robot_ns = 0;  ///< when the XR app sampled it, robot clock (0: unknown)
+  };
+
+  link::proto::NominalMapping nominalMappingLocked() const;
+  bool nominalStepLocked(link::proto::NominalStepRequest step, std::string* error);
+  bool captureNominalLocked(std::string* error);
+  std::string faultLocked() const;
+
   HeadArm& arm_;
   HeadController& controller_;
   JointStateBuffer& buffer_;
   link::LinkServer& server_;
   const Clock& clock_;
   HeadLoopConfig config_;
+  Eigen::Isometry3d T_flange_head_;
 
-  mutable std::mutex mutex_;  ///< controller_, last_*, pending_nominal_ (tick vs control thread)
+  mutable std::mutex mutex_;  ///< everything below (tick vs control thread)
   std::optional<JointState> last_state_;
-  std::optional<HmdSample> last_sample_;
+  std::optional<ArrivedTarget> last_target_;
   std::int64_t last_target_t_ns_ = 0;  ///< operator clock stamp of the last target taken
-  bool pending_nominal_ = false;
+  bool pending_nominal_ = false;       ///< the headset's one-shot capture, taken at the next tick
+  link::proto::NominalStep step_ = link::proto::NOMINAL_STEP_FOLLOWING;
+  std::optional<ArrivedTarget> captured_;           ///< pending while CAPTURED
+  std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
+  std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
   double sphere_radius_;
   std::atomic<std::int64_t> ticks_{0}, targets_sent_{0};
 };

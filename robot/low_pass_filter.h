@@ -34,6 +34,11 @@ class PoseLowPassFilter {
   }
 
   double cutoffHz() const { return cutoff_hz_; }
+  /// Changes the cut-off (> 0, +inf: off) from the next update on, keeping the state.
+  void setCutoffHz(double cutoff_hz) {
+    TS_ASSERT(cutoff_hz > 0, cutoff_hz);
+    cutoff_hz_ = cutoff_hz;
+  }
   bool initialised() const { return initialised_; }
 
   /// Restarts the filter at T (robot frame) at time t_ns.

@@ -96,9 +96,22 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
   message.mutable_stamps()->set_capture_ns(std::min(pair.left.capture_ns, pair.right.capture_ns));
   message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));
   const std::int64_t capture_ns = message.stamps().capture_ns();
-  server_.publishStereoFrame(std::move(message), encoded.left.jpeg, encoded.right.jpeg);
+  const std::int64_t encoded_ns = message.stamps().encoded_ns();
+  const std::uint64_t sequence = message.sequence();
+  const std::int64_t link_sent_ns =
+      server_.publishStereoFrame(std::move(message), encoded.left.jpeg, encoded.right.jpeg);
 
   const std::int64_t sent_ns = clock_.nowNs();
+  if (config_.telemetry) {
+    link::proto::SentFrame sent;
+    sent.set_sequence(sequence);
+    sent.set_capture_ns(capture_ns);
+    sent.set_encoded_ns(encoded_ns);
+    sent.set_sent_ns(link_sent_ns);  // the stamp the frame itself carries
+    sent.set_jpeg_bytes(static_cast<std::uint32_t>(encoded.left.jpeg->size() + encoded.right.jpeg->size()));
+    config_.telemetry->addFrame(sent);
+  }
+  if (config_.on_sent) config_.on_sent(pair, sequence);
   std::lock_guard lock(stats_mutex_);
   ++stats_.frames_sent;
   stats_.poses_from_joints += from_joints;
@@ -106,6 +119,10 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
   stats_.encode_ms_last = static_cast<double>(
       std::max(encoded.left.encoded_ns, encoded.right.encoded_ns) - start_ns) * 1e-6;
   stats_.capture_to_sent_ns_last = sent_ns - capture_ns;
+  stats_.exposure_us_last[0] = pair.left.exposure_us;
+  stats_.exposure_us_last[1] = pair.right.exposure_us;
+  stats_.width = pair.left.width;
+  stats_.height = pair.left.height;
   return true;
 }
 

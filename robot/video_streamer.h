@@ -19,6 +19,7 @@
 #include "robot/link/link_server.h"
 #include "robot/stereo_encoder.h"
 #include "robot/stereo_pairer.h"
+#include "robot/telemetry_batcher.h"
 
 namespace telesphere::robot {
 
@@ -30,6 +31,10 @@ struct VideoStreamerConfig {
   /// Used, and flagged POSE_SOURCE_FIXED_CALIBRATION, when CameraPoseAt has no answer.
   Eigen::Isometry3d T_robot_cam_l_fixed = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_robot_cam_r_fixed = Eigen::Isometry3d::Identity();
+  /// Gets one SentFrame sample per frame sent (null: no telemetry).
+  TelemetryBatcher* telemetry = nullptr;
+  /// Called with every pair sent and its sequence (the console's preview); must not block.
+  std::function<void(const StereoFrame&, std::uint64_t sequence)> on_sent;
 };
 
 struct VideoStreamerStats {
@@ -39,6 +44,8 @@ struct VideoStreamerStats {
   std::uint64_t poses_fixed = 0;        ///< … from the fixed calibration
   double encode_ms_last = 0.0;          ///< wall time of the last pair's (parallel) encode
   std::int64_t capture_to_sent_ns_last = 0;
+  std::uint32_t exposure_us_last[2] = {0, 0};  ///< [left, right], of the last pair sent
+  int width = 0, height = 0;                   ///< of the last pair's images
   std::string last_error;
 };
 
@@ -58,6 +65,7 @@ class VideoStreamer {
   bool publish(const StereoFrame& pair);
 
   void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
+  JpegSettings jpegSettings() const { return encoder_.settings(); }
   VideoStreamerStats stats() const;
 
  private:

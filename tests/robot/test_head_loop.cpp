@@ -10,7 +10,9 @@
 #include "tests/eventually.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
+#include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
+#include "robot/link/link_pose.h"
 #include "robot/sim_clock.h"
 
 namespace telesphere::robot {
@@ -20,15 +22,15 @@ using namespace std::chrono_literals;
 
 using ::telesphere::test::eventually;
 
-link::proto::HeadTarget target(std::int64_t t_ns, const Eigen::Vector3d& position) {
+link::proto::HeadTarget target(std::int64_t t_ns, const Eigen::Vector3d& position,
+                               const link::HeadAngles& angles = {}) {
   link::proto::HeadTarget t;
   t.set_t_ns(t_ns);
   t.set_valid(true);
-  auto* pose = t.mutable_t_vr_hmd();
-  pose->set_tx(position.x());
-  pose->set_ty(position.y());
-  pose->set_tz(position.z());
-  pose->set_qw(1.0);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = link::headRotationOf(angles);
+  T.translation() = position;
+  link::toLinkPose(T, t.mutable_t_vr_hmd());
   return t;
 }
 
@@ -50,20 +52,24 @@ struct HeadLoopRig {
     return c;
   }
 
+  TelemetryBatcher telemetry;
+
   explicit HeadLoopRig(int port) {
     endpoints.base_port = port;
     server = std::make_unique<link::LinkServer>(endpoints);
-    client = std::make_unique<link::LinkClient>(endpoints);
-    loop = std::make_unique<HeadLoop>(arm, controller, buffer, *server, clock);
+    client = std::make_unique<link::LinkClient>(endpoints, link::LinkClient::Options{.telemetry = true});
+    HeadLoopConfig config;
+    config.telemetry = &telemetry;
+    loop = std::make_unique<HeadLoop>(arm, controller, buffer, *server, clock, config);
     server->setControlHandler([this](const link::proto::ControlRequest& r) { return loop->handleControl(r); });
   }
 
   /// Sends a target until the server holds it: the uplink is asynchronous and, like the XR app
   /// sending every display frame, drops a target while it (re)connects instead of queueing it.
-  void sendTarget(const Eigen::Vector3d& position) {
+  void sendTarget(const Eigen::Vector3d& position, const link::HeadAngles& angles = {}) {
     const std::int64_t t = ++operator_t_ns;
     ASSERT_TRUE(eventually([&] {
-      client->sendHeadTarget(target(t, position));
+      client->sendHeadTarget(target(t, position, angles));
       std::this_thread::sleep_for(1ms);
       const auto latest = server->latestHeadTarget();
       return latest && latest->t_ns() == t;
@@ -79,6 +85,16 @@ struct HeadLoopRig {
     auto reply = client->request(std::move(r), 3000ms);
     EXPECT_TRUE(reply);
     return reply ? *reply : link::proto::ControlReply{};
+  }
+
+  link::proto::ControlReply nominal(link::proto::NominalStepRequest step) {
+    link::proto::ControlRequest r;
+    r.set_nominal_step(step);
+    return request(r);
+  }
+
+  Eigen::Isometry3d measuredHead() const {
+    return controller.kinematics().forward(arm.trueJoints()) * controller.config().geometry.T_flange_head();
   }
 };
 
@@ -133,12 +149,13 @@ TEST(HeadLoop, NominalCaptureThenTargetsMoveTheArm) {
 TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
   HeadLoopRig rig(27210);
   link::proto::ControlRequest mode;
-  mode.set_set_mode("orientation3d");
+  mode.set_set_visual_mode(link::proto::VISUAL_MODE_ORIENTATION3D);
   EXPECT_TRUE(rig.request(mode).ok());
-  mode.set_set_mode("bogus");
+  mode.set_set_visual_mode(link::proto::VISUAL_MODE_UNSPECIFIED);
   const auto bad_mode = rig.request(mode);
   EXPECT_FALSE(bad_mode.ok());
-  EXPECT_NE(bad_mode.error().find("bogus"), std::string::npos);
+  EXPECT_NE(bad_mode.error().find("unknown visual mode"), std::string::npos) << bad_mode.error();
+  EXPECT_EQ(bad_mode.settings().visual_mode(), link::proto::VISUAL_MODE_ORIENTATION3D);
 
   link::proto::ControlRequest radius;
   radius.set_set_sphere_radius(0.01);
@@ -154,7 +171,7 @@ TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
     return s && s->sphere_radius() == 2.5;
   }));
   const auto state = *rig.client->latestRobotState();
-  EXPECT_EQ(state.mode(), "orientation3d");
+  EXPECT_EQ(state.visual_mode(), link::proto::VISUAL_MODE_ORIENTATION3D);
   EXPECT_EQ(state.joint_positions_size(), 6);
   EXPECT_TRUE(state.arm_ok());
   EXPECT_NEAR(state.joint_positions(1), -0.3, 0.01);
@@ -167,6 +184,185 @@ TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
     return s && !s->arm_ok();
   }));
   EXPECT_FALSE(rig.client->latestRobotState()->fault().empty());
+}
+
+TEST(HeadLoop, GuidedNominalStepHoldCaptureConfirmAndUndo) {
+  HeadLoopRig rig(27270);
+  rig.step();
+  // 1. Hold: the arm moves the head to T_robot_nom, before any mapping exists.
+  auto reply = rig.nominal(link::proto::NOMINAL_REQUEST_HOLD);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  EXPECT_EQ(reply.nominal().step(), link::proto::NOMINAL_STEP_HOLDING);
+  EXPECT_FALSE(reply.nominal().mapping_set());
+  for (int i = 0; i < 500; ++i) rig.step();
+  const Eigen::Isometry3d T_robot_nom = rig.controller.config().T_robot_nom;
+  EXPECT_LT((rig.measuredHead().translation() - T_robot_nom.translation()).norm(), 0.005);
+  EXPECT_FALSE(rig.controller.initialised());
+
+  // 2. Capture: refused without head poses, then refused when they stop arriving.
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_CAPTURE);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("no head pose"), std::string::npos) << reply.error();
+  const Eigen::Vector3d head(0.1, 1.6, -0.2);
+  const link::HeadAngles looking{10.0 * M_PI / 180, 5.0 * M_PI / 180, -3.0 * M_PI / 180};
+  rig.sendTarget(head, looking);
+  rig.step();
+  for (int i = 0; i < 30; ++i) rig.step();  // 300 ms without a new pose
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_CAPTURE);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("no fresh head pose"), std::string::npos) << reply.error();
+  rig.sendTarget(head, looking);
+  rig.step();
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_CAPTURE);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  EXPECT_EQ(reply.nominal().step(), link::proto::NOMINAL_STEP_CAPTURED);
+  EXPECT_NEAR(reply.nominal().yaw_deg(), 10.0, 1e-6);
+  EXPECT_NEAR(reply.nominal().pitch_deg(), 5.0, 1e-6);
+  EXPECT_NEAR(reply.nominal().roll_deg(), -3.0, 1e-6);
+  EXPECT_FALSE(reply.nominal().has_previous());
+  // The proposed mapping takes the captured head pose, levelled, to the nominal head pose.
+  const Eigen::Isometry3d T_robot_vr = link::fromLinkPose(reply.nominal().t_robot_vr());
+  const Eigen::Isometry3d T_robot_head =
+      T_robot_vr * HeadController::levelled(link::fromLinkPose(reply.nominal().t_vr_hmd_captured()) *
+                                            HeadController::T_hmd_head());
+  EXPECT_TRUE(T_robot_head.isApprox(T_robot_nom, 1e-9));
+  for (int i = 0; i < 20; ++i) rig.step();
+  EXPECT_FALSE(rig.controller.initialised());  // nothing applied before confirm
+  EXPECT_TRUE(rig.controller.holding());
+
+  // 3. Confirm: the mapping is applied and the head follows again.
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_CONFIRM);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  EXPECT_EQ(reply.nominal().step(), link::proto::NOMINAL_STEP_FOLLOWING);
+  ASSERT_TRUE(rig.controller.initialised());
+  EXPECT_TRUE(rig.controller.T_robot_vr().isApprox(T_robot_vr, 1e-12));
+  EXPECT_FALSE(rig.controller.holding());
+  EXPECT_FALSE(reply.nominal().has_previous());  // the first mapping: nothing to undo to
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_UNDO);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("nothing to undo"), std::string::npos);
+
+  // A second nominal pose, then undo back to the first.
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_HOLD).ok());
+  rig.sendTarget(head + Eigen::Vector3d(0.3, 0, 0), {-0.4, 0, 0});
+  rig.step();
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_CAPTURE).ok());
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_CONFIRM);
+  ASSERT_TRUE(reply.ok());
+  EXPECT_TRUE(reply.nominal().has_previous());
+  EXPECT_FALSE(rig.controller.T_robot_vr().isApprox(T_robot_vr, 1e-6));
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_UNDO);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  EXPECT_TRUE(rig.controller.T_robot_vr().isApprox(T_robot_vr, 1e-12));
+  EXPECT_FALSE(reply.nominal().has_previous());
+
+  // Undo during a hold drops the capture and follows with the mapping in force.
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_HOLD).ok());
+  rig.sendTarget(head, {1.0, 0, 0});
+  rig.step();
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_CAPTURE).ok());
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_UNDO).ok());
+  EXPECT_TRUE(rig.controller.T_robot_vr().isApprox(T_robot_vr, 1e-12));
+  EXPECT_EQ(rig.loop->nominalStep(), link::proto::NOMINAL_STEP_FOLLOWING);
+  EXPECT_FALSE(rig.nominal(link::proto::NOMINAL_REQUEST_CONFIRM).ok());  // nothing captured
+}
+
+TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
+  HeadLoopRig rig(27280);
+  rig.step();
+  link::proto::ControlRequest r;
+  r.set_set_filter_cutoff_hz(20.0);
+  auto reply = rig.request(r);
+  EXPECT_TRUE(reply.ok());
+  EXPECT_DOUBLE_EQ(reply.settings().filter_cutoff_hz(), 20.0);
+  EXPECT_DOUBLE_EQ(rig.controller.config().cutoff_hz, 20.0);
+  r.set_set_filter_cutoff_hz(std::numeric_limits<double>::infinity());  // off
+  EXPECT_TRUE(rig.request(r).ok());
+  for (double bad : {0.0, -3.0, std::nan("")}) {
+    r.set_set_filter_cutoff_hz(bad);
+    reply = rig.request(r);
+    EXPECT_FALSE(reply.ok()) << bad;
+    EXPECT_TRUE(std::isinf(reply.settings().filter_cutoff_hz()));
+  }
+  r.mutable_set_jump_threshold()->set_position_m(0.05);
+  r.mutable_set_jump_threshold()->set_angle_deg(30.0);
+  reply = rig.request(r);
+  EXPECT_TRUE(reply.ok());
+  EXPECT_DOUBLE_EQ(rig.controller.config().jump_position, 0.05);
+  EXPECT_NEAR(rig.controller.config().jump_angle, 30.0 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(reply.settings().jump_angle_deg(), 30.0, 1e-9);
+  r.mutable_set_jump_threshold()->set_angle_deg(0.0);
+  EXPECT_FALSE(rig.request(r).ok());
+  r.set_set_jpeg_quality(50);  // not the head loop's: RobotControl routes it to the video path
+  EXPECT_FALSE(rig.request(r).ok());
+
+  r.set_arm_stop(true);
+  EXPECT_TRUE(rig.request(r).ok());
+  EXPECT_EQ(rig.arm.status(), ArmStatus::kStopped);
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && !s->arm_ok();
+  }));
+  EXPECT_EQ(rig.client->latestRobotState()->fault(), "arm stopped from the console");
+  link::proto::RobotHealth health;
+  rig.loop->fillHealth(&health);
+  EXPECT_FALSE(health.arm_ok());
+  r.set_clear_fault(true);
+  EXPECT_TRUE(rig.request(r).ok());
+  EXPECT_EQ(rig.arm.status(), ArmStatus::kOk);
+  rig.arm.dropConnection();
+  reply = rig.request(r);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("disconnected"), std::string::npos) << reply.error();
+}
+
+TEST(HeadLoop, EveryTickIsTelemetryInNumberedBatches) {
+  HeadLoopRig rig(27290);
+  link::proto::ControlRequest capture;
+  capture.set_capture_nominal(true);
+  rig.sendTarget({0, 1.6, 0});
+  rig.step();
+  ASSERT_TRUE(rig.request(capture).ok());
+  // Keep ticking until the client has heard batches (a SUB joins late), then count exactly.
+  ASSERT_TRUE(eventually([&] {
+    rig.sendTarget({0, 1.6, 0});
+    rig.step();
+    return !rig.client->takeTelemetry().empty();
+  }));
+  const std::int64_t first_tick = rig.loop->ticks();
+  for (int i = 0; i < 100; ++i) {
+    rig.sendTarget({0.001 * i, 1.6, 0});
+    rig.step();
+  }
+  std::vector<link::proto::HeadTick> ticks;
+  std::uint64_t last_batch = 0;
+  ASSERT_TRUE(eventually([&] {
+    for (const auto& e : rig.client->takeTelemetry()) {
+      if (!e.has_robot_telemetry()) {
+        ADD_FAILURE() << "not robot telemetry";
+        continue;
+      }
+      if (last_batch) {
+        EXPECT_EQ(e.robot_telemetry().batch(), last_batch + 1);
+      }
+      last_batch = e.robot_telemetry().batch();
+      for (const auto& t : e.robot_telemetry().ticks()) ticks.push_back(t);
+    }
+    return !ticks.empty() && ticks.back().t_ns() >= rig.clock.nowNs() - 50'000'000;
+  }));
+  // Every tick since, in order, each with the target it acted on and the measured head.
+  std::size_t sent = 0;
+  for (std::size_t i = 1; i < ticks.size(); ++i) EXPECT_EQ(ticks[i].t_ns() - ticks[i - 1].t_ns(), 10'000'000);
+  for (const auto& t : ticks) {
+    sent += t.outcome() == link::proto::HEAD_TICK_SENT;
+    EXPECT_TRUE(t.target_new());
+    EXPECT_EQ(t.target_arrival_ns(), t.t_ns());
+    EXPECT_TRUE(t.has_t_robot_head_measured());
+    EXPECT_GT(t.joint_state_ns(), 0);
+  }
+  EXPECT_GE(ticks.size(), std::size_t(rig.loop->ticks() - first_tick - 5));
+  EXPECT_EQ(sent, ticks.size());
 }
 
 }  // namespace

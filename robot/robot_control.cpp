@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+/// @brief RobotControl: dispatch and settings.
+#include "robot/robot_control.h"
+
+#include <string>
+
+namespace telesphere::robot {
+
+link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest& request) {
+  link::proto::ControlReply reply;
+  if (request.request_case() == link::proto::ControlRequest::kSetJpegQuality) {
+    reply.set_id(request.id());
+    const int q = request.set_jpeg_quality();
+    if (!video_) {
+      reply.set_error("no video path on this robot");
+    } else if (q < 1 || q > 100) {
+      reply.set_error("JPEG quality " + std::to_string(q) + " is outside [1, 100]");
+    } else {
+      JpegSettings settings = video_->jpegSettings();
+      settings.quality = q;
+      video_->setJpegSettings(settings);
+      reply.set_ok(true);
+    }
+  } else {
+    reply = loop_.handleControl(request);
+  }
+  fillSettings(reply.mutable_settings());
+  return reply;
+}
+
+void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {
+  loop_.fillSettings(settings);
+  if (!video_) return;
+  const JpegSettings jpeg = video_->jpegSettings();
+  settings->set_jpeg_quality(jpeg.quality);
+  switch (jpeg.subsampling) {
+    case ChromaSubsampling::k420: settings->set_jpeg_subsampling(link::proto::CHROMA_420); break;
+    case ChromaSubsampling::k422: settings->set_jpeg_subsampling(link::proto::CHROMA_422); break;
+    case ChromaSubsampling::k444: settings->set_jpeg_subsampling(link::proto::CHROMA_444); break;
+    case ChromaSubsampling::kGray: settings->set_jpeg_subsampling(link::proto::CHROMA_GRAY); break;
+  }
+}
+
+}  // namespace telesphere::robot

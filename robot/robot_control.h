@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot's answer to the link's control requests (DESIGN.md §7: every change through a
+///        request with an explicit reply): JPEG quality goes to the video path, everything else to
+///        the head loop; every reply carries the robot's settings after the request, so the
+///        console shows what is in force, never what it asked for.
+#pragma once
+
+#include "robot/head_loop.h"
+#include "robot/link/telesphere_link.pb.h"
+#include "robot/video_streamer.h"
+
+namespace telesphere::robot {
+
+class RobotControl {
+ public:
+  /// `video` may be null (no cameras): JPEG requests are then refused.
+  RobotControl(HeadLoop& loop, VideoStreamer* video) : loop_(loop), video_(video) {}
+
+  link::proto::ControlReply handle(const link::proto::ControlRequest& request);
+  void fillSettings(link::proto::RobotSettings* settings) const;
+
+ private:
+  HeadLoop& loop_;
+  VideoStreamer* video_;
+};
+
+}  // namespace telesphere::robot

@@ -1,0 +1,266 @@
+// SPDX-License-Identifier: MIT
+/// @brief What the robot serves the console, on a real link over loopback with replay cameras:
+///        the preview stream (reduction exact against a reference, JPEGs that decode to it), the
+///        sent-frame telemetry of the video path, JPEG quality changed through a control request
+///        (and every reply carrying the settings in force), and the health report.
+#include <gtest/gtest.h>
+#include <turbojpeg.h>
+
+#include <random>
+#include <thread>
+
+#include "robot/head_arm_sim.h"
+#include "robot/link/link_client.h"
+#include "robot/preview_streamer.h"
+#include "robot/replay_camera.h"
+#include "robot/robot_control.h"
+#include "robot/robot_health_reporter.h"
+#include "robot/sim_clock.h"
+#include "robot/video_streamer.h"
+#include "tests/eventually.h"
+
+namespace telesphere::robot {
+namespace {
+
+using namespace std::chrono_literals;
+using ::telesphere::test::eventually;
+
+CameraFrame randomFrame(int w, int h, PixelFormat format, std::uint64_t seed) {
+  CameraFrame f;
+  f.width = w;
+  f.height = h;
+  f.format = format;
+  const int channels = bytesPerPixel(format);
+  f.stride_bytes = w * channels + 5;  // padded rows
+  auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(f.stride_bytes) * std::size_t(h));
+  std::mt19937_64 rng(seed);
+  for (auto& p : *pixels) p = std::uint8_t(rng());
+  f.pixels = pixels;
+  return f;
+}
+
+TEST(PreviewReduction, IsTheRoundedBlockMeanAndRefusesWhatItCannotReduce) {
+  for (PixelFormat format : {PixelFormat::kRgb8, PixelFormat::kMono8}) {
+    const CameraFrame f = randomFrame(1003, 517, format, 3);
+    const auto img = reduceForPreview(f, 320);
+    ASSERT_TRUE(img);
+    const int k = 4;  // ceil(1003 / 320)
+    EXPECT_EQ(img->width, 1003 / k);
+    EXPECT_EQ(img->height, 517 / k);
+    const int c = bytesPerPixel(format);
+    EXPECT_EQ(img->channels, c);
+    for (int y = 0; y < img->height; y += 7)
+      for (int x = 0; x < img->width; x += 11)
+        for (int ch = 0; ch < c; ++ch) {
+          unsigned sum = 0;
+          for (int dy = 0; dy < k; ++dy)
+            for (int dx = 0; dx < k; ++dx)
+              sum += (*f.pixels)[std::size_t((y * k + dy) * f.stride_bytes + (x * k + dx) * c + ch)];
+          EXPECT_EQ(img->pixels[std::size_t((y * img->width + x) * c + ch)], (sum + 8) / 16) << x << "," << y;
+        }
+  }
+  EXPECT_TRUE(reduceForPreview(randomFrame(320, 10, PixelFormat::kRgb8, 1), 320)->width == 320);  // k = 1
+  EXPECT_FALSE(reduceForPreview(randomFrame(64, 64, PixelFormat::kBayerRG8, 1), 32));
+  EXPECT_FALSE(reduceForPreview(randomFrame(64, 64, PixelFormat::kRgb8, 1), 0));
+  CameraFrame empty;
+  EXPECT_FALSE(reduceForPreview(empty, 32));
+  CameraFrame short_buffer = randomFrame(64, 64, PixelFormat::kRgb8, 1);
+  short_buffer.height = 100;  // claims more rows than it has
+  EXPECT_FALSE(reduceForPreview(short_buffer, 32));
+}
+
+/// A smooth picture (what a camera sees; random pixels are the worst case for JPEG).
+CameraFrame smoothFrame(int w, int h, double phase) {
+  CameraFrame f;
+  f.width = w;
+  f.height = h;
+  f.format = PixelFormat::kRgb8;
+  f.stride_bytes = w * 3;
+  auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(w) * std::size_t(h) * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        (*pixels)[std::size_t((y * w + x) * 3 + c)] =
+            std::uint8_t(128 + 100 * std::sin(x / 37.0 + phase + c) * std::cos(y / 29.0 - c));
+  f.pixels = pixels;
+  return f;
+}
+
+/// Replay cameras → pairs → video streamer (+ preview, telemetry) → link server, in real time.
+struct VideoRig {
+  SteadyClock clock;
+  link::LinkEndpoints endpoints;
+  link::LinkServer server;
+  ReplayCamera left, right;
+  StereoPairSource pairs;
+  TelemetryBatcher telemetry;
+  PreviewStreamer preview;
+  VideoStreamer video;
+  SimClock arm_clock{1};
+  SimulatedArm arm{arm_clock};
+  HeadController controller;
+  JointStateBuffer buffer{controller.config().geometry};
+  HeadLoop loop{arm, controller, buffer, server, arm_clock};
+  RobotControl control{loop, &video};
+
+  static link::LinkEndpoints at(int port) {
+    link::LinkEndpoints e;
+    e.base_port = port;
+    return e;
+  }
+  static ReplayCameraConfig camera(const char* name) {
+    ReplayCameraConfig c;
+    c.name = name;
+    c.fps = 30;
+    return c;
+  }
+  static VideoStreamerConfig videoConfig(TelemetryBatcher* telemetry, PreviewStreamer* preview) {
+    VideoStreamerConfig c;
+    c.telemetry = telemetry;
+    c.on_sent = [preview](const StereoFrame& pair, std::uint64_t sequence) { preview->offer(pair, sequence); };
+    return c;
+  }
+  explicit VideoRig(int port)
+      : endpoints(at(port)),
+        server(endpoints),
+        left(clock, {smoothFrame(640, 360, 0.0)}, camera("left")),
+        right(clock, {smoothFrame(640, 360, 1.0)}, camera("right")),
+        pairs(left, right, StereoPairerOptions{.tolerance_ns = 5'000'000}),
+        preview(server, PreviewOptions{.max_width = 160, .rate_hz = 20, .quality = 90}),
+        video(pairs, server, clock, nullptr, videoConfig(&telemetry, &preview)) {
+    server.setControlHandler([this](const link::proto::ControlRequest& r) { return control.handle(r); });
+    std::string error;
+    left.start(&error);
+    right.start(&error);
+    preview.start();
+    pairs.start();
+    video.start();
+  }
+  ~VideoRig() {
+    server.setControlHandler(nullptr);
+    video.stop();
+    preview.stop();
+    pairs.stop();
+    left.stop();
+    right.stop();
+  }
+};
+
+TEST(RobotConsoleServices, PreviewFramesArriveSmallAndDecodeToTheReducedImage) {
+  VideoRig rig(27230);
+  link::LinkClient client(rig.endpoints, {.frames = false, .previews = true});
+  std::optional<link::ReceivedPreview> p;
+  ASSERT_TRUE(eventually([&] { return (p = client.takeLatestPreview()).has_value(); }));
+  EXPECT_EQ(p->preview.width(), 160u);
+  EXPECT_EQ(p->preview.height(), 90u);
+  EXPECT_EQ(p->preview.source_width(), 640u);
+  EXPECT_GT(p->preview.sequence(), 0u);
+  EXPECT_LT(p->left_jpeg.size(), 40000u);
+  // Decode and compare with the reduction of the camera's frame (JPEG q90 4:2:0).
+  tjhandle tj = tjInitDecompress();
+  std::vector<std::uint8_t> rgb(160 * 90 * 3);
+  ASSERT_EQ(tjDecompress2(tj, p->left_jpeg.data(), static_cast<unsigned long>(p->left_jpeg.size()), rgb.data(), 160, 0,
+                          90, TJPF_RGB, 0),
+            0);
+  tjDestroy(tj);
+  const auto want = reduceForPreview(smoothFrame(640, 360, 0.0), 160);
+  double error = 0;
+  for (std::size_t i = 0; i < rgb.size(); ++i) error += std::abs(int(rgb[i]) - int(want->pixels[i]));
+  EXPECT_LT(error / double(rgb.size()), 2.5);  // mean absolute error, 8-bit levels
+  // At most 20 previews a second whatever the camera rate.
+  const auto before = rig.preview.published();
+  std::this_thread::sleep_for(1s);
+  EXPECT_LE(rig.preview.published() - before, 21u);
+  EXPECT_GE(rig.preview.published() - before, 5u);
+}
+
+TEST(RobotConsoleServices, SentFramesBecomeTelemetryWithTheirStamps) {
+  VideoRig rig(27240);
+  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= 5; }));
+  const auto batch = rig.telemetry.takeBatch();
+  ASSERT_TRUE(batch);
+  EXPECT_EQ(batch->batch(), 1u);
+  ASSERT_GE(batch->frames_size(), 5);
+  for (const auto& f : batch->frames()) {
+    EXPECT_GT(f.capture_ns(), 0);
+    EXPECT_GE(f.encoded_ns(), f.capture_ns());
+    EXPECT_GE(f.sent_ns(), f.encoded_ns());
+    EXPECT_GT(f.jpeg_bytes(), 1000u);
+  }
+  EXPECT_GT(batch->frames(1).sequence(), batch->frames(0).sequence());
+  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= 7; }));
+  EXPECT_EQ(rig.telemetry.takeBatch()->batch(), 2u);
+}
+
+TEST(RobotConsoleServices, JpegQualityThroughAControlRequestAndSettingsInEveryReply) {
+  VideoRig rig(27250);
+  link::LinkClient client(rig.endpoints, {.frames = false});
+  link::proto::ControlRequest r;
+  r.set_set_jpeg_quality(40);
+  auto reply = client.request(r, 3000ms);
+  ASSERT_TRUE(reply);
+  EXPECT_TRUE(reply->ok()) << reply->error();
+  EXPECT_EQ(reply->settings().jpeg_quality(), 40);
+  EXPECT_EQ(rig.video.jpegSettings().quality, 40);
+  EXPECT_EQ(reply->settings().jpeg_subsampling(), link::proto::CHROMA_420);
+  EXPECT_EQ(reply->settings().visual_mode(), link::proto::VISUAL_MODE_FULL6D);
+  EXPECT_DOUBLE_EQ(reply->settings().sphere_radius(), 1.0);
+  for (int bad : {0, 101, -5}) {
+    r.set_set_jpeg_quality(bad);
+    reply = client.request(r, 3000ms);
+    ASSERT_TRUE(reply);
+    EXPECT_FALSE(reply->ok()) << bad;
+    EXPECT_NE(reply->error().find("outside [1, 100]"), std::string::npos) << reply->error();
+    EXPECT_EQ(reply->settings().jpeg_quality(), 40);  // what is in force, not what was asked
+  }
+  // Lower quality: smaller frames on the wire.
+  rig.telemetry.takeBatch();
+  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= 20; }));
+  const std::uint32_t small = rig.telemetry.takeBatch()->frames(0).jpeg_bytes();
+  r.set_set_jpeg_quality(95);
+  ASSERT_TRUE(client.request(r, 3000ms)->ok());
+  std::this_thread::sleep_for(200ms);
+  rig.telemetry.takeBatch();
+  const auto sent = rig.video.stats().frames_sent;
+  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= sent + 3; }));
+  EXPECT_GT(rig.telemetry.takeBatch()->frames(0).jpeg_bytes(), small * 3 / 2);
+
+  link::proto::ControlRequest get;
+  get.set_get_settings(true);
+  reply = client.request(get, 3000ms);
+  ASSERT_TRUE(reply && reply->ok());
+  EXPECT_EQ(reply->settings().jpeg_quality(), 95);
+  EXPECT_DOUBLE_EQ(reply->settings().filter_cutoff_hz(), 100.0);
+}
+
+TEST(RobotConsoleServices, HealthReportsCamerasVideoAndSettings) {
+  VideoRig rig(27260);
+  RobotHealthSources sources;
+  sources.cameras = {&rig.left, &rig.right};
+  sources.pairs = &rig.pairs;
+  sources.video = &rig.video;
+  sources.loop = &rig.loop;
+  sources.control = &rig.control;
+  sources.server = &rig.server;
+  sources.telemetry = &rig.telemetry;
+  sources.arm = "simulated xArm 6";
+  sources.cameras_kind = "replay";
+  RobotHealthReporter reporter(sources, rig.clock);
+  std::this_thread::sleep_for(1s);
+  const auto h = reporter.make();
+  EXPECT_EQ(h.instance(), rig.server.instance());
+  ASSERT_EQ(h.cameras_size(), 2);
+  EXPECT_EQ(h.cameras(0).name(), "left");
+  EXPECT_NEAR(h.cameras(0).fps(), 30.0, 6.0);
+  EXPECT_EQ(h.cameras(0).width(), 640u);
+  EXPECT_EQ(h.cameras(0).exposure_us(), 5000u);
+  EXPECT_GT(h.frames_sent(), 15u);
+  EXPECT_EQ(h.settings().jpeg_quality(), 90);
+  EXPECT_EQ(h.arm(), "simulated xArm 6");
+  EXPECT_TRUE(h.arm_ok());
+  EXPECT_EQ(h.head_target_age_ns(), -1);  // no head pose yet
+  EXPECT_GT(h.t_ns(), h.started_ns());
+}
+
+}  // namespace
+}  // namespace telesphere::robot
