@@ -12,6 +12,27 @@
 #include "xr/latency_figure.h"
 
 namespace telesphere::xr {
+namespace {
+
+std::optional<RenderMode> renderModeOf(link::proto::VisualMode mode) {
+  switch (mode) {
+    case link::proto::VISUAL_MODE_FULL6D: return RenderMode::kFull6d;
+    case link::proto::VISUAL_MODE_ORIENTATION3D: return RenderMode::kOrientation3d;
+    case link::proto::VISUAL_MODE_FIXED: return RenderMode::kFixed;
+    default: return std::nullopt;
+  }
+}
+
+link::proto::VisualMode visualModeOf(RenderMode mode) {
+  switch (mode) {
+    case RenderMode::kFull6d: return link::proto::VISUAL_MODE_FULL6D;
+    case RenderMode::kOrientation3d: return link::proto::VISUAL_MODE_ORIENTATION3D;
+    case RenderMode::kFixed: return link::proto::VISUAL_MODE_FIXED;
+  }
+  return link::proto::VISUAL_MODE_FULL6D;
+}
+
+}  // namespace
 
 OperatorView::OperatorView(const calib::SystemCalibration& calibration,
                            const OperatorViewOptions& options)
@@ -21,16 +42,9 @@ OperatorView::OperatorView(const calib::SystemCalibration& calibration,
       options_(options),
       frame_begin_ns_(link::linkNowNs()),
       last_new_frame_ns_(frame_begin_ns_),
-      control_thread_([this] { controlWorker(); }) {}
+      control_(client_) {}
 
-OperatorView::~OperatorView() {
-  {
-    std::lock_guard lock(control_mutex_);
-    control_stop_ = true;
-  }
-  control_wake_.notify_all();
-  control_thread_.join();
-}
+OperatorView::~OperatorView() = default;
 
 bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns,
                               bool valid, std::string* error) {
@@ -40,7 +54,14 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   target.set_predicted_display_ns(display_ns);
   link::toLinkPose(valid ? T_vr_hmd : Eigen::Isometry3d::Identity(), target.mutable_t_vr_hmd());
   target.set_valid(valid);
+  const auto clock = client_.clock().estimate();
+  if (clock) target.set_t_robot_ns(frame_begin_ns_ - clock->server_to_client_offset_ns);
   client_.sendHeadTarget(target);
+  telemetry_frame_.Clear();
+  telemetry_frame_.set_display_ns(display_ns);
+  telemetry_frame_.set_head_valid(valid);
+  if (valid) link::toLinkPose(T_vr_hmd, telemetry_frame_.mutable_t_vr_hmd());
+  telemetry_frame_.set_eye_camera_distance_m(-1.0);
   ++stats_.head_targets_sent;
   if (valid) pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
 
@@ -54,7 +75,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
   if (state && options_.follow_robot_settings) {
     RenderSettings settings = renderer_.settings();
-    if (const auto mode = parseRenderMode(state->mode())) settings.mode = *mode;
+    if (const auto mode = renderModeOf(state->visual_mode())) settings.mode = *mode;
     if (std::isfinite(state->sphere_radius()) && state->sphere_radius() > 0.0)
       settings.radius = state->sphere_radius();
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
@@ -90,6 +111,12 @@ bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const E
                            Eigen::Isometry3d(kR_optical_view) * T_vr_eye.inverse();
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
+  if (eye == 0 && renderer_.frame() && stats_.nominal_from_robot) {
+    // Δs: where the left eye is against where the left camera was when the image was taken.
+    const Eigen::Vector3d p_robot_eye = T_robot_vr_ * T_vr_eye.translation();
+    const auto& t = renderer_.frame()->frame.left().t_robot_cam();
+    telemetry_frame_.set_eye_camera_distance_m((p_robot_eye - Eigen::Vector3d(t.tx(), t.ty(), t.tz())).norm());
+  }
   return renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
 }
 
@@ -105,10 +132,39 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
     const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
     age_ms_.push_back(double(shown_ns - capture) * 1e-6);
+    telemetry_frame_.set_stereo_sequence(frame->frame.sequence());
+    if (uploaded_this_frame_ns_ >= 0) {
+      telemetry_frame_.set_new_image(true);
+      link::proto::StageStamps* stamps = telemetry_frame_.mutable_stamps();
+      *stamps = frame->frame.stamps();
+      stamps->set_uploaded_ns(uploaded_this_frame_ns_);
+      stamps->set_displayed_ns(shown_ns);
+    }
+  }
+  telemetry_frame_.set_render_ms(render_ms);
+  telemetry_frame_.set_missed(static_cast<std::uint32_t>(missed_frames - std::min(missed_frames, missed_at_last_frame_)));
+  missed_at_last_frame_ = missed_frames;
+  *telemetry_.add_frames() = telemetry_frame_;
+
+  const std::int64_t now = link::linkNowNs();
+  if (now - last_telemetry_ns_ >= kTelemetryPeriodNs) {
+    telemetry_.set_batch(telemetry_.batch() + 1);
+    if (const auto clock = client_.clock().estimate()) {
+      telemetry_.set_clock_synced(true);
+      telemetry_.set_robot_to_xr_offset_ns(clock->server_to_client_offset_ns);
+      telemetry_.set_round_trip_ns(clock->round_trip_ns);
+    } else {
+      telemetry_.set_clock_synced(false);
+    }
+    telemetry_.set_missed_total(missed_frames);
+    telemetry_.set_visual_mode(visualModeOf(renderer_.settings().mode));
+    telemetry_.set_sphere_radius(renderer_.settings().radius);
+    client_.sendXrTelemetry(telemetry_);
+    telemetry_.clear_frames();
+    last_telemetry_ns_ = now;
   }
 
   // Statistics for the console, once a second, over the last second.
-  const std::int64_t now = link::linkNowNs();
   if (last_stats_ns_ == 0) last_stats_ns_ = now;
   if (now - last_stats_ns_ >= 1'000'000'000) {
     link::proto::XrStats xr_stats;
@@ -149,7 +205,7 @@ void OperatorView::requestCaptureNominal() {
 
 void OperatorView::requestMode(RenderMode mode) {
   link::proto::ControlRequest request;
-  request.set_set_mode(std::string(renderModeName(mode)));
+  request.set_set_visual_mode(visualModeOf(mode));
   sendControl(std::move(request), "set_mode " + std::string(renderModeName(mode)));
 }
 
@@ -164,27 +220,12 @@ void OperatorView::requestRadiusScaled(double factor) {
 }
 
 std::string OperatorView::lastControlResult() const {
-  std::lock_guard lock(control_mutex_);
+  std::lock_guard lock(control_result_mutex_);
   return last_control_result_;
 }
 
 void OperatorView::sendControl(link::proto::ControlRequest request, std::string what) {
-  {
-    std::lock_guard lock(control_mutex_);
-    control_queue_.emplace_back(std::move(request), std::move(what));
-  }
-  control_wake_.notify_all();
-}
-
-void OperatorView::controlWorker() {
-  std::unique_lock lock(control_mutex_);
-  for (;;) {
-    control_wake_.wait(lock, [&] { return control_stop_ || !control_queue_.empty(); });
-    if (control_stop_) return;
-    auto [request, what] = std::move(control_queue_.front());
-    control_queue_.pop_front();
-    lock.unlock();
-    const auto reply = client_.request(std::move(request), std::chrono::milliseconds(2000));
+  control_.send(std::move(request), [this, what](const std::optional<link::proto::ControlReply>& reply) {
     std::string result;
     if (!reply) {
       result = what + ": no reply from the robot within 2 s (is telesphere-robot running?)";
@@ -196,9 +237,9 @@ void OperatorView::controlWorker() {
       result = what + ": ok";
       spdlog::info("operator view: {}", result);
     }
-    lock.lock();
+    std::lock_guard lock(control_result_mutex_);
     last_control_result_ = result;
-  }
+  });
 }
 
 }  // namespace telesphere::xr

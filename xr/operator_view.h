@@ -9,22 +9,25 @@
 ///        camera); both eyes are rendered through it. Control requests (capture the nominal
 ///        pose, change mode or radius) are sent without blocking the frame loop.
 ///
+///        Telemetry for the console (link XrTelemetry, batched every kTelemetryPeriodNs): one
+///        sample per display frame with its head pose and display time, render time, missed
+///        periods, the camera frame shown (all stage stamps on its first display) and Δs, the
+///        distance from the left eye to the left camera at capture time (paper Fig. 7).
+///
 ///        Frame protocol, on the thread whose GL context is current:
 ///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
 #pragma once
 
 #include <Eigen/Geometry>
-#include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "calib/system_calibration.h"
+#include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_endpoints.h"
 #include "xr/eye_view.h"
@@ -76,6 +79,9 @@ class OperatorView {
   /// of both eyes. Sends XrStats to the robot once a second.
   void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames);
 
+  /// How often a telemetry batch goes to the robot (for the console).
+  static constexpr std::int64_t kTelemetryPeriodNs = 100'000'000;
+
   /// Asks the robot to capture the nominal pose from the latest head target / to change the
   /// mode / the sphere radius. Never blocks: the reply is logged, and the new values reach
   /// this view through the robot's state.
@@ -106,7 +112,6 @@ class OperatorView {
 
  private:
   void sendControl(link::proto::ControlRequest request, std::string what);
-  void controlWorker();
 
   link::LinkClient client_;
   StereoFrameDecoder decoder_;
@@ -123,13 +128,14 @@ class OperatorView {
   std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;
   std::int64_t last_stats_ns_ = 0;
   std::uint64_t frames_at_last_stats_ = 0;
+  link::proto::XrFrame telemetry_frame_;  ///< the sample of the frame in progress
+  link::proto::XrTelemetry telemetry_;    ///< the batch in progress
+  std::int64_t last_telemetry_ns_ = 0;
+  std::uint64_t missed_at_last_frame_ = 0;
 
-  mutable std::mutex control_mutex_;
-  std::condition_variable control_wake_;
-  std::deque<std::pair<link::proto::ControlRequest, std::string>> control_queue_;
+  mutable std::mutex control_result_mutex_;
   std::string last_control_result_;
-  bool control_stop_ = false;
-  std::thread control_thread_;
+  link::ControlQueue control_;  ///< after what its replies write to: it stops first
 };
 
 }  // namespace telesphere::xr

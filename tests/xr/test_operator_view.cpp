@@ -134,7 +134,7 @@ TEST_F(OperatorViewTest, HeadTargetsReachTheRobotWithThePredictedDisplayTime) {
 
 TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsense) {
   link::proto::RobotState state;
-  state.set_mode("orientation3d");
+  state.set_visual_mode(link::proto::VISUAL_MODE_ORIENTATION3D);
   state.set_sphere_radius(3.0);
   state.set_nominal_set(true);
   Eigen::Isometry3d T_robot_vr = Eigen::Isometry3d::Identity();
@@ -152,7 +152,7 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
 
   // Nonsense from the robot changes nothing.
   for (const double radius : {std::nan(""), -1.0, 0.0, std::numeric_limits<double>::infinity()}) {
-    state.set_mode("warp");
+    state.set_visual_mode(static_cast<link::proto::VisualMode>(17));
     state.set_sphere_radius(radius);
     state.set_t_ns(state.t_ns() + 1);
     server_->publishRobotState(state);
@@ -171,7 +171,7 @@ TEST_F(OperatorViewTest, OperatorRequestsReachTheRobotClampedToItsRange) {
   view_->requestCaptureNominal();
   ASSERT_TRUE(::telesphere::test::eventually([&] { return requests().size() == 5; }));
   const auto r = requests();
-  EXPECT_EQ(r[0].set_mode(), "orientation3d");
+  EXPECT_EQ(r[0].set_visual_mode(), link::proto::VISUAL_MODE_ORIENTATION3D);
   EXPECT_DOUBLE_EQ(r[1].set_sphere_radius(), 1.25);
   EXPECT_DOUBLE_EQ(r[2].set_sphere_radius(), 1000.0);
   EXPECT_DOUBLE_EQ(r[3].set_sphere_radius(), 0.05);

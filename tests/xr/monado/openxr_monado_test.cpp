@@ -373,14 +373,14 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
   std::thread console([&] {
     link::LinkEndpoints endpoints;
     endpoints.base_port = port;
-    link::LinkClient client(endpoints, link::LinkClient::Options{false, std::chrono::milliseconds(200)});
+    link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false, .ping_period = std::chrono::milliseconds(200)});
     while (!done.load()) {
       if (const auto state = client.latestRobotState(); state && state->nominal_set()) saw_nominal = true;
       const auto stats = client.latestXrStats();
       if (stats && stats->fps() > 0) saw_xr_stats = true;
       if (saw_xr_stats && !changed) {
         link::proto::ControlRequest mode;
-        mode.set_set_mode("orientation3d");
+        mode.set_set_visual_mode(link::proto::VISUAL_MODE_ORIENTATION3D);
         link::proto::ControlRequest radius;
         radius.set_set_sphere_radius(2.5);
         const auto a = client.request(mode, std::chrono::milliseconds(3000));
