@@ -28,20 +28,28 @@ echo "== The head loop: a 0.5 m/s operator head motion through the controller an
 "$bin/telesphere-bench" head --quick --out "$out/head"
 
 echo
-echo "== The whole loop: telesphere-robot (simulated xArm 6, synthetic 195° cameras, 640x360 at 15 Hz)"
-echo "   and telesphere-xr offscreen (scripted head motion, both eyes at 720x800, 30 Hz) on loopback"
+echo "== The whole loop: telesphere-robot (simulated xArm 6, synthetic 195° cameras, 640x360 at 15 Hz),"
+echo "   telesphere-xr offscreen (scripted head motion, both eyes at 720x800, 30 Hz) and the supervisor's"
+echo "   telesphere-console (headless: live graphs, health, preview; a screenshot at the end) on loopback"
 port=5760
 "$bin/telesphere-robot" --sim --size 640x360 --fps 15 --port "$port" --stats-period 2 \
   > "$out/robot.log" 2>&1 &
 robot=$!
 trap 'kill $robot 2>/dev/null || true' EXIT
+"$bin/telesphere-console" --port "$port" --duration 9 --screenshot "$out/console/console.png" \
+  > "$out/console.log" 2>&1 &
+console=$!
 "$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 720x800 --rate 30 \
   --duration 8 --out "$out/xr"
+console_rc=0
+wait "$console" || console_rc=$?
 kill -INT "$robot"
 wait "$robot" || true
 trap - EXIT
 tail -n 3 "$out/robot.log"
+[ "$console_rc" -eq 0 ] || { echo "telesphere-console failed ($console_rc):"; cat "$out/console.log"; }
 
 echo
 echo "demo outputs are in $out/ (head/: the motion trace as CSV and PNG; xr/: the operator's eyes"
-echo "as the last frame showed them, eyes_last.png, and the loop's figures, stats.json)"
+echo "as the last frame showed them, eyes_last.png, and the loop's figures, stats.json; console/:"
+echo "the supervisor's console as it looked at the end, console.png)"

@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: MIT
+/// @brief telesphere-console: the supervisor's console (DESIGN.md §1, console/README.md). Parses
+///        the options, opens the window on a session to the robot, and for headless use runs a
+///        fixed time and writes the main window's picture.
+///
+///   telesphere-console [--host H] [--port P]
+///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
+///
+/// Exit codes: 0 ok; 1 bad arguments; 2 no display to open a window on; 3 the robot never
+/// answered within --duration; 4 the screenshot could not be written.
+#include <CLI/CLI.hpp>
+#include <QApplication>
+#include <QDir>
+#include <QFileInfo>
+#include <QTimer>
+#include <cstdlib>
+#include <iostream>
+
+#include "console/console_session.h"
+#include "console/console_window.h"
+
+int main(int argc, char** argv) {
+  CLI::App cli{"telesphere-console: the supervisor's view of the robot and the XR app"};
+  std::string host = "127.0.0.1";
+  int port = 5760;
+  std::string screenshot;
+  double duration_s = 0.0;
+  cli.add_option("--host", host, "robot (telesphere-robot) address")->capture_default_str();
+  cli.add_option("--port", port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  cli.add_option("--screenshot", screenshot, "after --duration, write the main window as PNG and exit");
+  cli.add_option("--duration", duration_s, "seconds to run, then exit (0: until the window closes)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  CLI11_PARSE(cli, argc, argv);
+  if (!screenshot.empty() && duration_s <= 0) {
+    std::cerr << "telesphere-console: --screenshot needs --duration S (how long to run first)\n";
+    return 1;
+  }
+  const bool headless = !screenshot.empty();
+  if (headless && !std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+  if (!headless && !std::getenv("QT_QPA_PLATFORM") && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) {
+    std::cerr << "telesphere-console: no display (DISPLAY is not set): run it on a desktop, or headless with "
+                 "--screenshot FILE --duration S\n";
+    return 2;
+  }
+
+  QApplication app(argc, argv);
+  QApplication::setOrganizationName("telesphere");
+  QApplication::setApplicationName("console");
+
+  telesphere::console::ConsoleSessionOptions options;
+  options.endpoints.host = host;
+  options.endpoints.base_port = port;
+  telesphere::console::ConsoleSession session(options);
+  telesphere::console::ConsoleWindow window(session);
+  window.show();
+
+  int code = 0;
+  if (duration_s > 0) {
+    QTimer::singleShot(int(duration_s * 1000.0), &app, [&] {
+      if (!session.everHeardRobot()) {
+        std::cerr << "telesphere-console: the robot never answered at " << session.endpoint().toStdString()
+                  << " within " << duration_s << " s (is telesphere-robot running?)\n";
+        code = 3;
+      }
+      if (!screenshot.empty()) {
+        window.redraw(true);
+        const QFileInfo info(QString::fromStdString(screenshot));
+        QDir().mkpath(info.absolutePath());
+        if (!window.grab().save(info.absoluteFilePath(), "PNG")) {
+          std::cerr << "telesphere-console: cannot write " << screenshot << '\n';
+          code = 4;
+        } else {
+          std::cerr << "telesphere-console: wrote " << screenshot << '\n';
+        }
+      }
+      app.quit();
+    });
+  }
+  const int rc = app.exec();
+  return code != 0 ? code : rc;
+}

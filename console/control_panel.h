@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+/// @brief The knobs the supervisor turns live (DESIGN.md §7: every change is a control request
+///        with an explicit reply, shown; nothing is assumed to have worked): visual mode, sphere
+///        radius, JPEG quality, filter cut-off, jump threshold, arm stop and clear fault. Each row
+///        shows what the robot has in force now next to the editor.
+#pragma once
+
+#include <QWidget>
+#include <map>
+
+#include "robot/link/telesphere_link.pb.h"
+
+class QCheckBox;
+class QComboBox;
+class QDoubleSpinBox;
+class QLabel;
+class QListWidget;
+class QPushButton;
+class QSpinBox;
+
+namespace telesphere::console {
+
+class ConsoleSession;
+
+class ControlPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit ControlPanel(ConsoleSession& session, QWidget* parent = nullptr);
+  void refresh();
+
+  // The editors and buttons, for tests that drive the panel like a user.
+  QComboBox* modeBox() const { return mode_; }
+  QDoubleSpinBox* radiusBox() const { return radius_; }
+  QSpinBox* qualityBox() const { return quality_; }
+  QDoubleSpinBox* cutoffBox() const { return cutoff_; }
+  QCheckBox* cutoffOffBox() const { return cutoff_off_; }
+  QDoubleSpinBox* jumpPositionBox() const { return jump_cm_; }
+  QDoubleSpinBox* jumpAngleBox() const { return jump_deg_; }
+  QPushButton* applyButton(const QString& row) const;
+  QPushButton* stopButton() const { return stop_; }
+  QPushButton* clearFaultButton() const { return clear_; }
+  /// The newest reply, in words ("set_sphere_radius 2: ok").
+  QString lastOutcome() const;
+
+ private:
+  void send(const QString& what, link::proto::ControlRequest request);
+
+  ConsoleSession& session_;
+  QComboBox* mode_;
+  QDoubleSpinBox* radius_;
+  QSpinBox* quality_;
+  QDoubleSpinBox* cutoff_;
+  QCheckBox* cutoff_off_;
+  QDoubleSpinBox* jump_cm_;
+  QDoubleSpinBox* jump_deg_;
+  QLabel *mode_now_, *radius_now_, *quality_now_, *cutoff_now_, *jump_now_;
+  QPushButton* stop_;
+  QPushButton* clear_;
+  QListWidget* log_;
+  std::map<QString, QPushButton*> apply_;
+};
+
+}  // namespace telesphere::console

@@ -1,0 +1,474 @@
+// SPDX-License-Identifier: MIT
+/// @brief The console's real Qt widgets (QT_QPA_PLATFORM=offscreen) against real telesphere-robot
+///        (simulated arm, synthetic cameras) and telesphere-xr offscreen processes on loopback:
+///        waiting for an absent robot without freezing; telemetry plotted at source time; the
+///        camera preview; every control reaching the robot and the XR app with its reply shown;
+///        arm stop and clear with the fault banner; the nominal-pose step end to end (capture,
+///        confirm, undo; refused without fresh head poses); robot killed and restarted; XR app
+///        gone. Writes screenshots of the main window, each plot and each panel (console/README.md
+///        shows them) into $TELESPHERE_SCREENSHOT_DIR or build/console-screenshots.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QFile>
+#include <QProcess>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QTabWidget>
+#include <QTemporaryDir>
+#include <QThread>
+#include <cmath>
+#include <functional>
+
+#include "console/camera_preview_panel.h"
+#include "console/column_decimator.h"
+#include "console/console_session.h"
+#include "console/console_window.h"
+#include "console/control_panel.h"
+#include "console/fault_banner.h"
+#include "console/health_panel.h"
+#include "console/live_plot.h"
+#include "console/nominal_pose_panel.h"
+#include "console/telemetry_model.h"
+
+namespace telesphere::console {
+namespace {
+
+class QtEnvironment : public ::testing::Environment {
+ public:
+  void SetUp() override {
+    static int argc = 1;
+    static char name[] = "console_window_test";
+    static char* argv[] = {name, nullptr};
+    app_ = std::make_unique<QApplication>(argc, argv);
+    QApplication::setOrganizationName("telesphere-test");  // never the user's saved layout
+    QApplication::setApplicationName("console_window_test");
+  }
+  void TearDown() override { app_.reset(); }
+
+ private:
+  std::unique_ptr<QApplication> app_;
+};
+const auto* const kQt = ::testing::AddGlobalTestEnvironment(new QtEnvironment);
+
+/// Runs the event loop until `condition` holds or `timeout_ms` passed; true when it held.
+bool pumpUntil(const std::function<bool()>& condition, int timeout_ms = 30000) {
+  QElapsedTimer timer;
+  timer.start();
+  while (timer.elapsed() < timeout_ms) {
+    QApplication::processEvents(QEventLoop::AllEvents, 20);
+    if (condition()) return true;
+    QThread::msleep(5);
+  }
+  return condition();
+}
+
+void pumpFor(int ms) {
+  pumpUntil([] { return false; }, ms);
+}
+
+QString screenshotDir() {
+  const QByteArray env = qgetenv("TELESPHERE_SCREENSHOT_DIR");
+  const QString dir = env.isEmpty() ? QString(TELESPHERE_BINARY_DIR "/console-screenshots") : QString(env);
+  QDir().mkpath(dir);
+  return dir;
+}
+
+void saveShot(QWidget* widget, const QString& name) {
+  const QString path = screenshotDir() + "/" + name;
+  EXPECT_TRUE(widget->grab().save(path, "PNG")) << path.toStdString();
+}
+
+/// A telesphere process on loopback, its output kept for a failure message.
+class Process {
+ public:
+  Process(const QString& program, const QStringList& args, const QString& log) : log_(log) {
+    process_.setProcessChannelMode(QProcess::MergedChannels);
+    process_.setStandardOutputFile(log);
+    process_.start(QString(TELESPHERE_BINARY_DIR "/bin/") + program, args);
+    EXPECT_TRUE(process_.waitForStarted(10000)) << program.toStdString();
+  }
+  ~Process() { stop(); }
+  void kill() {
+    if (process_.state() == QProcess::NotRunning) return;
+    process_.kill();
+    process_.waitForFinished(10000);
+  }
+  void stop() {
+    if (process_.state() == QProcess::NotRunning) return;
+    process_.terminate();
+    if (!process_.waitForFinished(10000)) kill();
+  }
+  QString output() const {
+    QFile f(log_);
+    return f.open(QIODevice::ReadOnly) ? QString::fromUtf8(f.readAll().right(3000)) : QString();
+  }
+
+ private:
+  QProcess process_;
+  QString log_;
+};
+
+struct Rig {
+  QTemporaryDir dir;
+  int port;
+  std::unique_ptr<Process> robot, xr;
+  std::unique_ptr<ConsoleSession> session;
+  std::unique_ptr<ConsoleWindow> window;
+
+  explicit Rig(int port_) : port(port_) {
+    ConsoleSessionOptions options;
+    options.endpoints.base_port = port;
+    session = std::make_unique<ConsoleSession>(options);
+    window = std::make_unique<ConsoleWindow>(*session);
+    window->resize(1600, 950);
+    window->show();
+  }
+  ~Rig() {
+    window.reset();
+    session.reset();
+  }
+  void startRobot() {
+    robot = std::make_unique<Process>(
+        "telesphere-robot",
+        QStringList{"--sim", "--size", "320x180", "--fps", "15", "--port", QString::number(port), "--auto-nominal",
+                    "false", "--stats-period", "0", "--preview-rate", "5"},
+        dir.filePath("robot.log"));
+  }
+  /// The XR app offscreen; `still`: the operator keeps the head still (a nominal pose), else the
+  /// demo look-around.
+  void startXr(bool still) {
+    QStringList args{"offscreen", "--calib", TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml", "--port",
+                     QString::number(port), "--eye-size", "96x96", "--rate", "30", "--duration", "0", "--wait", "60"};
+    if (still) {
+      QFile csv(dir.filePath("still.csv"));
+      EXPECT_TRUE(csv.open(QIODevice::WriteOnly));
+      // Standing at 1.6 m, turned 20° left, looking 8° down, no roll (q = yaw · pitch).
+      const Eigen::Quaterniond q = Eigen::AngleAxisd(20 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                                   Eigen::AngleAxisd(-8 * M_PI / 180, Eigen::Vector3d::UnitX());
+      csv.write(QString("t,px,py,pz,qx,qy,qz,qw\n0,0.1,1.6,0.2,%1,%2,%3,%4\n1,0.1,1.6,0.2,%1,%2,%3,%4\n")
+                    .arg(q.x(), 0, 'g', 17)
+                    .arg(q.y(), 0, 'g', 17)
+                    .arg(q.z(), 0, 'g', 17)
+                    .arg(q.w(), 0, 'g', 17)
+                    .toUtf8());
+      args << "--trajectory" << csv.fileName();
+    }
+    xr = std::make_unique<Process>("telesphere-xr", args, dir.filePath("xr.log"));
+  }
+  std::string logs() const {
+    return "--- robot\n" + (robot ? robot->output().toStdString() : "") + "\n--- xr\n" +
+           (xr ? xr->output().toStdString() : "");
+  }
+  bool connected() const {
+    return session->robot().state() == PeerState::kConnected && session->xr().state() == PeerState::kConnected;
+  }
+  std::size_t samples(const char* name) const {
+    const TimeSeries* s = session->series().find(name);
+    return s ? s->size() : 0;
+  }
+  void click(QPushButton* button) {
+    ASSERT_TRUE(button->isEnabled()) << button->text().toStdString();
+    button->click();
+  }
+};
+
+TEST(ConsoleWindow, WaitsForAnAbsentRobotWithoutFreezing) {
+  Rig rig(27800);
+  int polls = 0;
+  QObject::connect(rig.session.get(), &ConsoleSession::updated, [&] { ++polls; });
+  pumpFor(1500);
+  EXPECT_GE(polls, 30);  // the poll ran every 20 ms: the window never blocked on the absent robot
+  const QString expected = "waiting for robot at tcp://127.0.0.1:27803";
+  EXPECT_TRUE(rig.window->connectionText().contains(expected)) << rig.window->connectionText().toStdString();
+  EXPECT_TRUE(rig.window->healthPanel()->value("Robot", "link").startsWith(expected));
+  EXPECT_FALSE(rig.window->controlPanel()->stopButton()->isEnabled());
+  EXPECT_FALSE(rig.window->nominalPanel()->holdButton()->isEnabled());
+  EXPECT_GT(rig.window->plots()[0]->lastRefreshMs(), 0.0);  // the empty plots still scroll
+  saveShot(rig.window.get(), "console_waiting_for_robot.png");
+  // The robot comes up later: the console picks it up by itself.
+  rig.startRobot();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; })) << rig.logs();
+  EXPECT_TRUE(pumpUntil([&] { return rig.window->connectionText().contains("robot connected"); }))
+      << rig.window->connectionText().toStdString();
+}
+
+TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrApp) {
+  Rig rig(27810);
+  rig.startRobot();
+  rig.startXr(false);
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected(); }, 60000)) << rig.logs();
+  // Let the robot take its first head poses as the nominal pose (the console's way is tested
+  // below): the demo look-around then moves the robot head.
+  {
+    link::proto::ControlRequest r;
+    r.set_capture_nominal(true);
+    bool done = false;
+    ASSERT_TRUE(pumpUntil([&] {
+      if (!done) rig.session->request(r, "capture_nominal", [&](const ControlOutcome& o) { done = o.ok; });
+      pumpFor(200);
+      return done;
+    }));
+  }
+  ASSERT_TRUE(pumpUntil([&] {
+    return rig.samples(series::kLatencyStages[5]) > 20 && rig.samples(series::kHeadLatency) > 100 &&
+           rig.samples(series::kVOp) > 50 && rig.samples(series::kVRob) > 50 && rig.samples(series::kDeltaS) > 50 &&
+           rig.samples(series::kXrFrameMs) > 50;
+  })) << rig.logs();
+
+  // Source time: each image-latency sample sits at its capture time, so capture + latency is
+  // when it was shown: in the past, or at most one display period (30 Hz here) ahead, since the
+  // XR app stamps the display time it was promised. A sample stamped at its receive time would
+  // lie a whole latency (≥ 40 ms here) later.
+  const double now = rig.session->now();
+  const TimeSeries& shown = *rig.session->series().find(series::kLatencyStages[5]);
+  for (std::size_t i = 0; i < shown.size(); ++i) {
+    EXPECT_LE(shown[i].t + shown[i].v * 1e-3, now + 1.0 / 30 + 0.005) << i;
+    EXPECT_GT(shown[i].v, 0.0) << i;
+  }
+  // The robot's sample of a frame (capture → encoded) and the XR app's (capture → displayed)
+  // arrive at different times by different routes, yet sit at the same capture time.
+  const TimeSeries& encoded = *rig.session->series().find(series::kLatencyStages[0]);
+  std::size_t matched = 0;
+  for (std::size_t i = 0; i < shown.size(); ++i) {
+    const auto [a, b] = encoded.indexRange(shown[i].t - 0.001, shown[i].t + 0.001);
+    matched += b > a;
+  }
+  EXPECT_GE(matched, shown.size() * 8 / 10) << matched << " of " << shown.size();
+  // Stages are cumulative: each band is non-negative.
+  for (int stage = 1; stage < 6; ++stage) {
+    const TimeSeries& a = *rig.session->series().find(series::kLatencyStages[stage - 1]);
+    const TimeSeries& b = *rig.session->series().find(series::kLatencyStages[stage]);
+    if (stage == 2) continue;  // robot and XR series sample different frames
+    const std::size_t n = std::min(a.size(), b.size());
+    for (std::size_t i = 0; i < n; ++i)
+      if (a[a.size() - 1 - i].t == b[b.size() - 1 - i].t) {
+        EXPECT_LE(a[a.size() - 1 - i].v, b[b.size() - 1 - i].v + 1e-9);
+      }
+  }
+  const TimeSeries& head = *rig.session->series().find(series::kHeadLatency);
+  EXPECT_GT(head.back().v, -1.0);
+  EXPECT_LT(head.back().v, 200.0);
+  EXPECT_EQ(rig.session->telemetry().counts().robot_batches_lost, 0u);
+
+  // The preview stream shows both cameras.
+  ASSERT_TRUE(pumpUntil([&] { return !rig.session->preview().left.isNull(); })) << rig.logs();
+  EXPECT_EQ(rig.session->preview().left.width(), 320);  // the 320 px default preview of a 320 px camera
+  pumpFor(400);
+  EXPECT_TRUE(rig.window->previewPanel()->caption().contains("mode full 6D"))
+      << rig.window->previewPanel()->caption().toStdString();
+
+  // Screenshots: the main window on every plot (a 10 s window: the run is young), and each panel.
+  for (LivePlot* plot : rig.window->plots()) plot->setWindowSeconds(10);
+  for (int i = 0; i < rig.window->plotTabs()->count(); ++i) {
+    rig.window->plotTabs()->setCurrentIndex(i);
+    rig.window->redraw(true);
+    pumpFor(100);
+    saveShot(rig.window->plots()[std::size_t(i)], QString("plot_%1.png").arg(i));
+  }
+  rig.window->plotTabs()->setCurrentIndex(0);
+  rig.window->redraw(true);
+  pumpFor(300);
+  saveShot(rig.window.get(), "console_main.png");
+  saveShot(rig.window->dockOf(rig.window->healthPanel()), "panel_health.png");
+  saveShot(rig.window->dockOf(rig.window->previewPanel()), "panel_cameras.png");
+
+  // Export: CSV of the visible data, PNG and PDF of the plot.
+  LivePlot* latency = rig.window->plots()[0];
+  QString error;
+  const QString csv = rig.dir.filePath("latency.csv");
+  ASSERT_TRUE(latency->exportCsv(csv, &error)) << error.toStdString();
+  QFile csv_file(csv);
+  ASSERT_TRUE(csv_file.open(QIODevice::ReadOnly));
+  const QStringList rows = QString::fromUtf8(csv_file.readAll()).split('\n', Qt::SkipEmptyParts);
+  EXPECT_EQ(rows[0], "series,label,unit,t_s,value");
+  EXPECT_GT(rows.size(), 40);
+  EXPECT_TRUE(rows.filter("latency.displayed,capture → displayed,ms,").size() > 10);
+  ASSERT_TRUE(latency->exportPng(rig.dir.filePath("latency.png"), &error));
+  ASSERT_TRUE(latency->exportPdf(rig.dir.filePath("latency.pdf"), &error));
+  EXPECT_GT(QFile(rig.dir.filePath("latency.png")).size(), 5000);
+  EXPECT_GT(QFile(rig.dir.filePath("latency.pdf")).size(), 5000);
+
+  // Pause freezes the view while data keeps coming; resuming follows again.
+  latency->setPaused(true);
+  const auto frozen = latency->visibleRange();
+  pumpFor(500);
+  rig.window->redraw(true);
+  EXPECT_EQ(latency->visibleRange(), frozen);
+  latency->setPaused(false);
+  EXPECT_GT(latency->visibleRange().second, frozen.second + 0.3);
+
+  // Every control, through the panel's own editors and buttons; each reply is shown.
+  ControlPanel* control = rig.window->controlPanel();
+  const auto health = [&] { return rig.session->health() ? rig.session->health()->settings() : link::proto::RobotSettings{}; };
+  const auto waitOk = [&](const QString& what) {
+    EXPECT_TRUE(pumpUntil([&] { return control->lastOutcome().startsWith(what) && control->lastOutcome().endsWith(": ok"); }))
+        << control->lastOutcome().toStdString();
+  };
+  control->modeBox()->setCurrentIndex(control->modeBox()->findData(int(link::proto::VISUAL_MODE_FIXED)));
+  rig.click(control->applyButton("visual mode"));
+  waitOk("set_visual_mode");
+  EXPECT_TRUE(pumpUntil([&] {
+    return health().visual_mode() == link::proto::VISUAL_MODE_FIXED &&
+           rig.session->telemetry().xrVisualMode() == link::proto::VISUAL_MODE_FIXED;  // the XR app follows
+  })) << rig.logs();
+  control->radiusBox()->setValue(2.5);
+  rig.click(control->applyButton("sphere radius"));
+  waitOk("set_sphere_radius");
+  EXPECT_TRUE(pumpUntil([&] {
+    return health().sphere_radius() == 2.5 && rig.session->telemetry().xrSphereRadius() == 2.5;
+  }));
+  control->qualityBox()->setValue(60);
+  rig.click(control->applyButton("JPEG quality"));
+  waitOk("set_jpeg_quality");
+  EXPECT_TRUE(pumpUntil([&] { return health().jpeg_quality() == 60; }));
+  control->cutoffBox()->setValue(30);
+  rig.click(control->applyButton("filter cut-off"));
+  waitOk("set_filter_cutoff");
+  EXPECT_TRUE(pumpUntil([&] { return health().filter_cutoff_hz() == 30; }));
+  control->cutoffOffBox()->setChecked(true);
+  rig.click(control->applyButton("filter cut-off"));
+  EXPECT_TRUE(pumpUntil([&] { return std::isinf(health().filter_cutoff_hz()); }));
+  control->jumpPositionBox()->setValue(5);
+  control->jumpAngleBox()->setValue(12);
+  rig.click(control->applyButton("jump threshold"));
+  waitOk("set_jump_threshold");
+  EXPECT_TRUE(pumpUntil([&] {
+    return std::abs(health().jump_position_m() - 0.05) < 1e-9 && std::abs(health().jump_angle_deg() - 12) < 1e-9;
+  }));
+  // A refusal comes back with the robot's words.
+  {
+    link::proto::ControlRequest r;
+    r.set_set_sphere_radius(0.01);
+    std::optional<ControlOutcome> outcome;
+    rig.session->request(r, "set_sphere_radius 0.01 m", [&](const ControlOutcome& o) { outcome = o; });
+    ASSERT_TRUE(pumpUntil([&] { return outcome.has_value(); }));
+    EXPECT_TRUE(outcome->answered);
+    EXPECT_FALSE(outcome->ok);
+    EXPECT_TRUE(outcome->text().contains("refused: sphere radius")) << outcome->text().toStdString();
+    EXPECT_EQ(outcome->reply.settings().sphere_radius(), 2.5);
+  }
+  pumpFor(300);
+  saveShot(rig.window->dockOf(control), "panel_control.png");
+
+  // Arm stop: the fault banner stays until acknowledged, also after the fault is cleared.
+  rig.click(control->stopButton());
+  ASSERT_TRUE(pumpUntil([&] { return rig.window->faultBanner()->isVisible(); }));
+  EXPECT_TRUE(rig.window->faultBanner()->text().contains("arm stopped from the console"));
+  EXPECT_TRUE(pumpUntil([&] { return rig.window->healthPanel()->value("Arm and head", "arm").startsWith("FAULT"); }, 2000));
+  saveShot(rig.window.get(), "console_fault.png");
+  rig.click(control->clearFaultButton());
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->health() && rig.session->health()->arm_ok(); }));
+  pumpFor(300);
+  EXPECT_TRUE(rig.window->faultBanner()->isVisible());
+  EXPECT_TRUE(rig.window->faultBanner()->text().contains("cleared"));
+  rig.window->faultBanner()->acknowledgeButton()->click();
+  pumpFor(100);
+  EXPECT_FALSE(rig.window->faultBanner()->isVisible());
+}
+
+TEST(ConsoleWindow, NominalPoseStepEndToEnd) {
+  Rig rig(27820);
+  rig.startRobot();
+  rig.startXr(true);
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected(); }, 60000)) << rig.logs();
+  NominalPosePanel* panel = rig.window->nominalPanel();
+  rig.window->dockOf(panel)->raise();
+  // Capture needs the hold step first; the button stays off until then.
+  pumpFor(500);
+  EXPECT_FALSE(panel->captureButton()->isEnabled());
+  rig.click(panel->holdButton());
+  ASSERT_TRUE(pumpUntil([&] {
+    return rig.session->robotState() && rig.session->robotState()->nominal_step() == link::proto::NOMINAL_STEP_HOLDING;
+  })) << panel->statusText().toStdString();
+  ASSERT_TRUE(pumpUntil([&] { return panel->captureButton()->isEnabled(); })) << panel->gate().reason;
+  ASSERT_TRUE(panel->gate().angles);
+  EXPECT_NEAR(panel->gate().angles->yaw * 180 / M_PI, 20.0, 0.01);
+  EXPECT_NEAR(panel->gate().angles->pitch * 180 / M_PI, -8.0, 0.01);
+  rig.click(panel->captureButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->confirmButton()->isEnabled(); })) << panel->statusText().toStdString();
+  ASSERT_TRUE(panel->mapping());
+  EXPECT_NEAR(panel->mapping()->yaw_deg(), 20.0, 0.01);
+  EXPECT_NEAR(panel->mapping()->pitch_deg(), -8.0, 0.01);
+  EXPECT_NEAR(panel->mapping()->roll_deg(), 0.0, 0.01);
+  pumpFor(200);
+  saveShot(rig.window->dockOf(panel), "panel_nominal_pose.png");
+  rig.click(panel->confirmButton());
+  ASSERT_TRUE(pumpUntil([&] {
+    const auto& s = rig.session->robotState();
+    return s && s->nominal_set() && s->nominal_step() == link::proto::NOMINAL_STEP_FOLLOWING;
+  }));
+  const auto first_mapping = rig.session->robotState()->t_robot_vr();
+
+  // Once more, then undo back to the first.
+  ASSERT_TRUE(pumpUntil([&] { return panel->holdButton()->isEnabled(); }));
+  rig.click(panel->holdButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->captureButton()->isEnabled(); }));
+  rig.click(panel->captureButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->confirmButton()->isEnabled(); }));
+  rig.click(panel->confirmButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->mapping() && panel->mapping()->has_previous() && panel->undoButton()->isEnabled(); }));
+  rig.click(panel->undoButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->statusText() == "nominal: undo: ok"; })) << panel->statusText().toStdString();
+  ASSERT_TRUE(pumpUntil([&] {
+    const auto& s = rig.session->robotState();
+    return s && s->t_robot_vr().SerializeAsString() == first_mapping.SerializeAsString();
+  }));
+
+  // Without fresh head poses the console does not offer a capture and the robot refuses one.
+  rig.click(panel->holdButton());
+  rig.xr->kill();
+  ASSERT_TRUE(pumpUntil([&] { return !panel->gate().fresh; }));
+  EXPECT_FALSE(panel->captureButton()->isEnabled());
+  EXPECT_NE(panel->gate().reason.find("stale"), std::string::npos) << panel->gate().reason;
+  pumpFor(300);  // the robot's own bound (250 ms since the newest pose arrived) has passed too
+  link::proto::ControlRequest r;
+  r.set_nominal_step(link::proto::NOMINAL_REQUEST_CAPTURE);
+  std::optional<ControlOutcome> outcome;
+  rig.session->request(r, "nominal: capture", [&](const ControlOutcome& o) { outcome = o; });
+  ASSERT_TRUE(pumpUntil([&] { return outcome.has_value(); }));
+  EXPECT_FALSE(outcome->ok);
+  EXPECT_TRUE(outcome->error.contains("no fresh head pose")) << outcome->error.toStdString();
+}
+
+TEST(ConsoleWindow, PicksUpARestartedRobotAndNoticesTheXrAppGoing) {
+  Rig rig(27830);
+  rig.startRobot();
+  rig.startXr(false);
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected() && rig.samples(series::kVRob) > 20; }, 60000)) << rig.logs();
+
+  rig.xr->kill();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->xr().state() == PeerState::kGone; }, 15000));
+  EXPECT_TRUE(rig.window->faultBanner()->text().contains("XR app gone"));
+  EXPECT_EQ(rig.session->robot().state(), PeerState::kConnected);
+
+  rig.robot->kill();  // SIGKILL: no goodbye
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kSilent; }, 5000));
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kGone; }, 15000));
+  EXPECT_TRUE(rig.window->faultBanner()->text().contains("robot at tcp://127.0.0.1:27833 gone"));
+  EXPECT_TRUE(pumpUntil([&] { return rig.window->connectionText().contains("robot gone"); }, 2000));
+  saveShot(rig.window.get(), "console_robot_gone.png");
+  const double gone_at = rig.session->now();
+
+  rig.startRobot();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; })) << rig.logs();
+  // The first pong of the new process tells it apart from the old one.
+  EXPECT_TRUE(pumpUntil([&] { return rig.session->activity().robot_restarts == 1; }, 5000));
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->series().find(series::kVRob)->back().t > gone_at + 0.5; }))
+      << rig.logs();
+  EXPECT_TRUE(rig.window->faultBanner()->text().contains("the robot restarted"));
+  // The silence is a gap in the plot, not a line across it.
+  const TimeSeries& v_rob = *rig.session->series().find(series::kVRob);
+  std::vector<Sample> drawn;
+  ColumnDecimator().decimate(v_rob, v_rob.front().t, v_rob.back().t, (v_rob.back().t - v_rob.front().t) / 400, drawn);
+  EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [](const Sample& s) { return std::isnan(s.v); }));
+}
+
+}  // namespace
+}  // namespace telesphere::console
