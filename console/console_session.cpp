@@ -67,8 +67,6 @@ void ConsoleSession::request(link::proto::ControlRequest request, const QString&
         self,
         [self, outcome, done]() mutable {
           outcome.replied_s = self->now();
-          self->control_log_.push_back(outcome);
-          if (self->control_log_.size() > kControlLog) self->control_log_.pop_front();
           if (done) done(outcome);
           emit self->controlAnswered(outcome.text());
           if (outcome.ok) emit self->controlAccepted(outcome.replied_s, outcome.what);

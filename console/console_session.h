@@ -14,7 +14,6 @@
 #include <QString>
 #include <QTimer>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -92,9 +91,6 @@ class ConsoleSession : public QObject {
   /// Sends `request` (never blocks); `done` runs on the GUI thread with the outcome.
   void request(link::proto::ControlRequest request, const QString& what,
                std::function<void(const ControlOutcome&)> done = {});
-  /// The newest outcomes (kControlLog), oldest first.
-  const std::deque<ControlOutcome>& controlLog() const { return control_log_; }
-  static constexpr std::size_t kControlLog = 200;
 
   /// One poll now (the timer's work; tests call it to step without waiting).
   void poll();
@@ -123,7 +119,6 @@ class ConsoleSession : public QObject {
   link::LinkActivity activity_;
   CameraPreview preview_;
   std::optional<double> hold_from_;
-  std::deque<ControlOutcome> control_log_;
   std::vector<std::uint64_t> camera_reconnects_;
   std::uint64_t lost_reported_ = 0;
   std::uint64_t fault_version_seen_ = 0;

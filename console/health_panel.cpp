@@ -73,6 +73,7 @@ void HealthPanel::refresh() {
   if (robot.state() == PeerState::kWaiting)
     robot_text = "waiting for robot at " + s.endpoint() + " for " + QString::fromStdString(formatDuration(robot.seconds())) +
                  " (retrying)";
+  if (robot.reconnects() > 0) robot_text += QString(" (%1 reconnects)").arg(robot.reconnects());
   setRow("Robot", "link", robot_text, robot.state() != PeerState::kConnected);
   setRow("Robot", "endpoint", s.endpoint());
   if (const auto clock = s.clock())
@@ -168,6 +169,8 @@ void HealthPanel::refresh() {
   setRow("Link and telemetry", "dropped", drops.isEmpty() ? QString("nothing") : drops.join(" · "), !drops.isEmpty());
   const TelemetryCounts& t = s.telemetry().counts();
   const std::uint64_t lost = t.robot_batches_lost + t.xr_batches_lost + s.activity().telemetry_overflow;
+  if (health && health->telemetry_samples_dropped() > 0)
+    setRow("Link and telemetry", "robot dropped", QString("%1 telemetry samples never sent").arg(health->telemetry_samples_dropped()), true);
   setRow("Link and telemetry", "telemetry",
          QString("%1 robot + %2 XR batches · %3 lost · %4 unsynced")
              .arg(t.robot_batches)

@@ -22,12 +22,6 @@ const SeriesInfo* SeriesStore::info(const std::string& name) const {
   return it == entries_.end() ? nullptr : &it->second.info;
 }
 
-std::vector<std::string> SeriesStore::names() const {
-  std::vector<std::string> out;
-  for (const auto& [name, entry] : entries_) out.push_back(name);
-  return out;
-}
-
 void SeriesStore::trim(double now, double keep_from) {
   const double cut = std::min(now - retention_s_, keep_from);
   for (auto& [name, entry] : entries_) {

@@ -31,7 +31,6 @@ class SeriesStore {
   /// The series called `name`, or null.
   const TimeSeries* find(const std::string& name) const;
   const SeriesInfo* info(const std::string& name) const;
-  std::vector<std::string> names() const;
 
   /// Seconds of data kept behind the newest time (the longest plot window the user may pick).
   void setRetention(double seconds) { retention_s_ = seconds; }

@@ -50,22 +50,6 @@ std::pair<std::size_t, std::size_t> TimeSeries::indexRange(double t0, double t1)
   return {std::size_t(first - samples_.begin()), std::size_t(last - samples_.begin())};
 }
 
-std::optional<std::pair<double, double>> TimeSeries::valueRange(double t0, double t1) const {
-  const auto [first, last] = indexRange(t0, t1);
-  std::optional<std::pair<double, double>> range;
-  for (std::size_t i = first; i < last; ++i) {
-    const double v = samples_[i].v;
-    if (!std::isfinite(v)) continue;
-    if (!range) {
-      range = {v, v};
-    } else {
-      range->first = std::min(range->first, v);
-      range->second = std::max(range->second, v);
-    }
-  }
-  return range;
-}
-
 std::size_t TimeSeries::bytes() const {
   // libstdc++ deques allocate 512-byte blocks plus a map of block pointers.
   constexpr std::size_t kBlock = 512;

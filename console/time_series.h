@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -46,8 +45,6 @@ class TimeSeries {
 
   /// [first, last) indices of the samples with t0 ≤ t ≤ t1.
   std::pair<std::size_t, std::size_t> indexRange(double t0, double t1) const;
-  /// Smallest and largest finite value among the samples in [t0, t1]; nothing when none.
-  std::optional<std::pair<double, double>> valueRange(double t0, double t1) const;
   /// Samples dropped from the front so far: sample i has the absolute index removed() + i.
   std::uint64_t removed() const { return removed_; }
   /// Changes when samples change other than by appending at the back or trimming the front.

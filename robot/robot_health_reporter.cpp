@@ -57,7 +57,10 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   h.set_encode_ms_last(video.encode_ms_last);
   if (sources_.loop) sources_.loop->fillHealth(&h);
   if (sources_.control) sources_.control->fillSettings(h.mutable_settings());
-  if (sources_.telemetry) h.set_telemetry_batches(sources_.telemetry->batches());
+  if (sources_.telemetry) {
+    h.set_telemetry_batches(sources_.telemetry->batches());
+    h.set_telemetry_samples_dropped(sources_.telemetry->droppedSamples());
+  }
   last_ns_ = now;
   return h;
 }

@@ -25,11 +25,6 @@ void ControlQueue::send(proto::ControlRequest request, Done done) {
   wake_.notify_all();
 }
 
-std::size_t ControlQueue::pending() const {
-  std::lock_guard lock(mutex_);
-  return queue_.size() + (in_flight_ ? 1 : 0);
-}
-
 void ControlQueue::run() {
   std::unique_lock lock(mutex_);
   for (;;) {
@@ -37,12 +32,10 @@ void ControlQueue::run() {
     if (stop_) return;
     auto [request, done] = std::move(queue_.front());
     queue_.pop_front();
-    in_flight_ = true;
     lock.unlock();
     const auto reply = client_.request(std::move(request), timeout_);
     if (done) done(reply);
     lock.lock();
-    in_flight_ = false;
   }
 }
 

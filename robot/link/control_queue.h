@@ -31,18 +31,15 @@ class ControlQueue {
   ControlQueue& operator=(const ControlQueue&) = delete;
 
   void send(proto::ControlRequest request, Done done);
-  /// Requests queued or in flight.
-  std::size_t pending() const;
 
  private:
   void run();
 
   LinkClient& client_;
   std::chrono::milliseconds timeout_;
-  mutable std::mutex mutex_;
+  std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::pair<proto::ControlRequest, Done>> queue_;
-  bool in_flight_ = false;
   bool stop_ = false;
   std::thread thread_;
 };

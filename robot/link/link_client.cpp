@@ -248,7 +248,6 @@ struct LinkClient::Impl {
       stats.countReceived();
       if (envelope->has_pong()) {
         notePong(envelope->pong(), now);
-        clock.addSample(envelope->pong().client_send_ns(), envelope->pong().server_ns(), now);
       } else if (envelope->has_control_reply()) {
         {
           std::lock_guard lock(mutex);
@@ -262,15 +261,20 @@ struct LinkClient::Impl {
   }
 
   /// A new server instance restarted its clock (maybe on another machine): start the offset
-  /// estimate afresh, so no sample of the old process mixes with the new one's.
+  /// estimate afresh, so no sample of the old process mixes with the new one's. The new
+  /// instance is made visible only once its first sample is in.
   void notePong(const proto::Pong& pong, std::int64_t now) {
+    bool restarted = false;
+    {
+      std::lock_guard lock(mutex);
+      restarted = activity.robot_instance != 0 && pong.server_instance() != activity.robot_instance;
+    }
+    if (restarted) clock.reset();
+    clock.addSample(pong.client_send_ns(), pong.server_ns(), now);
     std::lock_guard lock(mutex);
     activity.robot_pong_ns = now;
     if (pong.server_instance() == activity.robot_instance) return;
-    if (activity.robot_instance != 0) {
-      ++activity.robot_restarts;
-      clock.reset();
-    }
+    if (restarted) ++activity.robot_restarts;
     activity.robot_instance = pong.server_instance();
   }
 

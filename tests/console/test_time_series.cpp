@@ -26,20 +26,6 @@ TEST(TimeSeries, KeepsTimeOrderAndTrims) {
   EXPECT_EQ(b - a, 1u);
 }
 
-TEST(TimeSeries, ValueRangeIgnoresNonFiniteValuesAndOutsideSamples) {
-  TimeSeries s;
-  s.append(0, 100);
-  s.append(1, 5);
-  s.append(2, std::nan(""));
-  s.append(3, -2);
-  s.append(4, 50);
-  const auto r = s.valueRange(0.5, 3.5);
-  ASSERT_TRUE(r);
-  EXPECT_EQ(r->first, -2);
-  EXPECT_EQ(r->second, 5);
-  EXPECT_FALSE(s.valueRange(10, 20));
-}
-
 TEST(TimeSeries, AbsoluteIndicesAndRevisions) {
   TimeSeries s;
   for (int i = 0; i < 10; ++i) s.append(i, i);

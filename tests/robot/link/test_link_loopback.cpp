@@ -311,7 +311,10 @@ TEST(LinkLoopback, PreviewFramesCarryTwoImagesAndBadOnesAreDropped) {
     std::this_thread::sleep_for(2ms);
     return console.stats().dropped(DropReason::kBadImageSize) > before;
   }));
-  EXPECT_FALSE(console.takeLatestPreview().has_value());
+  // Only good previews reach the console (one still in flight from the first loop may be there).
+  if (const auto late = console.takeLatestPreview()) {
+    EXPECT_EQ(late->preview.width(), 32u);
+  }
 }
 
 }  // namespace
