@@ -60,25 +60,24 @@ void HeadLoop::tick() {
     last_state_ = *state;
   }
 
-  // The newest head target, if it is new: stamped with its arrival here (see the header).
+  // The newest head target, if it is new, at its sampling time in the robot clock (see the header).
   std::optional<HmdSample> sample;
-  if (auto target = server_.latestHeadTarget(); target && target->valid() &&
-                                                target->t_ns() != last_target_t_ns_) {
+  if (auto target = server_.latestHeadTarget();
+      target && target->valid() &&
+      (target->sender_instance() != last_target_sender_ || target->t_ns() != last_target_t_ns_)) {
+    last_target_sender_ = target->sender_instance();
     last_target_t_ns_ = target->t_ns();
-    sample = HmdSample{now_ns, link::fromLinkPose(target->t_vr_hmd())};
-    last_target_ = ArrivedTarget{*sample, target->t_robot_ns()};
+    const bool clock_known = target->t_robot_ns() != 0;
+    if (!clock_known) ++targets_stamped_on_arrival_;
+    sample = HmdSample{clock_known ? target->t_robot_ns() : now_ns, link::fromLinkPose(target->t_vr_hmd())};
+    last_target_ = ArrivedTarget{*sample, target->t_robot_ns(), now_ns};
   }
   const bool want_nominal =
       pending_nominal_ || (config_.auto_nominal && !controller_.initialised() &&
                            step_ == link::proto::NOMINAL_STEP_FOLLOWING);
-  if (want_nominal && last_target_ && last_state_) {
-    const std::optional<Eigen::Isometry3d> before =
-        controller_.initialised() ? std::optional(controller_.T_robot_vr()) : std::nullopt;
-    if (controller_.initialise(last_target_->sample, last_state_->q)) {
-      if (before) previous_mapping_ = before;
-      pending_nominal_ = false;
-      std::cerr << "telesphere-robot: nominal pose captured\n";
-    }
+  if (want_nominal && last_target_ && last_state_ && applyNominalLocked(last_target_->sample)) {
+    pending_nominal_ = false;
+    std::cerr << "telesphere-robot: nominal pose captured\n";
   }
 
   const HeadCommand command = controller_.tick(sample, now_ns);
@@ -96,7 +95,7 @@ void HeadLoop::tick() {
     t.set_target_new(sample.has_value());
     if (sample) {
       t.set_target_t_ns(last_target_->sampled_robot_ns);
-      t.set_target_arrival_ns(now_ns);
+      t.set_target_arrival_ns(last_target_->arrival_ns);
     }
     link::toLinkPose(command.T_robot_headTarget, t.mutable_t_robot_head_command());
     if (last_state_) {
@@ -201,6 +200,14 @@ link::proto::NominalMapping HeadLoop::nominalMappingLocked() const {
   return m;
 }
 
+bool HeadLoop::applyNominalLocked(const HmdSample& nominal) {
+  const std::optional<Eigen::Isometry3d> before =
+      controller_.initialised() ? std::optional(controller_.T_robot_vr()) : std::nullopt;
+  if (!controller_.initialise(nominal, last_state_->q)) return false;
+  previous_mapping_ = before;
+  return true;
+}
+
 bool HeadLoop::captureNominalLocked(std::string* error) {
   const std::int64_t now_ns = clock_.nowNs();
   if (!last_target_) {
@@ -250,13 +257,10 @@ bool HeadLoop::nominalStepLocked(link::proto::NominalStepRequest request, std::s
         *error = "no joint state from the arm yet";
         return false;
       }
-      const std::optional<Eigen::Isometry3d> before =
-          controller_.initialised() ? std::optional(controller_.T_robot_vr()) : std::nullopt;
-      if (!controller_.initialise(captured_->sample, last_state_->q)) {
+      if (!applyNominalLocked(captured_->sample)) {
         *error = "the captured head pose is not a valid pose";
         return false;
       }
-      previous_mapping_ = before;
       controller_.releaseHold();
       captured_.reset();
       step_ = link::proto::NOMINAL_STEP_FOLLOWING;

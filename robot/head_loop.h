@@ -8,12 +8,13 @@
 ///        stop and clear, and the nominal pose (the headset's one-shot capture, and the console's
 ///        guided step below).
 ///
-/// Head-target time: a target is stamped in the operator's clock, so the loop stamps it with
-/// its arrival at the robot (the tick that first sees it) for the controller's staleness
-/// checks. On loopback and a LAN the uplink adds well under a tick (10 ms) to its age. The
-/// telemetry also carries the target's own stamp in the robot clock (through the XR app's
-/// ping offset) — the time the XR app sampled the pose, in the robot clock — so the console can
-/// plot head-pose → robot latency at the pose's own time.
+/// Head-target time: a target carries the time the XR app sampled the pose in the robot clock
+/// (t_robot_ns, through the XR app's ping offset); the controller's stale / from-future /
+/// out-of-order checks run on that stamp, so an uplink that holds targets back shows as stale
+/// targets. A target whose sender has no clock offset yet (t_robot_ns = 0, the first pings) is
+/// stamped with its arrival here (the tick that first sees it) and counted. A new target is one
+/// whose (sender instance, sender stamp) differs from the last one taken; the link server
+/// already orders each sender's targets by their own stamps.
 ///
 /// Nominal-pose step (console, DESIGN.md §2; link NominalStepRequest):
 ///   FOLLOWING --HOLD--> HOLDING (the head moves to T_robot_nom and stays; the operator is asked
@@ -81,17 +82,22 @@ class HeadLoop {
 
   std::int64_t ticks() const { return ticks_; }
   std::int64_t targetsSent() const { return targets_sent_; }
+  /// Head targets stamped on arrival because their sender had no clock offset yet.
+  std::int64_t targetsStampedOnArrival() const { return targets_stamped_on_arrival_; }
   std::optional<JointState> lastState() const;
   link::proto::NominalStep nominalStep() const;
 
  private:
-  /// The newest head target, with when it arrived (robot clock).
+  /// The newest head target (robot clock).
   struct ArrivedTarget {
-    HmdSample sample;  ///< t_ns: the arrival tick
+    HmdSample sample;  ///< t_ns: when the XR app sampled it, or its arrival if that is unknown
     std::int64_t sampled_robot_ns = 0;  ///< when the XR app sampled it, robot clock (0: unknown)
+    std::int64_t arrival_ns = 0;        ///< the tick that first saw it
   };
 
   link::proto::NominalMapping nominalMappingLocked() const;
+  /// Starts the mapping from `nominal` at the newest joints, keeping the one it replaces for undo.
+  bool applyNominalLocked(const HmdSample& nominal);
   bool nominalStepLocked(link::proto::NominalStepRequest step, std::string* error);
   bool captureNominalLocked(std::string* error);
   std::string faultLocked() const;
@@ -107,14 +113,15 @@ class HeadLoop {
   mutable std::mutex mutex_;  ///< everything below (tick vs control thread)
   std::optional<JointState> last_state_;
   std::optional<ArrivedTarget> last_target_;
-  std::int64_t last_target_t_ns_ = 0;  ///< operator clock stamp of the last target taken
+  std::uint64_t last_target_sender_ = 0;  ///< sender instance of the last target taken
+  std::int64_t last_target_t_ns_ = 0;    ///< and its stamp in the sender's clock
   bool pending_nominal_ = false;       ///< the headset's one-shot capture, taken at the next tick
   link::proto::NominalStep step_ = link::proto::NOMINAL_STEP_FOLLOWING;
   std::optional<ArrivedTarget> captured_;           ///< pending while CAPTURED
   std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
   std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
   double sphere_radius_;
-  std::atomic<std::int64_t> ticks_{0}, targets_sent_{0};
+  std::atomic<std::int64_t> ticks_{0}, targets_sent_{0}, targets_stamped_on_arrival_{0};
 };
 
 }  // namespace telesphere::robot

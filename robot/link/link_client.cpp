@@ -48,6 +48,7 @@ constexpr int kStateReceiveHwm = 20000;
 
 struct LinkClient::Impl {
   Options options;
+  const std::uint64_t instance = newLinkInstanceId();
   zmq::context_t context{1};
   std::optional<zmq::socket_t> frames;
   zmq::socket_t state, uplink, control;
@@ -314,9 +315,12 @@ std::optional<proto::XrStats> LinkClient::latestXrStats() const {
   return impl_->xr_stats;
 }
 
+std::uint64_t LinkClient::instance() const { return impl_->instance; }
+
 void LinkClient::sendHeadTarget(const proto::HeadTarget& target) {
   proto::Envelope envelope;
   *envelope.mutable_head_target() = target;
+  if (target.sender_instance() == 0) envelope.mutable_head_target()->set_sender_instance(impl_->instance);
   impl_->sendUp(std::move(envelope));
 }
 

@@ -79,8 +79,11 @@ class LinkClient {
   std::optional<ReceivedPreview> takeLatestPreview();
   LinkActivity activity() const;
 
-  /// Sends the head target up (the robot keeps only the newest). Never blocks.
+  /// Sends the head target up (the robot keeps only the newest per sender, by t_ns); fills in
+  /// sender_instance with this client's instance() unless set. Never blocks.
   void sendHeadTarget(const proto::HeadTarget& target);
+  /// This client's random id, fixed for its life (head targets' sender_instance).
+  std::uint64_t instance() const;
   void sendXrStats(const proto::XrStats& stats);
   /// Sends a telemetry batch up; the robot republishes it for the console. Never blocks.
   void sendXrTelemetry(const proto::XrTelemetry& telemetry);

@@ -2,7 +2,16 @@
 /// @brief Envelope parsing and stereo-frame checks.
 #include "robot/link/link_schema.h"
 
+#include <random>
+
 namespace telesphere::link {
+
+std::uint64_t newLinkInstanceId() {
+  std::random_device device;
+  std::uint64_t id = 0;
+  while (id == 0) id = (std::uint64_t{device()} << 32) ^ device();
+  return id;
+}
 
 std::string_view dropReasonName(DropReason reason) {
   switch (reason) {

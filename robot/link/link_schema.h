@@ -31,12 +31,16 @@ enum class DropReason : int {
   kBadPartCount,         ///< a stereo frame without exactly two image parts (or parts elsewhere)
   kBadImageSize,         ///< zero or beyond kMaxImageSide, or a part size that disagrees
   kOversized,            ///< an envelope or JPEG part beyond its limit
-  kSuperseded,           ///< a newer frame arrived before this one was taken (latest wins)
+  kSuperseded,           ///< a newer frame arrived before this one was taken (latest wins), or
+                         ///< a head target older than one its sender already sent
   kCorruptJpeg,          ///< the JPEG did not decode (operator side)
   kCount
 };
 
 std::string_view dropReasonName(DropReason reason);
+
+/// A random non-zero id for one process's link endpoint (server instance, head-target sender).
+std::uint64_t newLinkInstanceId();
 
 /// Parses bytes into an Envelope of our schema version with a body; otherwise nothing and *why.
 /// For kWrongSchemaVersion, *peer_version (when given) is the version the sender spoke.

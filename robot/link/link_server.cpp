@@ -4,9 +4,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
+#include <deque>
 #include <mutex>
-#include <random>
 #include <stdexcept>
 #include <thread>
 #include <zmq.hpp>
@@ -34,13 +35,6 @@ zmq::message_t serialise(const proto::Envelope& envelope) {
   return message;
 }
 
-std::uint64_t newInstance() {
-  std::random_device device;
-  std::uint64_t id = 0;
-  while (id == 0) id = (std::uint64_t{device()} << 32) ^ device();
-  return id;
-}
-
 /// A message that points into `bytes` and keeps it alive until ZeroMQ is done with it.
 zmq::message_t zeroCopy(const SharedBytes& bytes) {
   auto* keep = new SharedBytes(bytes);
@@ -58,9 +52,13 @@ struct LinkServer::Impl {
   LinkStats stats{"link server"};
   mutable std::mutex head_mutex;
   std::optional<proto::HeadTarget> head_target;
+  /// The newest t_ns (its own clock) of each sender instance heard, the least recently heard
+  /// first; a few senders at most (restarts of the operator PC, a second one).
+  std::deque<std::pair<std::uint64_t, std::int64_t>> head_senders;
+  static constexpr std::size_t kMaxHeadSenders = 16;
   std::mutex handler_mutex;
   ControlHandler handler;
-  const std::uint64_t instance = newInstance();
+  const std::uint64_t instance = newLinkInstanceId();
   std::atomic<bool> running{true};
   std::thread service;
 
@@ -112,9 +110,7 @@ struct LinkServer::Impl {
       if (!envelope) continue;
       stats.countReceived();
       if (envelope->has_head_target()) {
-        std::lock_guard lock(head_mutex);
-        if (!head_target || envelope->head_target().t_ns() >= head_target->t_ns())
-          head_target = envelope->head_target();
+        if (!takeHeadTarget(envelope->head_target())) stats.countDrop(DropReason::kSuperseded, "uplink");
       } else if (envelope->has_xr_stats() || envelope->has_xr_telemetry()) {
         // For the console: republished as it came, stamped with the XR app's clock inside.
         send(state, state_mutex, std::move(*envelope));
@@ -122,6 +118,22 @@ struct LinkServer::Impl {
         stats.countDrop(DropReason::kUnexpectedBody, "uplink");
       }
     }
+  }
+
+  /// Keeps `target` as the latest unless its sender already sent a newer one. Stamps are
+  /// compared per sender instance only: each operator PC's clock started on its own.
+  bool takeHeadTarget(const proto::HeadTarget& target) {
+    std::lock_guard lock(head_mutex);
+    auto sender = std::find_if(head_senders.begin(), head_senders.end(),
+                               [&](const auto& s) { return s.first == target.sender_instance(); });
+    if (sender != head_senders.end()) {
+      if (target.t_ns() < sender->second) return false;
+      head_senders.erase(sender);
+    }
+    head_senders.emplace_back(target.sender_instance(), target.t_ns());
+    while (head_senders.size() > kMaxHeadSenders) head_senders.pop_front();
+    head_target = target;
+    return true;
   }
 
   void drainControl() {

@@ -50,7 +50,8 @@ class LinkServer {
   /// Random per process, answered in every Pong: clients see a restart as a new value.
   std::uint64_t instance() const;
 
-  /// The newest head target received (by its t_ns), if any.
+  /// The newest head target received, if any: the last one that was newer (by t_ns) than
+  /// everything its sender instance had sent before.
   std::optional<proto::HeadTarget> latestHeadTarget() const;
   /// Called on the link's thread for every control request; the reply goes back to its sender.
   /// Without a handler requests are answered {ok: false, error: "no handler"}.

@@ -23,9 +23,10 @@ using namespace std::chrono_literals;
 using ::telesphere::test::eventually;
 
 link::proto::HeadTarget target(std::int64_t t_ns, const Eigen::Vector3d& position,
-                               const link::HeadAngles& angles = {}) {
+                               const link::HeadAngles& angles = {}, std::int64_t t_robot_ns = 0) {
   link::proto::HeadTarget t;
   t.set_t_ns(t_ns);
+  t.set_t_robot_ns(t_robot_ns);
   t.set_valid(true);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = link::headRotationOf(angles);
@@ -66,13 +67,17 @@ struct HeadLoopRig {
 
   /// Sends a target until the server holds it: the uplink is asynchronous and, like the XR app
   /// sending every display frame, drops a target while it (re)connects instead of queueing it.
-  void sendTarget(const Eigen::Vector3d& position, const link::HeadAngles& angles = {}) {
+  /// t_robot_ns: the sampling time in the robot clock the XR app would add (0: not known yet);
+  /// `from`: another operator app than `client`.
+  void sendTarget(const Eigen::Vector3d& position, const link::HeadAngles& angles = {},
+                  std::int64_t t_robot_ns = 0, link::LinkClient* from = nullptr) {
+    link::LinkClient& sender = from != nullptr ? *from : *client;
     const std::int64_t t = ++operator_t_ns;
     ASSERT_TRUE(eventually([&] {
-      client->sendHeadTarget(target(t, position, angles));
+      sender.sendHeadTarget(target(t, position, angles, t_robot_ns));
       std::this_thread::sleep_for(1ms);
       const auto latest = server->latestHeadTarget();
-      return latest && latest->t_ns() == t;
+      return latest && latest->t_ns() == t && latest->sender_instance() == sender.instance();
     }));
   }
 
@@ -363,6 +368,61 @@ TEST(HeadLoop, EveryTickIsTelemetryInNumberedBatches) {
   }
   EXPECT_GE(ticks.size(), std::size_t(rig.loop->ticks() - first_tick - 5));
   EXPECT_EQ(sent, ticks.size());
+}
+
+}  // namespace
+}  // namespace telesphere::robot
+
+namespace telesphere::robot {
+namespace {
+
+TEST(HeadLoop, TargetsAreTimedInTheRobotClockAndOrderedPerSender) {
+  HeadLoopRig rig(27510);
+  const Eigen::Vector3d head(0.0, 1.6, 0.0);
+  // An operator PC whose steady clock is far ahead of the robot's; its targets carry their
+  // sampling time in the robot clock, as the XR app adds it once its pings have an offset.
+  rig.operator_t_ns = 5'000'000'000'000;
+  rig.sendTarget(head, {}, rig.clock.nowNs());
+  rig.step();
+  link::proto::ControlRequest capture;
+  capture.set_capture_nominal(true);
+  ASSERT_TRUE(rig.request(capture).ok());
+  for (int i = 0; i < 50; ++i) {
+    rig.sendTarget(head, {}, rig.clock.nowNs());
+    rig.step();
+  }
+  ASSERT_TRUE(rig.controller.initialised());
+  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kStale), 0);
+  EXPECT_EQ(rig.loop->targetsStampedOnArrival(), 0);
+  const std::int64_t sent = rig.loop->targetsSent();
+  EXPECT_GT(sent, 40);
+
+  // A pose sampled 300 ms ago that the uplink held back: stale on its own stamp, not followed
+  // (stamped on arrival it would look fresh).
+  rig.sendTarget(head + Eigen::Vector3d(0.05, 0, 0), {}, rig.clock.nowNs() - 300'000'000);
+  rig.step();
+  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kStale), 1);
+
+  // A pose stamped 50 ms in the robot's future (a wrong clock offset): refused too.
+  rig.sendTarget(head, {}, rig.clock.nowNs() + 50'000'000);
+  rig.step();
+  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kFromFuture), 1);
+
+  // The operator PC restarts: a new sender whose clock starts near zero is heard at once.
+  link::LinkClient restarted(rig.endpoints);
+  rig.operator_t_ns = 10;
+  for (int i = 0; i < 5; ++i) {
+    rig.sendTarget(head + Eigen::Vector3d(0.01, 0, 0), {}, rig.clock.nowNs(), &restarted);
+    rig.step();
+  }
+  EXPECT_EQ(rig.server->latestHeadTarget()->sender_instance(), restarted.instance());
+  EXPECT_GE(rig.loop->targetsSent(), sent + 5);
+  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kOutOfOrder), 0);
+
+  // A sender without a clock offset yet: its targets are stamped on arrival, and counted.
+  rig.sendTarget(head, {}, 0, &restarted);
+  rig.step();
+  EXPECT_EQ(rig.loop->targetsStampedOnArrival(), 1);
 }
 
 }  // namespace

@@ -121,6 +121,36 @@ TEST(LinkLoopback, HeadTargetsLatestWinsAndControlRoundTrips) {
   EXPECT_EQ(refused->error(), "unknown mode");
 }
 
+TEST(LinkLoopback, HeadTargetsAreOrderedPerSenderSoARestartedOperatorIsHeard) {
+  LinkServer server(endpoints(40));
+  const auto send = [](LinkClient& client, std::int64_t t_ns) {
+    proto::HeadTarget t;
+    t.set_t_ns(t_ns);
+    t.set_valid(true);
+    t.mutable_t_vr_hmd()->set_qw(1);
+    client.sendHeadTarget(t);
+  };
+  const auto latestIs = [&](const LinkClient& client, std::int64_t t_ns) {
+    const auto latest = server.latestHeadTarget();
+    return latest && latest->t_ns() == t_ns && latest->sender_instance() == client.instance();
+  };
+  LinkClient first(endpoints(40));
+  ASSERT_TRUE(eventually([&] {
+    send(first, 1'000'000'000'000);
+    return latestIs(first, 1'000'000'000'000);
+  }));
+  // An older stamp from the same sender is not taken.
+  send(first, 999'000'000'000);
+  // The operator PC restarts (or a second one joins): its clock started elsewhere, near zero.
+  LinkClient second(endpoints(40));
+  EXPECT_NE(second.instance(), first.instance());
+  ASSERT_TRUE(eventually([&] {
+    send(second, 5'000);
+    return latestIs(second, 5'000);
+  }));
+  EXPECT_TRUE(eventually([&] { return server.stats().dropped(DropReason::kSuperseded) >= 1; }));
+}
+
 TEST(LinkLoopback, PingsEstimateTheClockOffset) {
   LinkServer server(endpoints(3));
   LinkClient client(endpoints(3), {.frames = false, .ping_period = 10ms});
