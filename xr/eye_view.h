@@ -66,6 +66,9 @@ struct RenderSettings {
   /// Colour (RGBA, 0..1) of eye pixels the camera did not see: outside the model's valid region,
   /// outside the image, or rays that miss the sphere when the eye is outside it.
   Eigen::Vector4f border_rgba{0.0f, 0.0f, 0.0f, 1.0f};
+  /// The camera image's colour is multiplied by this (0…1; the border is not): the operator
+  /// view dims a frame whose camera pose was not measured (OperatorView).
+  float image_gain = 1.0f;
   /// The head-locked pose of mode fixed (default: eye at the camera, looking along its axis).
   Eigen::Isometry3d T_cam_eye_fixed = Eigen::Isometry3d(kR_optical_view);
   /// Mesh path tessellation: rings in θ from the optical axis and segments in azimuth.

@@ -102,6 +102,15 @@ bool GpuCamera::upload(const SourceImage& image, std::string* out_error) {
         break;
       case SourceImage::Format::kYuv:
         textures_[0] = makeTexture(GL_R8, width_, height_);
+        if (image.chroma_width == 0) {  // greyscale: neutral chroma (128) from 1×1 planes
+          const std::uint8_t neutral = 128;
+          glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+          for (int plane = 1; plane <= 2; ++plane) {
+            textures_[plane] = makeTexture(GL_R8, 1, 1);
+            glTextureSubImage2D(textures_[plane].id(), 0, 0, 0, 1, 1, GL_RED, GL_UNSIGNED_BYTE, &neutral);
+          }
+          break;
+        }
         textures_[1] = makeTexture(GL_R8, image.chroma_width, image.chroma_height);
         textures_[2] = makeTexture(GL_R8, image.chroma_width, image.chroma_height);
         break;
@@ -127,6 +136,7 @@ bool GpuCamera::upload(const SourceImage& image, std::string* out_error) {
       const YuvPlanes& p = *image.planes;
       glTextureSubImage2D(textures_[0].id(), 0, 0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE,
                           p.y.data());
+      if (chroma_width_ == 0) break;  // greyscale: the neutral chroma planes stay
       glTextureSubImage2D(textures_[1].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,
                           GL_UNSIGNED_BYTE, p.u.data());
       glTextureSubImage2D(textures_[2].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,

@@ -32,6 +32,11 @@ link::proto::VisualMode visualModeOf(RenderMode mode) {
   return link::proto::VISUAL_MODE_FULL6D;
 }
 
+bool poseMeasured(const link::proto::StereoFrame& frame) {
+  return frame.left().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER &&
+         frame.right().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER;
+}
+
 }  // namespace
 
 OperatorView::OperatorView(const calib::SystemCalibration& calibration,
@@ -88,7 +93,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
 
   const auto before = renderer_.frame();
-  if (!renderer_.setFrame(decoder_.newest(), error)) return false;
+  if (!renderer_.setFrame(frameToShow(), error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
   if (uploaded_this_frame_ns_ >= 0) {
     last_new_frame_ns_ = frame_begin_ns_;
@@ -101,6 +106,44 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
                  hasImage() ? " (showing the last one)" : " (is telesphere-robot running?)");
   }
   return true;
+}
+
+std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
+  auto newest = decoder_.newest();
+  const auto& current = renderer_.frame();
+  if (!newest || newest == current) return newest;
+  if (poseMeasured(newest->frame)) {
+    if (unmeasured_since_ns_ >= 0)
+      spdlog::info("operator view: camera poses are measured again (joint states from the robot)");
+    unmeasured_since_ns_ = -1;
+    holding_measured_ = showing_unmeasured_ = false;
+    RenderSettings settings = renderer_.settings();
+    settings.image_gain = 1.0f;
+    renderer_.setSettings(settings);
+    return newest;
+  }
+  if (unmeasured_since_ns_ < 0) {
+    unmeasured_since_ns_ = frame_begin_ns_;
+    spdlog::warn("operator view: the robot's camera frames carry no measured camera pose (no joint "
+                 "state at their capture time); {}",
+                 current && !showing_unmeasured_ ? "holding the last measured frame, then showing them dimmed"
+                                                 : "showing them dimmed");
+  }
+  const bool can_hold = current && !showing_unmeasured_ &&
+                        double(frame_begin_ns_ - unmeasured_since_ns_) * 1e-9 < options_.hold_measured_s;
+  if (can_hold) {
+    if (newest->frame.sequence() != last_unmeasured_sequence_) ++stats_.unmeasured_frames_held_back;
+    last_unmeasured_sequence_ = newest->frame.sequence();
+    holding_measured_ = true;
+    return current;
+  }
+  holding_measured_ = false;
+  showing_unmeasured_ = true;
+  ++stats_.unmeasured_frames_shown;
+  RenderSettings settings = renderer_.settings();
+  settings.image_gain = kUnmeasuredGain;
+  renderer_.setSettings(settings);
+  return newest;
 }
 
 bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
@@ -141,6 +184,8 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
       stamps->set_displayed_ns(shown_ns);
     }
   }
+  telemetry_frame_.set_pose_unmeasured(showing_unmeasured_);
+  telemetry_frame_.set_holding_measured(holding_measured_);
   telemetry_frame_.set_render_ms(render_ms);
   telemetry_frame_.set_missed(static_cast<std::uint32_t>(missed_frames - std::min(missed_frames, missed_at_last_frame_)));
   missed_at_last_frame_ = missed_frames;

@@ -14,6 +14,14 @@
 ///        periods, the camera frame shown (all stage stamps on its first display) and Δs, the
 ///        distance from the left eye to the left camera at capture time (paper Fig. 7).
 ///
+///        Frames whose camera pose was not measured (link pose_source FIXED_CALIBRATION: the
+///        robot had no joint state for the capture time, e.g. the arm's report stream is
+///        down) would put the scene in the wrong place. Once a measured frame has been shown,
+///        such a frame is not taken for up to hold_measured_s: the last measured frame stays
+///        (right geometry, growing age); after that, or before any measured frame, unmeasured
+///        frames are shown dimmed (image gain kUnmeasuredGain) so the operator sees that the view
+///        is not tracked. Counted, logged once per streak, and flagged in the telemetry.
+///
 ///        Frame protocol, on the thread whose GL context is current:
 ///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
 #pragma once
@@ -42,6 +50,8 @@ struct OperatorViewOptions {
   RenderSettings render;
   /// Follow the mode and radius the robot publishes (off: the command line's stay).
   bool follow_robot_settings = true;
+  /// How long the last measured frame is held while only unmeasured ones arrive, s.
+  double hold_measured_s = 1.0;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -56,6 +66,8 @@ struct OperatorViewStats {
   double upload_ms_p50 = 0;
   double pose_to_display_ms_p50 = 0;  ///< head-pose sample (frame start) → predicted display
   bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
+  std::uint64_t unmeasured_frames_shown = 0;  ///< distinct frames shown dimmed (pose not measured)
+  std::uint64_t unmeasured_frames_held_back = 0;  ///< passed over while a measured one was held
 };
 
 class OperatorView {
@@ -100,6 +112,10 @@ class OperatorView {
   /// a warning is logged when this passes kSilentRobotS, and a note when frames come back.
   double secondsWithoutNewFrame() const { return double(frame_begin_ns_ - last_new_frame_ns_) * 1e-9; }
   static constexpr double kSilentRobotS = 2.0;
+  /// Image gain of frames whose camera pose was not measured.
+  static constexpr float kUnmeasuredGain = 0.4f;
+  /// Whether the frame on show has no measured camera pose (it is dimmed).
+  bool showingUnmeasured() const { return showing_unmeasured_; }
   const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   const RenderSettings& settings() const { return renderer_.settings(); }
   const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
@@ -112,6 +128,8 @@ class OperatorView {
 
  private:
   void sendControl(link::proto::ControlRequest request, std::string what);
+  /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
+  std::shared_ptr<const DecodedStereoFrame> frameToShow();
 
   link::LinkClient client_;
   StereoFrameDecoder decoder_;
@@ -123,6 +141,10 @@ class OperatorView {
   std::int64_t frame_begin_ns_ = 0;
   std::int64_t last_new_frame_ns_ = 0;  ///< set at construction, then at every new frame
   bool robot_silent_ = false;           ///< the silence warning was given
+  bool showing_unmeasured_ = false;     ///< the frame on show has no measured pose
+  bool holding_measured_ = false;       ///< a newer unmeasured frame is passed over
+  std::int64_t unmeasured_since_ns_ = -1;  ///< first unmeasured frame of the streak (-1: none)
+  std::uint64_t last_unmeasured_sequence_ = 0;
   OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
   std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;

@@ -42,7 +42,11 @@ std::optional<RgbaImage> renderReference(const calib::GenericCamera& camera,
     for (int col = 0; col < view.width; ++col) {
       const auto px =
           referenceCameraPixel(camera, image.width, image.height, view, settings, col, row);
-      const Eigen::Vector4f value = px ? image.sample(*px).cast<float>() : border;
+      Eigen::Vector4f value = border;
+      if (px) {
+        value = image.sample(*px).cast<float>();
+        value.head<3>() *= settings.image_gain;
+      }
       Eigen::Map<Eigen::Vector4f>(&out.rgba[(static_cast<std::size_t>(row) * view.width + col) * 4]) =
           value;
     }

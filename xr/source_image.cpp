@@ -116,6 +116,8 @@ bool SourceImage::consistent() const {
       if (!planes || planes->width != width || planes->height != height ||
           planes->chroma_width != chroma_width || planes->chroma_height != chroma_height)
         return false;
+      if (chroma_width == 0 && chroma_height == 0)  // greyscale: Y only
+        return planes->y.size() == n && planes->u.empty() && planes->v.empty();
       const std::size_t nc = static_cast<std::size_t>(chroma_width) * chroma_height;
       return chroma_width > 0 && chroma_height > 0 && chroma_width <= width &&
              chroma_height <= height && planes->y.size() == n && planes->u.size() == nc &&
@@ -151,7 +153,8 @@ Eigen::Vector4d SourceImage::sample(const Eigen::Vector2d& px) const {
                }) -
                128.0 / 255.0;
       };
-      const double cb = chroma(planes->u), cr = chroma(planes->v);
+      const bool grey = chroma_width == 0;
+      const double cb = grey ? 0.0 : chroma(planes->u), cr = grey ? 0.0 : chroma(planes->v);
       out.head<3>() << Y + 1.402 * cr, Y - 0.344136 * cb - 0.714136 * cr, Y + 1.772 * cb;
       out.head<3>() = out.head<3>().cwiseMax(0.0).cwiseMin(1.0);
       break;

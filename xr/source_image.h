@@ -22,7 +22,7 @@ struct SourceImage {
   int width = 0;
   int height = 0;
   int channels = 3;        ///< kRgb8: 3; kFloat: 1..4; kYuv: 3 (planes)
-  int chroma_width = 0;    ///< kYuv: Cb/Cr plane size
+  int chroma_width = 0;    ///< kYuv: Cb/Cr plane size; 0 × 0 for greyscale (a Mono8 camera)
   int chroma_height = 0;
   std::vector<std::uint8_t> bytes;  ///< kRgb8: RGB rows top first
   std::vector<float> floats;        ///< kFloat: rows top first, `channels` per texel

@@ -269,6 +269,55 @@ TEST_F(RendererGl, YuvPlanesAreConvertedInTheShader) {
   EXPECT_LE(mismatched, 4 * 10);
 }
 
+TEST_F(RendererGl, GreyscaleFramesAndTheImageGainMatchTheReference) {
+  // A Mono8 camera's JPEG decodes to Y only; the dimmed view of an unmeasured pose scales it.
+  const auto camera = test::scaledTypicalLens<calib::KannalaBrandtCamera>();
+  const int w = kImageWidth, h = kImageHeight;
+  std::vector<std::uint8_t> grey(static_cast<std::size_t>(w) * h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) grey[static_cast<std::size_t>(y) * w + x] = std::uint8_t((3 * x + y) % 256);
+  const SourceImage image = SourceImage::yuv(w, h, 0, 0, grey);
+  ASSERT_TRUE(image.consistent());
+  GpuCamera gpu(camera, w, h);
+  std::string error;
+  ASSERT_TRUE(gpu.upload(image, &error)) << error;
+  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  for (const float gain : {1.0f, 0.4f}) {
+    RenderSettings s;
+    s.border_rgba = {1.0f, 0.0f, 1.0f, 1.0f};
+    s.image_gain = gain;
+    gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
+    ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
+    const auto out = target.readRgbaF();
+    const auto ref = renderReference(camera, image, view, s);
+    ASSERT_TRUE(ref);
+    double worst = 0.0;
+    int mismatched = 0, grey_pixels = 0;
+    for (std::size_t i = 0; i < out.size(); i += 4) {
+      bool flip = false;
+      for (int c = 0; c < 4; ++c) flip |= std::abs(out[i + c] - ref->rgba[i + c]) > 4.0 / 255.0;
+      if (flip) {
+        ++mismatched;  // a validity flip at the image edge
+        continue;
+      }
+      for (int c = 0; c < 4; ++c) worst = std::max(worst, double(std::abs(out[i + c] - ref->rgba[i + c])));
+      if (ref->rgba[i + 1] > 0.0f) {  // not the magenta border: grey, R = G = B
+        ++grey_pixels;
+        EXPECT_NEAR(out[i], out[i + 1], 1.0 / 255.0);
+        EXPECT_NEAR(out[i + 2], out[i + 1], 1.0 / 255.0);
+        EXPECT_LE(out[i + 1], gain + 1e-6);
+      }
+    }
+    EXPECT_LT(worst, 4.0 / 255.0) << "gain " << gain;
+    EXPECT_LE(mismatched, 10) << "gain " << gain;
+    EXPECT_GT(grey_pixels, int(out.size() / 4 / 2)) << "gain " << gain;
+  }
+  // A gain outside [0, 1] is refused.
+  RenderSettings bad;
+  bad.image_gain = 1.5f;
+  EXPECT_TRUE(checkRenderSettings(bad));
+}
+
 TEST_F(RendererGl, RgbFramesWrittenAsPng) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
   GpuCamera gpu(camera, kImageWidth, kImageHeight);

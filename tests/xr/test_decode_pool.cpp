@@ -163,6 +163,14 @@ TEST(SourceImageYuv, TakesTheDecodersPlanesWithoutACopy) {
   gray->u.clear();
   gray->v.clear();
   gray->chroma_width = gray->chroma_height = 0;
+  // Greyscale (a Mono8 camera's JPEG): Y only, no chroma, grey out: R = G = B = Y.
+  const SourceImage grey_image = SourceImage::yuv(std::shared_ptr<const YuvPlanes>(gray));
+  ASSERT_TRUE(grey_image.consistent());
+  const Eigen::Vector4d g = grey_image.sample(Eigen::Vector2d(10, 20));
+  EXPECT_NEAR(g.x(), Y, 1e-12);
+  EXPECT_NEAR(g.y(), Y, 1e-12);
+  EXPECT_NEAR(g.z(), Y, 1e-12);
+  gray->y.pop_back();
   EXPECT_FALSE(SourceImage::yuv(std::shared_ptr<const YuvPlanes>(gray)).consistent());
 }
 

@@ -51,6 +51,7 @@ class OperatorViewTest : public ::testing::Test {
     OperatorViewOptions options;
     options.endpoints = operatorViewEndpoints();
     options.render.border_rgba << 0.0f, 0.0f, 1.0f, 1.0f;
+    options.hold_measured_s = 0.3;
     view_ = std::make_unique<OperatorView>(*calibration, options);
     target_ = std::make_unique<gl::OffscreenTarget>(32, 32);
     eye_.width = eye_.height = 32;
@@ -59,7 +60,7 @@ class OperatorViewTest : public ::testing::Test {
 
   /// Publishes a 64×36 stereo frame (the calibration's 16:9) with both cameras looking along
   /// the robot's -z (left at x = -0.03 m, right at +0.03 m).
-  void publishFrame() {
+  void publishFrame(link::proto::PoseSource pose_source = link::proto::POSE_SOURCE_JOINT_BUFFER) {
     link::proto::StereoFrame f;
     f.set_sequence(++sequence_);
     const std::int64_t now = link::linkNowNs();
@@ -72,6 +73,7 @@ class OperatorViewTest : public ::testing::Test {
       Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
       T_robot_cam.translation().x() = i == 0 ? -0.03 : 0.03;
       link::toLinkPose(T_robot_cam, image->mutable_t_robot_cam());
+      image->set_pose_source(pose_source);
     }
     server_->publishStereoFrame(f, jpeg_, jpeg_);
   }
@@ -80,6 +82,20 @@ class OperatorViewTest : public ::testing::Test {
     std::string local;
     return view_->beginFrame(T_vr_hmd_, display_ns ? display_ns : link::linkNowNs() + 11'000'000, true,
                              error ? error : &local);
+  }
+
+  /// Displays one frame (begin and end) and says whether it began without error.
+  bool shownFrame() {
+    const bool ok = frame();
+    view_->endFrame(link::linkNowNs(), 1.0, 0);
+    return ok;
+  }
+
+  /// Left eye into the 32×32 target: RGBA8.
+  std::vector<std::uint8_t> renderLeft() {
+    std::string error;
+    EXPECT_TRUE(view_->renderEye(0, T_vr_hmd_, eye_, target_->framebuffer(), &error)) << error;
+    return target_->readRgba8();
   }
 
   std::vector<link::proto::ControlRequest> requests() {
@@ -218,6 +234,69 @@ TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {
     return shown_frame() && view_->frame()->frame.sequence() < 5000u;
   })) << "frames of the restarted robot must replace the old ones";
   EXPECT_GT(view_->stats().stereo_frames_shown, shown_before);
+}
+
+TEST_F(OperatorViewTest, GreyscaleFramesFromAMono8CameraAreShown) {
+  jpeg_ = std::make_shared<const std::vector<std::uint8_t>>(
+      test::encodeJpeg(test::texturedRgb(64, 36, 5), 64, 36, TJSAMP_GRAY));
+  std::string error;
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame();
+    return frame(0, &error) && view_->hasImage();
+  })) << error;
+  EXPECT_EQ(view_->frame()->left->subsampling, JpegSubsampling::kGray);
+  const auto pixels = renderLeft();
+  std::size_t grey = 0;
+  for (std::size_t i = 0; i < pixels.size(); i += 4) {
+    if (pixels[i] == 0 && pixels[i + 1] == 0 && pixels[i + 2] == 255) continue;  // border
+    EXPECT_NEAR(pixels[i], pixels[i + 1], 1);
+    EXPECT_NEAR(pixels[i + 2], pixels[i + 1], 1);
+    ++grey;
+  }
+  EXPECT_GT(grey, pixels.size() / 4 / 2);
+}
+
+TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOneIsHeld) {
+  using link::proto::POSE_SOURCE_FIXED_CALIBRATION;
+  const auto redGreen = [](const std::vector<std::uint8_t>& rgba) {  // the border has none
+    double sum = 0;
+    for (std::size_t i = 0; i < rgba.size(); i += 4) sum += rgba[i] + rgba[i + 1];
+    return sum;
+  };
+  // Before any measured frame: an unmeasured one is shown, dimmed.
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame(POSE_SOURCE_FIXED_CALIBRATION);
+    return shownFrame() && view_->hasImage();
+  }));
+  EXPECT_TRUE(view_->showingUnmeasured());
+  EXPECT_FLOAT_EQ(view_->settings().image_gain, OperatorView::kUnmeasuredGain);
+  const double dimmed = redGreen(renderLeft());
+  EXPECT_GE(view_->stats().unmeasured_frames_shown, 1u);
+
+  // Measured frames: full brightness, the same picture.
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame();
+    return shownFrame() && !view_->showingUnmeasured();
+  }));
+  EXPECT_FLOAT_EQ(view_->settings().image_gain, 1.0f);
+  const double bright = redGreen(renderLeft());
+  EXPECT_NEAR(dimmed / bright, OperatorView::kUnmeasuredGain, 0.02);
+
+  // Unmeasured frames again: the measured frame stays on show for hold_measured_s (0.3 s here),
+  // then they are shown, dimmed.
+  const std::uint64_t measured = view_->frame()->frame.sequence();
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame(POSE_SOURCE_FIXED_CALIBRATION);
+    shownFrame();
+    if (!view_->showingUnmeasured()) {
+      EXPECT_EQ(view_->frame()->frame.sequence(), measured);
+    }
+    return view_->showingUnmeasured();
+  }));
+  EXPECT_GE(std::chrono::steady_clock::now() - start, 300ms);
+  EXPECT_GT(view_->frame()->frame.sequence(), measured);
+  EXPECT_GE(view_->stats().unmeasured_frames_held_back, 1u);
 }
 
 }  // namespace
