@@ -6,12 +6,16 @@
 ///          link (head targets) → head controller → arm → joint-state buffer → link (state)
 ///
 /// With --sim (the default; the only arm this build can drive) the arm is the simulated xArm 6
-/// and the cameras are synthetic, rendering the default scene through the calibrated lens at the
-/// arm's pose. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
+/// and the cameras are synthetic, rendering the default scene through the true calibration
+/// (--true-calib, by default the one the robot uses) at the arm's true pose at the middle of each
+/// exposure, delivered after exposure/2 + transfer; frames are stamped, as on the real robot,
+/// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
 /// Exit codes: 0 ok, 1 bad arguments or files, 2 a camera or the link could not start.
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -21,6 +25,7 @@
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
 #include "robot/aravis_camera.h"
+#include "robot/ground_truth_log.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
 #include "robot/preview_streamer.h"
@@ -61,6 +66,10 @@ int main(int argc, char** argv) {
   int preview_width = 320;
   double preview_hz = 5.0;
   bool sim = false;  // the default anyway; explicit for scripts
+  double exposure_ms = 8.0;   // the paper's cameras
+  double transfer_ms = 10.0;  // the paper: about 10 ms over USB
+  std::string true_calib_path;
+  std::string truth_path;
   app.add_flag("--sim", sim, "simulated arm and synthetic cameras (the default)");
   app.add_option("--calib", calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
       ->capture_default_str();
@@ -87,6 +96,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(16, 1920));
   app.add_option("--preview-rate", preview_hz, "console preview frames per second (0: none)")
       ->capture_default_str()->check(CLI::Range(0.0, 30.0));
+  app.add_option("--exposure-ms", exposure_ms, "synthetic cameras: exposure, ms (half of it delays delivery)")
+      ->capture_default_str()->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--transfer-ms", transfer_ms, "synthetic cameras: readout and transfer after the exposure, ms")
+      ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--true-calib", true_calib_path,
+                 "synthetic cameras: the calibration they really have (default: --calib); a "
+                 "different one shows what a calibration error does to the operator's view");
+  app.add_option("--truth-out", truth_path,
+                 "synthetic cameras: write each sent frame's true camera poses (CSV) to this file");
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = calib::loadCalibrationFile(calib_path);
@@ -100,6 +118,24 @@ int main(int argc, char** argv) {
               << ": needs two cameras, T_cam_l_cam_r and T_flange_cam_l (run telesphere-calib "
                  "intrinsics and handeye first)\n";
     return 1;
+  }
+  if (!camera_left.empty() && (!true_calib_path.empty() || !truth_path.empty())) {
+    std::cerr << "telesphere-robot: --true-calib and --truth-out need the synthetic cameras\n";
+    return 1;
+  }
+  calib::SystemCalibration true_calibration = calibration;
+  if (!true_calib_path.empty()) {
+    auto loaded_true = calib::loadCalibrationFile(true_calib_path);
+    if (!loaded_true) {
+      std::cerr << "telesphere-robot: --true-calib: " << loaded_true.error().describe() << '\n';
+      return 1;
+    }
+    true_calibration = *loaded_true;
+    if (true_calibration.cameras.size() != 2 || !true_calibration.T_cam_l_cam_r || !true_calibration.T_flange_cam_l) {
+      std::cerr << "telesphere-robot: --true-calib " << true_calib_path
+                << ": needs two cameras, T_cam_l_cam_r and T_flange_cam_l\n";
+      return 1;
+    }
   }
   if (sim && !camera_left.empty()) {
     std::cerr << "telesphere-robot: --sim uses synthetic cameras; drop --camera-left/--camera-right\n";
@@ -136,6 +172,15 @@ int main(int argc, char** argv) {
         robot::JointVector::Zero(), controller_config.ik);
     if (ik.status == robot::IkResult::Status::kConverged) arm_config.q_initial = ik.q;
   }
+  // Ground truth of the simulation: the arm's noise-free joints at every physics step (1 ms),
+  // through the true calibration.
+  robot::HeadGeometry true_geometry;
+  true_geometry.T_flange_cam_l = *true_calibration.T_flange_cam_l;
+  true_geometry.T_cam_l_cam_r = *true_calibration.T_cam_l_cam_r;
+  robot::JointStateBufferConfig truth_config;
+  truth_config.capacity = 8192;  // 8 s at 1 kHz
+  robot::JointStateBuffer truth(true_geometry, truth_config);
+  arm_config.on_true_state = [&truth](const robot::JointState& s) { truth.push(s); };
   robot::SimulatedArm arm(clock, arm_config);
   robot::JointStateBuffer joints(controller_config.geometry);
 
@@ -163,6 +208,18 @@ int main(int argc, char** argv) {
   const robot::CameraPoseAt poses = [&joints](robot::CameraSide side, std::int64_t t_ns) {
     return joints.T_robot_cam(side, t_ns);
   };
+  // Where a synthetic camera really is at t_ns. The frame is rendered after its readout, by when
+  // the head loop (100 Hz) has normally simulated past t_ns; if it lags, wait for it a little.
+  const auto true_pose = [&truth, &clock](robot::CameraSide side, std::int64_t t_ns,
+                                          const Eigen::Isometry3d& T0) {
+    for (int waited_ms = 0; waited_ms < 100; ++waited_ms) {
+      const auto window = truth.window();
+      if (window && window->second >= t_ns) break;
+      if (!window && clock.nowNs() < t_ns) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return truth.T_robot_cam(side, t_ns).value_or(T0);
+  };
 
   std::unique_ptr<robot::CameraSource> left, right;
   if (camera_left.empty()) {
@@ -170,7 +227,7 @@ int main(int argc, char** argv) {
     const auto make = [&](int index, robot::CameraSide side, const Eigen::Isometry3d& T0,
                           const char* name) -> std::unique_ptr<robot::CameraSource> {
       std::string error;
-      const auto camera = calib::atResolution(calibration.cameras[index], width, height, &error);
+      const auto camera = calib::atResolution(true_calibration.cameras[index], width, height, &error);
       if (!camera) {
         std::cerr << "telesphere-robot: " << error << '\n';
         return nullptr;
@@ -179,10 +236,11 @@ int main(int argc, char** argv) {
       options.name = name;
       options.fps = fps;
       options.threads = render_threads;
+      options.exposure_us = static_cast<std::uint32_t>(std::lround(exposure_ms * 1000.0));
+      options.transfer_ns = std::llround(transfer_ms * 1e6);
       return std::make_unique<robot::SyntheticCamera>(
           camera->camera, width, height, scene,
-          [&joints, side, T0](std::int64_t t_ns) { return joints.T_robot_cam(side, t_ns).value_or(T0); },
-          clock, options);
+          [true_pose, side, T0](std::int64_t t_ns) { return true_pose(side, t_ns, T0); }, clock, options);
     };
     left = make(0, robot::CameraSide::kLeft, T_robot_cam_l0, "synthetic-left");
     right = make(1, robot::CameraSide::kRight, T_robot_cam_r0, "synthetic-right");
@@ -215,10 +273,20 @@ int main(int argc, char** argv) {
   video_config.T_robot_cam_l_fixed = T_robot_cam_l0;
   video_config.T_robot_cam_r_fixed = T_robot_cam_r0;
   video_config.telemetry = &telemetry;
-  if (preview_hz > 0)
-    video_config.on_sent = [&preview](const robot::StereoFrame& pair, std::uint64_t sequence) {
-      preview.offer(pair, sequence);
-    };
+  std::unique_ptr<robot::GroundTruthLog> truth_log;
+  if (!truth_path.empty()) {
+    std::string error;
+    truth_log = robot::GroundTruthLog::open(truth_path, truth, &error);
+    if (!truth_log) {
+      std::cerr << "telesphere-robot: " << error << '\n';
+      return 1;
+    }
+  }
+  video_config.on_sent = [&preview, &truth_log, &loop, preview_hz](const robot::StereoFrame& pair,
+                                                                   std::uint64_t sequence) {
+    if (preview_hz > 0) preview.offer(pair, sequence);
+    if (truth_log) truth_log->frameSent(pair, sequence, loop.nominalMapping());
+  };
   robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
 
   robot::RobotControl control(loop, &video);

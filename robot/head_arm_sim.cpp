@@ -108,6 +108,13 @@ void SimulatedArm::step(std::int64_t dt_ns) {
     }
   }
   t_ns_ = t_next;
+  if (config_.on_true_state) {
+    JointState truth;
+    truth.t_ns = t_ns_;
+    truth.q = q_;
+    truth.status = stopped_ ? ArmStatus::kStopped : connected_ ? ArmStatus::kOk : ArmStatus::kDisconnected;
+    config_.on_true_state(truth);
+  }
 }
 
 void SimulatedArm::publishState() {

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <random>
 #include <utility>
@@ -37,6 +38,10 @@ struct SimulatedArmConfig {
   std::uint64_t seed = 1;                        ///< of the encoder noise
   JointVector q_initial = JointVector::Zero();   ///< rad, clamped into the limits
   std::size_t max_queued_states = 1000;          ///< older untaken states are dropped
+  /// Ground truth: called with the noise-free joints after every physics step, on the thread
+  /// that calls update() (the synthetic cameras render at these poses; tests and benchmarks
+  /// compare with them). A real arm has nothing like it.
+  std::function<void(const JointState&)> on_true_state;
 };
 
 class SimulatedArm final : public HeadArm {

@@ -177,6 +177,11 @@ void HeadLoop::fillHealth(link::proto::RobotHealth* health) const {
   health->set_fault(faultLocked());
 }
 
+link::proto::NominalMapping HeadLoop::nominalMapping() const {
+  std::lock_guard lock(mutex_);
+  return nominalMappingLocked();
+}
+
 link::proto::NominalMapping HeadLoop::nominalMappingLocked() const {
   link::proto::NominalMapping m;
   m.set_step(step_);

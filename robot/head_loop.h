@@ -86,6 +86,8 @@ class HeadLoop {
   std::int64_t targetsStampedOnArrival() const { return targets_stamped_on_arrival_; }
   std::optional<JointState> lastState() const;
   link::proto::NominalStep nominalStep() const;
+  /// The nominal mapping in force (or pending), as a control reply carries it.
+  link::proto::NominalMapping nominalMapping() const;
 
  private:
   /// The newest head target (robot clock).

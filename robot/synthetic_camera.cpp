@@ -56,6 +56,7 @@ SyntheticCamera::SyntheticCamera(const calib::GenericCamera& camera, int width, 
   TS_ASSERT(options_.fps > 0.0 && std::isfinite(options_.fps), options_.fps);
   TS_ASSERT(options_.supersampling >= 1 && options_.supersampling <= 8, options_.supersampling);
   TS_ASSERT(options_.threads >= 1, options_.threads);
+  TS_ASSERT(options_.transfer_ns >= 0, options_.transfer_ns);
   TS_ASSERT(scene_ != nullptr && T_world_cam_at_ != nullptr);
   period_ns_ = std::max<std::int64_t>(1, std::llround(1e9 / options_.fps));
   options_.queue_depth = std::max<std::size_t>(1, options_.queue_depth);
@@ -158,12 +159,17 @@ void SyntheticCamera::stop() {
   if (thread_.joinable() && thread_.get_id() != std::this_thread::get_id()) thread_.join();
 }
 
+std::int64_t SyntheticCamera::deliveryDelayNs() const {
+  return static_cast<std::int64_t>(options_.exposure_us) * 500 + options_.transfer_ns;
+}
+
 void SyntheticCamera::run() {
   const std::int64_t phase = options_.phase_ns;
+  const std::int64_t delay = deliveryDelayNs();
   // The first tick at or after now.
   std::int64_t k = -syntheticFloorDiv(phase - clock_.nowNs(), period_ns_);
   while (!stop_requested_.load()) {
-    const std::int64_t due = phase + k * period_ns_;
+    const std::int64_t due = phase + k * period_ns_ + delay;  // exposed, read out, transferred
     {
       std::unique_lock<std::mutex> lock(mutex_);
       for (;;) {
@@ -174,7 +180,7 @@ void SyntheticCamera::run() {
         wake_.wait_for(lock, std::chrono::nanoseconds(std::min<std::int64_t>(remaining_ns, 1'000'000)));
       }
     }
-    const std::int64_t latest = syntheticFloorDiv(clock_.nowNs() - phase, period_ns_);
+    const std::int64_t latest = syntheticFloorDiv(clock_.nowNs() - delay - phase, period_ns_);
     if (latest > k) {
       skipped_ticks_.fetch_add(static_cast<std::uint64_t>(latest - k), std::memory_order_relaxed);
       k = latest;

@@ -3,9 +3,11 @@
 ///        (DESIGN.md §4): the ground truth of the accuracy tests, the image source of the
 ///        calibration tests and the demo's default camera.
 ///
-/// Each frame is exposed at a tick t_k = phase_ns + k·period_ns of the host clock (its
+/// Each frame is exposed around a tick t_k = phase_ns + k·period_ns of the host clock (its
 /// capture_ns, the middle of the exposure) and rendered at the camera pose T_world_cam(t_k) and
-/// the scene at t_k, so images follow a moving head exactly as the capture-time pose says.
+/// the scene at t_k. Like a real camera it is delivered only after the exposure has ended and
+/// the image has been read out and transferred: at t_k + exposure/2 + transfer_ns (the paper's
+/// cameras: 8 ms exposure, about 10 ms over USB). Motion blur is not rendered.
 /// Rendering: the unit rays of all n×n sub-samples of every pixel (sub-sample (i, j) of pixel
 /// (u, v) at (u + (i + ½)/n − ½, v + (j + ½)/n − ½), pixel centres at integers) are unprojected
 /// through the model once, at construction; sub-samples outside the model's valid region count
@@ -43,7 +45,8 @@ struct SyntheticCameraOptions {
   double fps = 30.0;                ///< ticks per second of the host clock (> 0)
   std::int64_t phase_ns = 0;        ///< tick k is at phase_ns + k·period (two cameras with equal
                                     ///< fps and phase act as if hardware-triggered together)
-  std::uint32_t exposure_us = 5000; ///< reported in the frames (no motion blur is rendered)
+  std::uint32_t exposure_us = 5000; ///< reported in the frames; half of it delays delivery
+  std::int64_t transfer_ns = 0;     ///< readout and transfer after the exposure ends
   int supersampling = 1;            ///< n: n×n rays per pixel, 1…8 (the speed/accuracy knob)
   int threads = 2;                  ///< rendering threads per frame (≥ 1)
   std::size_t queue_depth = 4;      ///< frames waiting for nextFrame(); the oldest is dropped
@@ -73,6 +76,8 @@ class SyntheticCamera final : public CameraSource {
   CameraStats stats() const override;
 
   std::int64_t periodNs() const { return period_ns_; }
+  /// From a frame's capture_ns (mid-exposure) to its delivery: exposure/2 + transfer_ns.
+  std::int64_t deliveryDelayNs() const;
   /// Ticks passed over because rendering (or the clock) ran ahead of the frame rate.
   std::uint64_t skippedTicks() const { return skipped_ticks_.load(std::memory_order_relaxed); }
   /// Frames rendered by the thread since construction (queued, delivered or lost).

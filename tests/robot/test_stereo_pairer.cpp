@@ -281,6 +281,7 @@ TEST(StereoPairSource, PairsTwoSyntheticCamerasTriggeredTogether) {
   };
   SyntheticCameraOptions options;
   options.fps = 45.0;
+  options.exposure_us = 0;  // delivered at the tick: the threads may look at the clock only then
   options.name = "synthetic-left";
   SyntheticCamera left(camera, 160, 128, scene, pose_l, clock, options);
   options.name = "synthetic-right";

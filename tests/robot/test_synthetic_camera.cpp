@@ -307,8 +307,10 @@ TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
   options.name = "synthetic-left";
   options.fps = 50.0;  // ticks every 20 ms
   options.exposure_us = 4000;
+  options.transfer_ns = 3'000'000;  // delivered 2 + 3 ms after the middle of the exposure
   SyntheticCamera cam(ThreadedRig::lens(), 320, 256, rig.scene, &ThreadedRig::pose, rig.clock, options);
   ASSERT_EQ(cam.periodNs(), 20'000'000);
+  ASSERT_EQ(cam.deliveryDelayNs(), 5'000'000);
   EXPECT_EQ(cam.name(), "synthetic-left");
   std::string error;
   ASSERT_TRUE(cam.start(&error)) << error;
@@ -317,7 +319,10 @@ TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
   std::int64_t last_capture = -1;
   for (std::uint64_t i = 0; i < 5; ++i) {
     const std::int64_t tick = static_cast<std::int64_t>(i + 1) * 20'000'000;
+    // At the middle of its exposure the frame is not read out yet; 5 ms later it is.
     rig.clock.set(tick);
+    EXPECT_FALSE(cam.nextFrame(std::chrono::milliseconds(5))) << "frame " << i << " before its readout";
+    rig.clock.set(tick + 5'000'000);
     const auto frame = cam.nextFrame(std::chrono::seconds(30));
     ASSERT_TRUE(frame) << "frame " << i;
     EXPECT_EQ(frame->sequence, i);
@@ -333,7 +338,7 @@ TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
     }
   }
   // The clock jumps 2.5 periods past the next tick: the frame is exposed at the latest tick
-  // reached, the two ticks passed over are counted, the sequence has no gap.
+  // whose frame is read out by now, the two ticks passed over are counted, the sequence has no gap.
   rig.clock.set(6 * 20'000'000 + 2 * 20'000'000 + 10'000'000);
   const auto late = cam.nextFrame(std::chrono::seconds(30));
   ASSERT_TRUE(late);
@@ -353,6 +358,7 @@ TEST(SyntheticCamera, FullQueueDropsTheOldestAsLost) {
   SyntheticCameraOptions options;
   options.fps = 50.0;
   options.queue_depth = 2;
+  options.exposure_us = 0;  // delivered at the tick: the thread may look at the clock only then
   SyntheticCamera cam(ThreadedRig::lens(), 64, 48, rig.scene, &ThreadedRig::pose, rig.clock, options);
   ASSERT_TRUE(cam.start(nullptr));
   // Four ticks, each rendered before the next, nobody reading: the two oldest are lost.
@@ -397,10 +403,15 @@ TEST(SyntheticCamera, StopAbandonsAFrameBeingRendered) {
   (void)cam.renderAt(0);
   const auto full_render = std::chrono::steady_clock::now() - r0;
   ASSERT_TRUE(cam.start(nullptr));
-  clock.set(cam.periodNs());
   {
+    // Each tick's delivery time in turn until the render thread is at work (the thread may
+    // only look at the clock after the first of them).
     std::unique_lock<std::mutex> lock(m);
-    ASSERT_TRUE(cv.wait_for(lock, std::chrono::seconds(30), [&] { return rendering; }));
+    for (std::int64_t k = 1; k <= 10 && !rendering; ++k) {
+      clock.set(k * cam.periodNs() + cam.deliveryDelayNs());
+      cv.wait_for(lock, std::chrono::seconds(3), [&] { return rendering; });
+    }
+    ASSERT_TRUE(rendering);
   }
   const auto s0 = std::chrono::steady_clock::now();
   cam.stop();
