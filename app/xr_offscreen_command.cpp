@@ -38,6 +38,10 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
   c->add_option("--wait", o.wait_s, "seconds to wait for the first frame")->capture_default_str();
+  c->add_option("--truth-out", o.truth_dir,
+                "folder for the projection maps of every --truth-every-th frame (ground-truth check)");
+  c->add_option("--truth-every", o.truth_every, "record every N-th frame's projection maps")
+      ->capture_default_str()->check(CLI::Range(1, 1000000));
   return c;
 }
 
@@ -66,6 +70,8 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   if (!render) return fail(1, error);
   options.render = *render;
   options.png_every_frames = o.png_every;
+  options.truth_dir = o.truth_dir;
+  options.truth_every_frames = o.truth_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
   if (!o.out_dir.empty()) {
     std::error_code ec;

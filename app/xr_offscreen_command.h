@@ -24,6 +24,8 @@ struct OffscreenCommandOptions {
   std::string out_dir;  ///< stats.json and eyes_last.png
   int png_every = 0;
   double wait_s = 10.0;
+  std::string truth_dir;  ///< projection maps for the ground-truth check
+  int truth_every = 10;
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

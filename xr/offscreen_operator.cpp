@@ -12,6 +12,7 @@
 #include "shaders/offscreen_target.h"
 #include "xr/eyes_png.h"
 #include "xr/operator_view.h"
+#include "xr/projection_map_recorder.h"
 
 namespace telesphere::xr {
 
@@ -61,6 +62,12 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
 
+  std::unique_ptr<ProjectionMapRecorder> truth;
+  if (!options.truth_dir.empty()) {
+    truth = ProjectionMapRecorder::open(options.truth_dir, options.eye_width, options.eye_height, error);
+    if (!truth) return std::nullopt;
+  }
+
   OffscreenOperatorStats stats;
   std::uint64_t frames = 0;
   Eigen::Isometry3d T_hmd_eye[2];
@@ -88,6 +95,10 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     }
     glFinish();
     const auto work_end = Clock::now();
+    // The projection maps are extra work for the check, after the frame's own (not in render_ms).
+    if (truth && options.truth_every_frames > 0 && (frames + 1) % static_cast<std::uint64_t>(options.truth_every_frames) == 0 &&
+        !truth->record(operator_view, to_ns(display), T_vr_hmd, T_hmd_eye, options.ipd, view, error))
+      return std::nullopt;
     ++frames;
     operator_view.endFrame(to_ns(std::max(display, work_end)),
                            std::chrono::duration<double, std::milli>(work_end - work_start).count(),

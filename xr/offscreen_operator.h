@@ -32,6 +32,10 @@ struct OffscreenOperatorOptions {
   std::string png_dir;       ///< when set: eyes_last.png (side by side) at the end
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
   std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
+  /// When set: the projection maps of every truth_every_frames-th frame go there
+  /// (ProjectionMapRecorder), for the ground-truth check.
+  std::string truth_dir;
+  int truth_every_frames = 10;
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

@@ -87,6 +87,11 @@ class OperatorView {
   /// `framebuffer` (fov and size from `view`). Border colour before the first frame.
   bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
                  GLuint framebuffer, std::string* error);
+  /// The projection map of eye `eye` for the same pose (StereoViewRenderer::renderProjectionMap).
+  bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                           GLuint framebuffer, std::string* error) {
+    return renderer_.renderProjectionMap(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
+  }
   /// End of the frame: `shown_ns` is when it is displayed (link clock), `render_ms` the work
   /// of both eyes. Sends XrStats to the robot once a second.
   void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames);

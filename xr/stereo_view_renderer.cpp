@@ -68,4 +68,30 @@ bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
   return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
 }
 
+bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr,
+                                             const Eigen::Isometry3d& T_vr_eye, EyeView view,
+                                             GLuint framebuffer, std::string* error) {
+  if (eye < 0 || eye > 1 || !frame_ || !cameras_[eye]) {
+    *error = "no camera frame to map yet";
+    return false;
+  }
+  const GpuCamera& camera = *cameras_[eye];
+  if (!coordinates_[eye] || coordinates_[eye]->imageWidth() != camera.imageWidth() ||
+      coordinates_[eye]->imageHeight() != camera.imageHeight()) {
+    coordinates_[eye] = std::make_unique<GpuCamera>(camera.camera(), camera.imageWidth(), camera.imageHeight());
+    if (!coordinates_[eye]->upload(SourceImage::pixelCoordinates(camera.imageWidth(), camera.imageHeight()), error))
+      return false;
+  }
+  const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
+  view.T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * T_robot_vr * T_vr_eye;
+  if (const auto why = checkPose(view.T_cam_eye)) {
+    *error = "eye pose: " + *why;
+    return false;
+  }
+  RenderSettings settings = settings_;
+  settings.border_rgba.setZero();  // alpha 0: no camera pixel
+  settings.image_gain = 1.0f;      // coordinates, not colours
+  return renderer_.render(*coordinates_[eye], view, settings, framebuffer, error);
+}
+
 }  // namespace telesphere::xr

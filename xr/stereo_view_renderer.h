@@ -41,6 +41,12 @@ class StereoViewRenderer {
   bool renderEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
                  EyeView view, GLuint framebuffer, std::string* error);
 
+  /// The same view as renderEye, but each eye pixel gets the camera pixel (x, y) it shows (red,
+  /// green) and alpha 1, or alpha 0 where it shows no camera pixel: the projection map that the
+  /// ground-truth check (tests/truth) follows back into the scene. Render into a float target.
+  bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
+                           EyeView view, GLuint framebuffer, std::string* error);
+
   void setSettings(const RenderSettings& settings) { settings_ = settings; }
   const RenderSettings& settings() const { return settings_; }
 
@@ -49,6 +55,7 @@ class StereoViewRenderer {
   RenderSettings settings_;
   SphericalRenderer renderer_;
   std::array<std::unique_ptr<GpuCamera>, 2> cameras_;
+  std::array<std::unique_ptr<GpuCamera>, 2> coordinates_;  ///< pixel-coordinate images, made on demand
   std::shared_ptr<const DecodedStereoFrame> frame_;
   std::int64_t uploaded_ns_ = 0;
 };
