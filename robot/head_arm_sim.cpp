@@ -86,6 +86,7 @@ void SimulatedArm::step(std::int64_t dt_ns) {
   const double a_max = config_.max_acceleration, v_max = config_.max_velocity;
   for (int i = 0; i < 6; ++i) {
     const double e = set_point_[i] - q_[i];
+    if (v_[i] == 0.0 && std::abs(e) < config_.breakaway_rad) continue;  // static friction holds it
     if (std::abs(e) <= 0.5 * a_max * dt * dt && std::abs(v_[i]) <= a_max * dt) {
       q_[i] = set_point_[i];
       v_[i] = 0;

@@ -33,6 +33,11 @@ struct SimulatedArmConfig {
   double max_velocity = 3.14159265358979323846;  ///< rad/s per joint: 180°/s (xArm 6 spec)
   double max_acceleration = 15.0;                ///< rad/s² per joint
   double encoder_noise_std = 2e-5;               ///< rad, Gaussian, per joint and state
+  /// Static friction: a joint at rest starts only once its set-point is this far away (rad);
+  /// once moving it tracks time-optimally. 0 (the default): none. Fitted to the paper's Fig. 6
+  /// it would need about 20 mrad with a 70 ms dead time (telesphere-bench head, robot/README.md),
+  /// a dead band a real xArm does not have, so it is off.
+  double breakaway_rad = 0.0;
   std::int64_t state_period_ns = HeadArm::kStatePeriodNs;
   std::int64_t physics_step_ns = 1'000'000;
   std::uint64_t seed = 1;                        ///< of the encoder noise

@@ -62,7 +62,7 @@ struct Replay {
   double mean_deviation = 0, max_deviation = 0;  // m, while the operator moves
 };
 
-Replay replay(double cutoff_hz, std::int64_t latency_ns) {
+Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = robot::SimulatedArmConfig{}.breakaway_rad) {
   HeadControllerConfig config;
   config.cutoff_hz = cutoff_hz;
   HeadController controller(config);
@@ -75,6 +75,7 @@ Replay replay(double cutoff_hz, std::int64_t latency_ns) {
   robot::SimClock clock(0);
   robot::SimulatedArmConfig arm_config;
   arm_config.command_latency_ns = latency_ns;
+  arm_config.breakaway_rad = breakaway_rad;
   arm_config.q_initial = q_nom;
   robot::SimulatedArm arm(clock, arm_config);
   robot::JointStateBuffer buffer(config.geometry);
@@ -218,6 +219,31 @@ nlohmann::json runHead(const BenchContext& ctx) {
                                    {"finish_latency_ms", r.latencies.finish_s.value_or(-1e-3) * 1e3}});
   }
   mapping.print(ctx.out);
+
+  // 2b. The servo model's two fitted parameters (dead time, static-friction breakaway) against
+  // the paper's t1 ≈ 130 ms and t2 ≈ 100 ms: the grid, and the closest point.
+  ctx.out << "\nServo model fit: command dead time × breakaway (static friction) -> t1 / t2 (paper: 130 / 100 ms):\n";
+  Table fit({"dead time (ms)", "breakaway (mrad)", "t1 (ms)", "t2 (ms)", "distance to paper (ms)"});
+  const std::vector<int> dead_ms = ctx.quick ? std::vector<int>{90, 115} : std::vector<int>{70, 80, 90, 100, 115};
+  const std::vector<double> breakaway_mrad =
+      ctx.quick ? std::vector<double>{0, 10} : std::vector<double>{0, 2, 5, 8, 10, 12, 15, 20};
+  double best = std::numeric_limits<double>::infinity();
+  nlohmann::json best_json;
+  for (int d : dead_ms)
+    for (double b : breakaway_mrad) {
+      const Replay r = replay(100.0, d * kMs, b * 1e-3);
+      if (!r.latencies.start_s || !r.latencies.finish_s) continue;
+      const double t1 = *r.latencies.start_s * 1e3, t2 = *r.latencies.finish_s * 1e3;
+      const double distance = std::hypot(t1 - 130.0, t2 - 100.0);
+      fit.addRow({std::to_string(d), formatNumber(b), formatNumber(t1), formatNumber(t2), formatNumber(distance)});
+      if (distance < best) {
+        best = distance;
+        best_json = {{"dead_time_ms", d}, {"breakaway_mrad", b}, {"t1_ms", t1}, {"t2_ms", t2}};
+      }
+    }
+  fit.print(ctx.out);
+  ctx.out << "closest: " << best_json.dump() << '\n';
+  json["servo_fit_best"] = best_json;
 
   // 3. Filter cut-off: lag against jitter passed, and what it does end to end.
   ctx.out << "\nLow-pass cut-off trade (filter alone on 90 Hz samples: lag while moving, share of "

@@ -41,6 +41,30 @@ TEST(SimulatedArm, TargetsTakeEffectAfterTheCommandLatency) {
   EXPECT_EQ(first_motion_ns, 5 * kMs + 100 * kMs + kMs);  // the first step after the set-point
 }
 
+TEST(SimulatedArm, StaticFrictionHoldsAJointAtRestUntilTheBreakaway) {
+  SimClock clock(0);
+  SimulatedArmConfig config;
+  config.command_latency_ns = 0;
+  config.encoder_noise_std = 0;
+  config.breakaway_rad = 0.01;
+  std::vector<JointState> truth;
+  config.on_true_state = [&](const JointState& s) { truth.push_back(s); };
+  SimulatedArm arm(clock, config);
+  JointVector target = JointVector::Zero();
+  target[0] = 0.009;  // within the breakaway: stays put
+  ASSERT_TRUE(arm.sendTarget(target));
+  run(clock, arm, 100, [] {});
+  EXPECT_EQ(arm.trueJoints()[0], 0.0);
+  target[0] = 0.011;  // beyond it: moves, and stops on the set-point
+  ASSERT_TRUE(arm.sendTarget(target));
+  run(clock, arm, 300, [] {});
+  EXPECT_NEAR(arm.trueJoints()[0], 0.011, 1e-9);
+  // The truth hook saw every physics step, noise-free, in time order.
+  ASSERT_EQ(truth.size(), 400u);
+  EXPECT_EQ(truth.back().t_ns, 400 * kMs);
+  EXPECT_EQ(truth.back().q, arm.trueJoints());
+}
+
 TEST(SimulatedArm, RespectsVelocityAndAccelerationLimitsAndStopsOnTarget) {
   SimClock clock;
   SimulatedArmConfig config;
