@@ -118,6 +118,16 @@ void ConsoleSession::poll() {
 }
 
 void ConsoleSession::updateFaults(std::int64_t now_ns) {
+  const auto unmeasured = model_.xrUnmeasuredPose();
+  if (unmeasured && (unmeasured->shown_dimmed || unmeasured->holding_measured)) {
+    faults_.raise("xr.pose_unmeasured",
+                  std::string("camera frames without a measured camera pose (no joint state at their capture time): "
+                              "the XR app ") +
+                      (unmeasured->shown_dimmed ? "shows them dimmed" : "holds the last measured frame"),
+                  now_ns);
+  } else {
+    faults_.clear("xr.pose_unmeasured", now_ns);
+  }
   const std::string where = endpoint().toStdString();
   if (robot_.state() == PeerState::kGone)
     faults_.raise("robot.gone", "robot at " + where + " gone: no answer for " + formatDuration(robot_.seconds()),

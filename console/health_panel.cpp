@@ -158,6 +158,16 @@ void HealthPanel::refresh() {
   }
   if (const auto mode = s.telemetry().xrVisualMode())
     setRow("XR app", "renders", QString("%1 · r = %2 m").arg(visualModeLabel(*mode)).arg(s.telemetry().xrSphereRadius().value_or(0)));
+  if (const auto unmeasured = s.telemetry().xrUnmeasuredPose()) {
+    const bool now = unmeasured->shown_dimmed || unmeasured->holding_measured;
+    setRow("XR app", "camera pose",
+           QString("%1 · %2 display frames without a measured pose so far")
+               .arg(unmeasured->shown_dimmed       ? "NOT measured: shown dimmed"
+                    : unmeasured->holding_measured ? "NOT measured: holding the last measured frame"
+                                                   : "measured")
+               .arg(s.telemetry().counts().xr_frames_unmeasured),
+           now);
+  }
 
   const link::LinkStatsSnapshot link = s.linkStats();
   QStringList drops;

@@ -127,6 +127,8 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   const auto xrTime = [&](std::int64_t xr_ns) { return plotTime(xr_ns + xr_to_console); };
   for (const auto& f : t.frames()) {
     const double at = xrTime(f.display_ns());
+    xr_unmeasured_ = UnmeasuredPose{f.pose_unmeasured(), f.holding_measured()};
+    if (f.pose_unmeasured()) ++counts_.xr_frames_unmeasured;
     add(frame_ms_, at, f.render_ms());
     add(missed_, at, double(f.missed()));
     if (f.eye_camera_distance_m() >= 0.0) add(delta_s_, at, f.eye_camera_distance_m() * 100.0);

@@ -55,6 +55,7 @@ struct TelemetryCounts {
   std::uint64_t robot_batches_lost = 0, xr_batches_lost = 0;  ///< gaps in the numbering
   std::uint64_t unsynced_batches = 0;  ///< dropped: a clock offset was not known yet
   std::uint64_t samples = 0;           ///< appended to series
+  std::uint64_t xr_frames_unmeasured = 0;  ///< display frames showing a frame without a measured pose
 };
 
 class TelemetryModel {
@@ -80,6 +81,12 @@ class TelemetryModel {
   /// What the XR app renders with, from its newest batch.
   std::optional<link::proto::VisualMode> xrVisualMode() const { return xr_mode_; }
   std::optional<double> xrSphereRadius() const { return xr_radius_; }
+  /// Whether the XR app's newest display frame showed a camera frame without a measured camera
+  /// pose (dimmed), or held the last measured one back from such frames; empty before any.
+  struct UnmeasuredPose {
+    bool shown_dimmed = false, holding_measured = false;
+  };
+  std::optional<UnmeasuredPose> xrUnmeasuredPose() const { return xr_unmeasured_; }
 
   static SeriesInfo infoOf(const char* name);
 
@@ -103,6 +110,7 @@ class TelemetryModel {
   std::deque<HeadPoseSample> head_poses_;
   std::optional<link::proto::VisualMode> xr_mode_;
   std::optional<double> xr_radius_;
+  std::optional<UnmeasuredPose> xr_unmeasured_;
 };
 
 }  // namespace telesphere::console

@@ -95,6 +95,16 @@ TEST(TelemetryModel, XrStagesGoThroughBothOffsets) {
   EXPECT_EQ((*frame_ms)[0].v, 7.5);
   EXPECT_EQ((*store.find(series::kXrMissed))[0].v, 2.0);
   EXPECT_NEAR((*store.find(series::kDeltaS))[0].v, 3.4, 1e-12);
+  // The newest frame says whether it showed a frame without a measured camera pose.
+  ASSERT_TRUE(model.xrUnmeasuredPose());
+  EXPECT_FALSE(model.xrUnmeasuredPose()->shown_dimmed);
+  auto e2 = xrBatch(2, robot_to_xr);
+  auto* dimmed = e2.mutable_xr_telemetry()->add_frames();
+  dimmed->set_display_ns(capture + robot_to_xr + 62 * kMs);
+  dimmed->set_pose_unmeasured(true);
+  model.ingest(e2, robot_to_console);
+  EXPECT_TRUE(model.xrUnmeasuredPose()->shown_dimmed);
+  EXPECT_EQ(model.counts().xr_frames_unmeasured, 1u);
 }
 
 TEST(TelemetryModel, SpeedsFromConsecutivePosesAndHeadLatencyAtTheSampleTime) {
