@@ -25,13 +25,19 @@
 namespace telesphere::robot {
 
 struct SimulatedArmConfig {
-  /// Dead time from sendTarget() to the set-point reaching the servos. With the head controller
-  /// and the default limits, the replayed 0.5 m/s head motion of the paper's Fig. 6 starts
-  /// ≈ latency + 15 ms after the operator (start latency t1 ≈ 130 ms, the paper's figure) and
-  /// stops ≈ latency + 30 ms after (t2); `telesphere-bench head` and robot/README.md give the map.
-  std::int64_t command_latency_ns = 115'000'000;
-  double max_velocity = 3.14159265358979323846;  ///< rad/s per joint: 180°/s (xArm 6 spec)
-  double max_acceleration = 15.0;                ///< rad/s² per joint
+  /// Dead time from sendTarget() to the set-point reaching the servos: not published (the
+  /// controller takes servo targets at up to 250 Hz, "no buffer"); fitted so that the replayed
+  /// 0.5 m/s head motion of the paper's Fig. 6 starts ≈ latency + 12 ms after the operator (start
+  /// latency t1 ≈ 130 ms, the paper's figure); it stops ≈ latency + 23 ms after (t2);
+  /// `telesphere-bench head` and robot/README.md give the map.
+  std::int64_t command_latency_ns = 118'000'000;
+  /// rad/s per joint: 180°/s, the xArm 6's published maximum joint speed (UFACTORY robot
+  /// specifications; servo mode moves "with the fastest speed (180°/s)", user manual).
+  double max_velocity = 3.14159265358979323846;
+  /// rad/s² per joint: 1145°/s², the top of the published joint acceleration range of the
+  /// xArm 5/6/7 (and the SDK's max_joint_acc, 20 rad/s²). The published jerk limit (28647°/s³)
+  /// is not modelled: at 500 rad/s³ it shapes only the first 40 ms of a full-acceleration ramp.
+  double max_acceleration = 20.0;
   double encoder_noise_std = 2e-5;               ///< rad, Gaussian, per joint and state
   /// Static friction: a joint at rest starts only once its set-point is this far away (rad);
   /// once moving it tracks time-optimally. 0 (the default): none. Fitted to the paper's Fig. 6

@@ -205,8 +205,8 @@ nlohmann::json runHead(const BenchContext& ctx) {
   // 2. How the simulator's latency setting maps to t1 and t2.
   ctx.out << "\nSimulator command latency -> measured latencies (cut-off 100 Hz):\n";
   Table mapping({"sim latency (ms)", "t1 (ms)", "t2 (ms)", "t1 - latency (ms)", "t2 - latency (ms)"});
-  const std::vector<int> latencies_ms = ctx.quick ? std::vector<int>{0, 115}
-                                                  : std::vector<int>{0, 50, 80, 100, 115, 130};
+  const std::vector<int> latencies_ms = ctx.quick ? std::vector<int>{0, 118}
+                                                  : std::vector<int>{0, 50, 80, 100, 118, 130};
   for (int l : latencies_ms) {
     const Replay r = l * kMs == latency_ns ? main : replay(100.0, l * kMs);
     const auto minus = [&](const std::optional<double>& s) {
@@ -224,7 +224,7 @@ nlohmann::json runHead(const BenchContext& ctx) {
   // the paper's t1 ≈ 130 ms and t2 ≈ 100 ms: the grid, and the closest point.
   ctx.out << "\nServo model fit: command dead time × breakaway (static friction) -> t1 / t2 (paper: 130 / 100 ms):\n";
   Table fit({"dead time (ms)", "breakaway (mrad)", "t1 (ms)", "t2 (ms)", "distance to paper (ms)"});
-  const std::vector<int> dead_ms = ctx.quick ? std::vector<int>{90, 115} : std::vector<int>{70, 80, 90, 100, 115};
+  const std::vector<int> dead_ms = ctx.quick ? std::vector<int>{90, 118} : std::vector<int>{70, 80, 90, 100, 118};
   const std::vector<double> breakaway_mrad =
       ctx.quick ? std::vector<double>{0, 10} : std::vector<double>{0, 2, 5, 8, 10, 12, 15, 20};
   double best = std::numeric_limits<double>::infinity();
