@@ -30,7 +30,7 @@ packages=(
   # desktop mode and mirror window, tested on a virtual X server (key and mouse input via XTest)
   xvfb libxtst-dev xdotool
   # console
-  qt6-base-dev libqcustomplot-dev libsqlite3-dev
+  qt6-base-dev libqcustomplot-dev libsqlite3-dev libqt6sql6-sqlite
   # video path and link
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # files, command lines, logging

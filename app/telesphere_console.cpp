@@ -5,6 +5,7 @@
 ///
 ///   telesphere-console [--host H] [--port P]
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
+///   telesphere-console study report|import …            (headless; app/console_study_command.h)
 ///
 /// Exit codes: 0 ok; 1 bad arguments; 2 no display to open a window on; 3 the robot never
 /// answered within --duration; 4 the screenshot could not be written.
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "app/console_study_command.h"
 #include "console/console_session.h"
 #include "console/console_window.h"
 
@@ -30,7 +32,10 @@ int main(int argc, char** argv) {
   cli.add_option("--screenshot", screenshot, "after --duration, write the main window as PNG and exit");
   cli.add_option("--duration", duration_s, "seconds to run, then exit (0: until the window closes)")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  telesphere::app::StudyCommandOptions study_options;
+  CLI::App* study = telesphere::app::addStudyCommand(cli, study_options);
   CLI11_PARSE(cli, argc, argv);
+  if (study->parsed()) return telesphere::app::runStudyCommand(*study, study_options, argc, argv);
   if (!screenshot.empty() && duration_s <= 0) {
     std::cerr << "telesphere-console: --screenshot needs --duration S (how long to run first)\n";
     return 1;

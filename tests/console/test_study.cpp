@@ -1,0 +1,401 @@
+// SPDX-License-Identifier: MIT
+/// @brief The study administrator's logic against real SQLite (QtSql): the study file, balanced
+///        trial orders, the store's events and their rules, nothing lost when the console is
+///        killed (SIGKILL) during a trial or a questionnaire, the schema version, tidy CSV round
+///        trips, and the summary against an independent computation on seeded data; the paper's
+///        own questionnaire answers reproduce its figure (written to console/docs).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <QApplication>
+#include <QSqlDatabase>
+#include <QSqlQuery>
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+
+#include "console/study/study_report.h"
+#include "console/study/study_store.h"
+#include "console/study/study_summary.h"
+#include "console/study/tidy_csv.h"
+#include "console/study/trial_order.h"
+
+namespace telesphere::console::study {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("telesphere_study_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+StudyDefinition paperStudy() {
+  std::string error;
+  auto d = StudyDefinition::parse("{}", &error);
+  EXPECT_TRUE(d) << error;
+  return *d;
+}
+
+TEST(StudyDefinition, DefaultsAreThePapersStudyAndBadFilesNameTheKey) {
+  const StudyDefinition d = paperStudy();
+  EXPECT_EQ(d.modes, (std::vector<std::string>{"full6d", "orientation3d", "fixed"}));
+  EXPECT_EQ(d.time_limit_s, 300.0);
+  ASSERT_EQ(d.questionnaires.size(), 1u);
+  EXPECT_EQ(d.questionnaires[0].items.size(), 7u);
+  EXPECT_EQ(d.questionnaires[0].items[2].text, "Could you judge depth correctly?");
+  std::string error;
+  const auto full = StudyDefinition::parse(
+      R"({"name":"pilot","modes":["fixed","full6d"],"order":"seeded_random","seed":7,"time_limit_s":120,
+          "questionnaires":{"paper_likert":true,"nasa_tlx":true,"sus":true}})", &error);
+  ASSERT_TRUE(full) << error;
+  EXPECT_EQ(full->questionnaires.size(), 3u);
+  EXPECT_EQ(StudyDefinition::parse(full->toJson(), &error)->toJson(), full->toJson());
+  for (const auto& [text, key] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"mode":["full6d"]})", "unknown key 'mode'"},
+           {R"({"modes":["full6d","6d"]})", "modes"},
+           {R"({"modes":["full6d","full6d"]})", "comes twice"},
+           {R"({"order":"latin"})", "order"},
+           {R"({"time_limit_s":-1})", "time_limit_s"},
+           {R"({"name":"my study"})", "name"},
+           {R"({"questionnaires":{"tlx":true}})", "questionnaires"},
+           {"[1,2]", "object"},
+           {"{", "not JSON"}}) {
+    EXPECT_FALSE(StudyDefinition::parse(text, &error)) << text;
+    EXPECT_NE(error.find(key), std::string::npos) << text << " → " << error;
+  }
+}
+
+TEST(TrialOrder, CounterbalancingOverTwelveParticipantsIsBalanced) {
+  const StudyDefinition d = paperStudy();
+  std::map<std::vector<std::string>, int> orders;
+  std::map<std::pair<int, std::string>, int> position;
+  for (int p = 0; p < 12; ++p) {
+    const auto order = trialOrder(d, static_cast<std::uint64_t>(p));
+    ASSERT_EQ(order.size(), 3u);
+    ++orders[order];
+    for (int i = 0; i < 3; ++i) ++position[{i, order[static_cast<std::size_t>(i)]}];
+  }
+  EXPECT_EQ(orders.size(), 6u);
+  for (const auto& [order, n] : orders) EXPECT_EQ(n, 2);
+  for (const auto& [key, n] : position) EXPECT_EQ(n, 4) << key.first << " " << key.second;
+  // Seeded random: reproducible from (seed, index), a permutation, not always the same.
+  StudyDefinition r = d;
+  r.order = OrderScheme::kSeededRandom;
+  r.seed = 42;
+  std::set<std::vector<std::string>> seen;
+  for (int p = 0; p < 12; ++p) {
+    const auto a = trialOrder(r, static_cast<std::uint64_t>(p));
+    EXPECT_EQ(a, trialOrder(r, static_cast<std::uint64_t>(p)));
+    auto sorted = a;
+    std::sort(sorted.begin(), sorted.end());
+    auto modes = d.modes;
+    std::sort(modes.begin(), modes.end());
+    EXPECT_EQ(sorted, modes);
+    seen.insert(a);
+  }
+  EXPECT_GT(seen.size(), 2u);
+}
+
+TEST(StudyStore, EventsAreStoredAndTheirRulesHold) {
+  const fs::path dir = freshDir("events");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  const auto session = store->startSession("P01", 0, d, trialOrder(d, 0), &error);
+  ASSERT_TRUE(session) << error;
+  EXPECT_FALSE(store->startSession("P01", 1, d, trialOrder(d, 1), &error));
+  EXPECT_NE(error.find("already"), std::string::npos);
+  EXPECT_FALSE(store->startSession("P 02", 1, d, trialOrder(d, 1), &error));
+  const auto trial = store->startTrial(*session, 0, "full6d", 300, &error);
+  ASSERT_TRUE(trial) << error;
+  ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
+  ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
+  ASSERT_TRUE(store->setNotes(*trial, "peg slipped, \"twice\", reset", &error)) << error;
+  EXPECT_FALSE(store->endTrial(*trial, TrialOutcome::kAbort, 10, "", &error));  // a reason is required
+  ASSERT_TRUE(store->endTrial(*trial, TrialOutcome::kSuccess, 71.25, "", &error)) << error;
+  EXPECT_FALSE(store->addAttempt(*trial, &error));  // not running any more
+  EXPECT_FALSE(store->endTrial(*trial, TrialOutcome::kFail, 1, "", &error));
+  ASSERT_TRUE(store->saveAnswer(*session, "full6d", "paper_likert", "grasp", 5, &error)) << error;
+  ASSERT_TRUE(store->saveAnswer(*session, "full6d", "paper_likert", "grasp", 6, &error)) << error;  // corrected
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 1u);
+  EXPECT_EQ(trials[0].participant, "P01");
+  EXPECT_EQ(trials[0].attempts, 2);
+  EXPECT_EQ(trials[0].outcome, TrialOutcome::kSuccess);
+  EXPECT_EQ(trials[0].duration_s, 71.25);
+  EXPECT_EQ(trials[0].notes, "peg slipped, \"twice\", reset");
+  const auto answers = store->answers();
+  ASSERT_EQ(answers.size(), 1u);
+  EXPECT_EQ(answers[0].value, 6.0);
+  const auto s = store->findSession("P01", d.name);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->order, trialOrder(d, 0));
+  EXPECT_EQ(s->order_scheme, "counterbalanced");
+  store.reset();
+  fs::remove_all(dir);
+}
+
+/// Runs the crash writer; true when it died of SIGKILL.
+bool runCrashWriter(const fs::path& db, const std::string& participant, int attempts, int answers) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string exe = std::string(TELESPHERE_BINARY_DIR) + "/tests/study_crash_writer";
+    const std::string a = std::to_string(attempts), b = std::to_string(answers);
+    ::execl(exe.c_str(), exe.c_str(), db.c_str(), participant.c_str(), a.c_str(), b.c_str(), nullptr);
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+}
+
+TEST(StudyStore, KilledDuringATrialOrAQuestionnaireLosesNothing) {
+  const fs::path dir = freshDir("crash");
+  const fs::path db = dir / "s.sqlite";
+  // Killed during a trial after 5 attempts.
+  ASSERT_TRUE(runCrashWriter(db, "P01", 5, 0));
+  {
+    std::string error;
+    auto store = StudyStore::open(db.string(), &error);
+    ASSERT_TRUE(store) << error;
+    ASSERT_EQ(store->interruptedOnOpen().size(), 1u);
+    const auto trials = store->trials();
+    ASSERT_EQ(trials.size(), 1u);
+    EXPECT_EQ(trials[0].attempts, 5);
+    EXPECT_EQ(trials[0].outcome, TrialOutcome::kInterrupted);
+    EXPECT_FALSE(trials[0].ended_utc.empty());
+  }
+  // Killed during the questionnaire after 4 of 7 answers (another participant).
+  ASSERT_TRUE(runCrashWriter(db, "P02", 1, 4));
+  std::string error;
+  auto store = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(store) << error;
+  EXPECT_TRUE(store->interruptedOnOpen().empty());  // P02's trial had ended
+  int p02 = 0;
+  for (const auto& a : store->answers()) p02 += a.participant == "P02";
+  EXPECT_EQ(p02, 4);
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 2u);
+  EXPECT_EQ(trials[1].outcome, TrialOutcome::kSuccess);
+  EXPECT_EQ(trials[1].duration_s, 42.5);
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(StudyStore, ADatabaseFromANewerBuildIsRefused) {
+  const fs::path dir = freshDir("schema");
+  const fs::path db = dir / "s.sqlite";
+  std::string error;
+  {
+    auto store = StudyStore::open(db.string(), &error);
+    ASSERT_TRUE(store) << error;
+  }
+  {
+    QSqlDatabase raw = QSqlDatabase::addDatabase("QSQLITE", "raw");
+    raw.setDatabaseName(QString::fromStdString(db.string()));
+    ASSERT_TRUE(raw.open());
+    QSqlQuery q(raw);
+    ASSERT_TRUE(q.exec("PRAGMA user_version"));
+    ASSERT_TRUE(q.next());
+    EXPECT_EQ(q.value(0).toInt(), StudyStore::kSchemaVersion);
+    ASSERT_TRUE(q.exec("PRAGMA user_version=99"));
+    raw.close();
+  }
+  QSqlDatabase::removeDatabase("raw");
+  EXPECT_FALSE(StudyStore::open(db.string(), &error));
+  EXPECT_NE(error.find("newer"), std::string::npos) << error;
+  fs::remove_all(dir);
+}
+
+/// Seeded trials and answers for 12 participants.
+void seededStudy(StudyStore& store, const StudyDefinition& d) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> time(20, 300);
+  std::uniform_int_distribution<int> likert(1, 7), coin(0, 9);
+  std::string error;
+  for (int p = 0; p < 12; ++p) {
+    const std::string id = "P" + std::to_string(10 + p);
+    const auto order = trialOrder(d, static_cast<std::uint64_t>(p));
+    const auto session = store.startSession(id, p, d, order, &error);
+    ASSERT_TRUE(session) << error;
+    for (int i = 0; i < 3; ++i) {
+      const auto trial = store.startTrial(*session, i, order[static_cast<std::size_t>(i)], 300, &error);
+      ASSERT_TRUE(trial) << error;
+      const int c = coin(rng);
+      const TrialOutcome outcome = c < 7 ? TrialOutcome::kSuccess : c < 9 ? TrialOutcome::kTimeout : TrialOutcome::kAbort;
+      ASSERT_TRUE(store.endTrial(*trial, outcome, outcome == TrialOutcome::kTimeout ? 300 : time(rng),
+                                 outcome == TrialOutcome::kAbort ? "robot reset" : "", &error))
+          << error;
+    }
+    for (const auto& mode : d.modes)
+      for (const auto& item : paperLikert().items)
+        ASSERT_TRUE(store.saveAnswer(*session, mode, "paper_likert", item.key, likert(rng), &error)) << error;
+  }
+}
+
+TEST(StudySummary, TableIAndBoxStatsEqualAnIndependentComputation) {
+  const fs::path dir = freshDir("summary");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  seededStudy(*store, d);
+  const auto trials = store->trials();
+  const auto answers = store->answers();
+  const StudySummary s = summarise(d.modes, trials, answers);
+  ASSERT_EQ(s.table.size(), 3u);
+  for (const ModeSummary& m : s.table) {
+    // Independently: successes, mean and sample SD by the two-pass textbook formulas.
+    int k = 0, n = 0;
+    std::vector<double> t;
+    for (const auto& r : trials)
+      if (r.mode == m.mode) {
+        ++n;
+        if (r.outcome == TrialOutcome::kSuccess) ++k, t.push_back(r.duration_s);
+      }
+    double mean = 0;
+    for (double v : t) mean += v / double(t.size());
+    double var = 0;
+    for (double v : t) var += (v - mean) * (v - mean) / double(t.size() - 1);
+    EXPECT_EQ(m.successes, k);
+    EXPECT_EQ(m.trials, n);
+    EXPECT_EQ(n, 12);
+    EXPECT_NEAR(m.mean_completion_s, mean, 1e-9);
+    EXPECT_NEAR(m.sd_completion_s, std::sqrt(var), 1e-9);
+  }
+  // Box statistics: R type 7 quartiles, 1-based h = (n − 1)·p + 1, against the definition.
+  for (const auto& [key, by_mode] : s.items)
+    for (const auto& [mode, b] : by_mode) {
+      std::vector<double> v;
+      for (const auto& a : answers)
+        if (a.instrument == key.first && a.item == key.second && a.mode == mode) v.push_back(a.value);
+      std::sort(v.begin(), v.end());
+      const auto q = [&](double p) {
+        const double h = (double(v.size()) - 1) * p + 1;
+        const int lo = int(std::floor(h));
+        return v[std::size_t(lo - 1)] + (h - lo) * (v[std::size_t(std::min<int>(lo, int(v.size()) - 1))] - v[std::size_t(lo - 1)]);
+      };
+      EXPECT_EQ(b.n, 12);
+      EXPECT_NEAR(b.q1, q(0.25), 1e-12);
+      EXPECT_NEAR(b.median, q(0.5), 1e-12);
+      EXPECT_NEAR(b.q3, q(0.75), 1e-12);
+      const double iqr = b.q3 - b.q1;
+      std::size_t inside = 0;
+      for (double x : v) {
+        const bool out = x < b.q1 - 1.5 * iqr || x > b.q3 + 1.5 * iqr;
+        inside += !out;
+        if (!out) {
+          EXPECT_GE(x, b.lower_whisker);
+          EXPECT_LE(x, b.upper_whisker);
+        }
+      }
+      EXPECT_EQ(inside + b.outliers.size(), v.size());
+    }
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
+  const fs::path dir = freshDir("csv");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  seededStudy(*store, d);
+  const auto session = store->findSession("P10", d.name);
+  ASSERT_TRUE(session);
+  const auto trials_before = store->trials();
+  ASSERT_TRUE(store->setNotes(trials_before[0].id, "line one,\nline \"two\"", &error)) << error;
+  const auto trials = store->trials();
+  const auto answers = store->answers();
+  ASSERT_TRUE(writeTrialsCsv((dir / "t.csv").string(), trials, &error)) << error;
+  ASSERT_TRUE(writeAnswersCsv((dir / "a.csv").string(), answers, &error)) << error;
+  const auto t = readTrialsCsv((dir / "t.csv").string(), &error);
+  const auto a = readAnswersCsv((dir / "a.csv").string(), &error);
+  ASSERT_TRUE(t && a) << error;
+  ASSERT_EQ(t->size(), trials.size());
+  ASSERT_EQ(a->size(), answers.size());
+  EXPECT_EQ((*t)[0].notes, "line one,\nline \"two\"");
+  for (std::size_t i = 0; i < trials.size(); ++i) {
+    EXPECT_EQ((*t)[i].participant, trials[i].participant);
+    EXPECT_EQ((*t)[i].outcome, trials[i].outcome);
+    EXPECT_NEAR((*t)[i].duration_s, trials[i].duration_s, 1e-6);
+  }
+  // Imported into a new database: the same summary.
+  auto other = StudyStore::open((dir / "other.sqlite").string(), &error);
+  ASSERT_TRUE(other) << error;
+  ASSERT_TRUE(other->importRows(d, *t, *a, &error)) << error;
+  const auto s1 = toJson(summarise(d.modes, trials, answers)), s2 = toJson(summarise(d.modes, other->trials(), other->answers()));
+  EXPECT_EQ(s1["items"], s2["items"]);
+  EXPECT_EQ(s1["table_i"].size(), s2["table_i"].size());
+  for (std::size_t i = 0; i < s1["table_i"].size(); ++i)
+    EXPECT_NEAR(s1["table_i"][i]["completion_time_mean_s"].get<double>(),
+                s2["table_i"][i]["completion_time_mean_s"].get<double>(), 1e-6);
+  // A bad row: refused with its line, nothing imported.
+  {
+    std::ofstream bad(dir / "bad.csv");
+    bad << "participant,mode,instrument,item,value\nP1,full6d,paper_likert,fit,5\nP2,full7d,paper_likert,fit,5\n";
+  }
+  EXPECT_FALSE(readAnswersCsv((dir / "bad.csv").string(), &error));
+  EXPECT_NE(error.find("bad.csv:3:"), std::string::npos) << error;
+  EXPECT_NE(error.find("full7d"), std::string::npos) << error;
+  store.reset();
+  other.reset();
+  fs::remove_all(dir);
+}
+
+TEST(StudyReport, ThePapersAnswersReproduceItsFigure) {
+  // The paper's questionnaire answers (7 participants × 7 items × 3 modes, from its user-study
+  // figure's data; the pairing of values to participants is not in the paper, only per box).
+  const fs::path dir = freshDir("report");
+  std::string error;
+  const auto answers = readAnswersCsv(std::string(TELESPHERE_SOURCE_DIR) + "/tests/console/data/paper_likert_answers.csv", &error);
+  ASSERT_TRUE(answers) << error;
+  ASSERT_EQ(answers->size(), 147u);
+  auto store = StudyStore::open((dir / "paper.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  StudyDefinition d = paperStudy();
+  d.name = "paper";
+  ASSERT_TRUE(store->importRows(d, {}, *answers, &error)) << error;
+  const auto written = writeStudyReport(*store, (dir / "report").string(), &error);
+  ASSERT_TRUE(written) << error;
+  for (const char* name : {"study-paper_answers.csv", "study-paper_trials.csv", "study-paper_table-i.md",
+                           "study-paper_summary.json", "study-paper_paper_likert.png", "study-paper_paper_likert.pdf",
+                           "study.sqlite"})
+    EXPECT_TRUE(fs::exists(dir / "report" / name)) << name;
+  EXPECT_GT(fs::file_size(dir / "report" / "study-paper_paper_likert.png"), 20000u);
+  // One of the figure's boxes: full 6D, "comfortable for your eyes": 6, 6, 5, 5, 7, 7, 7.
+  const auto s = summarise(d.modes, {}, store->answers());
+  const BoxStats& comfortable = s.items.at({"paper_likert", "comfortable"}).at("full6d");
+  EXPECT_EQ(comfortable.median, 6.0);
+  EXPECT_EQ(comfortable.q1, 5.5);
+  EXPECT_EQ(comfortable.q3, 7.0);
+  EXPECT_EQ(comfortable.lower_whisker, 5.0);
+  EXPECT_NEAR(comfortable.mean, 43.0 / 7.0, 1e-12);
+  const fs::path docs = fs::path(TELESPHERE_BINARY_DIR) / "console-screenshots";
+  fs::create_directories(docs);
+  fs::copy_file(dir / "report" / "study-paper_paper_likert.png", docs / "study_paper_likert.png",
+                fs::copy_options::overwrite_existing);
+  store.reset();
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace telesphere::console::study
+
+int main(int argc, char** argv) {
+  if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
+  QApplication app(argc, argv);  // QtSql needs a core application; the report's plots a GUI one
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
