@@ -28,4 +28,21 @@ robot=$!
   fail "beside a robot: exit $?"
 size=$(stat -c %s "$out/console.png")
 [ "$size" -gt 20000 ] || fail "console.png is only $size bytes"
+# The study commands: import the paper's questionnaire answers, write the report; a bad CSV is
+# refused with its line and nothing is imported.
+src=$(cd "$(dirname "$0")/../.." && pwd)
+"$bin/telesphere-console" study import --db "$out/study.sqlite" \
+  --answers "$src/tests/console/data/paper_likert_answers.csv" > "$out/import.log" 2>&1 || fail "study import: exit $?"
+grep -q "imported 0 trials and 147 answers" "$out/import.log" || fail "study import: $(cat "$out/import.log")"
+"$bin/telesphere-console" study report --db "$out/study.sqlite" --out "$out/report" > "$out/report.log" 2>&1 ||
+  fail "study report: exit $?"
+for f in study-study_answers.csv study-study_table-i.md study-study_summary.json study-study_paper_likert.png \
+         study-study_paper_likert.pdf study.sqlite; do
+  [ -s "$out/report/$f" ] || fail "study report did not write $f"
+done
+printf 'participant,mode,instrument,item,value\nP1,full7d,paper_likert,fit,5\n' > "$out/bad.csv"
+rc=0
+"$bin/telesphere-console" study import --db "$out/study.sqlite" --answers "$out/bad.csv" > "$out/bad.log" 2>&1 || rc=$?
+[ "$rc" -eq 1 ] || fail "a bad CSV: exit $rc, expected 1"
+grep -q "bad.csv:2:" "$out/bad.log" || fail "the bad row's line is not named: $(cat "$out/bad.log")"
 echo "PASS: telesphere-console headless"
