@@ -6,16 +6,10 @@
 #include <cstring>
 
 #include "robot/link/link_pose.h"
+#include "robot/link/pose_csv.h"
 
 namespace telesphere::robot {
 namespace {
-
-void writePose(std::ostream& out, const Eigen::Isometry3d& T) {
-  const Eigen::Quaterniond q(T.linear());
-  const Eigen::Vector3d& t = T.translation();
-  out << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << q.x() << ',' << q.y() << ',' << q.z()
-      << ',' << q.w();
-}
 
 void writeMissingPose(std::ostream& out) { out << ",,,,,,,"; }
 
@@ -30,11 +24,8 @@ std::unique_ptr<GroundTruthLog> GroundTruthLog::open(const std::string& path, co
   }
   out.precision(17);
   out << "sequence,capture_ns_left,capture_ns_right";
-  for (const char* side : {"left", "right"})
-    for (const char* c : {"tx", "ty", "tz", "qx", "qy", "qz", "qw"}) out << ",true_" << side << '_' << c;
-  out << ",mapping_set";
-  for (const char* c : {"tx", "ty", "tz", "qx", "qy", "qz", "qw"}) out << ",robot_vr_" << c;
-  out << '\n';
+  out << link::poseCsvHeader("true_left") << link::poseCsvHeader("true_right") << ",mapping_set"
+      << link::poseCsvHeader("robot_vr") << '\n';
   return std::unique_ptr<GroundTruthLog>(new GroundTruthLog(std::move(out), truth));
 }
 
@@ -47,13 +38,13 @@ void GroundTruthLog::frameSent(const StereoFrame& pair, std::uint64_t sequence,
   out_ << sequence << ',' << pair.left.capture_ns << ',' << pair.right.capture_ns;
   for (const auto& [side, frame] : {std::pair{CameraSide::kLeft, &pair.left}, std::pair{CameraSide::kRight, &pair.right}}) {
     if (const auto T = truth_.T_robot_cam(side, frame->capture_ns)) {
-      writePose(out_, *T);
+      link::writePoseCsv(out_, *T);
     } else {
       writeMissingPose(out_);
     }
   }
   out_ << ',' << (mapping.mapping_set() ? 1 : 0);
-  writePose(out_, link::fromLinkPose(mapping.t_robot_vr()));
+  link::writePoseCsv(out_, link::fromLinkPose(mapping.t_robot_vr()));
   out_ << '\n';
   out_.flush();  // the bench reads it while the robot runs, and a killed robot keeps its rows
   ++rows_;

@@ -10,19 +10,9 @@
 #include <vector>
 
 #include "robot/link/link_pose.h"
+#include "robot/link/pose_csv.h"
 
 namespace telesphere::xr {
-namespace {
-
-void writePose(std::ostream& out, const Eigen::Isometry3d& T) {
-  const Eigen::Quaterniond q(T.linear());
-  const Eigen::Vector3d& t = T.translation();
-  out << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << q.x() << ',' << q.y() << ',' << q.z()
-      << ',' << q.w();
-}
-
-}  // namespace
-
 std::unique_ptr<ProjectionMapRecorder> ProjectionMapRecorder::open(const std::string& dir, int eye_width,
                                                                    int eye_height, std::string* error) {
   std::error_code ec;
@@ -35,8 +25,7 @@ std::unique_ptr<ProjectionMapRecorder> ProjectionMapRecorder::open(const std::st
   csv.precision(17);
   csv << "index,display_ns,stereo_sequence,capture_ns,mode,radius_m,ipd_m,fov_left,fov_right,fov_up,"
          "fov_down,width,height,image_width,image_height";
-  for (const char* pose : {"hmd", "robot_vr", "cam_left", "cam_right"})
-    for (const char* c : {"tx", "ty", "tz", "qx", "qy", "qz", "qw"}) csv << ',' << pose << '_' << c;
+  for (const char* pose : {"hmd", "robot_vr", "cam_left", "cam_right"}) csv << link::poseCsvHeader(pose);
   csv << '\n';
   auto recorder = std::unique_ptr<ProjectionMapRecorder>(
       new ProjectionMapRecorder(dir, std::move(csv), eye_width, eye_height));
@@ -80,10 +69,10 @@ bool ProjectionMapRecorder::record(OperatorView& view, std::int64_t display_ns, 
        << eye.fov.angle_right << ',' << eye.fov.angle_up << ',' << eye.fov.angle_down << ',' << eye.width << ','
        << eye.height << ',' << (frame->left ? frame->left->width : 0) << ','
        << (frame->left ? frame->left->height : 0);
-  writePose(csv_, T_vr_hmd);
-  writePose(csv_, view.T_robot_vr());
-  writePose(csv_, link::fromLinkPose(frame->frame.left().t_robot_cam()));
-  writePose(csv_, link::fromLinkPose(frame->frame.right().t_robot_cam()));
+  link::writePoseCsv(csv_, T_vr_hmd);
+  link::writePoseCsv(csv_, view.T_robot_vr());
+  link::writePoseCsv(csv_, link::fromLinkPose(frame->frame.left().t_robot_cam()));
+  link::writePoseCsv(csv_, link::fromLinkPose(frame->frame.right().t_robot_cam()));
   csv_ << '\n';
   csv_.flush();
   if (!csv_) {
