@@ -25,6 +25,7 @@
 #include "console/study/study_summary.h"
 #include "console/study/tidy_csv.h"
 #include "console/study/trial_order.h"
+#include "console/study/trial_runner.h"
 
 namespace telesphere::console::study {
 namespace {
@@ -214,6 +215,92 @@ TEST(StudyStore, ADatabaseFromANewerBuildIsRefused) {
   QSqlDatabase::removeDatabase("raw");
   EXPECT_FALSE(StudyStore::open(db.string(), &error));
   EXPECT_NE(error.find("newer"), std::string::npos) << error;
+  fs::remove_all(dir);
+}
+
+TEST(TrialRunner, ModeAcknowledgedThenTimedAttemptsOutcomesAndTheTimeLimit) {
+  const fs::path dir = freshDir("runner");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  StudyDefinition d = paperStudy();
+  d.time_limit_s = 300;
+  ASSERT_TRUE(store->startSession("P01", 1, d, trialOrder(d, 1), &error)) << error;
+  const SessionRecord session = *store->findSession("P01", d.name);
+  // The robot's replies come later, as control replies do.
+  std::vector<std::pair<std::string, std::function<void(bool, const std::string&)>>> requests;
+  TrialRunner runner(*store, session, d, [&](const std::string& mode, std::function<void(bool, const std::string&)> done) {
+    requests.emplace_back(mode, std::move(done));
+  });
+  constexpr std::int64_t kS = 1'000'000'000;
+  ASSERT_EQ(runner.state(), TrialRunner::State::kIdle);
+  ASSERT_TRUE(runner.prepareNext());
+  ASSERT_EQ(requests.size(), 1u);
+  EXPECT_EQ(requests[0].first, session.order[0]);
+  EXPECT_FALSE(runner.start(0));  // not acknowledged yet
+  EXPECT_NE(runner.lastError().find("acknowledged"), std::string::npos);
+  requests[0].second(true, "");
+  ASSERT_EQ(runner.state(), TrialRunner::State::kReady);
+  ASSERT_TRUE(runner.start(10 * kS));
+  ASSERT_TRUE(runner.attempt());
+  ASSERT_TRUE(runner.attempt());
+  EXPECT_FALSE(runner.tick(309 * kS));
+  EXPECT_NEAR(runner.elapsedS(81 * kS), 71.0, 1e-9);
+  ASSERT_TRUE(runner.succeed(81 * kS));
+  EXPECT_EQ(runner.orderIndex(), 1);
+  // The robot refuses the next mode: back to idle with the reason; asked again, it agrees.
+  ASSERT_TRUE(runner.prepareNext());
+  requests.back().second(false, "arm stopped");
+  EXPECT_EQ(runner.state(), TrialRunner::State::kIdle);
+  EXPECT_NE(runner.lastError().find("arm stopped"), std::string::npos);
+  ASSERT_TRUE(runner.prepareNext());
+  requests.back().second(true, "");
+  ASSERT_TRUE(runner.start(100 * kS));
+  EXPECT_FALSE(runner.tick(399 * kS));
+  EXPECT_TRUE(runner.tick(400 * kS));  // the 300 s limit: a timeout
+  // The third: an abort needs a reason.
+  ASSERT_TRUE(runner.prepareNext());
+  requests.back().second(true, "");
+  ASSERT_TRUE(runner.start(500 * kS));
+  EXPECT_FALSE(runner.abort(510 * kS, ""));
+  ASSERT_TRUE(runner.abort(510 * kS, "exoskeleton reset"));
+  EXPECT_EQ(runner.state(), TrialRunner::State::kDone);
+  EXPECT_FALSE(runner.prepareNext());
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 3u);
+  EXPECT_EQ(trials[0].outcome, TrialOutcome::kSuccess);
+  EXPECT_EQ(trials[0].attempts, 2);
+  EXPECT_NEAR(trials[0].duration_s, 71.0, 1e-9);
+  EXPECT_EQ(trials[1].outcome, TrialOutcome::kTimeout);
+  EXPECT_EQ(trials[1].duration_s, 300.0);
+  EXPECT_EQ(trials[2].outcome, TrialOutcome::kAbort);
+  EXPECT_EQ(trials[2].abort_reason, "exoskeleton reset");
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(trials[std::size_t(i)].mode, session.order[std::size_t(i)]);
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(TrialRunner, AResumedSessionRunsTheInterruptedTrialAgain) {
+  const fs::path dir = freshDir("resume");
+  const fs::path db = dir / "s.sqlite";
+  ASSERT_TRUE(runCrashWriter(db, "P01", 3, 0));  // killed during its first trial
+  std::string error;
+  auto store = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(store) << error;
+  StudyDefinition d = paperStudy();
+  d.questionnaires = {paperLikert()};
+  const auto session = store->findSession("P01", d.name);
+  ASSERT_TRUE(session);
+  TrialRunner runner(*store, *session, d, [](const std::string&, std::function<void(bool, const std::string&)> done) {
+    done(true, "");
+  });
+  EXPECT_EQ(runner.orderIndex(), 0);  // the interrupted trial is run again
+  ASSERT_TRUE(runner.prepareNext());
+  ASSERT_TRUE(runner.start(0));
+  ASSERT_TRUE(runner.succeed(5'000'000'000));
+  EXPECT_EQ(runner.orderIndex(), 1);
+  EXPECT_EQ(store->trials().size(), 2u);
+  store.reset();
   fs::remove_all(dir);
 }
 
