@@ -58,14 +58,19 @@ bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
     glClear(GL_COLOR_BUFFER_BIT);
     return true;
   }
+  if (!placeEye(eye, T_robot_vr, T_vr_eye, &view, error)) return false;
+  return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
+}
+
+bool StereoViewRenderer::placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
+                                  EyeView* view, std::string* error) const {
   const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
-  const Eigen::Isometry3d T_robot_cam = link::fromLinkPose(image.t_robot_cam());
-  view.T_cam_eye = T_robot_cam.inverse() * T_robot_vr * T_vr_eye;
-  if (const auto why = checkPose(view.T_cam_eye)) {
+  view->T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * T_robot_vr * T_vr_eye;
+  if (const auto why = checkPose(view->T_cam_eye)) {
     *error = "eye pose: " + *why;
     return false;
   }
-  return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
+  return true;
 }
 
 bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr,
@@ -82,12 +87,7 @@ bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T
     if (!coordinates_[eye]->upload(SourceImage::pixelCoordinates(camera.imageWidth(), camera.imageHeight()), error))
       return false;
   }
-  const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
-  view.T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * T_robot_vr * T_vr_eye;
-  if (const auto why = checkPose(view.T_cam_eye)) {
-    *error = "eye pose: " + *why;
-    return false;
-  }
+  if (!placeEye(eye, T_robot_vr, T_vr_eye, &view, error)) return false;
   RenderSettings settings = settings_;
   settings.border_rgba.setZero();  // alpha 0: no camera pixel
   settings.image_gain = 1.0f;      // coordinates, not colours

@@ -51,6 +51,11 @@ class StereoViewRenderer {
   const RenderSettings& settings() const { return settings_; }
 
  private:
+  /// view->T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye for the frame on the GPU (needs one);
+  /// false with the reason when that is not a pose.
+  bool placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye, EyeView* view,
+                std::string* error) const;
+
   calib::SystemCalibration calibration_;
   RenderSettings settings_;
   SphericalRenderer renderer_;
