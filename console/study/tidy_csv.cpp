@@ -159,6 +159,8 @@ std::optional<std::vector<TrialRecord>> readTrialsCsv(const std::string& path, s
             !toDouble(get("duration_s"), &t->duration_s) || !toDouble(get("time_limit_s"), &t->time_limit_s) ||
             t->duration_s < 0 || t->time_limit_s <= 0 || attempts < 0 || order < 0)
           return *why = "order_index, attempts, duration_s and time_limit_s must be numbers ≥ 0 (time limit > 0)", false;
+        if (order != std::floor(order) || attempts != std::floor(attempts) || order > 1000 || attempts > 1e6)
+          return *why = "order_index and attempts must be whole numbers", false;
         t->order_index = static_cast<int>(order);
         t->attempts = static_cast<int>(attempts);
         return true;

@@ -436,6 +436,14 @@ TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
   EXPECT_FALSE(readAnswersCsv((dir / "bad.csv").string(), &error));
   EXPECT_NE(error.find("bad.csv:3:"), std::string::npos) << error;
   EXPECT_NE(error.find("full7d"), std::string::npos) << error;
+  {
+    std::ofstream bad(dir / "bad_trials.csv");
+    bad << "participant,order_index,mode,duration_s,outcome,attempts,time_limit_s\n"
+           "P1,0,full6d,71,success,2,300\nP1,1,fixed,80,success,2.5,300\n";
+  }
+  EXPECT_FALSE(readTrialsCsv((dir / "bad_trials.csv").string(), &error));
+  EXPECT_NE(error.find("bad_trials.csv:3:"), std::string::npos) << error;
+  EXPECT_NE(error.find("whole numbers"), std::string::npos) << error;
   store.reset();
   other.reset();
   fs::remove_all(dir);
