@@ -192,6 +192,19 @@ TEST(RobotConsoleServices, SentFramesBecomeTelemetryWithTheirStamps) {
   EXPECT_EQ(rig.telemetry.takeBatch()->batch(), 2u);
 }
 
+/// Bytes on the wire of a frame whose encode started after this call: the one in flight now is
+/// sent (telemetry first, then the count) and skipped, and so is anything sent before.
+std::uint32_t bytesOfAFrameEncodedFromNow(VideoRig& rig) {
+  const auto in_flight = rig.video.stats().frames_sent + 1;
+  EXPECT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= in_flight; }));
+  rig.telemetry.takeBatch();
+  const auto after = rig.video.stats().frames_sent + 1;
+  EXPECT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= after; }));
+  const auto batch = rig.telemetry.takeBatch();
+  EXPECT_TRUE(batch && batch->frames_size() > 0);
+  return batch && batch->frames_size() > 0 ? batch->frames(batch->frames_size() - 1).jpeg_bytes() : 0;
+}
+
 TEST(RobotConsoleServices, JpegQualityThroughAControlRequestAndSettingsInEveryReply) {
   VideoRig rig(27250);
   link::LinkClient client(rig.endpoints, {.frames = false});
@@ -213,17 +226,13 @@ TEST(RobotConsoleServices, JpegQualityThroughAControlRequestAndSettingsInEveryRe
     EXPECT_NE(reply->error().find("outside [1, 100]"), std::string::npos) << reply->error();
     EXPECT_EQ(reply->settings().jpeg_quality(), 40);  // what is in force, not what was asked
   }
-  // Lower quality: smaller frames on the wire.
-  rig.telemetry.takeBatch();
-  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= 20; }));
-  const std::uint32_t small = rig.telemetry.takeBatch()->frames(0).jpeg_bytes();
+  // Lower quality: smaller frames on the wire. The frame being encoded when the quality changes
+  // still has the old one: the size is read from a frame whose encode began after the change.
+  const std::uint32_t small = bytesOfAFrameEncodedFromNow(rig);
   r.set_set_jpeg_quality(95);
   ASSERT_TRUE(client.request(r, 3000ms)->ok());
-  std::this_thread::sleep_for(200ms);
-  rig.telemetry.takeBatch();
-  const auto sent = rig.video.stats().frames_sent;
-  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= sent + 3; }));
-  EXPECT_GT(rig.telemetry.takeBatch()->frames(0).jpeg_bytes(), small * 3 / 2);
+  const std::uint32_t large = bytesOfAFrameEncodedFromNow(rig);
+  EXPECT_GT(large, small * 3 / 2) << "q40 " << small << " B, q95 " << large << " B";
 
   link::proto::ControlRequest get;
   get.set_get_settings(true);
