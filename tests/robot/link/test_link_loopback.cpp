@@ -74,25 +74,32 @@ TEST(LinkLoopback, ASlowConsumerGetsTheNewestFrameOnly) {
   // frames ahead, the frames socket's high-water mark dropped two, and 17 were superseded.)
   LinkClient client(endpoints(1), {.ping_period = std::chrono::hours(1)});
   ASSERT_TRUE(publishUntilReceived(server, client, 0));
-  // Let warm-up frames and the pong still in flight arrive, then empty the slot: from here on
-  // every arrival is one of ours, so pacing by the received count is exact.
+  // Let warm-up frames and the pong still in flight arrive (quiet for 300 ms: CI runs tests side
+  // by side), then empty the slot.
   for (std::uint64_t seen = ~0ull; seen != client.stats().received;) {
     seen = client.stats().received;
-    std::this_thread::sleep_for(50ms);
+    std::this_thread::sleep_for(300ms);
   }
   client.takeLatestFrame();
   const auto before = client.stats();
   // Frames arrive one after another (as at 45 Hz) while nobody takes them: each one received
-  // replaces the previous, and only the newest is there to take.
+  // replaces the previous, and only the newest is there to take. Paced by arrivals (at least s
+  // after frame s: a warm-up straggler may still land, and is one more frame replaced).
   for (std::uint64_t s = 1; s <= 20; ++s) {
     server.publishStereoFrame(frame(s), bytes(100, 3), bytes(100, 4));
-    ASSERT_TRUE(eventually([&] { return client.stats().received - before.received == s; }));
+    ASSERT_TRUE(eventually([&] { return client.stats().received - before.received >= s; }));
   }
+  ASSERT_TRUE(eventually([&] { return client.stats().received - before.received >= 20; }));
+  std::this_thread::sleep_for(100ms);
   const auto f = client.takeLatestFrame();
   ASSERT_TRUE(f);
   EXPECT_EQ(f->frame.sequence(), 20u);
   EXPECT_FALSE(client.takeLatestFrame());
-  EXPECT_EQ(client.stats().dropped(DropReason::kSuperseded) - before.dropped(DropReason::kSuperseded), 19u);
+  const auto after = client.stats();
+  const std::uint64_t received = after.received - before.received;
+  EXPECT_GE(received, 20u);
+  EXPECT_EQ(after.dropped(DropReason::kSuperseded) - before.dropped(DropReason::kSuperseded), received - 1)
+      << "every frame received while nobody took one replaced the one before";
 }
 
 TEST(LinkLoopback, HeadTargetsLatestWinsAndControlRoundTrips) {
