@@ -126,6 +126,10 @@ void HeadLoop::tick() {
     state.set_sphere_radius(sphere_radius_);
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
+    if (trial_.running()) {
+      *state.mutable_trial() = trial_;
+      state.mutable_trial()->set_elapsed_s(trial_.elapsed_s() + double(clock_.nowNs() - trial_received_ns_) * 1e-9);
+    }
     server_.publishRobotState(state);
   }
 }
@@ -374,6 +378,18 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
         break;
       case link::proto::ControlRequest::kGetSettings:
         break;
+      case link::proto::ControlRequest::kSetTrialIndicator: {
+        const auto& t = request.set_trial_indicator();
+        if (!(std::isfinite(t.elapsed_s()) && t.elapsed_s() >= 0.0 && std::isfinite(t.time_limit_s()) &&
+              t.time_limit_s() >= 0.0)) {
+          ok = false;
+          error = "trial indicator: elapsed and time limit must be finite and ≥ 0 s";
+        } else {
+          trial_ = t;
+          trial_received_ns_ = clock_.nowNs();
+        }
+        break;
+      }
       case link::proto::ControlRequest::kCalibrationCapture:
         ok = false;
         error = "calibration capture is not available in this build (use telesphere-calib)";

@@ -123,6 +123,8 @@ class HeadLoop {
   std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
   std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
   double sphere_radius_;
+  link::proto::TrialIndicator trial_;  ///< the study's trial indicator, as the console sent it
+  std::int64_t trial_received_ns_ = 0;  ///< when it arrived (robot clock)
   std::atomic<std::int64_t> ticks_{0}, targets_sent_{0}, targets_stamped_on_arrival_{0};
 };
 

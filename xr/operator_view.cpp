@@ -10,6 +10,7 @@
 
 #include "robot/link/link_pose.h"
 #include "xr/latency_figure.h"
+#include "xr/trial_indicator.h"
 
 namespace telesphere::xr {
 namespace {
@@ -78,6 +79,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   } else if (T_robot_vr_stand_in_) {
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
+  trial_ = state ? state->trial() : link::proto::TrialIndicator();
   if (state && options_.follow_robot_settings) {
     RenderSettings settings = renderer_.settings();
     if (const auto mode = renderModeOf(state->visual_mode())) settings.mode = *mode;
@@ -160,7 +162,12 @@ bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const E
     const auto& t = renderer_.frame()->frame.left().t_robot_cam();
     telemetry_frame_.set_eye_camera_distance_m((p_robot_eye - Eigen::Vector3d(t.tx(), t.ty(), t.tz())).norm());
   }
-  return renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
+  if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
+  if (trial_.running()) {
+    drawTrialIndicator(framebuffer, view.width, view.height, trial_.elapsed_s(), trial_.time_limit_s());
+    if (eye == 0) telemetry_frame_.set_trial_indicator_shown(true);
+  }
+  return true;
 }
 
 void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) {

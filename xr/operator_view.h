@@ -146,6 +146,7 @@ class OperatorView {
   std::int64_t frame_begin_ns_ = 0;
   std::int64_t last_new_frame_ns_ = 0;  ///< set at construction, then at every new frame
   bool robot_silent_ = false;           ///< the silence warning was given
+  link::proto::TrialIndicator trial_;  ///< the study's trial, from the robot's state
   bool showing_unmeasured_ = false;     ///< the frame on show has no measured pose
   bool holding_measured_ = false;       ///< a newer unmeasured frame is passed over
   std::int64_t unmeasured_since_ns_ = -1;  ///< first unmeasured frame of the streak (-1: none)

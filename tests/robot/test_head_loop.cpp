@@ -322,6 +322,36 @@ TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
   EXPECT_NE(reply.error().find("disconnected"), std::string::npos) << reply.error();
 }
 
+TEST(HeadLoop, TheStudysTrialIndicatorIsRelayedWithItsElapsedTimeAdvanced) {
+  HeadLoopRig rig(27310);
+  rig.step();
+  link::proto::ControlRequest r;
+  r.mutable_set_trial_indicator()->set_running(true);
+  r.mutable_set_trial_indicator()->set_elapsed_s(12.5);
+  r.mutable_set_trial_indicator()->set_time_limit_s(300.0);
+  ASSERT_TRUE(rig.request(r).ok());
+  for (int i = 0; i < 150; ++i) rig.step();  // 1.5 s of robot time
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && s->trial().running() && s->trial().elapsed_s() > 13.9;
+  }));
+  const auto state = *rig.client->latestRobotState();
+  EXPECT_NEAR(state.trial().elapsed_s(), 12.5 + 1.5, 0.5);  // advanced by the robot clock
+  EXPECT_DOUBLE_EQ(state.trial().time_limit_s(), 300.0);
+  for (double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    r.mutable_set_trial_indicator()->set_elapsed_s(bad);
+    EXPECT_FALSE(rig.request(r).ok()) << bad;
+  }
+  r.mutable_set_trial_indicator()->Clear();  // the trial ended
+  ASSERT_TRUE(rig.request(r).ok());
+  EXPECT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && !s->has_trial();
+  }));
+}
+
 TEST(HeadLoop, EveryTickIsTelemetryInNumberedBatches) {
   HeadLoopRig rig(27290);
   link::proto::ControlRequest capture;

@@ -18,6 +18,8 @@
 #include "robot/link/link_server.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
+#include "xr/trial_indicator.h"
+#include "shaders/offscreen_target.h"
 #include "tests/xr/jpeg_test_images.h"
 #include "xr/operator_view.h"
 
@@ -296,6 +298,68 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
   EXPECT_GE(std::chrono::steady_clock::now() - start, 300ms);
   EXPECT_EQ(view_->frame()->frame.left().pose_source(), POSE_SOURCE_FIXED_CALIBRATION);
   EXPECT_GE(view_->stats().unmeasured_frames_held_back, 1u);
+}
+
+TEST(TrialIndicator, FillAtTheExtremes) {
+  EXPECT_EQ(trialIndicatorFill(0.0, 300.0), 0.0);
+  EXPECT_EQ(trialIndicatorFill(-5.0, 300.0), 0.0);  // a clock that stepped back shows nothing
+  EXPECT_EQ(trialIndicatorFill(std::nan(""), 300.0), 0.0);
+  EXPECT_DOUBLE_EQ(trialIndicatorFill(150.0, 300.0), 0.5);
+  EXPECT_EQ(trialIndicatorFill(1e9, 300.0), 1.0);  // past the limit: full (and red)
+  EXPECT_DOUBLE_EQ(trialIndicatorFill(90.0, 0.0), 0.5);  // no limit: one sweep a minute
+  EXPECT_NEAR(trialIndicatorFill(1e-9, 1e-12), 1.0, 0.0);
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{96, 96}, std::pair{2064, 2208}}) {
+    const TrialIndicatorGeometry g = trialIndicatorGeometry(w, h);
+    EXPECT_GE(g.width, 8);
+    EXPECT_GE(g.height, 3);
+    if (w >= 96) {  // inside the image, centred, small
+      EXPECT_GE(g.x, 0);
+      EXPECT_LE(g.x + g.width, w);
+      EXPECT_NEAR(g.x + g.width / 2.0, w / 2.0, 1.0);
+      EXPECT_LE(g.width * g.height, w * h / 100);
+    }
+  }
+}
+
+TEST(TrialIndicator, DrawsTheElapsedShareAndLeavesTheRestOfTheImage) {
+  std::string error;
+  auto context = gl::EglContext::createSurfaceless(&error);
+  ASSERT_TRUE(context) << error;
+  const int w = 400, h = 300;
+  gl::OffscreenTarget target(w, h);
+  const auto draw = [&](double elapsed_s, double limit_s) {
+    glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer());
+    glViewport(0, 0, w, h);
+    glClearColor(0.0f, 0.0f, 1.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    drawTrialIndicator(target.framebuffer(), w, h, elapsed_s, limit_s);
+    EXPECT_FALSE(glIsEnabled(GL_SCISSOR_TEST));  // no state left behind
+    return target.readRgba8();
+  };
+  const TrialIndicatorGeometry g = trialIndicatorGeometry(w, h);
+  const int row = h - 1 - (g.y + g.height / 2);  // image rows from the top
+  const auto at = [&](const std::vector<std::uint8_t>& p, int x, int y) {
+    return std::array<int, 3>{p[std::size_t((y * w + x) * 4)], p[std::size_t((y * w + x) * 4 + 1)],
+                              p[std::size_t((y * w + x) * 4 + 2)]};
+  };
+  const auto near = [](const std::array<int, 3>& a, const std::array<int, 3>& b) {  // ±1 of 8-bit rounding
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(a[std::size_t(i)] - b[std::size_t(i)]) > 1) {
+        ADD_FAILURE() << a[0] << "," << a[1] << "," << a[2] << " vs " << b[0] << "," << b[1] << "," << b[2];
+        return false;
+      }
+    return true;
+  };
+  auto p = draw(100.0, 300.0);  // a third of 5 minutes
+  EXPECT_TRUE(near(at(p, g.x + g.width / 6, row), {51, 191, 77}));    // green, filled
+  EXPECT_TRUE(near(at(p, g.x + g.width / 2, row), {64, 64, 64}));     // grey, to come
+  EXPECT_TRUE(near(at(p, g.x + g.width / 5, row), {13, 13, 13}));     // the 1-minute gap
+  EXPECT_TRUE(near(at(p, 5, 5), {0, 0, 255}));                        // the eye image
+  EXPECT_TRUE(near(at(p, g.x + g.width / 2, row - g.height), {0, 0, 255}));
+  p = draw(270.0, 300.0);  // the last minute: amber
+  EXPECT_TRUE(near(at(p, g.x + g.width / 6, row), {242, 166, 26}));
+  p = draw(301.0, 300.0);  // past the limit: red, full
+  EXPECT_TRUE(near(at(p, g.x + g.width - 2, row), {217, 38, 26}));
 }
 
 }  // namespace
