@@ -3,6 +3,8 @@
 #include "console/study/study_report.h"
 
 #include <QDir>
+#include <algorithm>
+#include <optional>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -10,6 +12,7 @@
 
 #include "console/study/study_definition.h"
 #include "console/study/tidy_csv.h"
+#include "console/study/trial_telemetry.h"
 
 namespace telesphere::console::study {
 namespace {
@@ -40,6 +43,44 @@ std::string itemText(const std::string& instrument, const std::string& item) {
       for (const QuestionnaireItem& i : q.items)
         if (i.key == item) return i.text;
   return item;
+}
+
+/// One trial's head motion against time: displacement from the first valid pose (x, y, z in cm,
+/// VR frame), PNG.
+bool writeHeadMotionPlot(const TrialTelemetry& telemetry, const std::string& title, const std::string& path,
+                         std::string* error) {
+  QCustomPlot plot;
+  plot.plotLayout()->insertRow(0);
+  plot.plotLayout()->addElement(0, 0, new QCPTextElement(&plot, QString::fromStdString(title)));
+  const char* names[] = {"x (right)", "y (up)", "z (back)"};
+  const QColor colours[] = {QColor(200, 40, 40), QColor(30, 140, 30), QColor(40, 80, 220)};
+  for (int axis = 0; axis < 3; ++axis) {
+    QCPGraph* g = plot.addGraph();
+    g->setName(names[axis]);
+    g->setPen(QPen(colours[axis], 1.5));
+    QVector<double> t, v;
+    std::optional<double> origin;
+    for (const HeadSample& s : telemetry.head) {
+      if (!s.head_valid) continue;
+      const double p = axis == 0 ? s.x : axis == 1 ? s.y : s.z;
+      if (!origin) origin = p;
+      t.push_back(s.t_s);
+      v.push_back(100.0 * (p - *origin));
+    }
+    g->setData(t, v, true);
+  }
+  plot.xAxis->setLabel("time since the trial started [s]");
+  plot.yAxis->setLabel("head displacement since the trial started [cm]");
+  plot.legend->setVisible(true);
+  plot.rescaleAxes();
+  const QCPRange y = plot.yAxis->range();
+  const double margin = std::max(1.0, 0.08 * y.size());  // flat lines stay visible
+  plot.yAxis->setRange(y.lower - margin, y.upper + margin);
+  if (!plot.savePng(QString::fromStdString(path), 900, 420)) {
+    *error = "cannot write " + path;
+    return false;
+  }
+  return true;
 }
 
 }  // namespace
@@ -190,6 +231,25 @@ std::optional<std::vector<std::string>> writeStudyReport(const StudyStore& store
     if (!md || !csv || !json) {
       *error = "cannot write the summary files under " + dir;
       return std::nullopt;
+    }
+    // Each trial's telemetry (head poses, head loop, latencies) and its head motion.
+    for (const TrialRecord& t : study_trials) {
+      const auto batches = store.telemetry(t.id);
+      if (batches.empty()) continue;
+      const auto start = utcNs(t.started_utc);
+      if (!start) continue;
+      const TrialTelemetry telemetry = decodeTrialTelemetry(batches, *start);
+      const std::string trial_stem = dir + "/telemetry/study-" + study + "_sub-" + t.participant + "_trial-" +
+                                     std::to_string(t.order_index + 1) + "_mode-" + t.mode + "_id-" +
+                                     std::to_string(t.id);
+      QDir().mkpath(QString::fromStdString(dir + "/telemetry"));
+      const auto files = writeTrialTelemetryCsv(telemetry, trial_stem, error);
+      if (!files) return std::nullopt;
+      written.insert(written.end(), files->begin(), files->end());
+      const std::string title = "participant " + t.participant + ", trial " + std::to_string(t.order_index + 1) +
+                                " (" + modeLabel(t.mode) + "), " + trialOutcomeName(t.outcome);
+      if (!writeHeadMotionPlot(telemetry, title, trial_stem + "_head.png", error)) return std::nullopt;
+      written.push_back(trial_stem + "_head.png");
     }
   }
   if (!store.copyTo(dir + "/study.sqlite", error)) return std::nullopt;

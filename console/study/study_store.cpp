@@ -31,6 +31,10 @@ const std::vector<std::vector<const char*>>& migrations() {
        " answered_utc TEXT NOT NULL, UNIQUE(session_id, mode, instrument, item))",
        "CREATE TABLE events(id INTEGER PRIMARY KEY, at_utc TEXT NOT NULL, session_id INTEGER, trial_id INTEGER,"
        " kind TEXT NOT NULL, detail TEXT NOT NULL DEFAULT '')"},
+      {  // v2: each trial's telemetry, the link's envelopes as they arrived
+       "CREATE TABLE trial_telemetry(id INTEGER PRIMARY KEY, trial_id INTEGER NOT NULL REFERENCES trials(id),"
+       " robot_to_utc_ns INTEGER, envelope BLOB NOT NULL)",
+       "CREATE INDEX trial_telemetry_by_trial ON trial_telemetry(trial_id, id)"},
   };
   return steps;
 }
@@ -313,7 +317,8 @@ bool StudyStore::setNotes(std::int64_t trial_id, const std::string& notes, std::
     q.prepare("UPDATE trials SET notes=? WHERE id=?");
     q.addBindValue(text(notes));
     q.addBindValue(QVariant::fromValue<qlonglong>(trial_id));
-    return exec(q, why) && event(0, trial_id, "notes", notes);
+    // Saved on every keystroke: the event says how long, the trial row holds the text.
+    return exec(q, why) && event(0, trial_id, "notes", std::to_string(notes.size()) + " bytes");
   });
 }
 
@@ -361,6 +366,38 @@ bool StudyStore::saveAnswer(std::int64_t session_id, const std::string& mode, co
     q.addBindValue(text(utcNow()));
     return exec(q, why) && event(session_id, 0, "answer", mode + " " + instrument + " " + item);
   });
+}
+
+bool StudyStore::addTelemetry(std::int64_t trial_id, const std::vector<TelemetryBatch>& batches, std::string* error) {
+  if (batches.empty()) return true;
+  QSqlDatabase db = QSqlDatabase::database(connection_);
+  return inTransaction(db, error, [&](std::string* why) {
+    QSqlQuery q(db);
+    q.prepare("INSERT INTO trial_telemetry(trial_id, robot_to_utc_ns, envelope) VALUES(?, ?, ?)");
+    for (const TelemetryBatch& b : batches) {
+      q.addBindValue(QVariant::fromValue<qlonglong>(trial_id));
+      q.addBindValue(b.robot_to_utc_ns ? QVariant::fromValue<qlonglong>(*b.robot_to_utc_ns) : QVariant());
+      q.addBindValue(QByteArray(b.envelope.data(), static_cast<qsizetype>(b.envelope.size())));
+      if (!exec(q, why)) return false;
+    }
+    return true;
+  });
+}
+
+std::vector<TelemetryBatch> StudyStore::telemetry(std::int64_t trial_id) const {
+  std::vector<TelemetryBatch> out;
+  QSqlQuery q(QSqlDatabase::database(connection_));
+  q.prepare("SELECT robot_to_utc_ns, envelope FROM trial_telemetry WHERE trial_id=? ORDER BY id");
+  q.addBindValue(QVariant::fromValue<qlonglong>(trial_id));
+  q.exec();
+  while (q.next()) {
+    TelemetryBatch b;
+    if (!q.value(0).isNull()) b.robot_to_utc_ns = q.value(0).toLongLong();
+    const QByteArray bytes = q.value(1).toByteArray();
+    b.envelope.assign(bytes.constData(), static_cast<std::size_t>(bytes.size()));
+    out.push_back(std::move(b));
+  }
+  return out;
 }
 
 std::vector<SessionRecord> StudyStore::sessions() const {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief The study's durable record (DESIGN.md §7): SQLite through QtSql, WAL, one transaction
-///        per event (session start, trial start, attempt, trial end, notes, each answer), a
+///        per event (session start, trial start, attempt, trial end, notes, each answer; the
+///        trial's telemetry once a second), a
 ///        versioned schema migrated on open (PRAGMA user_version). Nothing entered is lost: a
 ///        closed window, Esc, a crash or kill -9 keep every committed event, and on the next open
 ///        every trial that was still running is ended as "interrupted" (an event says when).
@@ -55,10 +56,19 @@ struct AnswerRecord {
   std::string answered_utc;
 };
 
+/// One telemetry envelope of the link (a serialized link::proto::Envelope: robot or XR
+/// telemetry) kept with the trial it arrived during, with the mapping of the robot's clock to
+/// UTC at that time (t_utc_ns = t_robot_ns + robot_to_utc_ns; none before the first pong).
+struct TelemetryBatch {
+  std::optional<std::int64_t> robot_to_utc_ns;
+  std::string envelope;
+};
+
 class StudyStore {
  public:
   /// The schema this build writes; older files are migrated on open, newer ones refused.
-  static constexpr int kSchemaVersion = 1;
+  /// v1: sessions, trials, answers, events; v2: trial_telemetry.
+  static constexpr int kSchemaVersion = 2;
 
   /// Opens (creating or migrating) the database at `path`, then ends every trial still
   /// "running" as "interrupted". Nothing, with the reason, when it cannot.
@@ -88,6 +98,11 @@ class StudyStore {
   /// One answer, its own transaction; answering again replaces the value.
   bool saveAnswer(std::int64_t session_id, const std::string& mode, const std::string& instrument,
                   const std::string& item, double value, std::string* error);
+
+  /// Telemetry that arrived during a trial, in one transaction (the console writes it once a
+  /// second: a crash loses at most that second of telemetry, never an event or an answer).
+  bool addTelemetry(std::int64_t trial_id, const std::vector<TelemetryBatch>& batches, std::string* error);
+  std::vector<TelemetryBatch> telemetry(std::int64_t trial_id) const;  ///< in arrival order
 
   std::vector<SessionRecord> sessions() const;
   std::vector<TrialRecord> trials() const;    ///< by session, then order index

@@ -39,6 +39,8 @@ class TrialRunner {
   int orderIndex() const { return position_; }
   const std::string& mode() const;
   const std::string& lastError() const { return error_; }
+  /// The running trial's id in the store (0 unless kRunning).
+  std::int64_t trialId() const { return trial_id_; }
 
   /// Switches the robot to the next position's mode; false (with the reason) unless kIdle.
   bool prepareNext();

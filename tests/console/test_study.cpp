@@ -26,6 +26,8 @@
 #include "console/study/tidy_csv.h"
 #include "console/study/trial_order.h"
 #include "console/study/trial_runner.h"
+#include "console/study/trial_telemetry.h"
+#include "robot/link/telesphere_link.pb.h"
 
 namespace telesphere::console::study {
 namespace {
@@ -215,6 +217,113 @@ TEST(StudyStore, ADatabaseFromANewerBuildIsRefused) {
   QSqlDatabase::removeDatabase("raw");
   EXPECT_FALSE(StudyStore::open(db.string(), &error));
   EXPECT_NE(error.find("newer"), std::string::npos) << error;
+  fs::remove_all(dir);
+}
+
+TEST(StudyStore, ASchemaOneDatabaseIsMigratedWithItsDataKept) {
+  const fs::path dir = freshDir("migrate");
+  const fs::path db = dir / "v1.sqlite";
+  {  // what the first build wrote: schema 1, one session, one finished trial
+    QSqlDatabase raw = QSqlDatabase::addDatabase("QSQLITE", "v1");
+    raw.setDatabaseName(QString::fromStdString(db.string()));
+    ASSERT_TRUE(raw.open());
+    QSqlQuery q(raw);
+    for (const char* sql :
+         {"CREATE TABLE sessions(id INTEGER PRIMARY KEY, participant TEXT NOT NULL, participant_index INTEGER NOT NULL,"
+          " study_name TEXT NOT NULL, study_json TEXT NOT NULL, order_json TEXT NOT NULL, order_scheme TEXT NOT NULL,"
+          " seed INTEGER NOT NULL, started_utc TEXT NOT NULL, ended_utc TEXT, UNIQUE(participant, study_name))",
+          "CREATE TABLE trials(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL REFERENCES sessions(id),"
+          " order_index INTEGER NOT NULL, mode TEXT NOT NULL, started_utc TEXT NOT NULL, ended_utc TEXT,"
+          " duration_s REAL, outcome TEXT NOT NULL, attempts INTEGER NOT NULL DEFAULT 0, time_limit_s REAL NOT NULL,"
+          " abort_reason TEXT NOT NULL DEFAULT '', notes TEXT NOT NULL DEFAULT '')",
+          "CREATE TABLE answers(id INTEGER PRIMARY KEY, session_id INTEGER NOT NULL REFERENCES sessions(id),"
+          " mode TEXT NOT NULL, instrument TEXT NOT NULL, item TEXT NOT NULL, value REAL NOT NULL,"
+          " answered_utc TEXT NOT NULL, UNIQUE(session_id, mode, instrument, item))",
+          "CREATE TABLE events(id INTEGER PRIMARY KEY, at_utc TEXT NOT NULL, session_id INTEGER, trial_id INTEGER,"
+          " kind TEXT NOT NULL, detail TEXT NOT NULL DEFAULT '')",
+          "INSERT INTO sessions VALUES(1, 'P01', 0, 'study', '{}', '[\"full6d\"]', 'counterbalanced', 1,"
+          " '2026-11-01T10:00:00.000Z', NULL)",
+          "INSERT INTO trials VALUES(1, 1, 0, 'full6d', '2026-11-01T10:01:00.000Z', '2026-11-01T10:02:00.000Z', 60.0,"
+          " 'success', 3, 300, '', 'kept')",
+          "PRAGMA user_version=1"})
+      ASSERT_TRUE(q.exec(sql)) << sql;
+    raw.close();
+  }
+  QSqlDatabase::removeDatabase("v1");
+  std::string error;
+  auto store = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(store) << error;
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 1u);
+  EXPECT_EQ(trials[0].notes, "kept");
+  EXPECT_EQ(trials[0].attempts, 3);
+  EXPECT_TRUE(store->telemetry(1).empty());
+  EXPECT_TRUE(store->addTelemetry(1, {{std::int64_t{5}, "bytes"}}, &error)) << error;  // the v2 table exists
+  ASSERT_EQ(store->telemetry(1).size(), 1u);
+  EXPECT_EQ(*store->telemetry(1)[0].robot_to_utc_ns, 5);
+  EXPECT_EQ(store->telemetry(1)[0].envelope, "bytes");
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(TrialTelemetry, StampsMapToSecondsSinceTheTrialStartedOnOneClock) {
+  // The trial started at UTC 1000 s. The robot clock is UTC − 400 s; the XR clock is the robot's
+  // + 7 s. A head tick at robot 601.5 s and an XR frame displayed at XR 609 s (robot 602 s) fall
+  // 1.5 s and 2 s into the trial; the frame's image was captured at robot 601.96 s (40 ms).
+  const std::int64_t s = 1'000'000'000;
+  const std::int64_t start_utc = 1000 * s, robot_to_utc = 400 * s, robot_to_xr = 7 * s;
+  link::proto::Envelope robot;
+  auto* tick = robot.mutable_robot_telemetry()->add_ticks();
+  tick->set_t_ns(601 * s + s / 2);
+  tick->set_outcome(link::proto::HEAD_TICK_SENT);
+  tick->mutable_t_robot_head_command()->set_tx(0.25);
+  tick->mutable_t_robot_head_measured()->set_qw(1);
+  link::proto::Envelope xr;
+  auto* t = xr.mutable_xr_telemetry();
+  t->set_clock_synced(true);
+  t->set_robot_to_xr_offset_ns(robot_to_xr);
+  auto* f = t->add_frames();
+  f->set_display_ns(609 * s);
+  f->set_head_valid(true);
+  f->mutable_t_vr_hmd()->set_ty(1.6);
+  f->mutable_t_vr_hmd()->set_qw(1);
+  f->set_new_image(true);
+  f->mutable_stamps()->set_capture_ns(602 * s - 40'000'000);
+  f->mutable_stamps()->set_displayed_ns(609 * s);
+  f->set_eye_camera_distance_m(-1);
+  link::proto::Envelope unsynced = xr;
+  unsynced.mutable_xr_telemetry()->set_clock_synced(false);
+  const std::vector<TelemetryBatch> batches = {{robot_to_utc, robot.SerializeAsString()},
+                                               {robot_to_utc, xr.SerializeAsString()},
+                                               {std::nullopt, xr.SerializeAsString()},  // no pong yet
+                                               {robot_to_utc, unsynced.SerializeAsString()},
+                                               {robot_to_utc, std::string("\xff\xff\xff", 3)}};
+  const TrialTelemetry d = decodeTrialTelemetry(batches, start_utc);
+  EXPECT_EQ(d.batches, 5u);
+  EXPECT_EQ(d.unsynced_batches, 2u);
+  EXPECT_EQ(d.undecodable_batches, 1u);
+  ASSERT_EQ(d.robot.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.robot[0].t_s, 1.5);
+  EXPECT_EQ(d.robot[0].outcome, "sent");
+  EXPECT_DOUBLE_EQ(d.robot[0].cmd_x, 0.25);
+  ASSERT_EQ(d.head.size(), 1u);
+  EXPECT_DOUBLE_EQ(d.head[0].t_s, 2.0);
+  EXPECT_DOUBLE_EQ(d.head[0].y, 1.6);
+  EXPECT_NEAR(d.head[0].image_latency_ms, 40.0, 1e-9);
+  EXPECT_TRUE(std::isnan(d.head[0].delta_s_m));
+  EXPECT_EQ(utcNs("2026-11-24T12:00:00.250Z").value() % s, 250'000'000);
+  EXPECT_FALSE(utcNs("yesterday"));
+  // Written as two CSV files with a header each.
+  const fs::path dir = freshDir("telemetry");
+  std::string error;
+  const auto files = writeTrialTelemetryCsv(d, (dir / "t").string(), &error);
+  ASSERT_TRUE(files) << error;
+  std::ifstream head((dir / "t_head.csv").string());
+  std::string header, row;
+  std::getline(head, header);
+  std::getline(head, row);
+  EXPECT_EQ(header.rfind("t_s,x_m,y_m,z_m", 0), 0u);
+  EXPECT_EQ(row.rfind("2,0,1.6,0,1,", 0), 0u) << row;
   fs::remove_all(dir);
 }
 
