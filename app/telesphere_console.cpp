@@ -3,7 +3,7 @@
 ///        the options, opens the window on a session to the robot, and for headless use runs a
 ///        fixed time and writes the main window's picture.
 ///
-///   telesphere-console [--host H] [--port P]
+///   telesphere-console [--host H] [--port P] [--study-db FILE [--study STUDY.json]]
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
 ///   telesphere-console study report|import …            (headless; app/console_study_command.h)
 ///
@@ -20,6 +20,7 @@
 #include "app/console_study_command.h"
 #include "console/console_session.h"
 #include "console/console_window.h"
+#include "console/study_panel.h"
 
 int main(int argc, char** argv) {
   CLI::App cli{"telesphere-console: the supervisor's view of the robot and the XR app"};
@@ -27,11 +28,15 @@ int main(int argc, char** argv) {
   int port = 5760;
   std::string screenshot;
   double duration_s = 0.0;
+  std::string study_file, study_db;
   cli.add_option("--host", host, "robot (telesphere-robot) address")->capture_default_str();
   cli.add_option("--port", port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
   cli.add_option("--screenshot", screenshot, "after --duration, write the main window as PNG and exit");
   cli.add_option("--duration", duration_s, "seconds to run, then exit (0: until the window closes)")
       ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  cli.add_option("--study-db", study_db, "open this study database (created if new) in the Study panel");
+  cli.add_option("--study", study_file, "the study file (JSON) for --study-db (default: the paper's study)")
+      ->check(CLI::ExistingFile);
   telesphere::app::StudyCommandOptions study_options;
   CLI::App* study = telesphere::app::addStudyCommand(cli, study_options);
   CLI11_PARSE(cli, argc, argv);
@@ -58,6 +63,12 @@ int main(int argc, char** argv) {
   telesphere::console::ConsoleSession session(options);
   telesphere::console::ConsoleWindow window(session);
   window.show();
+  if (!study_db.empty() && !window.studyPanel()->openStudy(QString::fromStdString(study_file),
+                                                           QString::fromStdString(study_db))) {
+    std::cerr << "telesphere-console: cannot open the study: "
+              << window.studyPanel()->statusText().toStdString() << '\n';
+    return 1;
+  }
 
   int code = 0;
   if (duration_s > 0) {

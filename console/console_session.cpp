@@ -89,7 +89,10 @@ void ConsoleSession::poll() {
 
   std::optional<std::int64_t> offset;
   if (const auto e = client_->clock().estimate()) offset = e->server_to_client_offset_ns;
-  for (const auto& envelope : client_->takeTelemetry()) model_.ingest(envelope, offset);
+  for (const auto& envelope : client_->takeTelemetry()) {
+    model_.ingest(envelope, offset);
+    if (tap_) tap_(envelope, offset);
+  }
   const double t_now = model_.plotTime(now_ns);
   series_.trim(t_now, hold_from_.value_or(t_now));
 

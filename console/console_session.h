@@ -92,6 +92,12 @@ class ConsoleSession : public QObject {
   void request(link::proto::ControlRequest request, const QString& what,
                std::function<void(const ControlOutcome&)> done = {});
 
+  /// Called on the GUI thread with every telemetry envelope as it is taken from the link, and the
+  /// robot → console clock offset then (none before the first pong): a study keeps its trials'.
+  using TelemetryTap =
+      std::function<void(const link::proto::Envelope& envelope, std::optional<std::int64_t> robot_to_console_ns)>;
+  void setTelemetryTap(TelemetryTap tap) { tap_ = std::move(tap); }
+
   /// One poll now (the timer's work; tests call it to step without waiting).
   void poll();
 
@@ -119,6 +125,7 @@ class ConsoleSession : public QObject {
   link::LinkActivity activity_;
   CameraPreview preview_;
   std::optional<double> hold_from_;
+  TelemetryTap tap_;
   std::vector<std::uint64_t> camera_reconnects_;
   std::uint64_t lost_reported_ = 0;
   std::uint64_t fault_version_seen_ = 0;

@@ -22,6 +22,7 @@
 #include "console/health_panel.h"
 #include "console/live_plot.h"
 #include "console/nominal_pose_panel.h"
+#include "console/study_panel.h"
 #include "console/supervisor_plots.h"
 
 namespace telesphere::console {
@@ -69,11 +70,14 @@ ConsoleWindow::ConsoleWindow(ConsoleSession& session, QWidget* parent) : QMainWi
   preview_ = new CameraPreviewPanel(session_);
   control_ = new ControlPanel(session_);
   nominal_ = new NominalPosePanel(session_);
+  study_ = new StudyPanel(session_);
   QDockWidget* health_dock = dock("Health", health_, Qt::LeftDockWidgetArea);
   QDockWidget* cameras_dock = dock("Cameras", preview_, Qt::RightDockWidgetArea);
   QDockWidget* control_dock = dock("Control", control_, Qt::RightDockWidgetArea);
   QDockWidget* nominal_dock = dock("Nominal pose", nominal_, Qt::RightDockWidgetArea);
+  QDockWidget* study_dock = dock("Study", study_, Qt::RightDockWidgetArea);
   tabifyDockWidget(control_dock, nominal_dock);
+  tabifyDockWidget(control_dock, study_dock);
   control_dock->raise();
 
   QMenu* file = menuBar()->addMenu("&File");
@@ -166,6 +170,8 @@ void ConsoleWindow::updateDataHold() {
 }
 
 void ConsoleWindow::closeEvent(QCloseEvent* event) {
+  // Everything entered is stored already; a trial still running ends as interrupted.
+  study_->shutdown("the console window was closed during the trial");
   QSettings settings;
   settings.setValue("window/geometry", saveGeometry());
   settings.setValue("window/state", saveState());

@@ -2,8 +2,8 @@
 /// @brief The supervisor's main window (DESIGN.md §1): the fault banner and the connection line
 ///        on top, the live graphs in the middle (one tab per figure; only the visible one is
 ///        redrawn, by one coalesced timer at ≤ 30 Hz), and docked panels around them: health,
-///        camera preview, control, nominal pose. Layout and choices persist in QSettings. The
-///        calibration wizards and the study tools of later issues dock in beside these.
+///        camera preview, control, nominal pose, study (StudyPanel). Layout and choices persist in
+///        QSettings. The calibration wizards of a later issue dock in beside these.
 #pragma once
 
 #include <QMainWindow>
@@ -23,6 +23,7 @@ class FaultBanner;
 class HealthPanel;
 class LivePlot;
 class NominalPosePanel;
+class StudyPanel;
 
 class ConsoleWindow : public QMainWindow {
   Q_OBJECT
@@ -41,6 +42,7 @@ class ConsoleWindow : public QMainWindow {
   CameraPreviewPanel* previewPanel() const { return preview_; }
   ControlPanel* controlPanel() const { return control_; }
   NominalPosePanel* nominalPanel() const { return nominal_; }
+  StudyPanel* studyPanel() const { return study_; }
   FaultBanner* faultBanner() const { return banner_; }
   /// The dock holding `panel` (to show it, or to grab it for a screenshot).
   QDockWidget* dockOf(QWidget* panel) const;
@@ -66,6 +68,7 @@ class ConsoleWindow : public QMainWindow {
   CameraPreviewPanel* preview_;
   ControlPanel* control_;
   NominalPosePanel* nominal_;
+  StudyPanel* study_;
   std::vector<QDockWidget*> docks_;
   QTimer redraw_timer_, panel_timer_;
   std::uint64_t drawn_version_ = ~0ull;
