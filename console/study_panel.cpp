@@ -19,6 +19,7 @@
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <map>
+#include <set>
 
 #include "console/console_session.h"
 #include "console/questionnaire_page.h"
@@ -140,6 +141,20 @@ void StudyPanel::buildParticipantPage() {
   connect(start_session_, &QPushButton::clicked, this, &StudyPanel::startOrResume);
   connect(participant_, &QLineEdit::returnPressed, this, &StudyPanel::startOrResume);
   form->addRow(start_session_);
+  sessions_table_ = new QTableWidget(0, 4);
+  sessions_table_->setObjectName("sessionsTable");
+  sessions_table_->setHorizontalHeaderLabels({"participant", "index", "order (6D, 3D, fixed)", "progress"});
+  sessions_table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  sessions_table_->horizontalHeader()->setStretchLastSection(true);
+  sessions_table_->verticalHeader()->setVisible(false);
+  sessions_table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  sessions_table_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  connect(sessions_table_, &QTableWidget::cellDoubleClicked, this, [this](int row, int) {
+    participant_->setText(sessions_table_->item(row, 0)->text());
+    startOrResume();
+  });
+  form->addRow(new QLabel("Sessions in this study (double-click to resume):"));
+  form->addRow(sessions_table_);
   pages_->addWidget(page);
 }
 
@@ -184,7 +199,8 @@ void StudyPanel::buildTrialsPage() {
   trials_table_ = new QTableWidget(0, 5);
   trials_table_->setObjectName("trialsTable");
   trials_table_->setHorizontalHeaderLabels({"#", "mode", "outcome", "duration [s]", "attempts"});
-  trials_table_->horizontalHeader()->setStretchLastSection(true);
+  trials_table_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  trials_table_->horizontalHeader()->setSectionResizeMode(2, QHeaderView::Stretch);
   trials_table_->verticalHeader()->setVisible(false);
   trials_table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
   layout->addWidget(trials_table_, 1);
@@ -294,6 +310,7 @@ bool StudyPanel::openStudy(const QString& study_file, const QString& database) {
     status += QString(" · %1 trial(s) were running when the console stopped: marked interrupted, run again on resume")
                   .arg(store_->interruptedOnOpen().size());
   setStatus(status);
+  refreshSessions();
   showPage(Page::kParticipant);
   return true;
 }
@@ -506,7 +523,44 @@ void StudyPanel::toParticipantPage() {
   if (store_)
     for (const study::SessionRecord& s : store_->sessions()) in_study += s.study_name == study_.name;
   participant_index_->setValue(in_study);  // the next counterbalanced order
+  refreshSessions();
   showPage(Page::kParticipant);
+}
+
+void StudyPanel::refreshSessions() {
+  if (!store_) return;
+  const auto trials = store_->trials();
+  const auto answers = store_->answers();
+  std::size_t items = 0;
+  for (const study::Questionnaire& q : study_.questionnaires) items += q.items.size();
+  std::vector<study::SessionRecord> sessions;
+  for (const study::SessionRecord& s : store_->sessions())
+    if (s.study_name == study_.name) sessions.push_back(s);
+  sessions_table_->setRowCount(static_cast<int>(sessions.size()));
+  for (std::size_t r = 0; r < sessions.size(); ++r) {
+    const study::SessionRecord& s = sessions[r];
+    std::set<int> finished;
+    for (const study::TrialRecord& t : trials)
+      if (t.session_id == s.id && t.outcome != study::TrialOutcome::kRunning &&
+          t.outcome != study::TrialOutcome::kInterrupted)
+        finished.insert(t.order_index);
+    std::size_t answered = 0;
+    for (const study::AnswerRecord& a : answers) answered += a.session_id == s.id;
+    QStringList order;  // short: the column must fit beside the others
+    for (const std::string& m : s.order)
+      order << (m == "full6d" ? "6D" : m == "orientation3d" ? "3D" : QString::fromStdString(m));
+    const QString progress =
+        !s.ended_utc.empty()
+            ? "complete"
+            : QString("%1/%2 trials, %3/%4 answers")
+                  .arg(finished.size())
+                  .arg(s.order.size())
+                  .arg(answered)
+                  .arg(items * s.order.size());
+    const QStringList cells = {QString::fromStdString(s.participant), QString::number(s.participant_index),
+                               order.join(" → "), progress};
+    for (int c = 0; c < cells.size(); ++c) sessions_table_->setItem(int(r), c, new QTableWidgetItem(cells[c]));
+  }
 }
 
 StudyPanel::Page StudyPanel::page() const { return static_cast<Page>(pages_->currentIndex()); }

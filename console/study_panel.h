@@ -110,6 +110,7 @@ class StudyPanel : public QWidget {
   void setStatus(const QString& text, bool error = false);
   void writeReport();
   void toParticipantPage();
+  void refreshSessions();
 
   ConsoleSession& session_;
   study::StudyDefinition study_;
@@ -135,6 +136,7 @@ class StudyPanel : public QWidget {
   QLineEdit* participant_;
   QSpinBox* participant_index_;
   QPushButton* start_session_;
+  QTableWidget* sessions_table_;
   QLabel* trial_title_;
   QLabel* order_line_;
   QPushButton *prepare_, *start_, *attempt_, *success_, *fail_, *abort_;

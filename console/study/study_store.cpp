@@ -199,7 +199,7 @@ bool StudyStore::markInterrupted(std::string* error) {
       QSqlQuery q(db);
       q.prepare("UPDATE trials SET outcome='interrupted', ended_utc=?, abort_reason=? WHERE id=?");
       q.addBindValue(text(utcNow()));
-      q.addBindValue(text("interrupted: the console ended while the trial ran"));
+      q.addBindValue(text("the console ended while the trial ran"));
       q.addBindValue(QVariant::fromValue<qlonglong>(t.id));
       return exec(q, why) && event(t.session_id, t.id, "trial_interrupted", "found running on open");
     });

@@ -11,6 +11,7 @@
 #include <QElapsedTimer>
 #include <QFile>
 #include <QProcess>
+#include <QSettings>
 #include <QPushButton>
 #include <QTemporaryDir>
 #include <QThread>
@@ -22,6 +23,7 @@
 
 #include "console/console_session.h"
 #include "console/console_window.h"
+#include "tests/console/event_pump.h"
 
 namespace telesphere::console::test_rig {
 
@@ -34,6 +36,7 @@ class QtEnvironment : public ::testing::Environment {
     app_ = std::make_unique<QApplication>(argc, argv);
     QApplication::setOrganizationName("telesphere-test");  // never the user's saved layout
     QApplication::setApplicationName("console_window_test");
+    QSettings().clear();  // every run starts from the default layout (a test's raised dock is not kept)
   }
   void TearDown() override { app_.reset(); }
 
@@ -41,22 +44,6 @@ class QtEnvironment : public ::testing::Environment {
   std::unique_ptr<QApplication> app_;
 };
 inline const auto* const kQt = ::testing::AddGlobalTestEnvironment(new QtEnvironment);
-
-/// Runs the event loop until `condition` holds or `timeout_ms` passed; true when it held.
-inline bool pumpUntil(const std::function<bool()>& condition, int timeout_ms = 30000) {
-  QElapsedTimer timer;
-  timer.start();
-  while (timer.elapsed() < timeout_ms) {
-    QApplication::processEvents(QEventLoop::AllEvents, 20);
-    if (condition()) return true;
-    QThread::msleep(5);
-  }
-  return condition();
-}
-
-inline void pumpFor(int ms) {
-  pumpUntil([] { return false; }, ms);
-}
 
 inline QString screenshotDir() {
   const QByteArray env = qgetenv("TELESPHERE_SCREENSHOT_DIR");

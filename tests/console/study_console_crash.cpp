@@ -20,19 +20,11 @@
 #include "console/console_window.h"
 #include "console/questionnaire_page.h"
 #include "console/study_panel.h"
+#include "tests/console/event_pump.h"
 
 namespace {
 
-bool pumpUntil(const std::function<bool()>& condition, int timeout_ms) {
-  QElapsedTimer timer;
-  timer.start();
-  while (timer.elapsed() < timeout_ms) {
-    QApplication::processEvents(QEventLoop::AllEvents, 20);
-    if (condition()) return true;
-    QThread::msleep(5);
-  }
-  return condition();
-}
+using telesphere::console::test_rig::pumpUntil;
 
 int fail(const char* what, const telesphere::console::StudyPanel& panel) {
   std::fprintf(stderr, "study_console_crash: %s (%s)\n", what, panel.statusText().toUtf8().constData());

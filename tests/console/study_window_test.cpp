@@ -273,6 +273,7 @@ TEST(StudyWindow, KilledDuringATrialOrAQuestionnaireThenReopenedLosesNothing) {
   StudyPanel* panel = rig.window->studyPanel();
   ASSERT_TRUE(panel->openStudy(study_file, db)) << panel->statusText().toStdString();
   ASSERT_EQ(panel->interruptedOnOpen().size(), 1u);
+  shootStudy(rig, "study_reopened.png");
   EXPECT_TRUE(panel->statusText().contains("marked interrupted")) << panel->statusText().toStdString();
   const auto trials = panel->store()->trials();
   const study::TrialRecord& interrupted = trials.back();  // P01's session is the second
