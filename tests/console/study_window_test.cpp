@@ -103,6 +103,36 @@ TEST(StudyWindow, TwelveParticipantsGetBalancedOrdersThroughThePanel) {
   EXPECT_EQ(panel->store()->sessions().size(), 12u);
 }
 
+TEST(StudyWindow, NasaTlxAndSusPagesStartUnansweredAndStoreEachAnswer) {
+  QTemporaryDir dir;
+  std::string error;
+  auto store = study::StudyStore::open(dir.filePath("q.sqlite").toStdString(), &error);
+  ASSERT_TRUE(store) << error;
+  study::StudyDefinition definition;
+  const auto session = store->startSession("P09", 0, definition, definition.modes, &error);
+  ASSERT_TRUE(session) << error;
+  const std::vector<study::Questionnaire> instruments = {study::nasaTlxRaw(), study::systemUsabilityScale()};
+  // An answer given before a crash comes back on the page.
+  ASSERT_TRUE(store->saveAnswer(*session, "fixed", "sus", "q1", 4, &error));
+  QuestionnairePage page(*store, *session, "fixed", "fixed perspective", instruments, {{{"sus", "q1"}, 4.0}});
+  page.resize(700, 900);
+  EXPECT_EQ(page.itemCount(), 16);  // 6 TLX subscales + 10 SUS items
+  EXPECT_EQ(page.answeredCount(), 1);
+  // A TLX answer of 0 is an answer (the spin box's "not answered" is below the scale).
+  for (const auto& item : study::nasaTlxRaw().items) ASSERT_TRUE(page.answer("nasa_tlx_raw", item.key, 0));
+  EXPECT_FALSE(page.saveButton()->isEnabled());
+  for (const auto& item : study::systemUsabilityScale().items) ASSERT_TRUE(page.answer("sus", item.key, 5));
+  EXPECT_FALSE(page.answer("sus", "q1", 6));  // off the 1–5 scale: no such button
+  EXPECT_TRUE(page.saveButton()->isEnabled());
+  EXPECT_TRUE(page.lastError().isEmpty());
+  std::map<std::string, double> stored;
+  for (const auto& a : store->answers()) stored[a.instrument + "." + a.item] = a.value;
+  EXPECT_EQ(stored.size(), 16u);
+  EXPECT_EQ(stored["nasa_tlx_raw." + study::nasaTlxRaw().items[0].key], 0.0);
+  EXPECT_EQ(stored["sus.q1"], 5.0);
+  saveShot(&page, "study_questionnaire_tlx_sus.png");
+}
+
 TEST(StudyWindow, AWholeSessionFromModeSwitchToReport) {
   Rig rig(27940);
   rig.startRobot();
