@@ -282,14 +282,16 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  video_config.on_sent = [&preview, &truth_log, &loop, preview_hz](const robot::StereoFrame& pair,
-                                                                   std::uint64_t sequence) {
+  robot::StereoStillTaker stills(joints, clock);
+  video_config.on_sent = [&preview, &truth_log, &loop, &stills, preview_hz](const robot::StereoFrame& pair,
+                                                                            std::uint64_t sequence) {
+    stills.offer(pair, sequence);
     if (preview_hz > 0) preview.offer(pair, sequence);
     if (truth_log) truth_log->frameSent(pair, sequence, loop.nominalMapping());
   };
   robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
 
-  robot::RobotControl control(loop, &video);
+  robot::RobotControl control(loop, &video, &stills);
   server->setControlHandler([&control](const link::proto::ControlRequest& r) { return control.handle(r); });
   robot::RobotHealthSources health_sources;
   health_sources.cameras = {left.get(), right.get()};

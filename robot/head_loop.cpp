@@ -392,7 +392,7 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
       }
       case link::proto::ControlRequest::kCalibrationCapture:
         ok = false;
-        error = "calibration capture is not available in this build (use telesphere-calib)";
+        error = "calibration stills come from the video path, not the head loop";
         break;
       case link::proto::ControlRequest::kSetJpegQuality:
         ok = false;

@@ -89,4 +89,16 @@ std::optional<std::pair<std::int64_t, std::int64_t>> JointStateBuffer::window() 
   return std::make_pair(at(0).t_ns, at(size_ - 1).t_ns);
 }
 
+std::optional<std::pair<std::int64_t, std::int64_t>> JointStateBuffer::bracket(std::int64_t t_ns) const {
+  std::shared_lock lock(mutex_);
+  if (size_ == 0 || t_ns < at(0).t_ns || t_ns > at(size_ - 1).t_ns) return std::nullopt;
+  std::int64_t before = at(0).t_ns;
+  for (std::size_t i = 0; i < size_; ++i) {
+    const std::int64_t t = at(i).t_ns;
+    if (t >= t_ns) return std::make_pair(t == t_ns ? t : before, t);
+    before = t;
+  }
+  return std::nullopt;
+}
+
 }  // namespace telesphere::robot

@@ -53,6 +53,9 @@ class JointStateBuffer {
   std::size_t size() const;
   /// [oldest, newest] sample times, or nothing when empty.
   std::optional<std::pair<std::int64_t, std::int64_t>> window() const;
+  /// The times of the samples on both sides of t_ns (newest ≤ t_ns, oldest ≥ t_ns), or nothing
+  /// when t_ns is outside the window.
+  std::optional<std::pair<std::int64_t, std::int64_t>> bracket(std::int64_t t_ns) const;
 
  private:
   const JointState& at(std::size_t i) const;  ///< i-th oldest; caller holds the lock

@@ -21,6 +21,16 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       video_->setJpegSettings(settings);
       reply.set_ok(true);
     }
+  } else if (request.request_case() == link::proto::ControlRequest::kCalibrationCapture) {
+    reply.set_id(request.id());
+    std::string error;
+    if (!stills_)
+      reply.set_error("no cameras on this robot: no calibration stills");
+    else if (stills_->take(reply.mutable_still(), kStillTimeout, &error))
+      reply.set_ok(true);
+    else
+      reply.set_error(error);
+    if (!reply.ok()) reply.clear_still();
   } else {
     reply = loop_.handleControl(request);
   }

@@ -1,20 +1,27 @@
 // SPDX-License-Identifier: MIT
 /// @brief The robot's answer to the link's control requests (DESIGN.md §7: every change through a
-///        request with an explicit reply): JPEG quality goes to the video path, everything else to
-///        the head loop; every reply carries the robot's settings after the request, so the
+///        request with an explicit reply): JPEG quality goes to the video path, calibration stills
+///        to the still taker, everything else to the head loop; every reply carries the robot's settings after the request, so the
 ///        console shows what is in force, never what it asked for.
 #pragma once
 
+#include <chrono>
+
 #include "robot/head_loop.h"
 #include "robot/link/telesphere_link.pb.h"
+#include "robot/stereo_still.h"
 #include "robot/video_streamer.h"
 
 namespace telesphere::robot {
 
 class RobotControl {
  public:
-  /// `video` may be null (no cameras): JPEG requests are then refused.
-  RobotControl(HeadLoop& loop, VideoStreamer* video) : loop_(loop), video_(video) {}
+  /// How long a calibration still may take (a frame, then the joint state after it).
+  static constexpr std::chrono::milliseconds kStillTimeout{800};
+
+  /// `video` and `stills` may be null (no cameras): their requests are then refused.
+  RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr)
+      : loop_(loop), video_(video), stills_(stills) {}
 
   link::proto::ControlReply handle(const link::proto::ControlRequest& request);
   void fillSettings(link::proto::RobotSettings* settings) const;
@@ -22,6 +29,7 @@ class RobotControl {
  private:
   HeadLoop& loop_;
   VideoStreamer* video_;
+  StereoStillTaker* stills_;
 };
 
 }  // namespace telesphere::robot

@@ -23,7 +23,9 @@
 #include <QTabWidget>
 #include <QTemporaryDir>
 #include <QThread>
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <functional>
 
 #include "console/camera_preview_panel.h"
@@ -85,6 +87,30 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
            rig.samples(series::kVOp) > 50 && rig.samples(series::kVRob) > 50 && rig.samples(series::kDeltaS) > 50 &&
            rig.samples(series::kXrFrameMs) > 50;
   })) << rig.logs();
+
+  // A calibration still through the link (issue #15's samples): both images at the cameras'
+  // full 320×180, grey, with the head joints at the capture time between two joint states.
+  {
+    link::proto::ControlRequest r;
+    r.set_calibration_capture(true);
+    std::optional<ControlOutcome> outcome;
+    rig.session->request(r, "calibration_capture", [&](const ControlOutcome& o) { outcome = o; });
+    ASSERT_TRUE(pumpUntil([&] { return outcome.has_value(); }));
+    ASSERT_TRUE(outcome->ok) << outcome->text().toStdString();
+    const auto& still = outcome->reply.still();
+    for (const auto* image : {&still.left(), &still.right()}) {
+      EXPECT_EQ(image->width(), 320u);
+      EXPECT_EQ(image->height(), 180u);
+      ASSERT_EQ(image->gray8().size(), 320u * 180u);
+      const auto [lo, hi] = std::minmax_element(image->gray8().begin(), image->gray8().end(),
+                                                [](char a, char b) { return std::uint8_t(a) < std::uint8_t(b); });
+      EXPECT_GT(std::uint8_t(*hi) - std::uint8_t(*lo), 100);  // the room, not a blank image
+    }
+    EXPECT_EQ(still.head_joints_size(), 6);
+    EXPECT_LE(still.joints_before_ns(), still.capture_ns());
+    EXPECT_GE(still.joints_after_ns(), still.capture_ns());
+    EXPECT_LE(still.joints_after_ns() - still.joints_before_ns(), 20'000'000);  // 100 Hz states
+  }
 
   // Source time: each image-latency sample sits at its capture time, so capture + latency is
   // when it was shown: in the past, or at most one display period (30 Hz here) ahead, since the
