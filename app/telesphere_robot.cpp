@@ -7,7 +7,7 @@
 ///
 /// With --sim (the default; the only arm this build can drive) the arm is the simulated xArm 6
 /// and the cameras are synthetic, rendering the default scene through the true calibration
-/// (--true-calib, by default the one the robot uses) at the arm's true pose at the middle of each
+/// (--sim-truth, by default the one the robot uses) at the arm's true pose at the middle of each
 /// exposure, delivered after exposure/2 + transfer; frames are stamped, as on the real robot,
 /// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
@@ -100,9 +100,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(0.01, 1000.0));
   app.add_option("--transfer-ms", transfer_ms, "synthetic cameras: readout and transfer after the exposure, ms")
       ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
-  app.add_option("--true-calib", true_calib_path,
-                 "synthetic cameras: the calibration they really have (default: --calib); a "
-                 "different one shows what a calibration error does to the operator's view");
+  app.add_option("--sim-truth,--true-calib", true_calib_path,
+                 "synthetic cameras and simulated arm: the calibration they really have (default: "
+                 "--calib); a different one shows what a calibration error does to the operator's "
+                 "view, and is what the calibration wizards must recover");
   app.add_option("--truth-out", truth_path,
                  "synthetic cameras: write each sent frame's true camera poses (CSV) to this file");
   CLI11_PARSE(app, argc, argv);
@@ -120,19 +121,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!camera_left.empty() && (!true_calib_path.empty() || !truth_path.empty())) {
-    std::cerr << "telesphere-robot: --true-calib and --truth-out need the synthetic cameras\n";
+    std::cerr << "telesphere-robot: --sim-truth and --truth-out need the synthetic cameras\n";
     return 1;
   }
   calib::SystemCalibration true_calibration = calibration;
   if (!true_calib_path.empty()) {
     auto loaded_true = calib::loadCalibrationFile(true_calib_path);
     if (!loaded_true) {
-      std::cerr << "telesphere-robot: --true-calib: " << loaded_true.error().describe() << '\n';
+      std::cerr << "telesphere-robot: --sim-truth: " << loaded_true.error().describe() << '\n';
       return 1;
     }
     true_calibration = *loaded_true;
     if (true_calibration.cameras.size() != 2 || !true_calibration.T_cam_l_cam_r || !true_calibration.T_flange_cam_l) {
-      std::cerr << "telesphere-robot: --true-calib " << true_calib_path
+      std::cerr << "telesphere-robot: --sim-truth " << true_calib_path
                 << ": needs two cameras, T_cam_l_cam_r and T_flange_cam_l\n";
       return 1;
     }

@@ -134,7 +134,14 @@ Eigen::Isometry3d HeadController::mappingFor(const Eigen::Isometry3d& T_vr_hmd) 
 }
 
 bool HeadController::holdNominal(const JointVector& q_current, std::int64_t now_ns) {
-  if (!q_current.allFinite()) return false;
+  return holdAt(config_.T_robot_nom, q_current, now_ns);
+}
+
+bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVector& q_current, std::int64_t now_ns) {
+  if (!q_current.allFinite() || !T_robot_head.matrix().allFinite() || !isRotation(T_robot_head.linear(), 1e-3)) {
+    return false;
+  }
+  hold_target_ = T_robot_head;
   if (!initialised_) {
     // No operator target has been followed yet: the approach starts where the arm is.
     q_last_ = kinematics_.clampToLimits(q_current);
@@ -199,7 +206,7 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
   Eigen::Isometry3d target;
   std::int64_t target_t_ns = now_ns;
   if (holding_) {
-    target = config_.T_robot_nom;  // the nominal-pose step: the operator is ignored
+    target = hold_target_;  // the nominal-pose step or a calibration pose: the operator is ignored
   } else if (mode_ == HeadMode::kFixed) {
     // Operator ignored: the nominal pose pitched 45° down (about the head's y axis, left).
     target = config_.T_robot_nom * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY());

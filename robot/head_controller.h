@@ -10,7 +10,8 @@
 ///      T_hmd_head the constant axis change below; per mode: full 6D; orientation only (position
 ///      held at the nominal one); fixed (T_robot_nom pitched 45° down, the operator ignored);
 ///      while holdNominal() is on, T_robot_nom itself (the operator ignored, any mode, also
-///      before the first initialise: the console's nominal-pose step);
+///      before the first initialise: the console's nominal-pose step), and while holdAt() is on
+///      the pose it was given (the calibration wizards);
 ///   3. recursive low-pass filter (PoseLowPassFilter, cut-off a parameter, paper 100 Hz) on the
 ///      sample times;
 ///   4. jump guard: a change beyond jump_position or jump_angle from the last output switches to
@@ -121,6 +122,9 @@ class HeadController {
   /// the operator ignored, until releaseHold(). Without a mapping yet, the approach starts from
   /// the arm's q_current at now_ns. False (nothing changes) for non-finite joints.
   bool holdNominal(const JointVector& q_current, std::int64_t now_ns);
+  /// The same hold at any head pose T_robot_head (the calibration wizards' head poses): false
+  /// (nothing changes) for non-finite joints or a pose that is not a rigid transform.
+  bool holdAt(const Eigen::Isometry3d& T_robot_head, const JointVector& q_current, std::int64_t now_ns);
   void releaseHold() { holding_ = false; }
   bool holding() const { return holding_; }
 
@@ -159,6 +163,7 @@ class HeadController {
   HeadMode mode_ = HeadMode::kFull6D;
   bool initialised_ = false;
   bool holding_ = false;
+  Eigen::Isometry3d hold_target_ = Eigen::Isometry3d::Identity();  ///< while holding_
   bool approaching_ = false;
   Eigen::Isometry3d guarded_ = Eigen::Isometry3d::Identity();  ///< jump-guard output
   Eigen::Isometry3d last_operator_target_ = Eigen::Isometry3d::Identity();

@@ -126,6 +126,8 @@ void HeadLoop::tick() {
     state.set_sphere_radius(sphere_radius_);
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
+    link::toLinkPose(controller_.kinematics().forward(last_state_->q) * T_flange_head_, state.mutable_t_robot_head());
+    state.set_calibration_hold(calibration_hold_);
     if (trial_.running()) {
       *state.mutable_trial() = trial_;
       state.mutable_trial()->set_elapsed_s(trial_.elapsed_s() + double(clock_.nowNs() - trial_received_ns_) * 1e-9);
@@ -235,10 +237,67 @@ bool HeadLoop::captureNominalLocked(std::string* error) {
   return true;
 }
 
+bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& request, std::string* error) {
+  if (request.release()) {
+    if (calibration_hold_) {
+      controller_.releaseHold();
+      calibration_hold_ = false;
+      std::cerr << "telesphere-robot: calibration head hold released\n";
+    }
+    return true;
+  }
+  if (step_ != link::proto::NOMINAL_STEP_FOLLOWING) {
+    *error = "the nominal-pose step is running: finish or undo it first";
+    return false;
+  }
+  if (!last_state_) {
+    *error = "no joint state from the arm yet";
+    return false;
+  }
+  if (arm_.status() != ArmStatus::kOk) {
+    *error = "the arm is not ready (" + faultLocked() + "): clear the fault first";
+    return false;
+  }
+  if (!request.has_t_robot_head()) {
+    *error = "calibration head pose: no pose given";
+    return false;
+  }
+  const Eigen::Isometry3d T_robot_head = link::fromLinkPose(request.t_robot_head());
+  if (!T_robot_head.matrix().allFinite()) {
+    *error = "calibration head pose: not a finite pose";
+    return false;
+  }
+  const Eigen::AlignedBox3d& workspace = controller_.config().workspace;
+  if (!workspace.contains(T_robot_head.translation())) {
+    const Eigen::Vector3d p = T_robot_head.translation();
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "calibration head pose: position (%.3f, %.3f, %.3f) m is outside the head workspace",
+                  p.x(), p.y(), p.z());
+    *error = buf;
+    return false;
+  }
+  const IkResult ik = controller_.kinematics().inverse(T_robot_head * T_flange_head_.inverse(), last_state_->q,
+                                                       controller_.config().ik);
+  if (ik.status != IkResult::Status::kConverged) {
+    *error = "calibration head pose: the arm cannot reach it";
+    return false;
+  }
+  if (!controller_.holdAt(T_robot_head, last_state_->q, clock_.nowNs())) {
+    *error = "calibration head pose: not a rigid transform";
+    return false;
+  }
+  calibration_hold_ = true;
+  return true;
+}
+
 bool HeadLoop::nominalStepLocked(link::proto::NominalStepRequest request, std::string* error) {
   using link::proto::NominalStep;
   switch (request) {
     case link::proto::NOMINAL_REQUEST_HOLD:
+      if (calibration_hold_) {
+        *error = "the head is held for calibration: release it first";
+        return false;
+      }
       if (!last_state_) {
         *error = "no joint state from the arm yet";
         return false;
@@ -390,6 +449,9 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
         }
         break;
       }
+      case link::proto::ControlRequest::kCalibrationHeadPose:
+        ok = calibrationHoldLocked(request.calibration_head_pose(), &error);
+        break;
       case link::proto::ControlRequest::kCalibrationCapture:
         ok = false;
         error = "calibration stills come from the video path, not the head loop";

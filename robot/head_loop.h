@@ -23,6 +23,10 @@
 ///   the new mapping (the old one kept for undo). UNDO from HOLDING or CAPTURED drops the
 ///   pending capture and follows with the old mapping; UNDO while FOLLOWING goes back to the
 ///   mapping before the last confirm (one level).
+///
+/// Calibration head poses (console wizards, link CalibrationHeadPose): the head goes to the pose
+/// and holds there, the operator ignored, until released; not during the nominal-pose step (and
+/// no HOLD step while held); poses outside the workspace or out of the arm's reach are refused.
 #pragma once
 
 #include <atomic>
@@ -101,6 +105,7 @@ class HeadLoop {
   /// Starts the mapping from `nominal` at the newest joints, keeping the one it replaces for undo.
   bool applyNominalLocked(const HmdSample& nominal);
   bool nominalStepLocked(link::proto::NominalStepRequest step, std::string* error);
+  bool calibrationHoldLocked(const link::proto::CalibrationHeadPose& request, std::string* error);
   bool captureNominalLocked(std::string* error);
   std::string faultLocked() const;
 
@@ -121,6 +126,7 @@ class HeadLoop {
   link::proto::NominalStep step_ = link::proto::NOMINAL_STEP_FOLLOWING;
   std::optional<ArrivedTarget> captured_;           ///< pending while CAPTURED
   std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
+  bool calibration_hold_ = false;  ///< held at a calibration head pose (link CalibrationHeadPose)
   std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
   double sphere_radius_;
   link::proto::TrialIndicator trial_;  ///< the study's trial indicator, as the console sent it

@@ -28,7 +28,7 @@ cmp -s "$calib" "$out/mounted_5mm_off.yaml" && fail "could not make the mis-moun
 run() {
   local name=$1 true_calib=$2
   "$bin/telesphere-robot" --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
-    --stats-period 1 --true-calib "$true_calib" --truth-out "$out/$name-robot.csv" > "$out/robot.log" 2>&1 &
+    --stats-period 1 --sim-truth "$true_calib" --truth-out "$out/$name-robot.csv" > "$out/robot.log" 2>&1 &
   robot=$!
   "$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 \
     --duration 4 --trajectory "$out/still.csv" --out "$out/$name" --truth-out "$out/$name/truth" \

@@ -272,6 +272,75 @@ TEST(HeadLoop, GuidedNominalStepHoldCaptureConfirmAndUndo) {
   EXPECT_FALSE(rig.nominal(link::proto::NOMINAL_REQUEST_CONFIRM).ok());  // nothing captured
 }
 
+TEST(HeadLoop, ACalibrationHeadPoseIsHeldWithTheOperatorIgnoredUntilReleased) {
+  HeadLoopRig rig(27320);
+  rig.step();
+  auto pose = [](const Eigen::Isometry3d& T_robot_head, bool release = false) {
+    link::proto::ControlRequest r;
+    if (release) {
+      r.mutable_calibration_head_pose()->set_release(true);
+    } else {
+      link::toLinkPose(T_robot_head, r.mutable_calibration_head_pose()->mutable_t_robot_head());
+    }
+    return r;
+  };
+  const Eigen::Isometry3d T_robot_nom = rig.controller.config().T_robot_nom;
+  // The head turned 50° left and 30° down, 5 cm to the side: the wizard's kind of pose.
+  Eigen::Isometry3d T_robot_head = T_robot_nom;
+  T_robot_head.linear() = T_robot_nom.linear() * Eigen::AngleAxisd(50 * M_PI / 180, Eigen::Vector3d::UnitZ()).matrix() *
+                          Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitY()).matrix();
+  T_robot_head.translation() += Eigen::Vector3d(0, 0.05, 0);
+
+  // Refused: no pose, a pose outside the workspace, and during the nominal-pose step.
+  link::proto::ControlRequest empty;
+  empty.mutable_calibration_head_pose();
+  auto reply = rig.request(empty);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("no pose"), std::string::npos) << reply.error();
+  Eigen::Isometry3d far = T_robot_head;
+  far.translation().x() += 1.0;
+  reply = rig.request(pose(far));
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("outside the head workspace"), std::string::npos) << reply.error();
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_HOLD).ok());
+  reply = rig.request(pose(T_robot_head));
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("nominal-pose step"), std::string::npos) << reply.error();
+  ASSERT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_UNDO).ok());
+
+  // Held: the head goes there at the approach speeds and stays; the state says so.
+  reply = rig.request(pose(T_robot_head));
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  for (int i = 0; i < 400; ++i) rig.step();
+  auto measured = rig.measuredHead();
+  EXPECT_LT((measured.translation() - T_robot_head.translation()).norm(), 0.002);
+  EXPECT_LT(Eigen::AngleAxisd(measured.linear().transpose() * T_robot_head.linear()).angle() * 180 / M_PI, 0.5);
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && s->calibration_hold();
+  }));
+  const Eigen::Isometry3d reported = link::fromLinkPose(rig.client->latestRobotState()->t_robot_head());
+  EXPECT_LT((reported.translation() - T_robot_head.translation()).norm(), 0.002);
+  // The nominal step cannot start meanwhile, and operator targets do not move the head.
+  reply = rig.nominal(link::proto::NOMINAL_REQUEST_HOLD);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("held for calibration"), std::string::npos) << reply.error();
+  rig.sendTarget(Eigen::Vector3d(0.2, 1.6, 0.1), {0.5, 0, 0});
+  for (int i = 0; i < 100; ++i) rig.step();
+  EXPECT_TRUE(rig.measuredHead().isApprox(measured, 1e-3));
+
+  // Released: no longer held (the state says so), the nominal step may run again.
+  ASSERT_TRUE(rig.request(pose({}, true)).ok());
+  EXPECT_FALSE(rig.controller.holding());
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && !s->calibration_hold();
+  }));
+  EXPECT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_HOLD).ok());
+}
+
 TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
   HeadLoopRig rig(27280);
   rig.step();
