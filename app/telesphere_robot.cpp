@@ -53,7 +53,8 @@ int main(int argc, char** argv) {
   CLI::App app{"telesphere-robot: cameras, head arm and link server of the robot side"};
   std::string calib_path = TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml";
   int port = 5760;
-  std::string size = "640x360";  // the synthetic cameras render in real time at this size
+  std::string size = "640x360";
+  int still_timeout_ms = 800;  // the synthetic cameras render in real time at this size
   double fps = 45.0;
   int quality = 90;
   std::string subsampling = "420";
@@ -104,6 +105,10 @@ int main(int argc, char** argv) {
                  "synthetic cameras and simulated arm: the calibration they really have (default: "
                  "--calib); a different one shows what a calibration error does to the operator's "
                  "view, and is what the calibration wizards must recover");
+  app.add_option("--still-timeout-ms", still_timeout_ms,
+                 "calibration stills: how long to wait for a pair captured after the request (slow cameras "
+                 "or a slow simulation need more)")
+      ->capture_default_str()->check(CLI::Range(100, 60000));
   app.add_option("--truth-out", truth_path,
                  "synthetic cameras: write each sent frame's true camera poses (CSV) to this file");
   CLI11_PARSE(app, argc, argv);
@@ -292,7 +297,7 @@ int main(int argc, char** argv) {
   };
   robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
 
-  robot::RobotControl control(loop, &video, &stills);
+  robot::RobotControl control(loop, &video, &stills, std::chrono::milliseconds(still_timeout_ms));
   server->setControlHandler([&control](const link::proto::ControlRequest& r) { return control.handle(r); });
   robot::RobotHealthSources health_sources;
   health_sources.cameras = {left.get(), right.get()};

@@ -26,7 +26,7 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
     std::string error;
     if (!stills_)
       reply.set_error("no cameras on this robot: no calibration stills");
-    else if (stills_->take(reply.mutable_still(), kStillTimeout, &error))
+    else if (stills_->take(reply.mutable_still(), still_timeout_, &error))
       reply.set_ok(true);
     else
       reply.set_error(error);

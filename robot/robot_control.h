@@ -16,12 +16,14 @@ namespace telesphere::robot {
 
 class RobotControl {
  public:
-  /// How long a calibration still may take (a frame, then the joint state after it).
+  /// How long a calibration still may take by default (a frame, then the joint state after it).
   static constexpr std::chrono::milliseconds kStillTimeout{800};
 
   /// `video` and `stills` may be null (no cameras): their requests are then refused.
-  RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr)
-      : loop_(loop), video_(video), stills_(stills) {}
+  /// `still_timeout`: cameras slower than a frame within 800 ms of the request need more.
+  RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr,
+               std::chrono::milliseconds still_timeout = kStillTimeout)
+      : loop_(loop), video_(video), stills_(stills), still_timeout_(still_timeout) {}
 
   link::proto::ControlReply handle(const link::proto::ControlRequest& request);
   void fillSettings(link::proto::RobotSettings* settings) const;
@@ -30,6 +32,7 @@ class RobotControl {
   HeadLoop& loop_;
   VideoStreamer* video_;
   StereoStillTaker* stills_;
+  std::chrono::milliseconds still_timeout_;
 };
 
 }  // namespace telesphere::robot

@@ -244,7 +244,7 @@ struct LinkClient::Impl {
         stats.countDrop(DropReason::kBadPartCount, "control");
         continue;
       }
-      auto envelope = stats.parse(parts[0].data(), parts[0].size(), "control");
+      auto envelope = stats.parse(parts[0].data(), parts[0].size(), "control", kMaxControlReplyBytes);
       if (!envelope) continue;
       stats.countReceived();
       if (envelope->has_pong()) {

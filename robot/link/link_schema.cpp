@@ -29,8 +29,8 @@ std::string_view dropReasonName(DropReason reason) {
 }
 
 std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why,
-                                             std::uint32_t* peer_version) {
-  if (size > kMaxEnvelopeBytes) {
+                                             std::uint32_t* peer_version, std::size_t max_bytes) {
+  if (size > max_bytes) {
     *why = DropReason::kOversized;
     return std::nullopt;
   }

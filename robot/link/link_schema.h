@@ -22,6 +22,10 @@ inline constexpr std::uint32_t kMaxImageSide = 8192;
 inline constexpr std::size_t kMaxJpegBytes = std::size_t{256} << 20;
 /// Largest envelope (the protobuf part of any message).
 inline constexpr std::size_t kMaxEnvelopeBytes = std::size_t{1} << 20;
+/// Largest control reply the client accepts: a calibration still carries both images at full
+/// resolution in grey (up to two kMaxImageSide² images) besides the usual reply.
+inline constexpr std::size_t kMaxControlReplyBytes =
+    2 * std::size_t{kMaxImageSide} * std::size_t{kMaxImageSide} + kMaxEnvelopeBytes;
 
 /// Why a message was dropped; counted per reason (LinkStats) and logged.
 enum class DropReason : int {
@@ -44,8 +48,10 @@ std::uint64_t newLinkInstanceId();
 
 /// Parses bytes into an Envelope of our schema version with a body; otherwise nothing and *why.
 /// For kWrongSchemaVersion, *peer_version (when given) is the version the sender spoke.
+/// Envelopes beyond max_bytes are kOversized.
 std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size, DropReason* why,
-                                             std::uint32_t* peer_version = nullptr);
+                                             std::uint32_t* peer_version = nullptr,
+                                             std::size_t max_bytes = kMaxEnvelopeBytes);
 
 /// Checks a stereo frame's description against the sizes of its two image parts.
 std::optional<DropReason> checkStereoFrame(const proto::StereoFrame& frame, std::size_t left_bytes,

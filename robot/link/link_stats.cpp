@@ -22,10 +22,11 @@ void LinkStats::countDrop(DropReason reason, const char* context) {
   }
 }
 
-std::optional<proto::Envelope> LinkStats::parse(const void* data, std::size_t size, const char* context) {
+std::optional<proto::Envelope> LinkStats::parse(const void* data, std::size_t size, const char* context,
+                                                std::size_t max_bytes) {
   DropReason why{};
   std::uint32_t peer_version = 0;
-  auto envelope = parseEnvelope(data, size, &why, &peer_version);
+  auto envelope = parseEnvelope(data, size, &why, &peer_version, max_bytes);
   if (envelope) return envelope;
   if (why == DropReason::kWrongSchemaVersion &&
       foreign_schema_version_.exchange(peer_version, std::memory_order_relaxed) != peer_version)

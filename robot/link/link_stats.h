@@ -33,7 +33,8 @@ class LinkStats {
   void countDrop(DropReason reason, const char* context);
   /// parseEnvelope, with a failure counted as a drop (a foreign schema version remembered and
   /// named in the log). Success is not counted: the caller may still refuse the message.
-  std::optional<proto::Envelope> parse(const void* data, std::size_t size, const char* context);
+  std::optional<proto::Envelope> parse(const void* data, std::size_t size, const char* context,
+                                       std::size_t max_bytes = kMaxEnvelopeBytes);
   LinkStatsSnapshot snapshot() const;
 
  private:

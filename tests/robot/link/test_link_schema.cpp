@@ -56,6 +56,17 @@ TEST(LinkSchema, VersionAndBodyAreRequired) {
   const std::string huge(kMaxEnvelopeBytes + 1, 'x');
   EXPECT_FALSE(parseEnvelope(huge.data(), huge.size(), &why));
   EXPECT_EQ(why, DropReason::kOversized);
+  // A control reply may carry a full-resolution stereo still (two 4K grey images).
+  proto::Envelope reply;
+  reply.set_schema_version(kSchemaVersion);
+  reply.mutable_control_reply()->mutable_still()->mutable_left()->set_gray8(std::string(3840 * 2160, '\x80'));
+  reply.mutable_control_reply()->mutable_still()->mutable_right()->set_gray8(std::string(3840 * 2160, '\x40'));
+  const std::string still = bytesOf(reply);
+  EXPECT_FALSE(parseEnvelope(still.data(), still.size(), &why));
+  EXPECT_EQ(why, DropReason::kOversized);
+  const auto parsed = parseEnvelope(still.data(), still.size(), &why, nullptr, kMaxControlReplyBytes);
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(parsed->control_reply().still().right().gray8().size(), 3840u * 2160u);
 }
 
 TEST(LinkSchema, StereoFrameLimits) {
