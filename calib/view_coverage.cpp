@@ -35,6 +35,16 @@ ViewCoverage::ViewCoverage(const GenericCamera& camera, int width, int height, c
   edge = std::min(edge, camera_.maxAngle() * 180.0 / M_PI);
   const int bins = std::max(1, int(std::ceil(edge / options_.polar_bin_deg - 1e-9)));
   polar_.assign(std::size_t(bins), 0);
+  // Each bin's share of the image, from every 4th pixel of every 4th row.
+  image_share_.assign(std::size_t(bins), 0.0);
+  int samples = 0;
+  for (int v = 0; v < height; v += 4)
+    for (int u = 0; u < width; u += 4) {
+      ++samples;
+      const double a = polarAngleDeg(camera_, Eigen::Vector2d(u, v));
+      if (std::isfinite(a)) image_share_[std::min(std::size_t(bins) - 1, std::size_t(a / options_.polar_bin_deg))] += 1.0;
+    }
+  for (double& s : image_share_) s /= std::max(1, samples);
   cells_.assign(std::size_t(options_.grid_cols * options_.grid_rows), 0);
 }
 

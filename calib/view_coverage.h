@@ -42,6 +42,9 @@ class ViewCoverage {
   int polarBinsReached() const;
   /// The largest polar angle any pixel of the image sees (deg), through the camera model.
   double imageMaxPolarDeg() const { return image_max_polar_deg_; }
+  /// The share of the image's pixels (0…1) whose polar angle falls into `bin` (the rim bins of a
+  /// wide lens on a 16:9 sensor hold only the image's corners).
+  double imageShare(int bin) const { return image_share_[std::size_t(bin)]; }
 
   /// "grid 31/48 cells · polar bins 8/10 (to 100°) · 1234 corners".
   std::string describe() const;
@@ -52,6 +55,7 @@ class ViewCoverage {
   CoverageOptions options_;
   double image_max_polar_deg_ = 0;
   std::vector<int> cells_, polar_;
+  std::vector<double> image_share_;
   int corners_ = 0;
 };
 

@@ -109,6 +109,17 @@ TEST(ViewCoverage, AFisheyeBeyond180DegreesIsCoveredToItsRimInPolarBins) {
     }
   }
   EXPECT_NE(coverage.describe().find("polar bins"), std::string::npos);
+  // Each bin's share of the image: the first bin is the disc within 10° of the axis (its radius
+  // from projecting a 10° ray), and the rim bins hold only the image's corners.
+  Eigen::Vector2d px10;
+  ASSERT_TRUE(cam.camera.project(Eigen::Vector3d(std::sin(10 * M_PI / 180), 0, std::cos(10 * M_PI / 180)), px10));
+  const double r10 = px10.x() - cam.camera.params()[2];
+  EXPECT_NEAR(coverage.imageShare(0), M_PI * r10 * r10 / (double(cam.width) * cam.height), 0.002);
+  double total = 0;
+  for (int b = 0; b < coverage.polarBins(); ++b) total += coverage.imageShare(b);
+  EXPECT_GT(total, 0.95);
+  EXPECT_LE(total, 1.0 + 1e-12);
+  EXPECT_LT(coverage.imageShare(coverage.polarBins() - 1), 0.01);
   // Corners outside the image are not counted; clear() empties.
   TargetObservation outside;
   outside.corner_ids = {0};
