@@ -53,8 +53,8 @@ int main(int argc, char** argv) {
   CLI::App app{"telesphere-robot: cameras, head arm and link server of the robot side"};
   std::string calib_path = TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml";
   int port = 5760;
-  std::string size = "640x360";
-  int still_timeout_ms = 800;  // the synthetic cameras render in real time at this size
+  std::string size = "640x360";  // the synthetic cameras render in real time at this size
+  int still_timeout_ms = 800;
   double fps = 45.0;
   int quality = 90;
   std::string subsampling = "420";

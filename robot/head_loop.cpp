@@ -81,6 +81,9 @@ void HeadLoop::tick() {
   }
 
   const HeadCommand command = controller_.tick(sample, now_ns);
+  // The head's measured pose, once per tick (telemetry and robot state both carry it).
+  const std::optional<Eigen::Isometry3d> T_robot_head_measured =
+      last_state_ ? std::optional(controller_.kinematics().forward(last_state_->q) * T_flange_head_) : std::nullopt;
   const bool accepted = command.send && arm_.sendTarget(command.q_target);
   if (accepted) ++targets_sent_;
 
@@ -99,8 +102,7 @@ void HeadLoop::tick() {
     }
     link::toLinkPose(command.T_robot_headTarget, t.mutable_t_robot_head_command());
     if (last_state_) {
-      link::toLinkPose(controller_.kinematics().forward(last_state_->q) * T_flange_head_,
-                       t.mutable_t_robot_head_measured());
+      link::toLinkPose(*T_robot_head_measured, t.mutable_t_robot_head_measured());
       t.set_joint_state_ns(last_state_->t_ns);
     }
     t.set_approaching(command.approaching);
@@ -126,7 +128,7 @@ void HeadLoop::tick() {
     state.set_sphere_radius(sphere_radius_);
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
-    link::toLinkPose(controller_.kinematics().forward(last_state_->q) * T_flange_head_, state.mutable_t_robot_head());
+    link::toLinkPose(*T_robot_head_measured, state.mutable_t_robot_head());
     state.set_calibration_hold(calibration_hold_);
     if (trial_.running()) {
       *state.mutable_trial() = trial_;
