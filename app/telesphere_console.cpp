@@ -6,6 +6,7 @@
 ///   telesphere-console [--host H] [--port P] [--study-db FILE [--study STUDY.json]]
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
 ///   telesphere-console study report|import …            (headless; app/console_study_command.h)
+///   telesphere-console calibrate intrinsics --auto …    (headless; app/console_calibrate_command.h)
 ///
 /// Exit codes: 0 ok; 1 bad arguments; 2 no display to open a window on; 3 the robot never
 /// answered within --duration; 4 the screenshot could not be written.
@@ -17,6 +18,7 @@
 #include <cstdlib>
 #include <iostream>
 
+#include "app/console_calibrate_command.h"
 #include "app/console_study_command.h"
 #include "console/console_session.h"
 #include "console/console_window.h"
@@ -39,7 +41,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   telesphere::app::StudyCommandOptions study_options;
   CLI::App* study = telesphere::app::addStudyCommand(cli, study_options);
+  telesphere::app::CalibrateCommandOptions calibrate_options;
+  CLI::App* calibrate = telesphere::app::addCalibrateCommand(cli, calibrate_options);
   CLI11_PARSE(cli, argc, argv);
+  if (calibrate->parsed()) return telesphere::app::runCalibrateCommand(*calibrate, calibrate_options);
   if (study->parsed()) return telesphere::app::runStudyCommand(*study, study_options, argc, argv);
   if (!screenshot.empty() && duration_s <= 0) {
     std::cerr << "telesphere-console: --screenshot needs --duration S (how long to run first)\n";

@@ -24,6 +24,7 @@ class HealthPanel;
 class LivePlot;
 class NominalPosePanel;
 class StudyPanel;
+class CalibrationPanel;
 
 class ConsoleWindow : public QMainWindow {
   Q_OBJECT
@@ -43,6 +44,7 @@ class ConsoleWindow : public QMainWindow {
   ControlPanel* controlPanel() const { return control_; }
   NominalPosePanel* nominalPanel() const { return nominal_; }
   StudyPanel* studyPanel() const { return study_; }
+  CalibrationPanel* calibrationPanel() const { return calibration_; }
   FaultBanner* faultBanner() const { return banner_; }
   /// The dock holding `panel` (to show it, or to grab it for a screenshot).
   QDockWidget* dockOf(QWidget* panel) const;
@@ -69,6 +71,7 @@ class ConsoleWindow : public QMainWindow {
   ControlPanel* control_;
   NominalPosePanel* nominal_;
   StudyPanel* study_;
+  CalibrationPanel* calibration_;
   std::vector<QDockWidget*> docks_;
   QTimer redraw_timer_, panel_timer_;
   std::uint64_t drawn_version_ = ~0ull;

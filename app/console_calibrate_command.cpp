@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-console calibrate …` (see console_calibrate_command.h).
+#include "app/console_calibrate_command.h"
+
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+
+#include "calib/aprilgrid.h"
+#include "calib/calibration_file.h"
+#include "console/calibration/intrinsics_procedure.h"
+#include "console/calibration/model_comparison.h"
+#include "robot/link/link_client.h"
+
+namespace telesphere::app {
+namespace {
+
+/// "tcp://HOST:PORT" or "HOST:PORT".
+bool parseRobotEndpoint(std::string text, link::LinkEndpoints* endpoints) {
+  if (text.rfind("tcp://", 0) == 0) text = text.substr(6);
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 >= text.size() || colon + 6 < text.size()) return false;
+  const std::string host = text.substr(0, colon), port = text.substr(colon + 1);
+  if (host.find('/') != std::string::npos ||
+      !std::all_of(port.begin(), port.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return false;
+  }
+  endpoints->host = host;
+  endpoints->base_port = std::stoi(port);
+  return endpoints->base_port >= 1 && endpoints->base_port <= 65532;
+}
+
+nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& out) {
+  nlohmann::ordered_json j;
+  j["done"] = out.done;
+  j["error"] = out.error;
+  j["done_rule"] = out.rule_text;
+  j["poses_planned"] = out.poses_planned;
+  j["poses_visited"] = out.poses_visited;
+  j["poses_refused"] = out.poses_refused;
+  j["poses_unsettled"] = out.poses_unsettled;
+  j["stills"] = out.stills;
+  j["samples_rejected"] = out.samples_rejected;
+  j["first_sample_to_result_s"] = out.first_sample_to_result_s;
+  j["total_s"] = out.total_s;
+  if (out.collector) {
+    j["samples"] = out.collector->samples().size();
+    j["joint_views"] = out.collector->jointViews();
+    for (int c = 0; c < 2; ++c) {
+      const calib::ViewCoverage& cov = out.collector->coverage(c);
+      j["coverage"][c == 0 ? "cam_l" : "cam_r"] = {{"grid", cov.gridCoverage()},
+                                                   {"polar_bins_reached", cov.polarBinsReached()},
+                                                   {"polar_bins", cov.polarBins()},
+                                                   {"image_max_polar_deg", cov.imageMaxPolarDeg()}};
+    }
+  }
+  if (out.result) {
+    for (const calib::CameraIntrinsicResult& cam : out.result->cameras) {
+      nlohmann::ordered_json c;
+      c["model"] = std::string(cam.calibration.camera.modelName());
+      c["rms_px"] = cam.rms_px;
+      c["views_used"] = cam.views_used;
+      c["corners"] = cam.corners;
+      c["width"] = cam.calibration.width;
+      c["height"] = cam.calibration.height;
+      const auto names = calib::GenericCamera::paramNames(cam.calibration.camera.modelName());
+      const Eigen::VectorXd p = cam.calibration.camera.params();
+      for (std::size_t i = 0; i < names.size(); ++i) {
+        c["params"][std::string(names[i])] = p[Eigen::Index(i)];
+        if (i < cam.param_stddev.size()) c["stddev"][std::string(names[i])] = cam.param_stddev[i];
+      }
+      c["degeneracy_warning"] = cam.degeneracy_warning;
+      j["cameras"][cam.calibration.label] = c;
+    }
+    if (out.result->T_cam_l_cam_r) {
+      const Eigen::Isometry3d& T = *out.result->T_cam_l_cam_r;
+      const Eigen::Quaterniond q(T.linear());
+      j["T_cam_l_cam_r"] = {{"t_m", {T.translation().x(), T.translation().y(), T.translation().z()}},
+                            {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+    }
+  }
+  j["unmet"] = nlohmann::ordered_json::array();
+  for (const auto* check : {&out.collection, &out.solve})
+    for (const std::string& u : check->unmet) j["unmet"].push_back(u);
+  return j;
+}
+
+void printFigures(const nlohmann::ordered_json& j) {
+  std::printf("done rule: %s\n", j["done_rule"].get<std::string>().c_str());
+  std::printf("poses planned %d, visited %d, refused %d, unsettled %d; stills %d; samples kept %d (joint %d), not kept %d\n",
+              j["poses_planned"].get<int>(), j["poses_visited"].get<int>(), j["poses_refused"].get<int>(),
+              j["poses_unsettled"].get<int>(), j["stills"].get<int>(), j.value("samples", 0), j.value("joint_views", 0),
+              j["samples_rejected"].get<int>());
+  if (j.contains("cameras")) {
+    for (const auto& [label, c] : j["cameras"].items()) {
+      std::printf("%s (%s, %dx%d): RMS %.3f px over %d views, %d corners\n", label.c_str(),
+                  c["model"].get<std::string>().c_str(), c["width"].get<int>(), c["height"].get<int>(),
+                  c["rms_px"].get<double>(), c["views_used"].get<int>(), c["corners"].get<int>());
+      for (const auto& [name, value] : c["params"].items()) {
+        const double sd = c.contains("stddev") && c["stddev"].contains(name) ? c["stddev"][name].get<double>() : NAN;
+        std::printf("  %-6s %14.6f ± %.6f\n", name.c_str(), value.get<double>(), sd);
+      }
+    }
+  }
+  std::printf("time from the first sample to the result: %.1f s (whole run %.1f s)\n",
+              j["first_sample_to_result_s"].get<double>(), j["total_s"].get<double>());
+  if (j.contains("models")) {
+    std::printf("\n| model | parameters | RMS px (worse camera) | views used | solve s | note |\n|---|---:|---:|---:|---:|---|\n");
+    for (const auto& m : j["models"]) {
+      std::printf("| %s | %d | %s | %d | %.2f | %s |\n", m["model"].get<std::string>().c_str(), m["parameters"].get<int>(),
+                  m["ok"].get<bool>() ? std::to_string(m["rms_px"].get<double>()).substr(0, 6).c_str() : "—",
+                  m["views_used"].get<int>(), m["solve_s"].get<double>(), m["message"].get<std::string>().c_str());
+    }
+    const std::string pre = j["preselected_model"].get<std::string>();
+    std::printf("simplest model within %.2f px: %s\n", j["tolerance_px"].get<double>(),
+                pre.empty() ? "none" : pre.c_str());
+  }
+}
+
+}  // namespace
+
+CLI::App* addCalibrateCommand(CLI::App& app, CalibrateCommandOptions& o) {
+  CLI::App* calibrate = app.add_subcommand("calibrate", "calibrate from the live robot (headless)");
+  calibrate->require_subcommand(1);
+  CLI::App* intrinsics = calibrate->add_subcommand(
+      "intrinsics", "both cameras' intrinsics and T_cam_l_cam_r: the robot turns the head so that a fixed Aprilgrid "
+                    "covers the images out to the rim");
+  intrinsics->add_flag("--auto", o.automatic, "drive the robot and take samples until the done rule holds")->required();
+  intrinsics->add_option("--robot", o.robot, "the robot's link endpoint (tcp://HOST:BASEPORT)")->capture_default_str();
+  intrinsics->add_option("--out", o.out, "calibration file to write")->required();
+  intrinsics->add_option("--format", o.format, "telesphere, kalibr or basalt")->capture_default_str();
+  intrinsics->add_option("--model", o.model, "camera model: ds, eucm, kb4 or pinhole")->capture_default_str();
+  intrinsics->add_option("--initial", o.initial,
+                         "the calibration the robot runs with (plans the head poses; its hand-eye transforms are kept "
+                         "in --out)")
+      ->check(CLI::ExistingFile);
+  intrinsics->add_option("--target", o.target, "kalibr Aprilgrid YAML (default: 6×6 tags of 88 mm, spacing 0.3)")
+      ->check(CLI::ExistingFile);
+  intrinsics->add_option("--min-views", o.min_views, "the done rule's number of samples")
+      ->capture_default_str()->check(CLI::Range(3, 1000));
+  intrinsics->add_option("--max-views", o.max_views,
+                         "stop collecting at this many samples (below --min-views the done rule cannot be met)")
+      ->capture_default_str()->check(CLI::Range(3, 1000));
+  intrinsics->add_option("--save-stills", o.save_stills,
+                         "write every still (PNG, full resolution) and stills.csv with its verdict to this folder");
+  intrinsics->add_flag("--compare-models", o.compare_models,
+                       "also solve ds, eucm, kb4 and pinhole on the same samples and name the simplest within "
+                       "--tolerance-px");
+  intrinsics->add_option("--tolerance-px", o.tolerance_px, "the RMS a model must reach to be preselected, px")
+      ->capture_default_str()->check(CLI::Range(0.01, 100.0));
+  intrinsics->add_flag("--json", o.json, "print the figures as JSON on stdout (the log stays on stderr)");
+  return calibrate;
+}
+
+int runCalibrateCommand(const CLI::App& /*calibrate*/, const CalibrateCommandOptions& o) {
+  const auto bad = [](const std::string& message) {
+    std::cerr << "telesphere-console calibrate: " << message << '\n';
+    return 1;
+  };
+  link::LinkEndpoints endpoints;
+  if (!parseRobotEndpoint(o.robot, &endpoints)) return bad("--robot '" + o.robot + "' is not tcp://HOST:PORT");
+  const auto format = calib::parseFormatName(o.format);
+  if (!format) return bad("--format '" + o.format + "': telesphere, kalibr or basalt");
+  const auto& models = calib::GenericCamera::modelNames();
+  if (std::find(models.begin(), models.end(), o.model) == models.end()) {
+    return bad("--model '" + o.model + "': ds, eucm, kb4 or pinhole");
+  }
+  console::calibration::IntrinsicsProcedureOptions options;
+  options.model = o.model;
+  options.rule.min_views = o.min_views;
+  options.max_views = o.max_views;
+  options.stills_dir = o.save_stills;
+  if (!o.target.empty()) {
+    auto grid = calib::loadAprilGrid(o.target);
+    if (!grid) return bad(grid.error().describe());
+    options.grid = *grid;
+  }
+  if (!o.initial.empty()) {
+    auto initial = calib::loadCalibrationFile(o.initial);
+    if (!initial) return bad(initial.error().describe());
+    options.initial = *initial;
+  }
+  options.log = [](const std::string& line) { std::cerr << "calibrate: " << line << '\n'; };
+
+  link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
+  console::calibration::CalibrationRobot robot(client);
+  if (!robot.headPose(std::chrono::seconds(10))) {
+    std::cerr << "telesphere-console calibrate: the robot never answered at " << o.robot
+              << " within 10 s (is telesphere-robot running?)\n";
+    return 3;
+  }
+  const auto outcome = console::calibration::runIntrinsicsAuto(robot, options);
+  nlohmann::ordered_json figures = figuresOf(outcome);
+  if (o.compare_models && outcome.collector && !outcome.collector->samples().empty()) {
+    std::cerr << "calibrate: comparing the camera models on the same samples…\n";
+    const auto comparison = console::calibration::compareModels(*outcome.collector, options.grid, o.tolerance_px);
+    for (const auto& fit : comparison.fits) {
+      figures["models"].push_back({{"model", fit.model},
+                                   {"ok", fit.ok},
+                                   {"rms_px", fit.rms_px},
+                                   {"parameters", fit.parameters},
+                                   {"views_used", fit.views_used},
+                                   {"solve_s", fit.solve_s},
+                                   {"message", fit.message}});
+    }
+    figures["tolerance_px"] = o.tolerance_px;
+    figures["preselected_model"] = comparison.preselected.value_or("");
+  }
+  if (o.json) {
+    std::cout << figures.dump(2) << '\n';
+  } else {
+    printFigures(figures);
+  }
+  if (!outcome.done) {
+    std::cerr << "telesphere-console calibrate: " << outcome.error << '\n';
+    return 2;
+  }
+  if (auto error = calib::saveCalibrationFile(*outcome.calibration, o.out, *format)) return bad(error->describe());
+  std::cerr << "telesphere-console calibrate: wrote " << o.out << '\n';
+  return 0;
+}
+
+}  // namespace telesphere::app

@@ -1,0 +1,119 @@
+// SPDX-License-Identifier: MIT
+/// @brief CalibrationRobot (see calibration_robot.h).
+#include "console/calibration/calibration_robot.h"
+
+#include <cmath>
+#include <cstdio>
+#include <thread>
+
+#include "robot/link/link_pose.h"
+
+namespace telesphere::console::calibration {
+namespace {
+
+double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
+  return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
+}
+
+}  // namespace
+
+CalibrationRobot::~CalibrationRobot() {
+  if (holding_) {
+    std::string ignored;
+    release(&ignored);
+  }
+}
+
+std::optional<link::proto::ControlReply> CalibrationRobot::request(link::proto::ControlRequest r, std::string* error,
+                                                                   std::optional<std::chrono::milliseconds> timeout) {
+  const std::chrono::milliseconds wait = timeout.value_or(request_timeout_);
+  auto reply = client_.request(std::move(r), wait);
+  if (!reply) {
+    *error = "the robot did not answer within " + std::to_string(wait.count()) + " ms";
+    return std::nullopt;
+  }
+  if (!reply->ok()) {
+    *error = reply->error();
+    return std::nullopt;
+  }
+  return reply;
+}
+
+bool CalibrationRobot::holdHeadAt(const Eigen::Isometry3d& T_robot_head, std::string* error) {
+  link::proto::ControlRequest r;
+  link::toLinkPose(T_robot_head, r.mutable_calibration_head_pose()->mutable_t_robot_head());
+  if (!request(std::move(r), error)) return false;
+  holding_ = true;
+  return true;
+}
+
+bool CalibrationRobot::release(std::string* error) {
+  link::proto::ControlRequest r;
+  r.mutable_calibration_head_pose()->set_release(true);
+  if (!request(std::move(r), error)) return false;
+  holding_ = false;
+  return true;
+}
+
+bool CalibrationRobot::waitSettled(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,
+                                   const std::atomic<bool>* cancel, std::string* error) {
+  const auto deadline = std::chrono::steady_clock::now() + options.timeout;
+  std::int64_t last_t_ns = 0;
+  std::optional<Eigen::Isometry3d> previous;
+  int still = 0;
+  double dp = NAN, da = NAN;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (cancel != nullptr && cancel->load()) {
+      *error = "cancelled";
+      return false;
+    }
+    const auto state = client_.latestRobotState();
+    if (state && state->t_ns() != last_t_ns && state->has_t_robot_head()) {
+      last_t_ns = state->t_ns();
+      const Eigen::Isometry3d T = link::fromLinkPose(state->t_robot_head());
+      dp = (T.translation() - T_robot_head.translation()).norm();
+      da = angleDeg(T.linear(), T_robot_head.linear());
+      const bool there = dp <= options.position_tolerance_m && da <= options.angle_tolerance_deg;
+      const bool unmoved = previous && (T.translation() - previous->translation()).norm() <= options.still_position_m &&
+                           angleDeg(T.linear(), previous->linear()) <= options.still_angle_deg;
+      still = there && unmoved ? still + 1 : 0;
+      previous = T;
+      if (!state->arm_ok()) {
+        *error = "the arm stopped: " + state->fault();
+        return false;
+      }
+      if (still >= options.still_states) return true;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "the head did not settle within %.1f s (%.1f mm and %.2f° from the pose asked for)",
+                double(options.timeout.count()) / 1000.0, dp * 1000.0, da);
+  *error = buf;
+  return false;
+}
+
+std::optional<link::proto::CalibrationStill> CalibrationRobot::takeStill(std::string* error) {
+  link::proto::ControlRequest r;
+  r.set_calibration_capture(true);
+  auto reply = request(std::move(r), error, still_timeout_);
+  if (!reply) return std::nullopt;
+  if (!reply->has_still()) {
+    *error = "the robot's reply holds no still";
+    return std::nullopt;
+  }
+  return std::move(*reply->mutable_still());
+}
+
+std::optional<Eigen::Isometry3d> CalibrationRobot::headPose(std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  do {
+    if (const auto state = client_.latestRobotState(); state && state->has_t_robot_head()) {
+      return link::fromLinkPose(state->t_robot_head());
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  } while (std::chrono::steady_clock::now() < deadline);
+  return std::nullopt;
+}
+
+}  // namespace telesphere::console::calibration

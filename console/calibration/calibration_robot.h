@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+/// @brief What the calibration procedures ask of the robot, over the link (issue #15): hold the
+///        head at a pose and wait until it has settled there, take a full-resolution stereo
+///        still, release the head. Synchronous (call it from a worker thread, never from the
+///        GUI thread); every failure says why.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include "robot/link/link_client.h"
+
+namespace telesphere::console::calibration {
+
+struct SettleOptions {
+  double position_tolerance_m = 0.002;  ///< of the pose asked for
+  double angle_tolerance_deg = 0.5;
+  double still_position_m = 0.0002;     ///< moved less than this between two robot states…
+  double still_angle_deg = 0.03;
+  int still_states = 5;                 ///< …this many states in a row (50 Hz: 0.1 s)
+  std::chrono::milliseconds timeout{10000};
+};
+
+class CalibrationRobot {
+ public:
+  explicit CalibrationRobot(link::LinkClient& client, std::chrono::milliseconds request_timeout = std::chrono::seconds(3))
+      : client_(client), request_timeout_(request_timeout) {}
+  ~CalibrationRobot();  ///< releases the head if this object held it
+
+  /// Asks the robot to hold the head at T_robot_head; false with the robot's reason.
+  bool holdHeadAt(const Eigen::Isometry3d& T_robot_head, std::string* error);
+  /// Waits until the reported head pose is at T_robot_head and still; false with the reason
+  /// (timeout with the remaining distance, cancelled).
+  bool waitSettled(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,
+                   const std::atomic<bool>* cancel, std::string* error);
+  /// Gives the head back to the operator.
+  bool release(std::string* error);
+
+  /// A full-resolution stereo still (the robot's calibration_capture; the reply may take as long
+  /// as the robot's --still-timeout-ms, so the wait here is `still_timeout`).
+  std::optional<link::proto::CalibrationStill> takeStill(std::string* error);
+  void setStillTimeout(std::chrono::milliseconds timeout) { still_timeout_ = timeout; }
+
+  /// The newest robot state's head pose (waits up to `timeout` for a first state).
+  std::optional<Eigen::Isometry3d> headPose(std::chrono::milliseconds timeout);
+
+ private:
+  std::optional<link::proto::ControlReply> request(link::proto::ControlRequest r, std::string* error,
+                                                   std::optional<std::chrono::milliseconds> timeout = std::nullopt);
+
+  link::LinkClient& client_;
+  std::chrono::milliseconds request_timeout_;
+  std::chrono::milliseconds still_timeout_{std::chrono::seconds(65)};  ///< above the robot's largest
+  bool holding_ = false;
+};
+
+}  // namespace telesphere::console::calibration

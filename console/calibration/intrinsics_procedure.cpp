@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: MIT
+/// @brief runIntrinsicsAuto (see intrinsics_procedure.h).
+#include "console/calibration/intrinsics_procedure.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "calib/camera_resolution.h"
+#include "robot/link/link_pose.h"
+
+namespace telesphere::console::calibration {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double d = 0) {
+  char buf[300];
+  std::snprintf(buf, sizeof buf, f, a, b, c, d);
+  return buf;
+}
+
+}  // namespace
+
+calib::GenericCamera genericFisheye(const std::string& model, int width, int height) {
+  // The focal length that puts a ray 100° off axis at the image's side, through the model's
+  // default shape (stereographic for ds and eucm, equidistant for kb4).
+  std::string error;
+  double f = double(width) / (200.0 * M_PI / 180.0);
+  if (auto unit = calib::GenericCamera::create(model, calib::defaultParams(model, 1.0, width, height), &error)) {
+    Eigen::Vector2d px, centre;
+    const double a = 100.0 * M_PI / 180.0;
+    if (unit->project(Eigen::Vector3d(std::sin(a), 0, std::cos(a)), px) && unit->project(Eigen::Vector3d::UnitZ(), centre) &&
+        px.x() > centre.x()) {
+      f = 0.5 * width / (px.x() - centre.x());
+    }
+  }
+  auto camera = calib::GenericCamera::create(model, calib::defaultParams(model, f, width, height), &error);
+  if (!camera) camera = calib::GenericCamera::create("ds", calib::defaultParams("ds", f, width, height), &error);
+  return *camera;
+}
+
+IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& o) {
+  const auto t_start = Clock::now();
+  IntrinsicsOutcome out;
+  const auto log = [&](const std::string& line) {
+    if (o.log) o.log(line);
+  };
+  const auto cancelled = [&] { return o.cancel != nullptr && o.cancel->load(); };
+  std::string stage = "starting";
+  const auto report = [&](int samples, const StereoSample* last_kept) {
+    if (o.progress) o.progress(IntrinsicsProgress{stage, samples, out.poses_visited, out.poses_planned, last_kept});
+  };
+  const auto fail = [&](const std::string& why) {
+    out.error = why;
+    std::string ignored;
+    robot.release(&ignored);
+    out.total_s = secondsSince(t_start);
+    log("failed: " + why);
+    return out;
+  };
+  out.rule_text = o.rule.describe(o.coverage.polar_bin_deg);
+  log("done rule: " + out.rule_text);
+
+  // 1. Hold where the head is and find the board.
+  std::string error;
+  const auto T_robot_head0 = robot.headPose(std::chrono::seconds(5));
+  if (!T_robot_head0) return fail("no robot state with the head pose within 5 s (is telesphere-robot running?)");
+  if (!robot.holdHeadAt(*T_robot_head0, &error)) return fail("cannot hold the head: " + error);
+  if (!robot.waitSettled(*T_robot_head0, o.settle, o.cancel, &error)) return fail(error);
+  // The cameras may still be starting: a few tries for the first still.
+  std::optional<link::proto::CalibrationStill> first_still;
+  for (int attempt = 0; attempt < 5 && !first_still && !cancelled(); ++attempt) {
+    first_still = robot.takeStill(&error);
+    if (!first_still) log("no still yet (" + error + ")");
+  }
+  if (!first_still) return fail("no still: " + error);
+  ++out.stills;
+  const StereoSample first = detectStereoSample(*first_still, o.grid, o.detection);
+  const int width = first.width, height = first.height;
+  if (width <= 0) return fail("the robot's still holds no image");
+  std::array<calib::GenericCamera, 2> models{genericFisheye(o.model, width, height), genericFisheye(o.model, width, height)};
+  if (o.initial && o.initial->cameras.size() == 2) {
+    for (int c = 0; c < 2; ++c) {
+      if (auto scaled = calib::atResolution(o.initial->cameras[std::size_t(c)], width, height, &error)) {
+        models[std::size_t(c)] = scaled->camera;
+      }
+    }
+  }
+  if (int(first.views[0].corner_ids.size()) < o.gates.min_corners) {
+    return fail(fmt("the Aprilgrid is not in view of the left camera at the start (%.0f corners, %.0f needed): "
+                    "place it about 1 m in front of the head, wholly visible",
+                    double(first.views[0].corner_ids.size()), o.gates.min_corners));
+  }
+  const auto p_cam_board = boardCentreInCamera(first.views[0], o.grid, models[0]);
+  if (!p_cam_board) return fail("cannot tell where the board is from the first view");
+  const Eigen::Isometry3d T_robot_cam0 = link::fromLinkPose(first_still->left().t_robot_cam());
+  const Eigen::Isometry3d T_head_cam = T_robot_head0->inverse() * T_robot_cam0;
+  const Eigen::Vector3d p_robot_board = T_robot_cam0 * *p_cam_board;
+  log(fmt("board found %.2f m from the left camera; stills %.0f×%.0f", p_cam_board->norm(), width, height));
+
+  IntrinsicsCollector collector(models, width, height, o.gates, o.coverage);
+  std::optional<Clock::time_point> t_first_sample;
+  std::ofstream stills_csv;
+  if (!o.stills_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.stills_dir, ec);
+    stills_csv.open(o.stills_dir + "/stills.csv");
+    if (!stills_csv) return fail("cannot write " + o.stills_dir + "/stills.csv");
+    stills_csv << "still,capture_ns,target_u_px,target_v_px,roll_deg,corners_left,corners_right,verdict\n";
+  }
+  // Writes the still's images and its row (when --save-stills is on).
+  const auto keepStill = [&](const link::proto::CalibrationStill& still, const StereoSample& sample,
+                             const PlannedView& view, const std::string& verdict) {
+    if (!stills_csv.is_open()) return;
+    char name[64];
+    std::snprintf(name, sizeof name, "%s/still-%03d", o.stills_dir.c_str(), out.stills);
+    calib::writeGrayImage(grayImageOf(still.left()), std::string(name) + "-left.png");
+    calib::writeGrayImage(grayImageOf(still.right()), std::string(name) + "-right.png");
+    std::string v = verdict;
+    for (char& ch : v)
+      if (ch == ',' || ch == '"') ch = ' ';
+    stills_csv << out.stills << ',' << still.capture_ns() << ',' << view.target_px.x() << ',' << view.target_px.y() << ','
+               << view.roll_deg << ',' << sample.views[0].corner_ids.size() << ',' << sample.views[1].corner_ids.size()
+               << ',' << v << '\n'
+               << std::flush;
+  };
+
+  // 2./3. Visit planned poses.
+  const auto visit = [&](const std::vector<PlannedView>& plan, bool stop_when_collected) -> bool {
+    for (const PlannedView& view : plan) {
+      if (cancelled()) return false;
+      if (int(collector.samples().size()) >= o.max_views) break;
+      if (stop_when_collected) {
+        std::vector<const calib::ViewCoverage*> cov{&collector.coverage(0), &collector.coverage(1)};
+        if (checkCollection(int(collector.samples().size()), cov, o.rule).done()) break;
+      }
+      ++out.poses_visited;
+      if (!robot.holdHeadAt(view.T_robot_head, &error)) {
+        ++out.poses_refused;
+        log(fmt("pose for pixel (%.0f, %.0f) refused: ", view.target_px.x(), view.target_px.y()) + error);
+        continue;
+      }
+      if (!robot.waitSettled(view.T_robot_head, o.settle, o.cancel, &error)) {
+        if (cancelled()) return false;
+        ++out.poses_unsettled;
+        log("pose skipped: " + error);
+        continue;
+      }
+      std::optional<StereoSample> previous;
+      for (int s = 0; s < o.max_stills_per_pose; ++s) {
+        auto still = robot.takeStill(&error);
+        if (!still) {
+          log("no still: " + error);
+          break;
+        }
+        ++out.stills;
+        StereoSample sample = detectStereoSample(*still, o.grid, o.detection);
+        if (!t_first_sample) t_first_sample = Clock::now();
+        if (!previous) {
+          keepStill(*still, sample, view, "first at this pose");
+          previous = std::move(sample);
+          continue;
+        }
+        const SampleVerdict verdict = collector.offer(sample, &*previous);
+        keepStill(*still, sample, view, verdict.keep ? "kept" : verdict.reason);
+        if (verdict.keep) {
+          log(fmt("sample %.0f kept at pixel (%.0f, %.0f): ", double(collector.samples().size()), view.target_px.x(),
+                  view.target_px.y()) +
+              collector.coverage(0).describe());
+          report(int(collector.samples().size()), &collector.samples().back());
+          break;
+        }
+        ++out.samples_rejected;
+        log("sample not kept: " + verdict.reason);
+        const bool moving = verdict.reason.find("moving") != std::string::npos;
+        if (!moving) break;  // another still at this pose would not change the verdict
+        previous = std::move(sample);
+      }
+      report(int(collector.samples().size()), nullptr);
+    }
+    return true;
+  };
+
+  ViewPlanOptions plan_options;
+  plan_options.targets = ViewPlanOptions::innerTargets();
+  auto plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
+  out.poses_planned += int(plan.size());
+  log(fmt("inner views: %.0f poses planned", double(plan.size())));
+  stage = "inner views";
+  if (!visit(plan, false)) return fail("cancelled");
+
+  // A quick solve refines the models the rim is planned and the coverage is measured through.
+  {
+    calib::IntrinsicOptions quick;
+    quick.covariance = false;
+    quick.max_iterations = 50;
+    if (auto solved = calib::calibrateIntrinsics(o.grid, collector.cameraViews(o.model), quick)) {
+      for (int c = 0; c < 2; ++c) models[std::size_t(c)] = solved->cameras[std::size_t(c)].calibration.camera;
+      collector.setModels(models);
+      log(fmt("quick solve on %.0f views: RMS %.3f / %.3f px", double(solved->cameras[0].views_used),
+              solved->cameras[0].rms_px, solved->cameras[1].rms_px));
+    } else {
+      log("quick solve failed (" + solved.failure().message + "); planning the rim with the first models");
+    }
+  }
+  plan_options.targets = ViewPlanOptions::outerTargets();
+  plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
+  out.poses_planned += int(plan.size());
+  log(fmt("rim views: %.0f poses planned", double(plan.size())));
+  stage = "rim views";
+  if (!visit(plan, true)) return fail("cancelled");
+  std::string ignored;
+  robot.release(&ignored);
+
+  // 4. The stereo solve.
+  log(fmt("collected %.0f samples (%.0f joint views); ", double(collector.samples().size()),
+          double(collector.jointViews())) +
+      "cam_l " + collector.coverage(0).describe() + "; cam_r " + collector.coverage(1).describe());
+  stage = "solving";
+  report(int(collector.samples().size()), nullptr);
+  solveCollected(std::move(collector), o, out);
+  out.first_sample_to_result_s = out.result && t_first_sample ? secondsSince(*t_first_sample) : 0.0;
+  out.total_s = secondsSince(t_start);
+  return out;
+}
+
+void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOptions& o, IntrinsicsOutcome& out) {
+  const auto log = [&](const std::string& line) {
+    if (o.log) o.log(line);
+  };
+  out.result.reset();
+  out.calibration.reset();
+  out.collection = checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule);
+  out.solve = DoneCheck{};
+  calib::IntrinsicOptions solve_options;
+  solve_options.progress = [&](const std::string& line) { log("solve: " + line); };
+  auto solved = calib::calibrateIntrinsics(o.grid, collector.cameraViews(o.model), solve_options);
+  if (!solved) {
+    out.collector = std::move(collector);
+    out.done = false;
+    out.error = (out.collection.done() ? std::string() : "the done rule is not met: " + out.collection.describe() + "; ") +
+                "the solve failed: " + solved.failure().message;
+    log("failed: " + out.error);
+    return;
+  }
+  out.result = *solved;
+  collector.setModels({solved->cameras[0].calibration.camera, solved->cameras[1].calibration.camera});
+  out.collection = checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule);
+  out.solve = checkSolve(*solved, o.rule);
+  calib::SystemCalibration calibration = solved->toSystemCalibration();
+  if (o.initial) {
+    calibration.T_flange_cam_l = o.initial->T_flange_cam_l;
+    calibration.T_robot_mount = o.initial->T_robot_mount;
+    calibration.T_wrist_marker = o.initial->T_wrist_marker;
+  }
+  out.calibration = calibration;
+  out.collector = std::move(collector);
+  out.done = out.collection.done() && out.solve.done();
+  out.error.clear();
+  if (!out.done) {
+    out.error = "the done rule is not met: " + (out.collection.done() ? std::string() : out.collection.describe()) +
+                (out.collection.done() || out.solve.done() ? "" : "; ") + (out.solve.done() ? "" : out.solve.describe());
+  }
+  log(out.done ? "done" : out.error);
+}
+
+}  // namespace telesphere::console::calibration

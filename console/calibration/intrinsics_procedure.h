@@ -1,0 +1,97 @@
+// SPDX-License-Identifier: MIT
+/// @brief The automatic intrinsic and stereo calibration on the live robot (issue #15; the
+///        headless `telesphere-console calibrate intrinsics --auto` and the wizard's "auto" run
+///        it in a worker thread). With a fixed Aprilgrid in view of the head at the start:
+///
+///   1. hold the head where it is; a still; find the board (its centre from the corners'
+///      bearings through the planning model: --initial's, or a generic fisheye guess);
+///   2. visit the inner targets of the view plan (intrinsics_view_plan.h): at each pose hold,
+///      wait until settled, take stills until two in a row agree (the stillness gate), offer
+///      the second one to the collector (the gates);
+///   3. a quick solve of the left camera refines the planning model; the outer targets (edges,
+///      corners: the rim) are planned through it and visited while the done rule's collection
+///      part is unmet;
+///   4. the full stereo solve with standard deviations; the done rule's solve part;
+///   5. the head is released (also on failure and cancel).
+/// Every step is logged; the figures (poses refused/unsettled, stills, gate rejections, time
+/// from the first sample to the result) come back with the result.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "calib/aprilgrid.h"
+#include "calib/intrinsic_calibration.h"
+#include "calib/system_calibration.h"
+#include "console/calibration/calibration_robot.h"
+#include "console/calibration/intrinsics_collector.h"
+#include "console/calibration/intrinsics_done_rule.h"
+#include "console/calibration/intrinsics_view_plan.h"
+
+namespace telesphere::console::calibration {
+
+/// Where a run stands (for a progress bar); reported after every pose and at the solve.
+struct IntrinsicsProgress {
+  std::string stage;          ///< "inner views", "rim views", "solving", "done"
+  int samples = 0;            ///< kept so far
+  int poses_visited = 0;
+  int poses_planned = 0;
+  const StereoSample* last_kept = nullptr;  ///< the sample kept at this pose (valid during the call)
+};
+
+struct IntrinsicsProcedureOptions {
+  calib::AprilGrid grid;
+  std::string model = "ds";
+  /// The calibration the robot starts with, if known: plans the head poses (scaled to the
+  /// stills' resolution); the result keeps its hand-eye transforms.
+  std::optional<calib::SystemCalibration> initial;
+  calib::DetectionOptions detection;
+  /// The gates; 12 corners are enough (the solver's own minimum): near the image's corners
+  /// only part of the board is in view.
+  calib::SampleGateOptions gates = [] {
+    calib::SampleGateOptions g;
+    g.min_corners = 12;
+    return g;
+  }();
+  calib::CoverageOptions coverage;
+  IntrinsicsDoneRule rule;
+  SettleOptions settle;
+  int max_stills_per_pose = 4;
+  int max_views = 60;  ///< stop collecting here even if coverage is unmet
+  /// When set, every still is written here as still-NNN-left.png / -right.png (full resolution,
+  /// for telesphere-calib or kalibr later) and stills.csv says where each was taken and its verdict.
+  std::string stills_dir;
+  std::function<void(const std::string&)> log;  ///< one line per step (any thread)
+  std::function<void(const IntrinsicsProgress&)> progress;  ///< (the worker's thread)
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct IntrinsicsOutcome {
+  bool done = false;    ///< a result that meets the done rule
+  std::string error;    ///< why not (empty when done)
+  std::optional<calib::IntrinsicResult> result;
+  /// The result with the initial calibration's hand-eye transforms (when given), ready to save.
+  std::optional<calib::SystemCalibration> calibration;
+  std::optional<IntrinsicsCollector> collector;
+  DoneCheck collection, solve;
+  std::string rule_text;
+  int poses_planned = 0, poses_visited = 0, poses_refused = 0, poses_unsettled = 0;
+  int stills = 0, samples_rejected = 0;
+  double first_sample_to_result_s = 0;  ///< wall time
+  double total_s = 0;
+};
+
+/// Runs the procedure against the robot behind `robot`.
+IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& options);
+
+/// Solves the samples in `collector` (again, e.g. after the user deleted some) and fills in
+/// `out`'s result, calibration, done checks and error; the collector ends up in `out`.
+void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOptions& options, IntrinsicsOutcome& out);
+
+/// A generic fisheye guess for `model` at width × height (about 200° across the width) when no
+/// calibration is known.
+calib::GenericCamera genericFisheye(const std::string& model, int width, int height);
+
+}  // namespace telesphere::console::calibration

@@ -1,0 +1,357 @@
+// SPDX-License-Identifier: MIT
+/// @brief CalibrationPanel (see calibration_panel.h).
+#include "console/calibration_panel.h"
+
+#include <QComboBox>
+#include <QFileDialog>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QListWidget>
+#include <QMetaObject>
+#include <QPainter>
+#include <QPlainTextEdit>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QTabWidget>
+#include <QTableWidget>
+#include <QVBoxLayout>
+
+#include "calib/calibration_file.h"
+#include "robot/link/link_client.h"
+
+namespace telesphere::console {
+namespace {
+
+/// A sample's two thumbnails side by side with the detected corners drawn on them.
+QImage sampleImage(const calibration::StereoSample& s) {
+  const int w = std::max(s.thumbnails[0].width, 1), h = std::max(s.thumbnails[0].height, 1);
+  QImage image(2 * w + 4, h, QImage::Format_RGB32);
+  image.fill(Qt::black);
+  QPainter p(&image);
+  for (int c = 0; c < 2; ++c) {
+    const calib::GrayImage& t = s.thumbnails[std::size_t(c)];
+    if (t.width <= 0) continue;
+    QImage gray(t.pixels.data(), t.width, t.height, t.width, QImage::Format_Grayscale8);
+    const int x0 = c * (w + 4);
+    p.drawImage(x0, 0, gray);
+    const double scale = s.width > 0 ? double(t.width) / s.width : 1.0;
+    p.setPen(Qt::NoPen);
+    p.setBrush(QColor(255, 60, 60));
+    for (const Eigen::Vector2d& px : s.views[std::size_t(c)].corners_px) {
+      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), 1.2, 1.2);
+    }
+  }
+  return image;
+}
+
+/// The polar bins of both cameras as rows of cells: reached (green), required and missing (red),
+/// optional (grey); the bin edges in degrees underneath.
+QPixmap coveragePicture(const calibration::IntrinsicsCollector& collector, const calibration::IntrinsicsDoneRule& rule) {
+  const int cell = 26, rows = 2, label_w = 52;
+  const int bins = std::max(collector.coverage(0).polarBins(), collector.coverage(1).polarBins());
+  QPixmap pixmap(label_w + bins * cell + 2, rows * (cell + 4) + 18);
+  pixmap.fill(Qt::white);
+  QPainter p(&pixmap);
+  for (int c = 0; c < rows; ++c) {
+    const calib::ViewCoverage& cov = collector.coverage(c);
+    const std::vector<int> required = calibration::requiredPolarBins(cov, rule);
+    p.setPen(Qt::black);
+    p.drawText(QRect(0, c * (cell + 4), label_w, cell), Qt::AlignVCenter, c == 0 ? "cam_l" : "cam_r");
+    for (int b = 0; b < cov.polarBins(); ++b) {
+      const bool needed = std::find(required.begin(), required.end(), b) != required.end();
+      const QColor fill = cov.polarCount(b) > 0 ? QColor(90, 180, 90) : needed ? QColor(220, 80, 80) : QColor(200, 200, 200);
+      p.fillRect(QRect(label_w + b * cell, c * (cell + 4), cell - 2, cell), fill);
+    }
+  }
+  p.setPen(Qt::black);
+  for (int b = 0; b <= bins; b += 3) {
+    p.drawText(QRect(label_w + b * cell - 12, rows * (cell + 4), 40, 16), Qt::AlignLeft,
+               QString::number(b * collector.coverage(0).polarBinDeg()) + "°");
+  }
+  return pixmap;
+}
+
+}  // namespace
+
+CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget* parent)
+    : QWidget(parent), endpoints_(endpoints) {
+  auto* layout = new QVBoxLayout(this);
+  auto* title = new QLabel("<b>Intrinsics and stereo</b> — fix an Aprilgrid about 1 m in front of the head; "
+                           "the robot turns the head so that it covers both images out to the rim.");
+  title->setWordWrap(true);
+  layout->addWidget(title);
+  rule_ = new QLabel;
+  rule_->setWordWrap(true);
+  rule_->setObjectName("calibration_rule");
+  layout->addWidget(rule_);
+
+  auto* row = new QHBoxLayout;
+  model_ = new QComboBox;
+  model_->addItems({"ds", "eucm", "kb4", "pinhole"});
+  model_->setToolTip("camera model to solve for");
+  auto_ = new QPushButton("Auto-calibrate");
+  auto_->setObjectName("calibration_auto");
+  cancel_button_ = new QPushButton("Cancel");
+  cancel_button_->setObjectName("calibration_cancel");
+  delete_ = new QPushButton("Delete sample");
+  delete_->setObjectName("calibration_delete");
+  save_ = new QPushButton("Save as…");
+  save_->setObjectName("calibration_save");
+  row->addWidget(new QLabel("Model"));
+  row->addWidget(model_);
+  row->addWidget(auto_);
+  row->addWidget(cancel_button_);
+  row->addStretch(1);
+  row->addWidget(delete_);
+  row->addWidget(save_);
+  layout->addLayout(row);
+
+  progress_ = new QProgressBar;
+  progress_->setFormat("%v of %m samples");
+  layout->addWidget(progress_);
+  status_ = new QLabel("No calibration run yet.");
+  status_->setObjectName("calibration_status");
+  status_->setWordWrap(true);
+  layout->addWidget(status_);
+
+  coverage_ = new QLabel;
+  coverage_->setObjectName("calibration_coverage");
+  coverage_->setToolTip("polar-angle bins: green reached, red required and missing, grey optional");
+  layout->addWidget(coverage_);
+  auto* tabs = new QTabWidget;
+  tabs->setObjectName("calibration_tabs");
+  samples_ = new QListWidget;
+  samples_->setObjectName("calibration_samples");
+  samples_->setViewMode(QListView::IconMode);
+  samples_->setIconSize(QSize(324, 90));
+  samples_->setResizeMode(QListView::Adjust);
+  samples_->setMovement(QListView::Static);
+  samples_->setSpacing(4);
+  tabs->addTab(samples_, "Samples");
+  results_ = new QTableWidget(0, 3);
+  results_->setObjectName("calibration_results");
+  results_->setHorizontalHeaderLabels({"parameter", "cam_l", "cam_r"});
+  results_->horizontalHeader()->setStretchLastSection(true);
+  results_->verticalHeader()->hide();
+  tabs->addTab(results_, "Results");
+  log_ = new QPlainTextEdit;
+  log_->setReadOnly(true);
+  log_->setMaximumBlockCount(2000);
+  log_->setObjectName("calibration_log");
+  tabs->addTab(log_, "Log");
+  layout->addWidget(tabs, 1);
+
+  connect(auto_, &QPushButton::clicked, this, &CalibrationPanel::startAuto);
+  connect(cancel_button_, &QPushButton::clicked, this, &CalibrationPanel::cancel);
+  connect(delete_, &QPushButton::clicked, this, [this] {
+    if (samples_->currentRow() >= 0) deleteSample(samples_->currentRow());
+  });
+  connect(save_, &QPushButton::clicked, this, [this] {
+    QString filter;
+    const QString path = QFileDialog::getSaveFileName(this, "Save calibration", "calibration.yaml",
+                                                      "telesphere (*.yaml);;kalibr camchain (*.yaml);;Basalt (*.json)",
+                                                      &filter);
+    if (path.isEmpty()) return;
+    QString error;
+    const QString format = filter.startsWith("kalibr") ? "kalibr" : filter.startsWith("Basalt") ? "basalt" : "telesphere";
+    if (!saveTo(path, format, &error)) status_->setText("<span style='color:#b00'>" + error.toHtmlEscaped() + "</span>");
+  });
+  setProcedureOptions({});
+  setBusy(false);
+}
+
+CalibrationPanel::~CalibrationPanel() {
+  cancel_ = true;
+  if (worker_.joinable()) worker_.join();
+}
+
+void CalibrationPanel::setProcedureOptions(const calibration::IntrinsicsProcedureOptions& options) {
+  options_ = options;
+  rule_->setText("<b>Done when:</b> " + QString::fromStdString(options_.rule.describe(options_.coverage.polar_bin_deg)));
+  progress_->setRange(0, options_.rule.min_views);
+}
+
+void CalibrationPanel::setBusy(bool busy) {
+  auto_->setEnabled(!busy);
+  model_->setEnabled(!busy);
+  cancel_button_->setEnabled(busy);
+  delete_->setEnabled(!busy && outcome_ && outcome_->collector && !outcome_->collector->samples().empty());
+  save_->setEnabled(!busy && outcome_ && outcome_->done && outcome_->calibration.has_value());
+}
+
+void CalibrationPanel::launch(std::function<calibration::IntrinsicsOutcome()> work, const QString& what) {
+  if (worker_.joinable()) worker_.join();
+  cancel_ = false;
+  finished_ = false;
+  setBusy(true);
+  status_->setText(what);
+  worker_ = std::thread([this, work = std::move(work)] {
+    calibration::IntrinsicsOutcome result = work();
+    {
+      std::lock_guard lock(result_mutex_);
+      pending_ = std::move(result);
+    }
+    finished_ = true;
+    QMetaObject::invokeMethod(this, [this] { onFinished(); }, Qt::QueuedConnection);
+  });
+}
+
+void CalibrationPanel::startAuto() {
+  if (running()) return;
+  calibration::IntrinsicsProcedureOptions o = options_;
+  o.model = model_->currentText().toStdString();
+  o.cancel = &cancel_;
+  o.log = [this](const std::string& line) {
+    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
+                              Qt::QueuedConnection);
+  };
+  o.progress = [this](const calibration::IntrinsicsProgress& p) {
+    QImage thumb = p.last_kept ? sampleImage(*p.last_kept) : QImage();
+    QMetaObject::invokeMethod(
+        this,
+        [this, p_stage = QString::fromStdString(p.stage), samples = p.samples, visited = p.poses_visited,
+         planned = p.poses_planned, thumb] {
+          progress_->setValue(std::min(samples, progress_->maximum()));
+          status_->setText(QString("%1: %2 samples kept, %3 of %4 head poses visited").arg(p_stage).arg(samples).arg(visited).arg(planned));
+          if (!thumb.isNull()) samples_->addItem(new QListWidgetItem(QIcon(QPixmap::fromImage(thumb)), QString::number(samples)));
+        },
+        Qt::QueuedConnection);
+  };
+  samples_->clear();
+  results_->setRowCount(0);
+  log_->clear();
+  outcome_.reset();
+  const link::LinkEndpoints endpoints = endpoints_;
+  launch(
+      [o, endpoints] {
+        link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
+        calibration::CalibrationRobot robot(client);
+        return calibration::runIntrinsicsAuto(robot, o);
+      },
+      "starting: holding the head and looking for the board…");
+}
+
+void CalibrationPanel::cancel() { cancel_ = true; }
+
+void CalibrationPanel::deleteSample(int index) {
+  if (running() || !outcome_ || !outcome_->collector || index < 0 ||
+      index >= int(outcome_->collector->samples().size())) {
+    return;
+  }
+  calibration::IntrinsicsCollector collector = *outcome_->collector;
+  collector.remove(std::size_t(index));
+  delete samples_->takeItem(index);
+  for (int i = 0; i < samples_->count(); ++i) samples_->item(i)->setText(QString::number(i + 1));
+  calibration::IntrinsicsProcedureOptions o = options_;
+  o.model = model_->currentText().toStdString();
+  o.log = [this](const std::string& line) {
+    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
+                              Qt::QueuedConnection);
+  };
+  calibration::IntrinsicsOutcome base = *outcome_;
+  launch(
+      [o, collector = std::move(collector), base]() mutable {
+        calibration::solveCollected(std::move(collector), o, base);
+        return base;
+      },
+      QString("solving again without sample %1…").arg(index + 1));
+}
+
+void CalibrationPanel::onFinished() {
+  if (worker_.joinable()) worker_.join();
+  {
+    std::lock_guard lock(result_mutex_);
+    outcome_ = std::move(pending_);
+    pending_.reset();
+  }
+  showOutcome();
+  setBusy(false);
+  emit runFinished(outcome_ && outcome_->done);
+}
+
+void CalibrationPanel::showOutcome() {
+  if (!outcome_) return;
+  const calibration::IntrinsicsOutcome& o = *outcome_;
+  if (o.done) {
+    status_->setText(QString("<span style='color:#060'><b>Done</b></span>: %1 samples, RMS %2 / %3 px, "
+                             "%4 s from the first sample to the result.")
+                         .arg(o.collector ? int(o.collector->samples().size()) : 0)
+                         .arg(o.result->cameras[0].rms_px, 0, 'f', 3)
+                         .arg(o.result->cameras[1].rms_px, 0, 'f', 3)
+                         .arg(o.first_sample_to_result_s, 0, 'f', 1));
+  } else {
+    status_->setText("<span style='color:#b00'><b>Not done</b></span>: " + QString::fromStdString(o.error).toHtmlEscaped() +
+                     (o.result ? " — the result below is shown, not confident." : ""));
+  }
+  if (o.collector) progress_->setValue(std::min(int(o.collector->samples().size()), progress_->maximum()));
+  showCoverage();
+  results_->setRowCount(0);
+  if (!o.result) return;
+  const auto names = calib::GenericCamera::paramNames(o.result->cameras[0].calibration.camera.modelName());
+  const auto add = [&](const QString& name, const QString& l, const QString& r) {
+    const int row = results_->rowCount();
+    results_->insertRow(row);
+    results_->setItem(row, 0, new QTableWidgetItem(name));
+    results_->setItem(row, 1, new QTableWidgetItem(l));
+    results_->setItem(row, 2, new QTableWidgetItem(r));
+  };
+  const auto cell = [&](int c, std::size_t i) {
+    const calib::CameraIntrinsicResult& cam = o.result->cameras[std::size_t(c)];
+    const double v = cam.calibration.camera.params()[Eigen::Index(i)];
+    return i < cam.param_stddev.size() ? QString("%1 ± %2").arg(v, 0, 'f', 4).arg(cam.param_stddev[i], 0, 'g', 2)
+                                       : QString::number(v, 'f', 4);
+  };
+  for (std::size_t i = 0; i < names.size(); ++i) add(QString::fromUtf8(names[i].data(), int(names[i].size())), cell(0, i), cell(1, i));
+  add("RMS px", QString::number(o.result->cameras[0].rms_px, 'f', 3), QString::number(o.result->cameras[1].rms_px, 'f', 3));
+  add("views", QString::number(o.result->cameras[0].views_used), QString::number(o.result->cameras[1].views_used));
+  if (o.result->T_cam_l_cam_r) {
+    const Eigen::Vector3d t = o.result->T_cam_l_cam_r->translation() * 1000.0;
+    const Eigen::AngleAxisd r(o.result->T_cam_l_cam_r->linear());
+    add("T_cam_l_cam_r", QString("t = (%1, %2, %3) mm").arg(t.x(), 0, 'f', 2).arg(t.y(), 0, 'f', 2).arg(t.z(), 0, 'f', 2),
+        QString("rotation %1°").arg(r.angle() * 180.0 / M_PI, 0, 'f', 3));
+  }
+  results_->resizeColumnsToContents();
+}
+
+void CalibrationPanel::showCoverage() {
+  if (!outcome_ || !outcome_->collector) {
+    coverage_->clear();
+    return;
+  }
+  coverage_->setPixmap(coveragePicture(*outcome_->collector, options_.rule));
+  coverage_->setToolTip(QString::fromStdString("cam_l: " + outcome_->collector->coverage(0).describe() +
+                                               "\ncam_r: " + outcome_->collector->coverage(1).describe()));
+}
+
+bool CalibrationPanel::saveTo(const QString& path, const QString& format, QString* error) {
+  if (!outcome_ || !outcome_->calibration) {
+    *error = "nothing to save: no calibration result yet";
+    return false;
+  }
+  if (!outcome_->done) {
+    *error = "the done rule is not met: a result that is not confident is not saved (" +
+             QString::fromStdString(outcome_->error) + ")";
+    return false;
+  }
+  const auto f = calib::parseFormatName(format.toStdString());
+  if (!f) {
+    *error = "unknown format " + format + " (telesphere, kalibr or basalt)";
+    return false;
+  }
+  if (auto e = calib::saveCalibrationFile(*outcome_->calibration, path.toStdString(), *f)) {
+    *error = QString::fromStdString(e->describe());
+    return false;
+  }
+  status_->setText(status_->text() + "<br>Saved " + path.toHtmlEscaped() + " (" + format + ").");
+  return true;
+}
+
+QString CalibrationPanel::statusText() const { return status_->text(); }
+
+int CalibrationPanel::sampleCount() const {
+  return outcome_ && outcome_->collector ? int(outcome_->collector->samples().size()) : samples_->count();
+}
+
+}  // namespace telesphere::console

@@ -1,0 +1,141 @@
+// SPDX-License-Identifier: MIT
+/// @brief The Calibration panel through its real widgets (offscreen) against a real
+///        `telesphere-robot --sim` whose cameras have a known true calibration (issue #15): the
+///        run goes in a worker while the window keeps answering, samples appear as thumbnails
+///        with their corners, a run capped below the done rule says so plainly and cannot be
+///        saved, a deleted sample is solved again without it, cancel stops the run and gives
+///        the head back. Writes the panel's screenshot for the docs.
+#include <QDockWidget>
+#include <QLabel>
+#include <QListWidget>
+#include <QTabWidget>
+#include <QTableWidget>
+
+#include "calib/calibration_file.h"
+#include "console/calibration_panel.h"
+#include "robot/link/link_client.h"
+#include "tests/console/console_rig.h"
+
+namespace telesphere::console {
+namespace {
+
+using test_rig::Process;
+using test_rig::Rig;
+
+constexpr int kPort = 27980;
+
+std::unique_ptr<Process> startCalibrationRobot(Rig& rig) {
+  return std::make_unique<Process>(
+      "telesphere-robot",
+      QStringList{"--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "10000", "--sim-truth",
+                  TELESPHERE_SOURCE_DIR "/tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
+                  "--stats-period", "0"},
+      rig.dir.filePath("robot.log"));
+}
+
+calibration::IntrinsicsProcedureOptions cappedOptions(int max_views) {
+  calibration::IntrinsicsProcedureOptions o;
+  auto initial = calib::loadCalibrationFile(TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml");
+  EXPECT_TRUE(initial);
+  o.initial = *initial;
+  o.max_views = max_views;  // below the rule's 20: the rule cannot be met
+  return o;
+}
+
+TEST(CalibrationPanel, ACappedRunIsShownNotDoneAndCannotBeSavedADeletedSampleIsSolvedAgain) {
+  Rig rig(kPort);
+  rig.robot = startCalibrationRobot(rig);
+  CalibrationPanel* panel = rig.window->calibrationPanel();
+  ASSERT_NE(panel, nullptr);
+  QDockWidget* calibration_dock = nullptr;
+  for (QDockWidget* dock : rig.window->findChildren<QDockWidget*>())
+    if (dock->windowTitle() == "Calibration") calibration_dock = dock;
+  ASSERT_NE(calibration_dock, nullptr);
+  calibration_dock->raise();
+  EXPECT_NE(panel->findChild<QLabel*>("calibration_rule")->text().indexOf("20 views"), -1);
+  panel->setProcedureOptions(cappedOptions(6));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return rig.session->everHeardRobot(); }, 30000)) << rig.logs();
+
+  rig.click(panel->findChild<QPushButton*>("calibration_auto"));
+  EXPECT_TRUE(panel->running());
+  EXPECT_FALSE(panel->findChild<QPushButton*>("calibration_auto")->isEnabled());
+  // The window keeps answering while the worker runs: events are pumped in short slices.
+  QElapsedTimer since_last;
+  since_last.start();
+  qint64 worst_ms = 0;
+  ASSERT_TRUE(test_rig::pumpUntil(
+      [&] {
+        worst_ms = std::max(worst_ms, since_last.restart());
+        return !panel->running();
+      },
+      300000))
+      << rig.logs();
+  std::printf("the GUI thread's longest gap between event-pump slices during the run: %lld ms\n",
+              static_cast<long long>(worst_ms));
+  EXPECT_LT(worst_ms, 1000);
+  test_rig::pumpFor(200);
+  ASSERT_TRUE(panel->outcome());
+  EXPECT_FALSE(panel->outcome()->done);
+  EXPECT_EQ(panel->sampleCount(), 6);
+  EXPECT_EQ(panel->findChild<QListWidget*>("calibration_samples")->count(), 6);
+  EXPECT_NE(panel->statusText().indexOf("Not done"), -1) << panel->statusText().toStdString();
+  EXPECT_NE(panel->statusText().indexOf("6 of 20 views"), -1) << panel->statusText().toStdString();
+  EXPECT_GT(panel->findChild<QTableWidget*>("calibration_results")->rowCount(), 6);  // parameters ± σ, RMS, views
+  EXPECT_FALSE(panel->findChild<QPushButton*>("calibration_save")->isEnabled());
+  QString error;
+  EXPECT_FALSE(panel->saveTo(rig.dir.filePath("not_done.yaml"), "telesphere", &error));
+  EXPECT_NE(error.indexOf("not met"), -1) << error.toStdString();
+  EXPECT_FALSE(QFile::exists(rig.dir.filePath("not_done.yaml")));
+  // The head was given back.
+  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+                         link::LinkClient::Options{.frames = false});
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return probe.latestRobotState().has_value(); }, 10000));
+  EXPECT_FALSE(probe.latestRobotState()->calibration_hold());
+  test_rig::saveShot(rig.window.get(), "calibration_capped_run.png");
+  // The panel on its own, floated wide enough for the docs.
+  calibration_dock->setFloating(true);
+  calibration_dock->resize(820, 940);
+  test_rig::pumpFor(200);
+  test_rig::saveShot(panel, "panel_calibration.png");
+  auto* tabs = panel->findChild<QTabWidget*>("calibration_tabs");
+  ASSERT_NE(tabs, nullptr);
+  tabs->setCurrentIndex(1);
+  test_rig::pumpFor(50);
+  test_rig::saveShot(panel, "panel_calibration_results.png");
+  tabs->setCurrentIndex(0);
+
+  // Delete the first sample: solved again on the other five.
+  rig.click(panel->findChild<QPushButton*>("calibration_delete"));  // nothing selected: no change
+  EXPECT_FALSE(panel->running());
+  panel->findChild<QListWidget*>("calibration_samples")->setCurrentRow(0);
+  rig.click(panel->findChild<QPushButton*>("calibration_delete"));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return !panel->running() && panel->sampleCount() == 5; }, 120000));
+  test_rig::pumpFor(100);
+  EXPECT_EQ(panel->findChild<QListWidget*>("calibration_samples")->count(), 5);
+  EXPECT_NE(panel->statusText().indexOf("5 of 20 views"), -1) << panel->statusText().toStdString();
+}
+
+TEST(CalibrationPanel, CancelStopsTheRunAndGivesTheHeadBack) {
+  Rig rig(kPort);
+  rig.robot = startCalibrationRobot(rig);
+  CalibrationPanel* panel = rig.window->calibrationPanel();
+  panel->setProcedureOptions(cappedOptions(60));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return rig.session->everHeardRobot(); }, 30000)) << rig.logs();
+  rig.click(panel->findChild<QPushButton*>("calibration_auto"));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return panel->findChild<QListWidget*>("calibration_samples")->count() >= 1; },
+                                  120000))
+      << rig.logs();
+  rig.click(panel->findChild<QPushButton*>("calibration_cancel"));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return !panel->running(); }, 30000));
+  test_rig::pumpFor(100);
+  ASSERT_TRUE(panel->outcome());
+  EXPECT_FALSE(panel->outcome()->done);
+  EXPECT_NE(panel->statusText().indexOf("cancelled"), -1) << panel->statusText().toStdString();
+  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+                         link::LinkClient::Options{.frames = false});
+  ASSERT_TRUE(test_rig::pumpUntil(
+      [&] { return probe.latestRobotState().has_value() && !probe.latestRobotState()->calibration_hold(); }, 10000));
+}
+
+}  // namespace
+}  // namespace telesphere::console

@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-console calibrate intrinsics --auto` against a real `telesphere-robot --sim`
+///        on loopback (issue #15): the robot believes calib/data/sim_calibration.yaml while its
+///        synthetic cameras really have tests/console/data/calibration_truth.yaml (--sim-truth);
+///        the headless procedure, started from the wrong calibration, must recover the truth
+///        within bounds derived from its own standard deviations (and the start must lie outside
+///        them, so the check can fail). A run that cannot meet the done rule exits 2 with the
+///        reason and writes nothing; no robot exits 3.
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "calib/calibration_file.h"
+#include "calib/camera_resolution.h"
+
+extern char** environ;
+
+namespace {
+namespace calib = telesphere::calib;
+
+constexpr int kPort = 27960;
+const std::string kBin = TELESPHERE_BINARY_DIR "/bin/";
+const std::string kSrc = TELESPHERE_SOURCE_DIR "/";
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string out;  ///< stdout
+  std::string err;  ///< stderr (the log)
+};
+
+CommandResult runCommand(const std::string& command, const std::string& dir) {
+  CommandResult r;
+  const std::string err_file = dir + "/stderr.txt";
+  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n = 0;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream e(err_file);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+class CalibrateIntrinsics : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::filesystem::temp_directory_path() / ("telesphere-calibrate-" + std::to_string(getpid()));
+    std::filesystem::create_directories(dir_);
+    const std::string robot = kBin + "telesphere-robot";
+    const std::string log = (dir_ / "robot.log").string();
+    std::vector<std::string> args{robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "10000",
+                                  "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
+                                  "--stats-period", "0"};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, 1, 2);
+    ASSERT_EQ(posix_spawn(&robot_pid_, robot.c_str(), &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    // A robot that exits at once (the port taken by a stale one) must not leave the tests talking
+    // to somebody else's robot.
+    std::this_thread::sleep_for(std::chrono::seconds(2));
+    int status = 0;
+    if (waitpid(robot_pid_, &status, WNOHANG) == robot_pid_) {
+      robot_pid_ = -1;
+      std::ifstream l(log);
+      std::stringstream ss;
+      ss << l.rdbuf();
+      FAIL() << "telesphere-robot exited at start:\n" << ss.str();
+    }
+  }
+  static void TearDownTestSuite() {
+    if (robot_pid_ > 0) {
+      kill(robot_pid_, SIGTERM);
+      int status = 0;
+      waitpid(robot_pid_, &status, 0);
+    }
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+  static std::string calibrate(const std::string& extra) {
+    return kBin + "telesphere-console calibrate intrinsics --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
+           " --initial " + kSrc + "calib/data/sim_calibration.yaml --json " + extra;
+  }
+  static inline std::filesystem::path dir_;
+  static inline pid_t robot_pid_ = -1;
+};
+
+TEST_F(CalibrateIntrinsics, RecoversTheTrueIntrinsicsAndStereoExtrinsicFromAWrongStart) {
+  ASSERT_GT(robot_pid_, 0);
+  const std::string out_file = (dir_ / "recovered.yaml").string();
+  const CommandResult r = runCommand(calibrate("--compare-models --out " + out_file), dir_.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err.substr(r.err.size() > 4000 ? r.err.size() - 4000 : 0);
+  const nlohmann::json figures = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(figures["done"].get<bool>());
+  EXPECT_TRUE(figures["unmet"].empty());
+  EXPECT_GE(figures["samples"].get<int>(), 20);
+  std::printf("samples %d (joint %d), stills %d, poses %d visited / %d refused; first sample to result %.1f s\n",
+              figures["samples"].get<int>(), figures["joint_views"].get<int>(), figures["stills"].get<int>(),
+              figures["poses_visited"].get<int>(), figures["poses_refused"].get<int>(),
+              figures["first_sample_to_result_s"].get<double>());
+
+  // The models compared on the same samples: the simplest within 1 px is a 6-parameter model
+  // (ds or eucm); pinhole cannot use the views beyond 90° and is never preselected.
+  ASSERT_EQ(figures["models"].size(), 4u);
+  for (const auto& m : figures["models"]) {
+    std::printf("model %-7s ok %d RMS %.3f px, %d views, %.2f s %s\n", m["model"].get<std::string>().c_str(),
+                int(m["ok"].get<bool>()), m["rms_px"].get<double>(), m["views_used"].get<int>(), m["solve_s"].get<double>(),
+                m["message"].get<std::string>().c_str());
+    if (m["model"] == "ds") {
+      EXPECT_TRUE(m["ok"].get<bool>());
+      EXPECT_LT(m["rms_px"].get<double>(), 0.5);
+    }
+  }
+  const std::string preselected = figures["preselected_model"].get<std::string>();
+  EXPECT_TRUE(preselected == "ds" || preselected == "eucm") << preselected;
+
+  const auto truth = calib::loadCalibrationFile(kSrc + "tests/console/data/calibration_truth.yaml");
+  const auto start = calib::loadCalibrationFile(kSrc + "calib/data/sim_calibration.yaml");
+  const auto recovered = calib::loadCalibrationFile(out_file);
+  ASSERT_TRUE(truth && start && recovered) << (recovered ? "" : recovered.error().describe());
+  ASSERT_EQ(recovered->cameras.size(), 2u);
+  ASSERT_TRUE(recovered->T_flange_cam_l);  // kept from --initial, so the robot can load the file
+  std::string error;
+  for (int c = 0; c < 2; ++c) {
+    const auto& got = recovered->cameras[std::size_t(c)];
+    const auto want = calib::atResolution(truth->cameras[std::size_t(c)], got.width, got.height, &error);
+    const auto was = calib::atResolution(start->cameras[std::size_t(c)], got.width, got.height, &error);
+    ASSERT_TRUE(want && was) << error;
+    const nlohmann::json& cam = figures["cameras"][got.label];
+    const Eigen::VectorXd p = got.camera.params(), t = want->camera.params(), s = was->camera.params();
+    const auto names = calib::GenericCamera::paramNames("ds");
+    int start_outside = 0;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const double sigma = cam["stddev"][std::string(names[i])].get<double>();
+      const double bound = 5.0 * sigma;  // a 5σ bound from the solve's own covariance
+      EXPECT_LE(std::abs(p[Eigen::Index(i)] - t[Eigen::Index(i)]), bound)
+          << got.label << " " << names[i] << ": " << p[Eigen::Index(i)] << " vs true " << t[Eigen::Index(i)];
+      if (std::abs(s[Eigen::Index(i)] - t[Eigen::Index(i)]) > bound) ++start_outside;
+      std::printf("%s %-5s recovered %12.5f true %12.5f start %12.5f σ %.5f\n", got.label.c_str(),
+                  std::string(names[i]).c_str(), p[Eigen::Index(i)], t[Eigen::Index(i)], s[Eigen::Index(i)], sigma);
+    }
+    EXPECT_EQ(start_outside, int(names.size())) << "the start must be told apart from the truth in every parameter";
+  }
+  const Eigen::Isometry3d& T = *recovered->T_cam_l_cam_r;
+  const Eigen::Isometry3d& T_true = *truth->T_cam_l_cam_r;
+  const double dt_mm = (T.translation() - T_true.translation()).norm() * 1000.0;
+  const double dr_deg = Eigen::AngleAxisd(T.linear().transpose() * T_true.linear()).angle() * 180.0 / M_PI;
+  const double start_dr_deg = Eigen::AngleAxisd(start->T_cam_l_cam_r->linear().transpose() * T_true.linear()).angle() * 180 / M_PI;
+  std::printf("T_cam_l_cam_r: %.2f mm, %.4f° from the truth (start %.2f mm, %.3f°)\n", dt_mm, dr_deg,
+              (start->T_cam_l_cam_r->translation() - T_true.translation()).norm() * 1000.0, start_dr_deg);
+  EXPECT_LT(dt_mm, 1.5);
+  EXPECT_LT(dr_deg, 0.05);
+  EXPECT_GT(start_dr_deg, 0.05);
+}
+
+TEST_F(CalibrateIntrinsics, ExitsTwoWithTheReasonWhenTheDoneRuleCannotBeMet) {
+  ASSERT_GT(robot_pid_, 0);
+  const std::string out_file = (dir_ / "never.yaml").string();
+  const CommandResult r = runCommand(calibrate("--max-views 4 --out " + out_file), dir_.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the done rule is not met: 4 of 20 views"), std::string::npos) << r.err.substr(0, 3000);
+  EXPECT_FALSE(std::filesystem::exists(out_file));
+  const nlohmann::json figures = nlohmann::json::parse(r.out);
+  EXPECT_FALSE(figures["done"].get<bool>());
+  EXPECT_EQ(figures.value("samples", -1), 4);
+}
+
+TEST_F(CalibrateIntrinsics, ExitsThreeWhenNoRobotAnswers) {
+  const CommandResult r = runCommand(kBin + "telesphere-console calibrate intrinsics --auto --robot tcp://127.0.0.1:27970 "
+                                     "--out " + (dir_ / "none.yaml").string(), dir_.string());
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("the robot never answered at tcp://127.0.0.1:27970"), std::string::npos) << r.err;
+}
+
+}  // namespace
