@@ -131,6 +131,9 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   };
 
   // 2./3. Visit planned poses.
+  // Poses that gave nothing for a reason that may pass (not settled, no still, still moving on
+  // a loaded machine): visited once more at the end while the rule is unmet.
+  std::vector<PlannedView> missed;
   const auto visit = [&](const std::vector<PlannedView>& plan, bool stop_when_collected) -> bool {
     for (const PlannedView& view : plan) {
       if (cancelled()) return false;
@@ -149,9 +152,11 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
         if (cancelled()) return false;
         ++out.poses_unsettled;
         log("pose skipped: " + error);
+        missed.push_back(view);
         continue;
       }
       std::optional<StereoSample> previous;
+      bool settled_outcome = false;  // kept, or a verdict another visit would not change
       for (int s = 0; s < o.max_stills_per_pose; ++s) {
         auto still = robot.takeStill(&error);
         if (!still) {
@@ -173,14 +178,19 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
                   view.target_px.y()) +
               collector.coverage(0).describe());
           report(int(collector.samples().size()), &collector.samples().back());
+          settled_outcome = true;
           break;
         }
         ++out.samples_rejected;
         log("sample not kept: " + verdict.reason);
         const bool moving = verdict.reason.find("moving") != std::string::npos;
-        if (!moving) break;  // another still at this pose would not change the verdict
+        if (!moving) {
+          settled_outcome = true;
+          break;  // another still at this pose would not change the verdict
+        }
         previous = std::move(sample);
       }
+      if (!settled_outcome) missed.push_back(view);
       report(int(collector.samples().size()), nullptr);
     }
     return true;
@@ -214,6 +224,20 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   log(fmt("rim views: %.0f poses planned", double(plan.size())));
   stage = "rim views";
   if (!visit(plan, true)) return fail("cancelled");
+  // While the rule is unmet: the poses that gave nothing once more, then a fill ring.
+  if (!checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule).done()) {
+    std::vector<PlannedView> retry;
+    retry.swap(missed);
+    log(fmt("the rule is not met yet: %.0f poses again", double(retry.size())));
+    stage = "retrying";
+    if (!visit(retry, true)) return fail("cancelled");
+    plan_options.targets = ViewPlanOptions::fillTargets();
+    plan_options.rolls_deg = {15.0, -15.0, 45.0, -45.0};
+    plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
+    out.poses_planned += int(plan.size());
+    stage = "fill views";
+    if (!visit(plan, true)) return fail("cancelled");
+  }
   std::string ignored;
   robot.release(&ignored);
 

@@ -11,6 +11,8 @@
 ///   3. a quick solve of the left camera refines the planning model; the outer targets (edges,
 ///      corners: the rim) are planned through it and visited while the done rule's collection
 ///      part is unmet;
+///      while it is unmet afterwards, the poses that gave nothing (not settled, no still, still
+///      moving) once more, then a fill ring of targets with other rolls;
 ///   4. the full stereo solve with standard deviations; the done rule's solve part;
 ///   5. the head is released (also on failure and cancel).
 /// Every step is logged; the figures (poses refused/unsettled, stills, gate rejections, time
@@ -58,7 +60,7 @@ struct IntrinsicsProcedureOptions {
   calib::CoverageOptions coverage;
   IntrinsicsDoneRule rule;
   SettleOptions settle;
-  int max_stills_per_pose = 4;
+  int max_stills_per_pose = 6;
   int max_views = 60;  ///< stop collecting here even if coverage is unmet
   /// When set, every still is written here as still-NNN-left.png / -right.png (full resolution,
   /// for telesphere-calib or kalibr later) and stills.csv says where each was taken and its verdict.

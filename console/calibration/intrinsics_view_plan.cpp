@@ -21,6 +21,11 @@ std::vector<Eigen::Vector2d> ViewPlanOptions::outerTargets() {
           {0.5, 0.15},  {0.5, 0.85},  {0.02, 0.25}, {0.98, 0.75}, {0.25, 0.02}, {0.75, 0.98}};
 }
 
+std::vector<Eigen::Vector2d> ViewPlanOptions::fillTargets() {
+  return {{0.5, 0.5},   {0.35, 0.35}, {0.65, 0.35}, {0.35, 0.65}, {0.65, 0.65},
+          {0.1, 0.5},   {0.9, 0.5},   {0.5, 0.1},   {0.5, 0.9}};
+}
+
 std::optional<Eigen::Vector3d> boardCentreInCamera(const calib::TargetObservation& view, const calib::AprilGrid& grid,
                                                    const calib::GenericCamera& camera) {
   std::vector<Eigen::Vector3d> p_board, d_cam;

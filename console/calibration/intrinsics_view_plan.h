@@ -49,6 +49,8 @@ struct ViewPlanOptions {
   /// the board is cut by the border and too squeezed to detect), the ring between (15/85 %) and
   /// points near the edges.
   static std::vector<Eigen::Vector2d> outerTargets();
+  /// Between the two (35/65 %, the centre, and the edges' middles at 10 %): views to top up with.
+  static std::vector<Eigen::Vector2d> fillTargets();
 };
 
 /// The board centre in the camera frame from one view (its corners' bearings through `camera`
