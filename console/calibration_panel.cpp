@@ -19,6 +19,7 @@
 #include <QVBoxLayout>
 
 #include "calib/calibration_file.h"
+#include "console/calibration_residuals_view.h"
 #include "robot/link/link_client.h"
 
 namespace telesphere::console {
@@ -136,6 +137,9 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   results_->horizontalHeader()->setStretchLastSection(true);
   results_->verticalHeader()->hide();
   tabs->addTab(results_, "Results");
+  residuals_ = new CalibrationResidualsView;
+  residuals_->setObjectName("calibration_residuals");
+  tabs->addTab(residuals_, "Residuals");
   log_ = new QPlainTextEdit;
   log_->setReadOnly(true);
   log_->setMaximumBlockCount(2000);
@@ -221,6 +225,7 @@ void CalibrationPanel::startAuto() {
   };
   samples_->clear();
   results_->setRowCount(0);
+  residuals_->clear();
   log_->clear();
   outcome_.reset();
   const link::LinkEndpoints endpoints = endpoints_;
@@ -288,7 +293,9 @@ void CalibrationPanel::showOutcome() {
   if (o.collector) progress_->setValue(std::min(int(o.collector->samples().size()), progress_->maximum()));
   showCoverage();
   results_->setRowCount(0);
+  residuals_->clear();
   if (!o.result) return;
+  residuals_->showResult(*o.result, o.collector ? &*o.collector : nullptr);
   const auto names = calib::GenericCamera::paramNames(o.result->cameras[0].calibration.camera.modelName());
   const auto add = [&](const QString& name, const QString& l, const QString& r) {
     const int row = results_->rowCount();

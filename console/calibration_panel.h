@@ -3,7 +3,8 @@
 ///        calibration on the live robot, run in a worker thread with progress and cancel (the
 ///        window never waits on it), the done rule stated with its numbers, the kept samples
 ///        as thumbnails with their corners (delete any, then solve again), coverage per camera
-///        in polar bins, every parameter with its standard deviation, and save as our file,
+///        in polar bins, every parameter with its standard deviation, the residuals against polar
+///        angle and the worst views (console/calibration_residuals_view.h), and save as our file,
 ///        kalibr camchain or Basalt JSON (only a result that meets the done rule). The procedure is console/calibration/intrinsics_procedure.h;
 ///        the panel talks to the robot through its own link client.
 ///
@@ -30,6 +31,8 @@ class QPushButton;
 class QTableWidget;
 
 namespace telesphere::console {
+
+class CalibrationResidualsView;
 
 class CalibrationPanel : public QWidget {
   Q_OBJECT
@@ -83,6 +86,7 @@ class CalibrationPanel : public QWidget {
   QListWidget* samples_ = nullptr;
   QLabel* coverage_ = nullptr;
   QTableWidget* results_ = nullptr;
+  CalibrationResidualsView* residuals_ = nullptr;
   QPlainTextEdit* log_ = nullptr;
 };
 

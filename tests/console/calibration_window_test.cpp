@@ -5,6 +5,8 @@
 ///        with their corners, a run capped below the done rule says so plainly and cannot be
 ///        saved, a deleted sample is solved again without it, cancel stops the run and gives
 ///        the head back. Writes the panel's screenshot for the docs.
+#include <qcustomplot.h>
+
 #include <QDockWidget>
 #include <QLabel>
 #include <QListWidget>
@@ -13,6 +15,7 @@
 
 #include "calib/calibration_file.h"
 #include "console/calibration_panel.h"
+#include "console/calibration_residuals_view.h"
 #include "robot/link/link_client.h"
 #include "tests/console/console_rig.h"
 
@@ -27,7 +30,7 @@ constexpr int kPort = 27980;
 std::unique_ptr<Process> startCalibrationRobot(Rig& rig) {
   return std::make_unique<Process>(
       "telesphere-robot",
-      QStringList{"--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "10000", "--sim-truth",
+      QStringList{"--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth",
                   TELESPHERE_SOURCE_DIR "/tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
                   "--stats-period", "0"},
       rig.dir.filePath("robot.log"));
@@ -102,6 +105,19 @@ TEST(CalibrationPanel, ACappedRunIsShownNotDoneAndCannotBeSavedADeletedSampleIsS
   tabs->setCurrentIndex(1);
   test_rig::pumpFor(50);
   test_rig::saveShot(panel, "panel_calibration_results.png");
+  // Residuals against polar angle (corners and per-bin RMS, both cameras) and the worst views.
+  auto* residuals = panel->findChild<CalibrationResidualsView*>("calibration_residuals");
+  ASSERT_NE(residuals, nullptr);
+  ASSERT_EQ(residuals->plot()->graphCount(), 4);
+  for (int g = 0; g < 4; ++g) EXPECT_GT(residuals->plot()->graph(g)->dataCount(), 0) << g;
+  EXPECT_GT(residuals->plot()->graph(0)->dataCount(), 100);  // every corner of cam_l
+  EXPECT_FALSE(residuals->plot()->xAxis->label().isEmpty());
+  EXPECT_FALSE(residuals->plot()->yAxis->label().isEmpty());
+  ASSERT_EQ(residuals->worstViews().size(), CalibrationResidualsView::kWorstViews);
+  EXPECT_NE(residuals->worstViews()[0].indexOf("RMS"), -1);
+  tabs->setCurrentIndex(2);
+  test_rig::pumpFor(50);
+  test_rig::saveShot(panel, "panel_calibration_residuals.png");
   tabs->setCurrentIndex(0);
 
   // Delete the first sample: solved again on the other five.

@@ -62,7 +62,7 @@ class CalibrateIntrinsics : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     const std::string robot = kBin + "telesphere-robot";
     const std::string log = (dir_ / "robot.log").string();
-    std::vector<std::string> args{robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "10000",
+    std::vector<std::string> args{robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000",
                                   "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
                                   "--stats-period", "0"};
     std::vector<char*> argv;
