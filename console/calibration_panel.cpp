@@ -2,7 +2,9 @@
 /// @brief CalibrationPanel (see calibration_panel.h).
 #include "console/calibration_panel.h"
 
+#include <QCheckBox>
 #include <QComboBox>
+#include <QDoubleSpinBox>
 #include <QFileDialog>
 #include <QGridLayout>
 #include <QHBoxLayout>
@@ -74,6 +76,33 @@ QPixmap coveragePicture(const calibration::IntrinsicsCollector& collector, const
   return pixmap;
 }
 
+/// A live still: both cameras' reduced images side by side, the detected corners green when
+/// the gates pass and orange when not.
+QImage liveImage(const calibration::LiveStill& still) {
+  const int w = std::max(still.view[0].width, 1), h = std::max(still.view[0].height, 1);
+  QImage image(2 * w + 6, h, QImage::Format_RGB32);
+  image.fill(Qt::black);
+  QPainter p(&image);
+  p.setRenderHint(QPainter::Antialiasing);
+  for (int c = 0; c < 2; ++c) {
+    const calib::GrayImage& v = still.view[std::size_t(c)];
+    if (v.width <= 0) continue;
+    const QImage gray(v.pixels.data(), v.width, v.height, v.width, QImage::Format_Grayscale8);
+    const int x0 = c * (w + 6);
+    p.drawImage(x0, 0, gray);
+    const double scale = still.sample.width > 0 ? double(v.width) / still.sample.width : 1.0;
+    p.setPen(Qt::NoPen);
+    p.setBrush(still.verdict.keep ? QColor(60, 220, 60) : QColor(255, 150, 0));
+    for (const Eigen::Vector2d& px : still.sample.views[std::size_t(c)].corners_px)
+      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), 1.6, 1.6);
+    p.setPen(Qt::white);
+    p.drawText(QPointF(x0 + 6, 16), QString("%1: %2 corners")
+                                        .arg(c == 0 ? "cam_l" : "cam_r")
+                                        .arg(still.sample.views[std::size_t(c)].corner_ids.size()));
+  }
+  return image;
+}
+
 }  // namespace
 
 CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget* parent)
@@ -91,6 +120,7 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   auto* row = new QHBoxLayout;
   model_ = new QComboBox;
   model_->addItems({"ds", "eucm", "kb4", "pinhole"});
+  model_->setObjectName("calibration_model");
   model_->setToolTip("camera model to solve for");
   auto_ = new QPushButton("Auto-calibrate");
   auto_->setObjectName("calibration_auto");
@@ -98,13 +128,45 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   cancel_button_->setObjectName("calibration_cancel");
   delete_ = new QPushButton("Delete sample");
   delete_->setObjectName("calibration_delete");
+  live_button_ = new QPushButton("Live view");
+  live_button_->setObjectName("calibration_live");
+  live_button_->setToolTip("stills from both cameras one after another, with the corners found and the gates' "
+                           "verdict; for a board held by hand (Cancel stops it)");
+  capture_ = new QPushButton("Capture");
+  capture_->setObjectName("calibration_capture");
+  capture_->setToolTip("keep the next live still that passes the gates (board still, enough corners, a new view)");
+  auto_capture_ = new QCheckBox("auto-capture");
+  auto_capture_->setObjectName("calibration_auto_capture");
+  auto_capture_->setChecked(true);
+  auto_capture_->setToolTip("keep every live still that passes the gates");
+  solve_ = new QPushButton("Solve");
+  solve_->setObjectName("calibration_solve");
+  solve_->setToolTip("solve the kept samples and check the done rule");
+  compare_ = new QPushButton("Compare models");
+  compare_->setObjectName("calibration_compare");
+  compare_->setToolTip("solve the kept samples with ds, eucm, kb4 and pinhole; preselect the simplest whose RMS is "
+                       "within the tolerance");
+  tolerance_ = new QDoubleSpinBox;
+  tolerance_->setObjectName("calibration_tolerance");
+  tolerance_->setRange(0.05, 10.0);
+  tolerance_->setSingleStep(0.05);
+  tolerance_->setDecimals(2);
+  tolerance_->setValue(1.0);
+  tolerance_->setSuffix(" px");
+  tolerance_->setToolTip("the RMS a camera model must reach to be preselected");
   save_ = new QPushButton("Save as…");
   save_->setObjectName("calibration_save");
   row->addWidget(new QLabel("Model"));
   row->addWidget(model_);
   row->addWidget(auto_);
   row->addWidget(cancel_button_);
+  row->addWidget(live_button_);
+  row->addWidget(capture_);
+  row->addWidget(auto_capture_);
+  row->addWidget(solve_);
   row->addStretch(1);
+  row->addWidget(compare_);
+  row->addWidget(tolerance_);
   row->addWidget(delete_);
   row->addWidget(save_);
   layout->addLayout(row);
@@ -121,7 +183,7 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   coverage_->setObjectName("calibration_coverage");
   coverage_->setToolTip("polar-angle bins: green reached, red required and missing, grey optional");
   layout->addWidget(coverage_);
-  auto* tabs = new QTabWidget;
+  auto* tabs = tabs_ = new QTabWidget;
   tabs->setObjectName("calibration_tabs");
   samples_ = new QListWidget;
   samples_->setObjectName("calibration_samples");
@@ -136,10 +198,33 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   results_->setHorizontalHeaderLabels({"parameter", "cam_l", "cam_r"});
   results_->horizontalHeader()->setStretchLastSection(true);
   results_->verticalHeader()->hide();
-  tabs->addTab(results_, "Results");
+  models_ = new QTableWidget(0, 5);
+  models_->setObjectName("calibration_models");
+  models_->setHorizontalHeaderLabels({"model", "parameters", "RMS px (worse camera)", "solve s", "note"});
+  models_->horizontalHeader()->setStretchLastSection(true);
+  models_->verticalHeader()->hide();
+  auto* results_page = new QWidget;
+  auto* results_layout = new QVBoxLayout(results_page);
+  results_layout->setContentsMargins(0, 0, 0, 0);
+  results_layout->addWidget(results_, 3);
+  results_layout->addWidget(new QLabel("<b>Camera models on the same samples</b> (Compare models)"));
+  results_layout->addWidget(models_, 1);
+  tabs->addTab(results_page, "Results");
   residuals_ = new CalibrationResidualsView;
   residuals_->setObjectName("calibration_residuals");
   tabs->addTab(residuals_, "Residuals");
+  auto* live_page = new QWidget;
+  auto* live_layout = new QVBoxLayout(live_page);
+  live_image_ = new QLabel("Live view off.");
+  live_image_->setObjectName("calibration_live_image");
+  live_image_->setAlignment(Qt::AlignLeft | Qt::AlignTop);
+  live_status_ = new QLabel;
+  live_status_->setObjectName("calibration_live_status");
+  live_status_->setWordWrap(true);
+  live_layout->addWidget(live_image_);
+  live_layout->addWidget(live_status_);
+  live_layout->addStretch(1);
+  tabs->addTab(live_page, "Live");
   log_ = new QPlainTextEdit;
   log_->setReadOnly(true);
   log_->setMaximumBlockCount(2000);
@@ -149,6 +234,11 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
 
   connect(auto_, &QPushButton::clicked, this, &CalibrationPanel::startAuto);
   connect(cancel_button_, &QPushButton::clicked, this, &CalibrationPanel::cancel);
+  connect(live_button_, &QPushButton::clicked, this, &CalibrationPanel::startLive);
+  connect(capture_, &QPushButton::clicked, this, &CalibrationPanel::requestCapture);
+  connect(solve_, &QPushButton::clicked, this, &CalibrationPanel::solve);
+  connect(compare_, &QPushButton::clicked, this, &CalibrationPanel::compareModels);
+  connect(auto_capture_, &QCheckBox::toggled, this, [this](bool on) { live_auto_capture_ = on; });
   connect(delete_, &QPushButton::clicked, this, [this] {
     if (samples_->currentRow() >= 0) deleteSample(samples_->currentRow());
   });
@@ -181,6 +271,10 @@ void CalibrationPanel::setBusy(bool busy) {
   auto_->setEnabled(!busy);
   model_->setEnabled(!busy);
   cancel_button_->setEnabled(busy);
+  live_button_->setEnabled(!busy);
+  capture_->setEnabled(busy && live_running_);
+  solve_->setEnabled(!busy && outcome_ && outcome_->collector && !outcome_->collector->samples().empty());
+  compare_->setEnabled(solve_->isEnabled());
   delete_->setEnabled(!busy && outcome_ && outcome_->collector && !outcome_->collector->samples().empty());
   save_->setEnabled(!busy && outcome_ && outcome_->done && outcome_->calibration.has_value());
 }
@@ -226,6 +320,7 @@ void CalibrationPanel::startAuto() {
   samples_->clear();
   results_->setRowCount(0);
   residuals_->clear();
+  comparison_.reset();
   log_->clear();
   outcome_.reset();
   const link::LinkEndpoints endpoints = endpoints_;
@@ -249,6 +344,33 @@ void CalibrationPanel::deleteSample(int index) {
   collector.remove(std::size_t(index));
   delete samples_->takeItem(index);
   for (int i = 0; i < samples_->count(); ++i) samples_->item(i)->setText(QString::number(i + 1));
+  comparison_.reset();  // of other samples
+  resolve(std::move(collector), QString("solving again without sample %1…").arg(index + 1));
+}
+
+void CalibrationPanel::solve() {
+  if (running() || !outcome_ || !outcome_->collector || outcome_->collector->samples().empty()) return;
+  resolve(*outcome_->collector, QString("solving %1 samples…").arg(outcome_->collector->samples().size()));
+}
+
+void CalibrationPanel::compareModels() {
+  if (running() || !outcome_ || !outcome_->collector || outcome_->collector->samples().empty()) return;
+  const calib::AprilGrid grid = options_.grid;
+  const double tolerance = tolerance_->value();
+  calibration::IntrinsicsOutcome base = *outcome_;
+  launch(
+      [this, grid, tolerance, base] {
+        auto comparison = calibration::compareModels(*base.collector, grid, tolerance);
+        {
+          std::lock_guard lock(result_mutex_);
+          pending_comparison_ = std::move(comparison);
+        }
+        return base;
+      },
+      QString("solving %1 samples with each camera model…").arg(outcome_->collector->samples().size()));
+}
+
+void CalibrationPanel::resolve(calibration::IntrinsicsCollector collector, const QString& what) {
   calibration::IntrinsicsProcedureOptions o = options_;
   o.model = model_->currentText().toStdString();
   o.log = [this](const std::string& line) {
@@ -261,16 +383,102 @@ void CalibrationPanel::deleteSample(int index) {
         calibration::solveCollected(std::move(collector), o, base);
         return base;
       },
-      QString("solving again without sample %1…").arg(index + 1));
+      what);
 }
+
+void CalibrationPanel::startLive() {
+  if (running()) return;
+  calibration::IntrinsicsProcedureOptions o = options_;
+  o.model = model_->currentText().toStdString();
+  std::optional<calibration::IntrinsicsCollector> start;
+  if (outcome_ && outcome_->collector) start = outcome_->collector;  // go on from the samples shown
+  if (!start) samples_->clear();
+  comparison_.reset();
+  live_running_ = true;
+  live_capture_request_ = false;
+  capture_waiting_ = false;
+  live_auto_capture_ = auto_capture_->isChecked();
+  live_stills_ = 0;
+  tabs_->setCurrentWidget(live_image_->parentWidget());
+  const link::LinkEndpoints endpoints = endpoints_;
+  launch(
+      [this, o, endpoints, start] {
+        link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
+        calibration::CalibrationRobot robot(client);
+        calibration::LiveCapture live(robot, o);
+        if (start) live.setCollector(*start);
+        std::string last_error;
+        while (!cancel_) {
+          if (live_capture_request_.exchange(false)) live.requestCapture();
+          live.setAutoCapture(live_auto_capture_);
+          std::string error;
+          auto still = live.step(&error);
+          if (!still) {
+            if (error != last_error) {
+              QMetaObject::invokeMethod(this, [this, text = QString::fromStdString("live: " + error)] {
+                live_status_->setText(text);
+                log_->appendPlainText(text);
+              }, Qt::QueuedConnection);
+            }
+            last_error = error;
+            std::this_thread::sleep_for(std::chrono::milliseconds(200));
+            continue;
+          }
+          last_error.clear();
+          QMetaObject::invokeMethod(this, [this, s = std::move(*still)] { showLiveStill(s); }, Qt::QueuedConnection);
+        }
+        calibration::IntrinsicsOutcome out;
+        out.stills = live.stills();
+        out.collector = live.takeCollector();
+        const int kept = out.collector ? int(out.collector->samples().size()) : 0;
+        out.error = "live view stopped with " + std::to_string(kept) + " samples kept: Solve to calibrate them";
+        return out;
+      },
+      "live view: stills from both cameras…");
+}
+
+void CalibrationPanel::requestCapture() {
+  if (!live()) return;
+  live_capture_request_ = true;
+  capture_waiting_ = true;
+  live_status_->setText(live_status_->text() + " · capture requested: the next still that passes is kept");
+}
+
+void CalibrationPanel::showLiveStill(const calibration::LiveStill& still) {
+  ++live_stills_;
+  live_image_->setPixmap(QPixmap::fromImage(liveImage(still)));
+  QString text = QString("still %1 · ").arg(live_stills_);
+  if (still.kept) {
+    text += QString("<span style='color:#060'><b>kept</b></span> as sample %1").arg(still.samples);
+    samples_->addItem(new QListWidgetItem(QIcon(QPixmap::fromImage(sampleImage(still.sample))), QString::number(still.samples)));
+    progress_->setValue(std::min(still.samples, progress_->maximum()));
+  } else {
+    text += QString("not kept (%1 samples so far): ").arg(still.samples) +
+            QString::fromStdString(still.verdict.reason).toHtmlEscaped();
+  }
+  // A request made while this still was being taken reaches the worker at its next still, so
+  // the panel's own flag says whether one waits; a kept still ends it.
+  if (still.kept) capture_waiting_ = false;
+  if (capture_waiting_ || still.capture_pending) text += " · capture requested: the next still that passes is kept";
+  live_status_->setText(text);
+}
+
+QString CalibrationPanel::liveStatusText() const { return live_status_->text(); }
 
 void CalibrationPanel::onFinished() {
   if (worker_.joinable()) worker_.join();
+  live_running_ = false;
+  bool fresh_comparison = false;
   {
     std::lock_guard lock(result_mutex_);
     outcome_ = std::move(pending_);
     pending_.reset();
+    fresh_comparison = pending_comparison_.has_value();
+    if (pending_comparison_) comparison_ = std::move(pending_comparison_);
+    pending_comparison_.reset();
   }
+  if (fresh_comparison && comparison_ && comparison_->preselected)
+    model_->setCurrentText(QString::fromStdString(*comparison_->preselected));
   showOutcome();
   setBusy(false);
   emit runFinished(outcome_ && outcome_->done);
@@ -292,6 +500,7 @@ void CalibrationPanel::showOutcome() {
   }
   if (o.collector) progress_->setValue(std::min(int(o.collector->samples().size()), progress_->maximum()));
   showCoverage();
+  showComparison();
   results_->setRowCount(0);
   residuals_->clear();
   if (!o.result) return;
@@ -320,6 +529,39 @@ void CalibrationPanel::showOutcome() {
         QString("rotation %1°").arg(r.angle() * 180.0 / M_PI, 0, 'f', 3));
   }
   results_->resizeColumnsToContents();
+}
+
+void CalibrationPanel::showComparison() {
+  models_->setRowCount(0);
+  if (!comparison_) return;
+  for (const calibration::ModelFit& fit : comparison_->fits) {
+    const int row = models_->rowCount();
+    models_->insertRow(row);
+    const bool chosen = comparison_->preselected && *comparison_->preselected == fit.model;
+    const QString note = !fit.ok              ? QString::fromStdString(fit.message)
+                         : !fit.message.empty() ? QString::fromStdString(fit.message)
+                         : chosen               ? QString("preselected: the simplest within %1 px").arg(comparison_->tolerance_px, 0, 'f', 2)
+                         : fit.rms_px > comparison_->tolerance_px ? QString("above the tolerance")
+                                                                  : QString();
+    const QStringList cells{QString::fromStdString(fit.model), QString::number(fit.parameters),
+                            fit.ok ? QString::number(fit.rms_px, 'f', 3) : QString("—"),
+                            QString::number(fit.solve_s, 'f', 1), note};
+    for (int c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(cells[c]);
+      if (chosen) {
+        QFont f = item->font();
+        f.setBold(true);
+        item->setFont(f);
+      }
+      models_->setItem(row, c, item);
+    }
+  }
+  if (!comparison_->preselected) {
+    const int row = models_->rowCount();
+    models_->insertRow(row);
+    models_->setItem(row, 0, new QTableWidgetItem(QString("no model within %1 px").arg(comparison_->tolerance_px, 0, 'f', 2)));
+  }
+  models_->resizeColumnsToContents();
 }
 
 void CalibrationPanel::showCoverage() {

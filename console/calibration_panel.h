@@ -8,8 +8,14 @@
 ///        kalibr camchain or Basalt JSON (only a result that meets the done rule). The procedure is console/calibration/intrinsics_procedure.h;
 ///        the panel talks to the robot through its own link client.
 ///
-/// Not here yet (issue #15 stays open): hand-eye, a live preview with corners, applying a
-/// result to the running robot and XR app.
+/// Compare models solves the samples with every camera model and preselects the simplest within
+/// the tolerance (console/calibration/model_comparison.h).
+/// The live view (console/calibration/live_capture.h): full-resolution stills one after another
+/// with their corners and the gates' verdict, kept automatically or on Capture, for a board held
+/// by hand; then Solve.
+///
+/// Not here yet (issue #15 stays open): hand-eye, applying a result to the running robot and XR
+/// app.
 #pragma once
 
 #include <QWidget>
@@ -20,14 +26,19 @@
 #include <thread>
 
 #include "console/calibration/intrinsics_procedure.h"
+#include "console/calibration/live_capture.h"
+#include "console/calibration/model_comparison.h"
 #include "robot/link/link_endpoints.h"
 
+class QCheckBox;
 class QComboBox;
+class QDoubleSpinBox;
 class QLabel;
 class QListWidget;
 class QPlainTextEdit;
 class QProgressBar;
 class QPushButton;
+class QTabWidget;
 class QTableWidget;
 
 namespace telesphere::console {
@@ -47,11 +58,23 @@ class CalibrationPanel : public QWidget {
 
   /// The buttons' actions (tests call them as a click would).
   void startAuto();
+  /// The live view: stills one after another with their corners and the gates' verdict, kept
+  /// automatically when the gates pass (auto-capture) or on Capture; stopped by cancel().
+  void startLive();
+  void requestCapture();         ///< keep the next live still that passes the gates
   void cancel();
   void deleteSample(int index);  ///< then solves again in the worker
+  void solve();                  ///< solves the kept samples (after a live view) in the worker
+  /// Solves the kept samples with every camera model (worker), lists their RMS and preselects
+  /// the simplest within the tolerance in the model selector.
+  void compareModels();
+  const std::optional<calibration::ModelComparison>& comparison() const { return comparison_; }
   bool saveTo(const QString& path, const QString& format, QString* error);
 
   bool running() const { return worker_.joinable() && !finished_; }
+  bool live() const { return running() && live_running_; }
+  int liveStills() const { return live_stills_; }  ///< shown since the live view started
+  QString liveStatusText() const;
   QString statusText() const;
   int sampleCount() const;
   const std::optional<calibration::IntrinsicsOutcome>& outcome() const { return outcome_; }
@@ -64,21 +87,41 @@ class CalibrationPanel : public QWidget {
   void onFinished();
   void showOutcome();
   void showCoverage();
+  void showComparison();
   void setBusy(bool busy);
+  void resolve(calibration::IntrinsicsCollector collector, const QString& what);
+  void showLiveStill(const calibration::LiveStill& still);
 
   link::LinkEndpoints endpoints_;
   calibration::IntrinsicsProcedureOptions options_;
   std::thread worker_;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> finished_{true};
+  std::atomic<bool> live_running_{false};
+  std::atomic<bool> live_auto_capture_{true};
+  std::atomic<bool> live_capture_request_{false};
+  int live_stills_ = 0;
+  bool capture_waiting_ = false;  ///< Capture clicked, no still kept since (GUI thread)
   std::mutex result_mutex_;
   std::optional<calibration::IntrinsicsOutcome> pending_;  ///< the worker's result, until taken
   std::optional<calibration::IntrinsicsOutcome> outcome_;
+  std::optional<calibration::ModelComparison> comparison_;  ///< of the samples in outcome_
+  std::optional<calibration::ModelComparison> pending_comparison_;
 
   QLabel* rule_ = nullptr;
   QComboBox* model_ = nullptr;
   QPushButton* auto_ = nullptr;
   QPushButton* cancel_button_ = nullptr;
+  QPushButton* live_button_ = nullptr;
+  QPushButton* capture_ = nullptr;
+  QCheckBox* auto_capture_ = nullptr;
+  QPushButton* solve_ = nullptr;
+  QPushButton* compare_ = nullptr;
+  QDoubleSpinBox* tolerance_ = nullptr;
+  QTableWidget* models_ = nullptr;
+  QLabel* live_image_ = nullptr;
+  QLabel* live_status_ = nullptr;
+  QTabWidget* tabs_ = nullptr;
   QPushButton* delete_ = nullptr;
   QPushButton* save_ = nullptr;
   QProgressBar* progress_ = nullptr;

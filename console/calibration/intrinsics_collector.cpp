@@ -10,7 +10,7 @@ IntrinsicsCollector::IntrinsicsCollector(const std::array<calib::GenericCamera, 
   rebuildCoverage();
 }
 
-SampleVerdict IntrinsicsCollector::offer(const StereoSample& sample, const StereoSample* previous) {
+SampleVerdict IntrinsicsCollector::judge(const StereoSample& sample, const StereoSample* previous) const {
   SampleVerdict verdict;
   bool any_keep = false, moving = false;
   for (int c = 0; c < 2; ++c) {
@@ -24,11 +24,18 @@ SampleVerdict IntrinsicsCollector::offer(const StereoSample& sample, const Stere
     if (g.verdict == calib::GateVerdict::kMoving || g.verdict == calib::GateVerdict::kNoPreviousView) moving = true;
   }
   verdict.keep = any_keep && !moving;
-  if (verdict.keep) {
-    samples_.push_back(sample);
-    for (int c = 0; c < 2; ++c) coverage_[std::size_t(c)].add(sample.views[std::size_t(c)]);
-  }
   return verdict;
+}
+
+SampleVerdict IntrinsicsCollector::offer(const StereoSample& sample, const StereoSample* previous) {
+  SampleVerdict verdict = judge(sample, previous);
+  if (verdict.keep) add(sample);
+  return verdict;
+}
+
+void IntrinsicsCollector::add(const StereoSample& sample) {
+  samples_.push_back(sample);
+  for (int c = 0; c < 2; ++c) coverage_[std::size_t(c)].add(sample.views[std::size_t(c)]);
 }
 
 void IntrinsicsCollector::remove(std::size_t index) {

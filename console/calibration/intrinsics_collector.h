@@ -30,9 +30,13 @@ class IntrinsicsCollector {
   IntrinsicsCollector(const std::array<calib::GenericCamera, 2>& models, int width, int height,
                       const calib::SampleGateOptions& gates = {}, const calib::CoverageOptions& coverage = {});
 
-  /// Judges `sample` (against `previous`, the still before it at the same pose; null: none) and
-  /// keeps it if it passes.
+  /// What the gates say of `sample` (against `previous`, the still before it at the same pose;
+  /// null: none) and the kept samples, keeping nothing.
+  SampleVerdict judge(const StereoSample& sample, const StereoSample* previous) const;
+  /// Judges `sample` and keeps it if it passes.
   SampleVerdict offer(const StereoSample& sample, const StereoSample* previous);
+  /// Keeps `sample` (judged before).
+  void add(const StereoSample& sample);
   void remove(std::size_t index);
   /// New camera models (after a solve): coverage is recomputed through them.
   void setModels(const std::array<calib::GenericCamera, 2>& models);

@@ -44,6 +44,19 @@ calib::GenericCamera genericFisheye(const std::string& model, int width, int hei
   return *camera;
 }
 
+std::array<calib::GenericCamera, 2> startingModels(const IntrinsicsProcedureOptions& o, int width, int height) {
+  std::array<calib::GenericCamera, 2> models{genericFisheye(o.model, width, height), genericFisheye(o.model, width, height)};
+  if (o.initial && o.initial->cameras.size() == 2) {
+    for (int c = 0; c < 2; ++c) {
+      std::string error;
+      if (auto scaled = calib::atResolution(o.initial->cameras[std::size_t(c)], width, height, &error)) {
+        models[std::size_t(c)] = scaled->camera;
+      }
+    }
+  }
+  return models;
+}
+
 IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& o) {
   const auto t_start = Clock::now();
   IntrinsicsOutcome out;
@@ -83,14 +96,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   const StereoSample first = detectStereoSample(*first_still, o.grid, o.detection);
   const int width = first.width, height = first.height;
   if (width <= 0) return fail("the robot's still holds no image");
-  std::array<calib::GenericCamera, 2> models{genericFisheye(o.model, width, height), genericFisheye(o.model, width, height)};
-  if (o.initial && o.initial->cameras.size() == 2) {
-    for (int c = 0; c < 2; ++c) {
-      if (auto scaled = calib::atResolution(o.initial->cameras[std::size_t(c)], width, height, &error)) {
-        models[std::size_t(c)] = scaled->camera;
-      }
-    }
-  }
+  std::array<calib::GenericCamera, 2> models = startingModels(o, width, height);
   if (int(first.views[0].corner_ids.size()) < o.gates.min_corners) {
     return fail(fmt("the Aprilgrid is not in view of the left camera at the start (%.0f corners, %.0f needed): "
                     "place it about 1 m in front of the head, wholly visible",

@@ -92,6 +92,10 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
 /// `out`'s result, calibration, done checks and error; the collector ends up in `out`.
 void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOptions& options, IntrinsicsOutcome& out);
 
+/// The models a run starts from at width × height: the initial calibration's, scaled, where
+/// given; otherwise genericFisheye.
+std::array<calib::GenericCamera, 2> startingModels(const IntrinsicsProcedureOptions& options, int width, int height);
+
 /// A generic fisheye guess for `model` at width × height (about 200° across the width) when no
 /// calibration is known.
 calib::GenericCamera genericFisheye(const std::string& model, int width, int height);

@@ -7,10 +7,13 @@
 ///        the head back. Writes the panel's screenshot for the docs.
 #include <qcustomplot.h>
 
+#include <QCheckBox>
+#include <QComboBox>
 #include <QDockWidget>
 #include <QLabel>
 #include <QListWidget>
 #include <QTabWidget>
+#include <QPushButton>
 #include <QTableWidget>
 
 #include "calib/calibration_file.h"
@@ -100,6 +103,19 @@ TEST(CalibrationPanel, ACappedRunIsShownNotDoneAndCannotBeSavedADeletedSampleIsS
   calibration_dock->resize(820, 940);
   test_rig::pumpFor(200);
   test_rig::saveShot(panel, "panel_calibration.png");
+  // The four camera models on the same six samples, the simplest within the tolerance preselected.
+  auto* compare = panel->findChild<QPushButton*>("calibration_compare");
+  ASSERT_TRUE(compare->isEnabled());
+  rig.click(compare);
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return !panel->running(); }, 300000));
+  test_rig::pumpFor(100);
+  ASSERT_TRUE(panel->comparison());
+  ASSERT_EQ(panel->comparison()->fits.size(), 4u);
+  EXPECT_GE(panel->findChild<QTableWidget*>("calibration_models")->rowCount(), 4);
+  ASSERT_TRUE(panel->comparison()->preselected) << "ds, eucm and kb4 fit these views to 0.3 px";
+  EXPECT_EQ(panel->findChild<QComboBox*>("calibration_model")->currentText().toStdString(), *panel->comparison()->preselected);
+  EXPECT_NE(*panel->comparison()->preselected, "kb4");  // 8 parameters against 6: not the simplest
+  EXPECT_EQ(panel->sampleCount(), 6);  // comparing changes no sample
   auto* tabs = panel->findChild<QTabWidget*>("calibration_tabs");
   ASSERT_NE(tabs, nullptr);
   tabs->setCurrentIndex(1);
@@ -129,6 +145,67 @@ TEST(CalibrationPanel, ACappedRunIsShownNotDoneAndCannotBeSavedADeletedSampleIsS
   test_rig::pumpFor(100);
   EXPECT_EQ(panel->findChild<QListWidget*>("calibration_samples")->count(), 5);
   EXPECT_NE(panel->statusText().indexOf("5 of 20 views"), -1) << panel->statusText().toStdString();
+}
+
+TEST(CalibrationPanel, TheLiveViewShowsCornersKeepsAStillBoardOnceAndCaptureWaitsForANewView) {
+  Rig rig(kPort);
+  rig.robot = startCalibrationRobot(rig);
+  CalibrationPanel* panel = rig.window->calibrationPanel();
+  panel->setProcedureOptions(cappedOptions(60));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return rig.session->everHeardRobot(); }, 30000)) << rig.logs();
+  auto* capture = panel->findChild<QPushButton*>("calibration_capture");
+  EXPECT_FALSE(capture->isEnabled());
+  rig.click(panel->findChild<QPushButton*>("calibration_live"));
+  EXPECT_TRUE(panel->live());
+  EXPECT_TRUE(capture->isEnabled());
+  EXPECT_FALSE(panel->findChild<QPushButton*>("calibration_auto")->isEnabled());
+  // The head rests and the board in front of it does not move: the first still has none before
+  // it to tell stillness, the second is kept (auto-capture), the third is the same view again.
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return panel->liveStills() >= 3; }, 180000)) << rig.logs();
+  test_rig::pumpFor(100);
+  EXPECT_EQ(panel->findChild<QListWidget*>("calibration_samples")->count(), 1);
+  EXPECT_NE(panel->liveStatusText().indexOf("too similar"), -1) << panel->liveStatusText().toStdString();
+  const QPixmap live_image = panel->findChild<QLabel*>("calibration_live_image")->pixmap();
+  EXPECT_GT(live_image.width(), 800);  // both cameras, 480 px each
+  // The corners are drawn: orange (not kept) dots on the grey image.
+  const QImage drawn = live_image.toImage();
+  int orange = 0;
+  for (int y = 0; y < drawn.height(); ++y)
+    for (int x = 0; x < drawn.width(); ++x) {
+      const QColor c = drawn.pixelColor(x, y);
+      if (c.red() > 200 && c.green() > 100 && c.green() < 190 && c.blue() < 60) ++orange;
+    }
+  EXPECT_GT(orange, 100);
+  // Manual capture: a capture of the same view waits for one that passes the gates.
+  panel->findChild<QCheckBox*>("calibration_auto_capture")->setChecked(false);
+  rig.click(capture);
+  const int stills = panel->liveStills();
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return panel->liveStills() > stills; }, 120000)) << rig.logs();
+  EXPECT_EQ(panel->findChild<QListWidget*>("calibration_samples")->count(), 1);
+  EXPECT_NE(panel->liveStatusText().indexOf("capture requested"), -1) << panel->liveStatusText().toStdString();
+  auto* dock = qobject_cast<QDockWidget*>(panel->parentWidget());
+  if (dock) {
+    dock->setFloating(true);
+    dock->resize(1040, 760);
+  }
+  test_rig::pumpFor(200);
+  test_rig::saveShot(panel, "panel_calibration_live.png");
+  // Stop: the kept sample stays, and Solve says plainly that one view is not enough.
+  rig.click(panel->findChild<QPushButton*>("calibration_cancel"));
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return !panel->running(); }, 120000));
+  test_rig::pumpFor(100);
+  ASSERT_TRUE(panel->outcome());
+  ASSERT_TRUE(panel->outcome()->collector);
+  EXPECT_EQ(panel->outcome()->collector->samples().size(), 1u);
+  EXPECT_NE(panel->statusText().indexOf("1 samples kept"), -1) << panel->statusText().toStdString();
+  auto* solve = panel->findChild<QPushButton*>("calibration_solve");
+  ASSERT_TRUE(solve->isEnabled());
+  rig.click(solve);
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return !panel->running(); }, 60000));
+  test_rig::pumpFor(100);
+  EXPECT_FALSE(panel->outcome()->done);
+  EXPECT_NE(panel->statusText().indexOf("Not done"), -1) << panel->statusText().toStdString();
+  EXPECT_FALSE(panel->findChild<QPushButton*>("calibration_save")->isEnabled());
 }
 
 TEST(CalibrationPanel, CancelStopsTheRunAndGivesTheHeadBack) {
