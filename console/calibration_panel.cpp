@@ -27,26 +27,42 @@
 namespace telesphere::console {
 namespace {
 
-/// A sample's two thumbnails side by side with the detected corners drawn on them.
-QImage sampleImage(const calibration::StereoSample& s) {
-  const int w = std::max(s.thumbnails[0].width, 1), h = std::max(s.thumbnails[0].height, 1);
+/// Two reduced images of a stereo pair side by side (a 4 px gap) with `sample`'s corners drawn
+/// on them in `corner_colour`, and each camera's corner count when `counts`.
+QImage stereoPicture(const std::array<calib::GrayImage, 2>& images, const calibration::StereoSample& sample,
+                     const QColor& corner_colour, double corner_radius, bool counts) {
+  const int w = std::max(images[0].width, 1), h = std::max(images[0].height, 1);
   QImage image(2 * w + 4, h, QImage::Format_RGB32);
   image.fill(Qt::black);
   QPainter p(&image);
+  p.setRenderHint(QPainter::Antialiasing);
   for (int c = 0; c < 2; ++c) {
-    const calib::GrayImage& t = s.thumbnails[std::size_t(c)];
+    const calib::GrayImage& t = images[std::size_t(c)];
     if (t.width <= 0) continue;
-    QImage gray(t.pixels.data(), t.width, t.height, t.width, QImage::Format_Grayscale8);
+    const QImage gray(t.pixels.data(), t.width, t.height, t.width, QImage::Format_Grayscale8);
     const int x0 = c * (w + 4);
     p.drawImage(x0, 0, gray);
-    const double scale = s.width > 0 ? double(t.width) / s.width : 1.0;
+    const double scale = sample.width > 0 ? double(t.width) / sample.width : 1.0;
     p.setPen(Qt::NoPen);
-    p.setBrush(QColor(255, 60, 60));
-    for (const Eigen::Vector2d& px : s.views[std::size_t(c)].corners_px) {
-      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), 1.2, 1.2);
+    p.setBrush(corner_colour);
+    for (const Eigen::Vector2d& px : sample.views[std::size_t(c)].corners_px)
+      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), corner_radius, corner_radius);
+    if (counts) {
+      p.setPen(Qt::white);
+      p.drawText(QPointF(x0 + 6, 16), QString("%1: %2 corners")
+                                          .arg(c == 0 ? "cam_l" : "cam_r")
+                                          .arg(sample.views[std::size_t(c)].corner_ids.size()));
     }
   }
   return image;
+}
+
+/// A sample's two thumbnails with its corners (the sample list).
+QImage sampleImage(const calibration::StereoSample& s) { return stereoPicture(s.thumbnails, s, QColor(255, 60, 60), 1.2, false); }
+
+/// A live still: the corners green when the gates pass and orange when not.
+QImage liveImage(const calibration::LiveStill& still) {
+  return stereoPicture(still.view, still.sample, still.verdict.keep ? QColor(60, 220, 60) : QColor(255, 150, 0), 1.6, true);
 }
 
 /// The polar bins of both cameras as rows of cells: reached (green), required and missing (red),
@@ -74,33 +90,6 @@ QPixmap coveragePicture(const calibration::IntrinsicsCollector& collector, const
                QString::number(b * collector.coverage(0).polarBinDeg()) + "°");
   }
   return pixmap;
-}
-
-/// A live still: both cameras' reduced images side by side, the detected corners green when
-/// the gates pass and orange when not.
-QImage liveImage(const calibration::LiveStill& still) {
-  const int w = std::max(still.view[0].width, 1), h = std::max(still.view[0].height, 1);
-  QImage image(2 * w + 6, h, QImage::Format_RGB32);
-  image.fill(Qt::black);
-  QPainter p(&image);
-  p.setRenderHint(QPainter::Antialiasing);
-  for (int c = 0; c < 2; ++c) {
-    const calib::GrayImage& v = still.view[std::size_t(c)];
-    if (v.width <= 0) continue;
-    const QImage gray(v.pixels.data(), v.width, v.height, v.width, QImage::Format_Grayscale8);
-    const int x0 = c * (w + 6);
-    p.drawImage(x0, 0, gray);
-    const double scale = still.sample.width > 0 ? double(v.width) / still.sample.width : 1.0;
-    p.setPen(Qt::NoPen);
-    p.setBrush(still.verdict.keep ? QColor(60, 220, 60) : QColor(255, 150, 0));
-    for (const Eigen::Vector2d& px : still.sample.views[std::size_t(c)].corners_px)
-      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), 1.6, 1.6);
-    p.setPen(Qt::white);
-    p.drawText(QPointF(x0 + 6, 16), QString("%1: %2 corners")
-                                        .arg(c == 0 ? "cam_l" : "cam_r")
-                                        .arg(still.sample.views[std::size_t(c)].corner_ids.size()));
-  }
-  return image;
 }
 
 }  // namespace
@@ -301,10 +290,7 @@ void CalibrationPanel::startAuto() {
   calibration::IntrinsicsProcedureOptions o = options_;
   o.model = model_->currentText().toStdString();
   o.cancel = &cancel_;
-  o.log = [this](const std::string& line) {
-    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
-                              Qt::QueuedConnection);
-  };
+  o.log = logSink();
   o.progress = [this](const calibration::IntrinsicsProgress& p) {
     QImage thumb = p.last_kept ? sampleImage(*p.last_kept) : QImage();
     QMetaObject::invokeMethod(
@@ -373,10 +359,7 @@ void CalibrationPanel::compareModels() {
 void CalibrationPanel::resolve(calibration::IntrinsicsCollector collector, const QString& what) {
   calibration::IntrinsicsProcedureOptions o = options_;
   o.model = model_->currentText().toStdString();
-  o.log = [this](const std::string& line) {
-    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
-                              Qt::QueuedConnection);
-  };
+  o.log = logSink();
   calibration::IntrinsicsOutcome base = *outcome_;
   launch(
       [o, collector = std::move(collector), base]() mutable {
@@ -461,6 +444,13 @@ void CalibrationPanel::showLiveStill(const calibration::LiveStill& still) {
   if (still.kept) capture_waiting_ = false;
   if (capture_waiting_ || still.capture_pending) text += " · capture requested: the next still that passes is kept";
   live_status_->setText(text);
+}
+
+std::function<void(const std::string&)> CalibrationPanel::logSink() {
+  return [this](const std::string& line) {
+    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
+                              Qt::QueuedConnection);
+  };
 }
 
 QString CalibrationPanel::liveStatusText() const { return live_status_->text(); }

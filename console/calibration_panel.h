@@ -20,6 +20,7 @@
 
 #include <QWidget>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -91,6 +92,8 @@ class CalibrationPanel : public QWidget {
   void setBusy(bool busy);
   void resolve(calibration::IntrinsicsCollector collector, const QString& what);
   void showLiveStill(const calibration::LiveStill& still);
+  /// A log callback for the worker: each line appended to the Log tab on the GUI thread.
+  std::function<void(const std::string&)> logSink();
 
   link::LinkEndpoints endpoints_;
   calibration::IntrinsicsProcedureOptions options_;

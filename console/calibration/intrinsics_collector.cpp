@@ -12,7 +12,7 @@ IntrinsicsCollector::IntrinsicsCollector(const std::array<calib::GenericCamera, 
 
 SampleVerdict IntrinsicsCollector::judge(const StereoSample& sample, const StereoSample* previous) const {
   SampleVerdict verdict;
-  bool any_keep = false, moving = false;
+  bool any_keep = false;
   for (int c = 0; c < 2; ++c) {
     std::vector<calib::TargetObservation> kept;
     kept.reserve(samples_.size());
@@ -21,9 +21,10 @@ SampleVerdict IntrinsicsCollector::judge(const StereoSample& sample, const Stere
         calib::judgeView(sample.views[std::size_t(c)], previous ? &previous->views[std::size_t(c)] : nullptr, kept, gates_);
     verdict.reason += std::string(verdict.reason.empty() ? "" : "; ") + (c == 0 ? "cam_l: " : "cam_r: ") + g.reason;
     if (g.verdict == calib::GateVerdict::kKeep) any_keep = true;
-    if (g.verdict == calib::GateVerdict::kMoving || g.verdict == calib::GateVerdict::kNoPreviousView) moving = true;
+    if (g.verdict == calib::GateVerdict::kMoving || g.verdict == calib::GateVerdict::kNoPreviousView)
+      verdict.moving = true;
   }
-  verdict.keep = any_keep && !moving;
+  verdict.keep = any_keep && !verdict.moving;
   return verdict;
 }
 

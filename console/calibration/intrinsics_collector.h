@@ -23,6 +23,9 @@ namespace telesphere::console::calibration {
 struct SampleVerdict {
   bool keep = false;
   std::string reason;  ///< "kept", or each camera's gate with its number
+  /// A camera's board moved since the still before (or there was none): another still at the
+  /// same pose may pass.
+  bool moving = false;
 };
 
 class IntrinsicsCollector {

@@ -24,6 +24,11 @@ std::string fmt(const char* f, double a = 0, double b = 0, double c = 0, double 
   return buf;
 }
 
+/// The done rule's collection checks (views, polar bins of both cameras) on `collector`.
+DoneCheck collectionCheck(const IntrinsicsCollector& collector, const IntrinsicsDoneRule& rule) {
+  return checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, rule);
+}
+
 }  // namespace
 
 calib::GenericCamera genericFisheye(const std::string& model, int width, int height) {
@@ -144,10 +149,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     for (const PlannedView& view : plan) {
       if (cancelled()) return false;
       if (int(collector.samples().size()) >= o.max_views) break;
-      if (stop_when_collected) {
-        std::vector<const calib::ViewCoverage*> cov{&collector.coverage(0), &collector.coverage(1)};
-        if (checkCollection(int(collector.samples().size()), cov, o.rule).done()) break;
-      }
+      if (stop_when_collected && collectionCheck(collector, o.rule).done()) break;
       ++out.poses_visited;
       if (!robot.holdHeadAt(view.T_robot_head, &error)) {
         ++out.poses_refused;
@@ -189,8 +191,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
         }
         ++out.samples_rejected;
         log("sample not kept: " + verdict.reason);
-        const bool moving = verdict.reason.find("moving") != std::string::npos;
-        if (!moving) {
+        if (!verdict.moving) {
           settled_outcome = true;
           break;  // another still at this pose would not change the verdict
         }
@@ -231,7 +232,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   stage = "rim views";
   if (!visit(plan, true)) return fail("cancelled");
   // While the rule is unmet: the poses that gave nothing once more, then a fill ring.
-  if (!checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule).done()) {
+  if (!collectionCheck(collector, o.rule).done()) {
     std::vector<PlannedView> retry;
     retry.swap(missed);
     log(fmt("the rule is not met yet: %.0f poses again", double(retry.size())));
@@ -265,7 +266,7 @@ void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOpti
   };
   out.result.reset();
   out.calibration.reset();
-  out.collection = checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule);
+  out.collection = collectionCheck(collector, o.rule);
   out.solve = DoneCheck{};
   calib::IntrinsicOptions solve_options;
   solve_options.progress = [&](const std::string& line) { log("solve: " + line); };
@@ -280,7 +281,7 @@ void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOpti
   }
   out.result = *solved;
   collector.setModels({solved->cameras[0].calibration.camera, solved->cameras[1].calibration.camera});
-  out.collection = checkCollection(int(collector.samples().size()), {&collector.coverage(0), &collector.coverage(1)}, o.rule);
+  out.collection = collectionCheck(collector, o.rule);
   out.solve = checkSolve(*solved, o.rule);
   calib::SystemCalibration calibration = solved->toSystemCalibration();
   if (o.initial) {

@@ -12,7 +12,11 @@ std::optional<LiveStill> LiveCapture::step(std::string* error) {
   if (!still) return std::nullopt;
   ++stills_;
   LiveStill live;
-  live.sample = detectStereoSample(*still, options_.grid, options_.detection);
+  // One grey copy of each image: detected, and reduced to the live view's width, from which the
+  // sample list's thumbnail is reduced again.
+  live.sample = detectStereoSample(*still, options_.grid, options_.detection, view_width_);
+  live.view = live.sample.thumbnails;
+  for (calib::GrayImage& thumbnail : live.sample.thumbnails) thumbnail = thumbnailOf(thumbnail);
   if (live.sample.width <= 0) {
     *error = "the robot's still holds no image";
     return std::nullopt;
@@ -26,7 +30,6 @@ std::optional<LiveStill> LiveCapture::step(std::string* error) {
              std::to_string(collector_->height()) + " (the cameras changed): start a new calibration";
     return std::nullopt;
   }
-  live.view = {thumbnailOf(grayImageOf(still->left()), view_width_), thumbnailOf(grayImageOf(still->right()), view_width_)};
   live.verdict = collector_->judge(live.sample, previous_ ? &*previous_ : nullptr);
   if (live.verdict.keep && (auto_capture_ || capture_requested_.exchange(false))) {
     collector_->add(live.sample);

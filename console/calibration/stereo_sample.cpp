@@ -31,7 +31,7 @@ calib::GrayImage thumbnailOf(const calib::GrayImage& image, int max_width) {
 }
 
 StereoSample detectStereoSample(const link::proto::CalibrationStill& still, const calib::AprilGrid& grid,
-                                const calib::DetectionOptions& options) {
+                                const calib::DetectionOptions& options, int thumbnail_width) {
   StereoSample sample;
   sample.sequence = still.sequence();
   sample.capture_ns = still.capture_ns();
@@ -43,7 +43,7 @@ StereoSample detectStereoSample(const link::proto::CalibrationStill& still, cons
     sample.width = image.width;
     sample.height = image.height;
     sample.views[std::size_t(c)] = calib::detectAprilGrid(image, grid, options);
-    sample.thumbnails[std::size_t(c)] = thumbnailOf(image);
+    sample.thumbnails[std::size_t(c)] = thumbnailOf(image, thumbnail_width);
   }
   return sample;
 }

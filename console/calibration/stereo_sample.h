@@ -20,7 +20,7 @@ struct StereoSample {
   std::int64_t capture_ns = 0;    ///< robot clock
   std::vector<double> head_joints;  ///< rad, at capture_ns
   std::array<calib::TargetObservation, 2> views;  ///< [0] cam_l, [1] cam_r
-  std::array<calib::GrayImage, 2> thumbnails;     ///< ≤ 160 px wide
+  std::array<calib::GrayImage, 2> thumbnails;     ///< ≤ 160 px wide (detectStereoSample's default)
   int width = 0, height = 0;      ///< full resolution of the images
 };
 
@@ -30,8 +30,8 @@ calib::GrayImage grayImageOf(const link::proto::CalibrationImage& image);
 /// A box-filtered copy at most `max_width` wide.
 calib::GrayImage thumbnailOf(const calib::GrayImage& image, int max_width = 160);
 
-/// Detects the grid in both images of `still`.
+/// Detects the grid in both images of `still`; the thumbnails at most `thumbnail_width` wide.
 StereoSample detectStereoSample(const link::proto::CalibrationStill& still, const calib::AprilGrid& grid,
-                                const calib::DetectionOptions& options = {});
+                                const calib::DetectionOptions& options = {}, int thumbnail_width = 160);
 
 }  // namespace telesphere::console::calibration
