@@ -119,6 +119,59 @@ std::optional<std::array<Eigen::Isometry3d, 3>> solveAXBYCZ(
   return out;
 }
 
+/// With X known: P_i = F_i·X·M_i = Z·W_i·Y (the marker in the robot frame). Relative motions
+/// give A·Z = Z·B (A = P_j·P_i⁻¹, B = W_j·W_i⁻¹): R_Z aligns the rotation axes of B with those of
+/// A (orthogonal Procrustes), t_Z from (R_A − I)·t_Z = R_Z·t_B − t_A; then Y = W_i⁻¹·Z⁻¹·P_i
+/// averaged. Nothing when fewer than two relative rotations carry an axis.
+std::optional<std::array<Eigen::Isometry3d, 3>> solveWithKnownX(const std::vector<Eigen::Isometry3d>& F,
+                                                                const std::vector<Eigen::Isometry3d>& M,
+                                                                const std::vector<Eigen::Isometry3d>& W,
+                                                                const Eigen::Isometry3d& X, double min_rotation_deg) {
+  const std::size_t n = F.size();
+  std::vector<Eigen::Isometry3d> P(n);
+  for (std::size_t i = 0; i < n; ++i) P[i] = F[i] * X * M[i];
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  std::vector<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> motions;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const Eigen::Isometry3d A = P[j] * P[i].inverse(), B = W[j] * W[i].inverse();
+      const Eigen::AngleAxisd a(A.linear()), b(B.linear());
+      if (b.angle() < min_rotation_deg * M_PI / 180.0) continue;
+      H += (b.axis() * b.angle()) * (a.axis() * a.angle()).transpose();
+      motions.emplace_back(A, B);
+    }
+  if (motions.size() < 2) return std::nullopt;
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  const Eigen::Matrix3d R_Z = svd.matrixV() * D * svd.matrixU().transpose();
+  Eigen::MatrixXd C(3 * motions.size(), 3);
+  Eigen::VectorXd c(3 * motions.size());
+  for (std::size_t k = 0; k < motions.size(); ++k) {
+    const auto& [A, B] = motions[k];
+    C.block<3, 3>(3 * Eigen::Index(k), 0) = A.linear() - Eigen::Matrix3d::Identity();
+    c.segment<3>(3 * Eigen::Index(k)) = R_Z * B.translation() - A.translation();
+  }
+  std::array<Eigen::Isometry3d, 3> out;
+  out[0] = X;
+  out[1] = Eigen::Isometry3d::Identity();
+  out[1].linear() = R_Z;
+  out[1].translation() = C.colPivHouseholderQr().solve(c);
+  Eigen::Matrix3d R_sum = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d t_sum = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Isometry3d Y_i = W[i].inverse() * out[1].inverse() * P[i];
+    R_sum += Y_i.linear();
+    t_sum += Y_i.translation();
+  }
+  out[2] = Eigen::Isometry3d::Identity();
+  out[2].linear() = nearestRotation(R_sum);
+  out[2].translation() = t_sum / double(n);
+  for (const auto& T : out)
+    if (!T.matrix().allFinite()) return std::nullopt;
+  return out;
+}
+
 /// Reprojection of one marker corner of one sample into cam_l (T_cam_cam_l = identity) or cam_r.
 template <typename ModelD>
 struct MarkerCornerCost {
@@ -207,6 +260,7 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
   const std::vector<Eigen::Vector3d> p_marker(corners3.begin(), corners3.end());
   std::vector<Eigen::Isometry3d> F, M, W;
   std::vector<const HandEyeSample*> used;
+  std::vector<std::size_t> used_index;
   for (const auto& s : samples) {
     std::optional<Eigen::Isometry3d> T_cam_l_marker;
     for (int c = 0; c < (stereo ? 2 : 1) && !T_cam_l_marker; ++c) {
@@ -226,16 +280,30 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
     M.push_back(*T_cam_l_marker);
     W.push_back(s.T_mount_wrist);
     used.push_back(&s);
+    used_index.push_back(static_cast<std::size_t>(&s - samples.data()));
   }
   if (static_cast<int>(used.size()) < options.min_samples)
     return CalibrationFailure{CalibrationError::kTooFewViews,
                               "the marker pose could be found in only " + std::to_string(used.size()) +
                                   " samples, at least " + std::to_string(options.min_samples) + " needed"};
-  progress("hand-eye: closed-form initialisation from " + std::to_string(used.size()) + " samples");
-  const auto init = solveAXBYCZ(F, M, W);
-  if (!init)
+  std::optional<std::array<Eigen::Isometry3d, 3>> init;
+  if (static_cast<int>(used.size()) >= kClosedFormMinSamples) {
+    progress("hand-eye: closed-form initialisation from " + std::to_string(used.size()) + " samples");
+    init = solveAXBYCZ(F, M, W);
+  }
+  if (!init && options.T_flange_cam_l_guess) {
+    progress("hand-eye: initialisation from the given T_flange_cam_l and " + std::to_string(used.size()) + " samples");
+    init = solveWithKnownX(F, M, W, *options.T_flange_cam_l_guess, options.min_rotation_deg);
+  }
+  if (!init) {
+    if (static_cast<int>(used.size()) < kClosedFormMinSamples)
+      return CalibrationFailure{CalibrationError::kTooFewViews,
+                                "the closed-form hand-eye initialisation needs " +
+                                    std::to_string(kClosedFormMinSamples) + " samples (have " +
+                                    std::to_string(used.size()) + ") or a starting T_flange_cam_l"};
     return CalibrationFailure{CalibrationError::kInitialisationFailed,
                               "the closed-form hand-eye initialisation is degenerate"};
+  }
   result.initial = *init;
 
   detail::PoseBlock X = detail::PoseBlock::from((*init)[0]);
@@ -284,13 +352,45 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
   result.T_wrist_marker = Y.toIsometry();
   result.samples_used = static_cast<int>(used.size());
 
-  // Final errors per camera.
+  // Standard deviations: the covariance of the three poses, scaled by the residuals' variance.
+  // The quaternion manifold's tangent δ rotates by 2|δ| (Ceres: q' = [cos|δ|, sin|δ|·δ/|δ|]·q).
+  {
+    ceres::Covariance covariance(ceres::Covariance::Options{});
+    std::vector<std::pair<const double*, const double*>> blocks;
+    for (detail::PoseBlock* b : {&X, &Z, &Y}) {
+      blocks.emplace_back(b->q.data(), b->q.data());
+      blocks.emplace_back(b->t.data(), b->t.data());
+    }
+    if (covariance.Compute(blocks, &problem)) {
+      const double dof = std::max(1, 2 * corners - 18);
+      const double sigma2 = 2.0 * summary.final_cost / dof;
+      int k = 0;
+      for (detail::PoseBlock* b : {&X, &Z, &Y}) {
+        Eigen::Matrix3d cov_r, cov_t;
+        PoseStddev& sd = result.stddev[static_cast<std::size_t>(k++)];
+        if (!covariance.GetCovarianceBlockInTangentSpace(b->q.data(), b->q.data(), cov_r.data()) ||
+            !covariance.GetCovarianceBlock(b->t.data(), b->t.data(), cov_t.data()))
+          continue;
+        for (int i = 0; i < 3; ++i) {
+          sd.rotation_deg[i] = 2.0 * std::sqrt(std::max(0.0, cov_r(i, i) * sigma2)) * 180.0 / M_PI;
+          sd.translation_m[i] = std::sqrt(std::max(0.0, cov_t(i, i) * sigma2));
+        }
+        sd.valid = sd.rotation_deg.allFinite() && sd.translation_m.allFinite();
+      }
+    }
+  }
+
+  // Final errors per camera and per sample.
+  result.sample_fits.resize(used.size());
+  for (std::size_t i = 0; i < used.size(); ++i) result.sample_fits[i].index = used_index[i];
+  std::vector<double> sample_sum2(used.size(), 0.0);
   for (int c = 0; c < (stereo ? 2 : 1); ++c) {
     double sum2 = 0;
     int n = 0;
     const Eigen::Isometry3d T_cam_cam_l =
         c == 0 ? Eigen::Isometry3d::Identity() : cameras.T_cam_l_cam_r->inverse();
-    for (const HandEyeSample* s : used) {
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const HandEyeSample* s = used[i];
       const auto& obs = c == 0 ? s->corners_l : s->corners_r;
       if (!obs) continue;
       const Eigen::Isometry3d T_cam_marker = T_cam_cam_l * result.T_flange_cam_l.inverse() *
@@ -300,11 +400,18 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
         Eigen::Vector2d px;
         if (!cameras.cameras[static_cast<std::size_t>(c)].camera.project(T_cam_marker * corners3[k], px))
           continue;
-        sum2 += (px - (*obs)[k]).squaredNorm();
+        const double e2 = (px - (*obs)[k]).squaredNorm();
+        sum2 += e2;
+        sample_sum2[i] += e2;
+        ++result.sample_fits[i].corners;
         ++n;
       }
     }
     (c == 0 ? result.rms_px_l : result.rms_px_r) = n ? std::sqrt(sum2 / n) : 0.0;
+  }
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    HandEyeSampleFit& fit = result.sample_fits[i];
+    fit.rms_px = fit.corners ? std::sqrt(sample_sum2[i] / fit.corners) : 0.0;
   }
   const double rms = std::max(result.rms_px_l, result.rms_px_r);
   if (!(rms <= options.max_rms_px))

@@ -10,7 +10,8 @@
 /// fixed. T_robot_flange and T_mount_wrist come from the forward kinematics of the two arms
 /// (computed by the caller: calib does not depend on robot/).
 ///
-/// Initialisation in closed form: per sample the marker pose T_cam_l_marker from bearings; then
+/// Initialisation in closed form (from 10 samples; below that from a given T_flange_cam_l, see
+/// HandEyeOptions::T_flange_cam_l_guess): per sample the marker pose T_cam_l_marker from bearings; then
 /// F·X·M = Z·W·Y (X = T_flange_cam_l, Z = T_robot_mount, Y = T_wrist_marker) is solved for the
 /// rotations linearly through the Kronecker product (R_Mᵀ ⊗ R_F)·vec(R_X) =
 /// (vec(R_W)ᵀ ⊗ I₉)·vec(R_Yᵀ ⊗ R_Z) and the rank-1 factorisation of R_Yᵀ ⊗ R_Z, then the
@@ -52,7 +53,14 @@ struct HandEyeOptions {
   double min_rotation_deg = 3.0;     ///< relative rotations below this carry no axis
   double max_rms_px = 5.0;           ///< a final RMS above this means the solve diverged
   std::function<void(const std::string&)> progress;
+  /// A starting T_flange_cam_l (e.g. the calibration the robot runs with): below
+  /// kClosedFormMinSamples samples the closed form is not unique, and the initialisation then
+  /// takes X from here and solves Z and Y from the marker poses it implies.
+  std::optional<Eigen::Isometry3d> T_flange_cam_l_guess;
 };
+
+/// The closed form's Kronecker system has 90 unknowns and 9 equations per sample.
+inline constexpr int kClosedFormMinSamples = 10;
 
 /// How well the samples separate the unknowns: the spread of the rotation axes of the relative
 /// rotations between samples, atan(√(λ₂/λ₁)) of the axes' scatter matrix (0° when all axes are
@@ -68,6 +76,22 @@ struct HandEyeIdentifiability {
 HandEyeIdentifiability checkHandEyeIdentifiability(const std::vector<HandEyeSample>& samples,
                                                    const HandEyeOptions& options = {});
 
+/// A pose's standard deviations from the solve's covariance (scaled by the residuals' variance):
+/// translation per axis in the pose's parent frame, rotation per axis of the perturbation
+/// exp([δ]×)·R (also in the parent frame), deg. Not valid when the covariance could not be computed (rank deficient).
+struct PoseStddev {
+  Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();
+  bool valid = false;
+};
+
+/// One input sample's fit after the solve.
+struct HandEyeSampleFit {
+  std::size_t index = 0;  ///< in the samples given to calibrateHandEye
+  double rms_px = 0;      ///< over its marker corners in both cameras
+  int corners = 0;
+};
+
 struct HandEyeResult {
   Eigen::Isometry3d T_flange_cam_l = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_robot_mount = Eigen::Isometry3d::Identity();
@@ -78,6 +102,10 @@ struct HandEyeResult {
   int samples_used = 0;
   double initial_cost = 0, final_cost = 0;
   HandEyeIdentifiability identifiability;
+  /// Standard deviations of T_flange_cam_l, T_robot_mount, T_wrist_marker (same order as initial).
+  std::array<PoseStddev, 3> stddev;
+  /// Every sample used, in input order: its residual after the solve.
+  std::vector<HandEyeSampleFit> sample_fits;
 };
 
 /// Calibrates from `samples` with the cameras and T_cam_l_cam_r of `cameras` (one or two
