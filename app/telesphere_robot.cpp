@@ -9,7 +9,10 @@
 /// and the cameras are synthetic, rendering the default scene through the true calibration
 /// (--sim-truth, by default the one the robot uses) at the arm's true pose at the middle of each
 /// exposure, delivered after exposure/2 + transfer; frames are stamped, as on the real robot,
-/// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
+/// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame.
+/// --sim-manipulator adds the manipulator carrying the wrist marker (hand-eye calibration): a
+/// simulated xArm 6 at the true T_robot_mount moving along a teach-mode path, its joints reported
+/// at 100 Hz and carried in calibration stills. With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
 /// Exit codes: 0 ok, 1 bad arguments or files, 2 a camera or the link could not start.
 #include <CLI/CLI.hpp>
@@ -20,6 +23,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "calib/calibration_file.h"
@@ -31,6 +35,7 @@
 #include "robot/preview_streamer.h"
 #include "robot/robot_control.h"
 #include "robot/robot_health_reporter.h"
+#include "robot/simulated_manipulator.h"
 #include "robot/synthetic_camera.h"
 #include "robot/synthetic_scene.h"
 #include "robot/video_streamer.h"
@@ -71,6 +76,7 @@ int main(int argc, char** argv) {
   double transfer_ms = 10.0;  // the paper: about 10 ms over USB
   std::string true_calib_path;
   std::string truth_path;
+  bool sim_manipulator = false;
   app.add_flag("--sim", sim, "simulated arm and synthetic cameras (the default)");
   app.add_option("--calib", calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
       ->capture_default_str();
@@ -111,6 +117,10 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(100, 60000));
   app.add_option("--truth-out", truth_path,
                  "synthetic cameras: write each sent frame's true camera poses (CSV) to this file");
+  app.add_flag("--sim-manipulator", sim_manipulator,
+               "synthetic cameras: the wrist marker rides on a simulated manipulator (xArm 6) moving along a "
+               "teach-mode path, mounted at --sim-truth's T_robot_mount with the marker at its T_wrist_marker "
+               "(both or neither; default: across the table, ManipulatorMounting::example)");
   CLI11_PARSE(app, argc, argv);
 
   auto loaded = calib::loadCalibrationFile(calib_path);
@@ -125,8 +135,8 @@ int main(int argc, char** argv) {
                  "intrinsics and handeye first)\n";
     return 1;
   }
-  if (!camera_left.empty() && (!true_calib_path.empty() || !truth_path.empty())) {
-    std::cerr << "telesphere-robot: --sim-truth and --truth-out need the synthetic cameras\n";
+  if (!camera_left.empty() && (!true_calib_path.empty() || !truth_path.empty() || sim_manipulator)) {
+    std::cerr << "telesphere-robot: --sim-truth, --truth-out and --sim-manipulator need the synthetic cameras\n";
     return 1;
   }
   calib::SystemCalibration true_calibration = calibration;
@@ -140,6 +150,26 @@ int main(int argc, char** argv) {
     if (true_calibration.cameras.size() != 2 || !true_calibration.T_cam_l_cam_r || !true_calibration.T_flange_cam_l) {
       std::cerr << "telesphere-robot: --sim-truth " << true_calib_path
                 << ": needs two cameras, T_cam_l_cam_r and T_flange_cam_l\n";
+      return 1;
+    }
+  }
+  // The manipulator with the wrist marker, reporting its joints like the head arm.
+  std::optional<robot::SimulatedManipulator> manipulator;
+  robot::JointStateBuffer manipulator_reports{robot::HeadGeometry{}};
+  if (sim_manipulator) {
+    robot::SimulatedManipulatorConfig manipulator_config;
+    if (true_calibration.T_robot_mount.has_value() != true_calibration.T_wrist_marker.has_value()) {
+      std::cerr << "telesphere-robot: --sim-manipulator: the true calibration has only one of T_robot_mount and "
+                   "T_wrist_marker (give both or neither)\n";
+      return 1;
+    }
+    if (true_calibration.T_robot_mount) {
+      manipulator_config.mounting = {*true_calibration.T_robot_mount, *true_calibration.T_wrist_marker};
+    }
+    std::string error;
+    manipulator = robot::SimulatedManipulator::create(manipulator_config, &error);
+    if (!manipulator) {
+      std::cerr << "telesphere-robot: --sim-manipulator: " << error << '\n';
       return 1;
     }
   }
@@ -229,7 +259,9 @@ int main(int argc, char** argv) {
 
   std::unique_ptr<robot::CameraSource> left, right;
   if (camera_left.empty()) {
-    auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene());
+    robot::DefaultSceneLayout layout;
+    if (manipulator) layout.marker_pose = [&manipulator](std::int64_t t_ns) { return manipulator->T_robot_marker(t_ns); };
+    auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene(layout));
     const auto make = [&](int index, robot::CameraSide side, const Eigen::Isometry3d& T0,
                           const char* name) -> std::unique_ptr<robot::CameraSource> {
       std::string error;
@@ -288,7 +320,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  robot::StereoStillTaker stills(joints, clock);
+  robot::StereoStillTaker stills(joints, clock, manipulator ? &manipulator_reports : nullptr);
   video_config.on_sent = [&preview, &truth_log, &loop, &stills, preview_hz](const robot::StereoFrame& pair,
                                                                             std::uint64_t sequence) {
     stills.offer(pair, sequence);
@@ -312,6 +344,12 @@ int main(int argc, char** argv) {
   robot::RobotHealthReporter health(health_sources, clock);
 
   std::thread head_thread([&] { loop.run(g_stop); });
+  std::thread manipulator_thread([&] {  // the manipulator's 100 Hz reports
+    while (manipulator && !g_stop) {
+      manipulator->update(clock.nowNs(), manipulator_reports);
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  });
   if (preview_hz > 0) preview.start();
   pairs.start();
   video.start();
@@ -353,6 +391,7 @@ int main(int argc, char** argv) {
   left->stop();
   right->stop();
   head_thread.join();
+  manipulator_thread.join();
   server->setControlHandler(nullptr);  // the link's thread must not call into what goes next
   const auto v = video.stats();
   std::fprintf(stderr, "telesphere-robot: stopped after %llu frames\n",

@@ -154,6 +154,12 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVe
   return true;
 }
 
+bool HeadController::moveHold(const Eigen::Isometry3d& T_robot_head) {
+  if (!holding_ || !T_robot_head.matrix().allFinite() || !isRotation(T_robot_head.linear(), 1e-3)) return false;
+  hold_target_ = T_robot_head;
+  return true;
+}
+
 void HeadController::restoreMapping(const Eigen::Isometry3d& T_robot_vr) {
   TS_ASSERT(initialised_ && isRotation(T_robot_vr.linear(), 1e-6), T_robot_vr.matrix());
   T_robot_vr_ = T_robot_vr;

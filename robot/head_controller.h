@@ -126,6 +126,9 @@ class HeadController {
   /// (nothing changes) for non-finite joints or a pose that is not a rigid transform.
   bool holdAt(const Eigen::Isometry3d& T_robot_head, const JointVector& q_current, std::int64_t now_ns);
   void releaseHold() { holding_ = false; }
+  /// Moves the pose held (a calibration pattern, every tick); false (nothing changes) when not
+  /// holding or for a pose that is not a rigid transform.
+  bool moveHold(const Eigen::Isometry3d& T_robot_head);
   bool holding() const { return holding_; }
 
   /// Restores a mapping T_robot_vr taken from an earlier initialise() (undo); needs one.

@@ -2,6 +2,8 @@
 /// @brief HeadLoop: arm ↔ joint-state buffer ↔ controller ↔ link, once per period.
 #include "robot/head_loop.h"
 
+#include "robot/calibration_head_pattern.h"
+
 #include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
 
@@ -80,6 +82,10 @@ void HeadLoop::tick() {
     std::cerr << "telesphere-robot: nominal pose captured\n";
   }
 
+  if (calibration_hold_ && pattern_) {
+    controller_.moveHold(calibrationPatternPose(pattern_->T_robot_centre, pattern_->amplitude_deg,
+                                                now_ns - pattern_->start_ns));
+  }
   const HeadCommand command = controller_.tick(sample, now_ns);
   // The head's measured pose, once per tick (telemetry and robot state both carry it).
   const std::optional<Eigen::Isometry3d> T_robot_head_measured =
@@ -244,6 +250,7 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     if (calibration_hold_) {
       controller_.releaseHold();
       calibration_hold_ = false;
+      pattern_.reset();
       std::cerr << "telesphere-robot: calibration head hold released\n";
     }
     return true;
@@ -260,11 +267,21 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = "the arm is not ready (" + faultLocked() + "): clear the fault first";
     return false;
   }
-  if (!request.has_t_robot_head()) {
+  const double amplitude = request.pattern_amplitude_deg();
+  if (!(amplitude >= 0.0 && amplitude <= kMaxCalibrationPatternDeg)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "calibration head pattern: amplitude %g deg is outside [0, %g]", amplitude,
+                  kMaxCalibrationPatternDeg);
+    *error = buf;
+    return false;
+  }
+  if (!request.has_t_robot_head() && amplitude == 0.0) {
     *error = "calibration head pose: no pose given";
     return false;
   }
-  const Eigen::Isometry3d T_robot_head = link::fromLinkPose(request.t_robot_head());
+  // A pattern without a pose runs about the nominal pose.
+  const Eigen::Isometry3d T_robot_head =
+      request.has_t_robot_head() ? link::fromLinkPose(request.t_robot_head()) : controller_.config().T_robot_nom;
   if (!T_robot_head.matrix().allFinite()) {
     *error = "calibration head pose: not a finite pose";
     return false;
@@ -284,9 +301,30 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = "calibration head pose: the arm cannot reach it";
     return false;
   }
+  if (amplitude > 0.0) {  // every pose of the pattern must be reachable too: check its extremes
+    for (const double yaw : {-1.0, 1.0})
+      for (const double pitch : {-1.0, 1.0}) {
+        const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw * amplitude * M_PI / 180.0, Eigen::Vector3d::UnitZ()) *
+                                   Eigen::AngleAxisd(pitch * 0.6 * amplitude * M_PI / 180.0, Eigen::Vector3d::UnitY()))
+                                      .toRotationMatrix();
+        Eigen::Isometry3d T = T_robot_head;
+        T.linear() = T_robot_head.linear() * R;
+        if (controller_.kinematics().inverse(T * T_flange_head_.inverse(), ik.q, controller_.config().ik).status !=
+            IkResult::Status::kConverged) {
+          *error = "calibration head pattern: the arm cannot reach its extremes at this amplitude";
+          return false;
+        }
+      }
+  }
   if (!controller_.holdAt(T_robot_head, last_state_->q, clock_.nowNs())) {
     *error = "calibration head pose: not a rigid transform";
     return false;
+  }
+  if (amplitude > 0.0) {
+    pattern_ = HeadPattern{T_robot_head, amplitude, clock_.nowNs()};
+    std::cerr << "telesphere-robot: calibration head pattern started (" << amplitude << " deg)\n";
+  } else {
+    pattern_.reset();
   }
   calibration_hold_ = true;
   return true;

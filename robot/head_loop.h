@@ -27,6 +27,8 @@
 /// Calibration head poses (console wizards, link CalibrationHeadPose): the head goes to the pose
 /// and holds there, the operator ignored, until released; not during the nominal-pose step (and
 /// no HOLD step while held); poses outside the workspace or out of the arm's reach are refused.
+/// With a pattern amplitude the held pose moves every tick along the sinusoidal head pattern of
+/// robot/calibration_head_pattern.h (hand-eye sample collection).
 #pragma once
 
 #include <atomic>
@@ -127,6 +129,12 @@ class HeadLoop {
   std::optional<ArrivedTarget> captured_;           ///< pending while CAPTURED
   std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
   bool calibration_hold_ = false;  ///< held at a calibration head pose (link CalibrationHeadPose)
+  struct HeadPattern {
+    Eigen::Isometry3d T_robot_centre;
+    double amplitude_deg = 0;
+    std::int64_t start_ns = 0;
+  };
+  std::optional<HeadPattern> pattern_;  ///< while the held pose moves along the pattern
   std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
   double sphere_radius_;
   link::proto::TrialIndicator trial_;  ///< the study's trial indicator, as the console sent it

@@ -72,24 +72,28 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   }
   const StereoFrame& frame = pair->first;
   const std::int64_t capture_ns = frame.left.capture_ns;
-  // Joint states on both sides of the capture time: wait for the one after (the arm reports at
-  // its own rate), never extrapolate.
-  for (;;) {
-    const auto window = joints_.window();
-    if (window && window->first <= capture_ns && window->second >= capture_ns &&
-        window->first <= frame.right.capture_ns && window->second >= frame.right.capture_ns)
-      break;
-    if (window && window->first > capture_ns) {
-      *error = "the joint states of the capture time are no longer kept";
-      return false;
+  // Joint states on both sides of the capture time: wait for the one after (the arms report at
+  // their own rate), never extrapolate.
+  const auto bracketed = [&](const JointStateBuffer& buffer, const char* arm) {
+    for (;;) {
+      const auto window = buffer.window();
+      if (window && window->first <= capture_ns && window->second >= capture_ns &&
+          window->first <= frame.right.capture_ns && window->second >= frame.right.capture_ns)
+        return true;
+      if (window && window->first > capture_ns) {
+        *error = std::string("the ") + arm + "'s joint states of the capture time are no longer kept";
+        return false;
+      }
+      if (std::chrono::steady_clock::now() >= deadline) {
+        *error = window ? std::string("no joint state of the ") + arm + " after the capture time arrived in time (is it reporting?)"
+                        : std::string("no joint states at all from the ") + arm + " (is it connected?)";
+        return false;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
-    if (std::chrono::steady_clock::now() >= deadline) {
-      *error = window ? "no joint state after the capture time arrived in time (is the arm reporting?)"
-                      : "no joint states at all (is the arm connected?)";
-      return false;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  };
+  if (!bracketed(joints_, "head arm")) return false;
+  if (manipulator_ != nullptr && !bracketed(*manipulator_, "manipulator")) return false;
   const auto q = joints_.jointsAt(capture_ns);
   const auto T_l = joints_.T_robot_cam(CameraSide::kLeft, frame.left.capture_ns);
   const auto T_r = joints_.T_robot_cam(CameraSide::kRight, frame.right.capture_ns);
@@ -109,6 +113,21 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   }
   still->set_joints_before_ns(bracket->first);
   still->set_joints_after_ns(bracket->second);
+  if (const auto T_robot_flange = joints_.T_robot_flange(capture_ns))
+    link::toLinkPose(*T_robot_flange, still->mutable_t_robot_flange());
+  if (manipulator_ != nullptr) {
+    const auto q_m = manipulator_->jointsAt(capture_ns);
+    const auto T_mount_wrist = manipulator_->T_robot_flange(capture_ns);
+    const auto bracket_m = manipulator_->bracket(capture_ns);
+    if (!q_m || !T_mount_wrist || !bracket_m) {
+      *error = "no manipulator joint state at the capture time";
+      return false;
+    }
+    for (int i = 0; i < q_m->size(); ++i) still->add_manipulator_joints((*q_m)[i]);
+    still->set_manipulator_before_ns(bracket_m->first);
+    still->set_manipulator_after_ns(bracket_m->second);
+    link::toLinkPose(*T_mount_wrist, still->mutable_t_mount_wrist());
+  }
   const auto fill = [&](const CameraFrame& f, const Eigen::Isometry3d& T, link::proto::CalibrationImage* image) {
     image->set_width(std::uint32_t(f.width));
     image->set_height(std::uint32_t(f.height));

@@ -6,6 +6,9 @@
 ///        joint states on both sides of that time are there (waiting for the one after up to the
 ///        timeout), so a sample's joints are never extrapolated.
 ///
+/// Where a manipulator carries the wrist marker (hand-eye calibration), its reported joints are
+/// interpolated at the capture time too, under the same rule (reports on both sides of it).
+///
 ///   video path ──offer(pair)──▶ StereoStillTaker ◀──take()── control thread (blocks ≤ timeout)
 #pragma once
 
@@ -25,7 +28,10 @@ namespace telesphere::robot {
 
 class StereoStillTaker {
  public:
-  StereoStillTaker(const JointStateBuffer& joints, const Clock& clock) : joints_(joints), clock_(clock) {}
+  /// `manipulator`: the manipulator's reported joints (its buffer's flange pose is T_mount_wrist),
+  /// or null when the robot has none.
+  StereoStillTaker(const JointStateBuffer& joints, const Clock& clock, const JointStateBuffer* manipulator = nullptr)
+      : joints_(joints), clock_(clock), manipulator_(manipulator) {}
 
   /// Every pair the video path sends (cheap: the pixels are shared, nothing is converted here).
   void offer(const StereoFrame& pair, std::uint64_t sequence);
@@ -40,6 +46,7 @@ class StereoStillTaker {
  private:
   const JointStateBuffer& joints_;
   const Clock& clock_;
+  const JointStateBuffer* manipulator_;
   mutable std::mutex mutex_;
   std::condition_variable offered_;
   std::optional<std::pair<StereoFrame, std::uint64_t>> newest_;

@@ -244,16 +244,22 @@ bool SceneView::intersect(const Eigen::Vector3d& d_cam, SceneHit* out_hit) const
   return true;
 }
 
-Eigen::Isometry3d DefaultSceneLayout::T_robot_marker(std::int64_t t_ns) {
-  constexpr double kPeriod = 4.0, kRadius = 0.08;
-  const double phase = 2.0 * M_PI * std::fmod(static_cast<double>(t_ns) * 1e-9, kPeriod) / kPeriod;
+Eigen::Isometry3d DefaultSceneLayout::T_robot_marker_centre() {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   // Marker z (out of the print) along −x of the robot, towards the head; marker x along −y
   // (the head's right), marker y up.
   T.linear().col(0) = -Eigen::Vector3d::UnitY();
   T.linear().col(1) = Eigen::Vector3d::UnitZ();
   T.linear().col(2) = -Eigen::Vector3d::UnitX();
-  T.translation() = Eigen::Vector3d(1.0, 0.40 + kRadius * std::cos(phase), 0.60 + kRadius * std::sin(phase));
+  T.translation() = Eigen::Vector3d(1.0, 0.40, 0.60);
+  return T;
+}
+
+Eigen::Isometry3d DefaultSceneLayout::T_robot_marker(std::int64_t t_ns) {
+  constexpr double kPeriod = 4.0, kRadius = 0.08;
+  const double phase = 2.0 * M_PI * std::fmod(static_cast<double>(t_ns) * 1e-9, kPeriod) / kPeriod;
+  Eigen::Isometry3d T = T_robot_marker_centre();
+  T.translation() += Eigen::Vector3d(0.0, kRadius * std::cos(phase), kRadius * std::sin(phase));
   return T;
 }
 
@@ -299,13 +305,11 @@ SyntheticScene defaultScene(const DefaultSceneLayout& layout) {
                style(230, 200, 40, 24));
   scene.addAprilGrid("board", fixedPose(layout.T_robot_board()), layout.grid);
   // The wrist: a small grey box just behind the marker, moving with it.
+  const PoseAtTime marker_pose = layout.marker_pose ? layout.marker_pose : PoseAtTime(&DefaultSceneLayout::T_robot_marker);
   scene.addBox("wrist",
-               [](std::int64_t t_ns) {
-                 return DefaultSceneLayout::T_robot_marker(t_ns) * Eigen::Translation3d(0, 0, -0.045);
-               },
+               [marker_pose](std::int64_t t_ns) { return marker_pose(t_ns) * Eigen::Translation3d(0, 0, -0.045); },
                Eigen::Vector3d(0.06, 0.06, 0.04), SurfaceStyle{Eigen::Vector3f(120, 120, 125), false, 0});
-  scene.addArucoMarker("marker", &DefaultSceneLayout::T_robot_marker, layout.marker_dictionary,
-                       layout.marker_id, layout.marker_size);
+  scene.addArucoMarker("marker", marker_pose, layout.marker_dictionary, layout.marker_id, layout.marker_size);
   return scene;
 }
 

@@ -125,6 +125,10 @@ struct DefaultSceneLayout {
   double marker_size = 0.1;  ///< metres
   /// The wrist marker circles (radius 8 cm, period 4 s) 0.6 m ahead of the head, facing it.
   static Eigen::Isometry3d T_robot_marker(std::int64_t t_ns);
+  /// The centre of that circle, with the marker's orientation.
+  static Eigen::Isometry3d T_robot_marker_centre();
+  /// Where the marker really is (e.g. on a SimulatedManipulator); empty: the circle above.
+  PoseAtTime marker_pose;
   /// The Aprilgrid board: 1.1 m ahead and 0.45 m to the right of the head, turned towards it.
   Eigen::Isometry3d T_robot_board() const;
 };

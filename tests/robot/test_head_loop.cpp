@@ -10,6 +10,7 @@
 #include "tests/eventually.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
+#include "robot/calibration_head_pattern.h"
 #include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
@@ -339,6 +340,56 @@ TEST(HeadLoop, ACalibrationHeadPoseIsHeldWithTheOperatorIgnoredUntilReleased) {
     return s && !s->calibration_hold();
   }));
   EXPECT_TRUE(rig.nominal(link::proto::NOMINAL_REQUEST_HOLD).ok());
+}
+
+// Hand-eye sample collection: the head moves along the sinusoidal pattern about the nominal pose,
+// turning about all three axes, and follows the pattern's pose within the arm's lag.
+TEST(HeadLoop, TheCalibrationPatternTurnsTheHeadAboutThreeAxes) {
+  HeadLoopRig rig(27330);
+  rig.step();
+  link::proto::ControlRequest r;
+  r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(45.0);
+  auto reply = rig.request(r);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("outside [0, 30]"), std::string::npos) << reply.error();
+  r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(20.0);  // no pose: about the nominal one
+  const std::int64_t start_ns = rig.clock.nowNs();
+  reply = rig.request(r);
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  const Eigen::Isometry3d T_robot_nom = rig.controller.config().T_robot_nom;
+  for (int i = 0; i < 500; ++i) rig.step();  // reach the centre and let the amplitude ramp up
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  double worst_lag_deg = 0, worst_position_m = 0;
+  for (int i = 0; i < 1200; ++i) {  // 12 s: more than a yaw and a pitch period
+    rig.step();
+    const Eigen::Isometry3d measured = rig.measuredHead();
+    // Yaw, pitch, roll of the head relative to the centre (z, y, x).
+    const Eigen::Matrix3d R = T_robot_nom.linear().transpose() * measured.linear();
+    const Eigen::Vector3d ypr =
+        Eigen::Vector3d(std::atan2(R(1, 0), R(0, 0)), std::asin(-R(2, 0)), std::atan2(R(2, 1), R(2, 2))) * 180 / M_PI;
+    lo = lo.cwiseMin(ypr);
+    hi = hi.cwiseMax(ypr);
+    worst_position_m = std::max(worst_position_m, (measured.translation() - T_robot_nom.translation()).norm());
+    const Eigen::Isometry3d wanted = calibrationPatternPose(T_robot_nom, 20.0, rig.clock.nowNs() - start_ns);
+    worst_lag_deg = std::max(worst_lag_deg,
+                             Eigen::AngleAxisd(measured.linear().transpose() * wanted.linear()).angle() * 180 / M_PI);
+  }
+  EXPECT_GT(hi[0] - lo[0], 30.0) << "yaw " << lo[0] << ".." << hi[0];
+  EXPECT_GT(hi[1] - lo[1], 14.0) << "pitch " << lo[1] << ".." << hi[1];
+  EXPECT_GT(hi[2] - lo[2], 5.0) << "roll " << lo[2] << ".." << hi[2];
+  // The arm's dead time (118 ms) at the pattern's fastest turn (≈ 21°/s) and the filter; the
+  // head's centre moves only by the lag's lever arm.
+  EXPECT_LT(worst_lag_deg, 5.0);
+  EXPECT_LT(worst_position_m, 0.01);
+  std::printf("pattern: yaw %.1f..%.1f°, pitch %.1f..%.1f°, roll %.1f..%.1f°, lag ≤ %.2f°, centre ≤ %.1f mm\n", lo[0],
+              hi[0], lo[1], hi[1], lo[2], hi[2], worst_lag_deg, worst_position_m * 1e3);
+  ASSERT_TRUE(rig.request([] {
+                link::proto::ControlRequest release;
+                release.mutable_calibration_head_pose()->set_release(true);
+                return release;
+              }())
+                  .ok());
+  EXPECT_FALSE(rig.controller.holding());
 }
 
 TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {

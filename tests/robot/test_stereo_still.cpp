@@ -121,7 +121,7 @@ TEST(StereoStill, WaitsForTheJointStateAfterTheCaptureButNeverExtrapolates) {
   auto offering2 = rig.offerSoon(later, 4);
   EXPECT_FALSE(rig.taker.take(&still, 200ms, &error));
   offering2.join();
-  EXPECT_NE(error.find("no joint state after the capture time"), std::string::npos) << error;
+  EXPECT_NE(error.find("after the capture time arrived in time"), std::string::npos) << error;
 }
 
 TEST(StereoStill, RefusesWithoutAFreshPairOrAnyJointState) {
@@ -138,6 +138,51 @@ TEST(StereoStill, RefusesWithoutAFreshPairOrAnyJointState) {
   offering.join();
   EXPECT_NE(error.find("no joint states at all"), std::string::npos) << error;
   EXPECT_EQ(rig.taker.taken(), 0u);
+}
+
+// With a manipulator (hand-eye calibration) its joints are bracketed and interpolated at the
+// capture time too, with their forward kinematics; a manipulator that stopped reporting makes
+// the still fail with the reason, not carry stale joints.
+TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
+  SimClock clock{1'000'000'000};
+  JointStateBuffer joints{HeadGeometry::example()};
+  JointStateBuffer manipulator{HeadGeometry{}};
+  StereoStillTaker taker{joints, clock, &manipulator};
+  const std::int64_t t0 = clock.nowNs();
+  for (int i = 0; i < 3; ++i) ASSERT_TRUE(joints.push(state(t0 + i * 10'000'000, 0.1 * (i + 1))));
+  ASSERT_TRUE(manipulator.push(state(t0 - 2'000'000, 0.5)));
+  StereoFrame pair;
+  pair.left = frame(PixelFormat::kMono8, 4, 4, 4, t0 + 4'000'000, [](int, int, int) { return 9; });
+  pair.right = pair.left;
+  std::thread offer_and_report([&] {
+    std::this_thread::sleep_for(30ms);
+    taker.offer(pair, 5);
+    std::this_thread::sleep_for(50ms);  // the manipulator's next report comes later
+    manipulator.push(state(t0 + 8'000'000, 0.6));
+  });
+  link::proto::CalibrationStill still;
+  std::string error;
+  ASSERT_TRUE(taker.take(&still, 2000ms, &error)) << error;
+  offer_and_report.join();
+  ASSERT_EQ(still.manipulator_joints_size(), 6);
+  EXPECT_NEAR(still.manipulator_joints(0), 0.5 + 0.1 * 6.0 / 10.0, 1e-12);
+  EXPECT_EQ(still.manipulator_before_ns(), t0 - 2'000'000);
+  EXPECT_EQ(still.manipulator_after_ns(), t0 + 8'000'000);
+  EXPECT_TRUE(link::fromLinkPose(still.t_mount_wrist()).isApprox(*manipulator.T_robot_flange(t0 + 4'000'000), 1e-12));
+  EXPECT_TRUE(link::fromLinkPose(still.t_robot_flange()).isApprox(*joints.T_robot_flange(t0 + 4'000'000), 1e-12));
+
+  // The manipulator stops reporting: the next still is refused, naming it.
+  clock.set(t0 + 12'000'000);
+  StereoFrame later = pair;
+  later.left.capture_ns = later.right.capture_ns = t0 + 15'000'000;
+  ASSERT_TRUE(joints.push(state(t0 + 30'000'000, 0.4)));
+  std::thread offering([&] {
+    std::this_thread::sleep_for(30ms);
+    taker.offer(later, 6);
+  });
+  EXPECT_FALSE(taker.take(&still, 200ms, &error));
+  offering.join();
+  EXPECT_NE(error.find("no joint state of the manipulator after the capture time"), std::string::npos) << error;
 }
 
 TEST(StereoStill, BayerIsDemosaicedToLumaAndBrokenFramesAreRefused) {

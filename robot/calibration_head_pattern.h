@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+/// @brief The paper's predefined sinusoidal head pattern for hand-eye sample collection (§III-B;
+///        link CalibrationHeadPose.pattern_amplitude_deg): about a centre pose, yaw ±A, pitch
+///        ±0.6·A and roll ±0.4·A (head axes: x forward, y left, z up) with periods 7 s, 5 s and
+///        11 s, so the head turns about three axes and the pattern repeats only after 385 s.
+///        The amplitude ramps up over the first 2 s so that the head starts from rest at the
+///        centre; the position stays at the centre's.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace telesphere::robot {
+
+inline constexpr double kMaxCalibrationPatternDeg = 30.0;
+
+/// T_robot_head at `elapsed_ns` after the pattern started about T_robot_centre.
+inline Eigen::Isometry3d calibrationPatternPose(const Eigen::Isometry3d& T_robot_centre, double amplitude_deg,
+                                                std::int64_t elapsed_ns) {
+  const double t = static_cast<double>(elapsed_ns) * 1e-9;
+  const double a = amplitude_deg * M_PI / 180.0 * std::clamp(t / 2.0, 0.0, 1.0);
+  const auto swing = [t](double period_s) { return std::sin(2.0 * M_PI * t / period_s); };
+  const Eigen::Matrix3d R_centre_head = (Eigen::AngleAxisd(a * swing(7.0), Eigen::Vector3d::UnitZ()) *
+                                         Eigen::AngleAxisd(0.6 * a * swing(5.0), Eigen::Vector3d::UnitY()) *
+                                         Eigen::AngleAxisd(0.4 * a * swing(11.0), Eigen::Vector3d::UnitX()))
+                                            .toRotationMatrix();
+  Eigen::Isometry3d T = T_robot_centre;
+  T.linear() = T_robot_centre.linear() * R_centre_head;
+  return T;
+}
+
+}  // namespace telesphere::robot
