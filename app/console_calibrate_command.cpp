@@ -14,9 +14,7 @@
 #include "robot/link/link_client.h"
 
 namespace telesphere::app {
-namespace {
 
-/// "tcp://HOST:PORT" or "HOST:PORT".
 bool parseRobotEndpoint(std::string text, link::LinkEndpoints* endpoints) {
   if (text.rfind("tcp://", 0) == 0) text = text.substr(6);
   const std::size_t colon = text.rfind(':');
@@ -30,6 +28,35 @@ bool parseRobotEndpoint(std::string text, link::LinkEndpoints* endpoints) {
   endpoints->base_port = std::stoi(port);
   return endpoints->base_port >= 1 && endpoints->base_port <= 65532;
 }
+
+bool robotAnswers(console::calibration::CalibrationRobot& robot, const std::string& endpoint) {
+  if (robot.headPose(std::chrono::seconds(10))) return true;
+  std::cerr << "telesphere-console calibrate: the robot never answered at " << endpoint
+            << " within 10 s (is telesphere-robot running?)\n";
+  return false;
+}
+
+int reportAndSave(const CalibrateCommandOptions& o, const nlohmann::ordered_json& figures,
+                  const std::function<void(const nlohmann::ordered_json&)>& print, bool done, const std::string& error,
+                  const std::optional<calib::SystemCalibration>& calibration, calib::CalibrationFormat format) {
+  if (o.json) {
+    std::cout << figures.dump(2) << '\n';
+  } else {
+    print(figures);
+  }
+  if (!done || !calibration) {
+    std::cerr << "telesphere-console calibrate: " << error << '\n';
+    return 2;
+  }
+  if (auto e = calib::saveCalibrationFile(*calibration, o.out, format)) {
+    std::cerr << "telesphere-console calibrate: " << e->describe() << '\n';
+    return 1;
+  }
+  std::cerr << "telesphere-console calibrate: wrote " << o.out << '\n';
+  return 0;
+}
+
+namespace {
 
 nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& out) {
   nlohmann::ordered_json j;
@@ -150,16 +177,18 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateCommandOptions& o) {
   intrinsics->add_option("--tolerance-px", o.tolerance_px, "the RMS a model must reach to be preselected, px")
       ->capture_default_str()->check(CLI::Range(0.01, 100.0));
   intrinsics->add_flag("--json", o.json, "print the figures as JSON on stdout (the log stays on stderr)");
+  addHandEyeSubcommand(*calibrate, o);
   return calibrate;
 }
 
-int runCalibrateCommand(const CLI::App& /*calibrate*/, const CalibrateCommandOptions& o) {
+int runCalibrateCommand(const CLI::App& calibrate, const CalibrateCommandOptions& o) {
   const auto bad = [](const std::string& message) {
     std::cerr << "telesphere-console calibrate: " << message << '\n';
     return 1;
   };
   link::LinkEndpoints endpoints;
   if (!parseRobotEndpoint(o.robot, &endpoints)) return bad("--robot '" + o.robot + "' is not tcp://HOST:PORT");
+  if (calibrate.get_subcommand("handeye")->parsed()) return runHandEyeCalibrate(o, endpoints);
   const auto format = calib::parseFormatName(o.format);
   if (!format) return bad("--format '" + o.format + "': telesphere, kalibr or basalt");
   const auto& models = calib::GenericCamera::modelNames();
@@ -185,11 +214,7 @@ int runCalibrateCommand(const CLI::App& /*calibrate*/, const CalibrateCommandOpt
 
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
   console::calibration::CalibrationRobot robot(client);
-  if (!robot.headPose(std::chrono::seconds(10))) {
-    std::cerr << "telesphere-console calibrate: the robot never answered at " << o.robot
-              << " within 10 s (is telesphere-robot running?)\n";
-    return 3;
-  }
+  if (!robotAnswers(robot, o.robot)) return 3;
   const auto outcome = console::calibration::runIntrinsicsAuto(robot, options);
   nlohmann::ordered_json figures = figuresOf(outcome);
   if (o.compare_models && outcome.collector && !outcome.collector->samples().empty()) {
@@ -207,18 +232,7 @@ int runCalibrateCommand(const CLI::App& /*calibrate*/, const CalibrateCommandOpt
     figures["tolerance_px"] = o.tolerance_px;
     figures["preselected_model"] = comparison.preselected.value_or("");
   }
-  if (o.json) {
-    std::cout << figures.dump(2) << '\n';
-  } else {
-    printFigures(figures);
-  }
-  if (!outcome.done) {
-    std::cerr << "telesphere-console calibrate: " << outcome.error << '\n';
-    return 2;
-  }
-  if (auto error = calib::saveCalibrationFile(*outcome.calibration, o.out, *format)) return bad(error->describe());
-  std::cerr << "telesphere-console calibrate: wrote " << o.out << '\n';
-  return 0;
+  return reportAndSave(o, figures, printFigures, outcome.done, outcome.error, outcome.calibration, *format);
 }
 
 }  // namespace telesphere::app

@@ -6,7 +6,7 @@
 ///   telesphere-console [--host H] [--port P] [--study-db FILE [--study STUDY.json]]
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
 ///   telesphere-console study report|import …            (headless; app/console_study_command.h)
-///   telesphere-console calibrate intrinsics --auto …    (headless; app/console_calibrate_command.h)
+///   telesphere-console calibrate intrinsics|handeye --auto …  (headless; app/console_calibrate_command.h)
 ///
 /// Exit codes: 0 ok; 1 bad arguments; 2 no display to open a window on; 3 the robot never
 /// answered within --duration; 4 the screenshot could not be written.

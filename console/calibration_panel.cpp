@@ -21,6 +21,7 @@
 #include <QVBoxLayout>
 
 #include "calib/calibration_file.h"
+#include "console/calibration_save_dialog.h"
 #include "console/calibration_residuals_view.h"
 #include "robot/link/link_client.h"
 
@@ -232,13 +233,8 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
     if (samples_->currentRow() >= 0) deleteSample(samples_->currentRow());
   });
   connect(save_, &QPushButton::clicked, this, [this] {
-    QString filter;
-    const QString path = QFileDialog::getSaveFileName(this, "Save calibration", "calibration.yaml",
-                                                      "telesphere (*.yaml);;kalibr camchain (*.yaml);;Basalt (*.json)",
-                                                      &filter);
-    if (path.isEmpty()) return;
-    QString error;
-    const QString format = filter.startsWith("kalibr") ? "kalibr" : filter.startsWith("Basalt") ? "basalt" : "telesphere";
+    QString path, format, error;
+    if (!askCalibrationSavePath(this, &path, &format)) return;
     if (!saveTo(path, format, &error)) status_->setText("<span style='color:#b00'>" + error.toHtmlEscaped() + "</span>");
   });
   setProcedureOptions({});

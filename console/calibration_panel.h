@@ -14,8 +14,8 @@
 /// with their corners and the gates' verdict, kept automatically or on Capture, for a board held
 /// by hand; then Solve.
 ///
-/// Not here yet (issue #15 stays open): hand-eye, applying a result to the running robot and XR
-/// app.
+/// Hand-eye is the Hand-eye panel's (console/hand_eye_panel.h). Not here yet (issue #15 stays
+/// open): applying a result to the running robot and XR app.
 #pragma once
 
 #include <QWidget>

@@ -23,6 +23,7 @@
 #include "console/live_plot.h"
 #include "console/nominal_pose_panel.h"
 #include "console/calibration_panel.h"
+#include "console/hand_eye_panel.h"
 #include "console/study_panel.h"
 #include "console/supervisor_plots.h"
 
@@ -73,15 +74,18 @@ ConsoleWindow::ConsoleWindow(ConsoleSession& session, QWidget* parent) : QMainWi
   nominal_ = new NominalPosePanel(session_);
   study_ = new StudyPanel(session_);
   calibration_ = new CalibrationPanel(session_.options().endpoints);
+  hand_eye_ = new HandEyePanel(session_.options().endpoints);
   QDockWidget* health_dock = dock("Health", health_, Qt::LeftDockWidgetArea);
   QDockWidget* cameras_dock = dock("Cameras", preview_, Qt::RightDockWidgetArea);
   QDockWidget* control_dock = dock("Control", control_, Qt::RightDockWidgetArea);
   QDockWidget* nominal_dock = dock("Nominal pose", nominal_, Qt::RightDockWidgetArea);
   QDockWidget* study_dock = dock("Study", study_, Qt::RightDockWidgetArea);
   QDockWidget* calibration_dock = dock("Calibration", calibration_, Qt::RightDockWidgetArea);
+  QDockWidget* hand_eye_dock = dock("Hand-eye", hand_eye_, Qt::RightDockWidgetArea);
   tabifyDockWidget(control_dock, nominal_dock);
   tabifyDockWidget(control_dock, study_dock);
   tabifyDockWidget(control_dock, calibration_dock);
+  tabifyDockWidget(control_dock, hand_eye_dock);
   control_dock->raise();
 
   QMenu* file = menuBar()->addMenu("&File");

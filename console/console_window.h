@@ -25,6 +25,7 @@ class LivePlot;
 class NominalPosePanel;
 class StudyPanel;
 class CalibrationPanel;
+class HandEyePanel;
 
 class ConsoleWindow : public QMainWindow {
   Q_OBJECT
@@ -45,6 +46,7 @@ class ConsoleWindow : public QMainWindow {
   NominalPosePanel* nominalPanel() const { return nominal_; }
   StudyPanel* studyPanel() const { return study_; }
   CalibrationPanel* calibrationPanel() const { return calibration_; }
+  HandEyePanel* handEyePanel() const { return hand_eye_; }
   FaultBanner* faultBanner() const { return banner_; }
   /// The dock holding `panel` (to show it, or to grab it for a screenshot).
   QDockWidget* dockOf(QWidget* panel) const;
@@ -72,6 +74,7 @@ class ConsoleWindow : public QMainWindow {
   NominalPosePanel* nominal_;
   StudyPanel* study_;
   CalibrationPanel* calibration_;
+  HandEyePanel* hand_eye_;
   std::vector<QDockWidget*> docks_;
   QTimer redraw_timer_, panel_timer_;
   std::uint64_t drawn_version_ = ~0ull;

@@ -47,6 +47,14 @@ bool CalibrationRobot::holdHeadAt(const Eigen::Isometry3d& T_robot_head, std::st
   return true;
 }
 
+bool CalibrationRobot::runHeadPattern(double amplitude_deg, std::string* error) {
+  link::proto::ControlRequest r;
+  r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(amplitude_deg);
+  if (!request(std::move(r), error)) return false;
+  holding_ = true;
+  return true;
+}
+
 bool CalibrationRobot::release(std::string* error) {
   link::proto::ControlRequest r;
   r.mutable_calibration_head_pose()->set_release(true);

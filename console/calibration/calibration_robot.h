@@ -36,6 +36,9 @@ class CalibrationRobot {
   /// (timeout with the remaining distance, cancelled).
   bool waitSettled(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,
                    const std::atomic<bool>* cancel, std::string* error);
+  /// Asks the robot to move the head along the sinusoidal calibration pattern about the nominal
+  /// pose (hand-eye samples); false with the robot's reason.
+  bool runHeadPattern(double amplitude_deg, std::string* error);
   /// Gives the head back to the operator.
   bool release(std::string* error);
 

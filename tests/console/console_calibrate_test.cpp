@@ -7,23 +7,14 @@
 ///        them, so the check can fail). A run that cannot meet the done rule exits 2 with the
 ///        reason and writes nothing; no robot exits 3.
 #include <gtest/gtest.h>
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
-#include <array>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
-#include <thread>
 
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
-
-extern char** environ;
+#include "tests/console/sim_robot_process.h"
 
 namespace {
 namespace calib = telesphere::calib;
@@ -32,28 +23,8 @@ constexpr int kPort = 27960;
 const std::string kBin = TELESPHERE_BINARY_DIR "/bin/";
 const std::string kSrc = TELESPHERE_SOURCE_DIR "/";
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string out;  ///< stdout
-  std::string err;  ///< stderr (the log)
-};
-
-CommandResult runCommand(const std::string& command, const std::string& dir) {
-  CommandResult r;
-  const std::string err_file = dir + "/stderr.txt";
-  FILE* pipe = popen((command + " 2>" + err_file).c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buf{};
-  std::size_t n = 0;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream e(err_file);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  r.err = ss.str();
-  return r;
-}
+using telesphere::test::CommandResult;
+using telesphere::test::runCommand;
 
 class CalibrateIntrinsics : public ::testing::Test {
  protected:
@@ -62,36 +33,15 @@ class CalibrateIntrinsics : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     const std::string robot = kBin + "telesphere-robot";
     const std::string log = (dir_ / "robot.log").string();
-    std::vector<std::string> args{robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000",
-                                  "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
-                                  "--stats-period", "0"};
-    std::vector<char*> argv;
-    for (std::string& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    ASSERT_EQ(posix_spawn(&robot_pid_, robot.c_str(), &actions, nullptr, argv.data(), environ), 0);
-    posix_spawn_file_actions_destroy(&actions);
-    // A robot that exits at once (the port taken by a stale one) must not leave the tests talking
-    // to somebody else's robot.
-    std::this_thread::sleep_for(std::chrono::seconds(2));
-    int status = 0;
-    if (waitpid(robot_pid_, &status, WNOHANG) == robot_pid_) {
-      robot_pid_ = -1;
-      std::ifstream l(log);
-      std::stringstream ss;
-      ss << l.rdbuf();
-      FAIL() << "telesphere-robot exited at start:\n" << ss.str();
-    }
+    std::string error;
+    robot_pid_ = telesphere::test::spawnRobot(
+        {robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000",
+         "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0", "--stats-period", "0"},
+        log, &error);
+    ASSERT_GT(robot_pid_, 0) << error;
   }
   static void TearDownTestSuite() {
-    if (robot_pid_ > 0) {
-      kill(robot_pid_, SIGTERM);
-      int status = 0;
-      waitpid(robot_pid_, &status, 0);
-    }
+    telesphere::test::stopRobot(robot_pid_);
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
   }

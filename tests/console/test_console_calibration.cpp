@@ -14,6 +14,10 @@
 #include "console/calibration/intrinsics_done_rule.h"
 #include "console/calibration/intrinsics_procedure.h"
 #include "console/calibration/intrinsics_view_plan.h"
+#include "console/calibration/hand_eye_collector.h"
+#include "calib/target_render.h"
+#include "robot/link/link_pose.h"
+#include "tests/calib/calib_synthetic.h"
 
 namespace telesphere::console::calibration {
 namespace {
@@ -250,6 +254,155 @@ TEST(IntrinsicsProcedure, TheGenericGuessIsAFisheyeOfAbout200Degrees) {
     EXPECT_EQ(guess.modelName(), model);
     EXPECT_NEAR(calib::polarAngleDeg(guess, Eigen::Vector2d(0, 539.5)), 100.0, 12.0) << model;
   }
+}
+
+// --- hand-eye ---
+
+/// A still with the wrist marker 0.5 m ahead of both cameras, both arms' poses and joint states
+/// bracketing the capture time.
+link::proto::CalibrationStill markerStill(const calib::CameraCalibration& camera, bool with_marker = true) {
+  link::proto::CalibrationStill still;
+  still.set_sequence(9);
+  still.set_capture_ns(1'000'000'000);
+  still.set_joints_before_ns(995'000'000);
+  still.set_joints_after_ns(1'005'000'000);
+  still.set_manipulator_before_ns(992'000'000);
+  still.set_manipulator_after_ns(1'002'000'000);
+  for (int i = 0; i < 6; ++i) {
+    still.add_head_joints(0.1 * i);
+    still.add_manipulator_joints(-0.1 * i);
+  }
+  link::toLinkPose(test::poseOf({0.1, 0.2, 0.3}, {0.4, 0.0, 0.45}), still.mutable_t_robot_flange());
+  link::toLinkPose(test::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), still.mutable_t_mount_wrist());
+  const Eigen::Isometry3d T_cam_marker = test::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
+  for (auto* image : {still.mutable_left(), still.mutable_right()}) {
+    const calib::GrayImage g =
+        with_marker ? calib::renderTarget(camera.camera, camera.width, camera.height, T_cam_marker,
+                                          calib::arucoMarkerTexture("DICT_4X4_50", 0, 0.1))
+                    : calib::GrayImage(camera.width, camera.height);
+    image->set_width(std::uint32_t(g.width));
+    image->set_height(std::uint32_t(g.height));
+    image->set_gray8(std::string(g.pixels.begin(), g.pixels.end()));
+  }
+  return still;
+}
+
+TEST(HandEyeSample, MarkerCornersAndBothArmsPosesOrTheReasonWhyNot) {
+  const calib::CameraCalibration camera = simCamera(960, 540);
+  const WristMarker marker;
+  std::string reason;
+  const auto sample = handEyeSampleOf(markerStill(camera), marker, &reason);
+  ASSERT_TRUE(sample) << reason;
+  EXPECT_EQ(sample->width, 960);
+  ASSERT_TRUE(sample->sample.corners_l && sample->sample.corners_r);
+  // The corners where the camera model puts them (the detector is sub-pixel).
+  const Eigen::Isometry3d T_cam_marker = test::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
+  const auto corners3 = calib::markerCorners(0.1);
+  for (std::size_t k = 0; k < 4; ++k) {
+    Eigen::Vector2d px;
+    ASSERT_TRUE(camera.camera.project(T_cam_marker * corners3[k], px));
+    EXPECT_LT(((*sample->sample.corners_l)[k] - px).norm(), 0.5) << k;
+  }
+  EXPECT_TRUE(sample->sample.T_mount_wrist.isApprox(test::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), 1e-9));
+  EXPECT_EQ(sample->thumbnails[0].width, 160);
+
+  auto no_manipulator = markerStill(camera);
+  no_manipulator.clear_manipulator_joints();
+  EXPECT_FALSE(handEyeSampleOf(no_manipulator, marker, &reason));
+  EXPECT_NE(reason.find("no manipulator joints"), std::string::npos) << reason;
+  auto unbracketed = markerStill(camera);
+  unbracketed.set_manipulator_after_ns(999'000'000);  // the newest report is before the capture
+  EXPECT_FALSE(handEyeSampleOf(unbracketed, marker, &reason));
+  EXPECT_NE(reason.find("manipulator's joint states do not bracket"), std::string::npos) << reason;
+  auto gap = markerStill(camera);
+  gap.set_joints_after_ns(1'030'000'000);  // 35 ms: reports were lost
+  EXPECT_FALSE(handEyeSampleOf(gap, marker, &reason));
+  EXPECT_NE(reason.find("head arm's joint states around the capture time are 35 ms apart"), std::string::npos) << reason;
+  EXPECT_FALSE(handEyeSampleOf(markerStill(camera, false), marker, &reason));
+  EXPECT_NE(reason.find("in neither image"), std::string::npos) << reason;
+  WristMarker other = marker;
+  other.id = 3;
+  EXPECT_FALSE(handEyeSampleOf(markerStill(camera), other, &reason));
+}
+
+calib::SystemCalibration handEyeCameras() {
+  calib::SystemCalibration system;
+  system.cameras.push_back({"cam_l", test::lens1280(false).camera, 1280, 1024});
+  system.cameras.push_back({"cam_r", test::lens1280(true).camera, 1280, 1024});
+  system.T_cam_l_cam_r = test::trueTCamLCamR();
+  return system;
+}
+
+HandEyeStillSample stillSample(const calib::HandEyeSample& s) {
+  HandEyeStillSample h;
+  h.sample = s;
+  h.width = 1280;
+  h.height = 1024;
+  return h;
+}
+
+TEST(HandEyeCollector, GatesNearDuplicatesSolvesFromFiveMarksOutliersAndStatesTheRule) {
+  const auto truth = test::handEyeTruth();
+  auto samples = test::simulateHandEyeSession(truth, test::lens1280(false), test::lens1280(true),
+                                              test::trueTCamLCamR(), 0.1, 40, 0.2, 21);
+  ASSERT_EQ(samples.size(), 40u);
+  HandEyeCollectorOptions options;
+  options.rule.min_samples = 20;
+  HandEyeCollector c(handEyeCameras(), WristMarker{}, options);
+  std::string reason;
+  for (int i = 0; i < 4; ++i) ASSERT_TRUE(c.offer(stillSample(samples[std::size_t(i)]), &reason)) << reason;
+  // The same poses again (a still taken before anything moved) add nothing.
+  EXPECT_FALSE(c.offer(stillSample(samples[2]), &reason));
+  EXPECT_NE(reason.find("too close to sample 3"), std::string::npos) << reason;
+  std::string error;
+  EXPECT_FALSE(c.solve(&error));
+  EXPECT_NE(error.find("only 4 samples"), std::string::npos) << error;
+  auto check = c.check();
+  ASSERT_FALSE(check.done());
+  EXPECT_NE(check.describe().find("4 of 20 samples"), std::string::npos) << check.describe();
+  EXPECT_NE(check.describe().find("no solution yet"), std::string::npos) << check.describe();
+
+  // One sample's left corners 12 px off: marked as the outlier, removed, the rest fits.
+  samples[9].corners_l->at(0) += Eigen::Vector2d(12.0, 0.0);
+  samples[9].corners_l->at(2) += Eigen::Vector2d(-12.0, 6.0);
+  for (std::size_t i = 4; i < 40; ++i) ASSERT_TRUE(c.offer(stillSample(samples[i]), &reason)) << i << ": " << reason;
+  ASSERT_TRUE(c.solve(&error)) << error;
+  const std::vector<bool> outliers = c.outliers();
+  EXPECT_EQ(std::count(outliers.begin(), outliers.end(), true), 1);
+  EXPECT_TRUE(outliers[9]);
+  EXPECT_EQ(c.removeOutliers(), 1);
+  ASSERT_TRUE(c.solve(&error)) << error;
+  check = c.check();
+  EXPECT_TRUE(check.done()) << check.describe();
+  const auto diversity = c.diversity();
+  EXPECT_GT(diversity.head_axis_spread_deg, 10.0);
+  EXPECT_GT(diversity.wrist_axis_spread_deg, 10.0);
+  const auto out = c.calibration();
+  ASSERT_TRUE(out && out->T_robot_mount);
+  EXPECT_LT((out->T_flange_cam_l->translation() - truth.T_flange_cam_l.translation()).norm(), 2e-3);
+
+  // A rule it cannot meet names the number it measured.
+  HandEyeCollectorOptions strict = options;
+  strict.rule.max_translation_std_mm = 1e-4;
+  HandEyeCollector c2(handEyeCameras(), WristMarker{}, strict);
+  for (std::size_t i = 0; i < 20; ++i) ASSERT_TRUE(c2.offer(stillSample(samples[i + 10]), &reason));
+  ASSERT_TRUE(c2.solve(&error)) << error;
+  EXPECT_NE(c2.check().describe().find("T_flange_cam_l: |σ_t|"), std::string::npos) << c2.check().describe();
+}
+
+TEST(HandEyeCollector, RotationsAboutOneAxisAreRefusedAsDegenerate) {
+  const auto truth = test::handEyeTruth();
+  const auto samples = test::simulateHandEyeSession(truth, test::lens1280(false), test::lens1280(true),
+                                                    test::trueTCamLCamR(), 0.1, 20, 0.2, 22, /*head_two_axes=*/false);
+  HandEyeCollector c(handEyeCameras(), WristMarker{});
+  std::string reason, error;
+  for (const auto& s : samples) c.offer(stillSample(s), &reason);
+  ASSERT_GE(c.samples().size(), 15u);
+  EXPECT_FALSE(c.solve(&error));
+  EXPECT_NE(error.find("head arm's rotations do not separate"), std::string::npos) << error;
+  EXPECT_FALSE(c.result());
+  EXPECT_FALSE(c.calibration());
+  EXPECT_NE(c.check().describe().find("rotation axes spread: head"), std::string::npos) << c.check().describe();
 }
 
 }  // namespace

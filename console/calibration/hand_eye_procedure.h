@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+/// @brief The automatic hand-eye calibration on the live robot (issue #15, paper §III-B; the
+///        headless `telesphere-console calibrate handeye --auto` and the wizard's hand-eye page
+///        run it in a worker thread). With the manipulator's wrist marker in view:
+///
+///   1. the head runs the predefined sinusoidal pattern about the nominal pose (link
+///      CalibrationHeadPose.pattern_amplitude_deg; amplitude 0: it holds where it is) while the
+///      manipulator moves (teach mode; in simulation its scripted path);
+///   2. stills, one after another: each becomes a sample (marker corners in both cameras, both
+///      arms' forward kinematics at the capture time, freshness checked) and is kept unless it
+///      is too close to a kept one (hand_eye_collector.h);
+///   3. from 5 samples on, a solve after every new sample; outliers are removed and the solve
+///      repeated; the done rule is checked;
+///   4. until the rule holds, max_samples are kept or the time limit passes; the head is
+///      released (also on failure and cancel).
+/// The cameras' intrinsics are scaled to the stills' resolution for the solve; the result is
+/// written at the calibration's own resolution.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calib/system_calibration.h"
+#include "console/calibration/calibration_robot.h"
+#include "console/calibration/hand_eye_collector.h"
+
+namespace telesphere::console::calibration {
+
+struct HandEyeProgress {
+  int stills = 0;
+  int samples = 0;
+  calib::HandEyeIdentifiability diversity;
+  std::string verdict;  ///< of the last still: "kept", or why not
+  const HandEyeCollector* collector = nullptr;  ///< valid during the call
+};
+
+/// One solve along the way (accuracy against sample count).
+struct HandEyeSolveStep {
+  int samples = 0;
+  double elapsed_s = 0;  ///< since the first sample
+  bool ok = false;
+  std::string error;
+  double rms_px = 0;
+  double flange_cam_sigma_t_mm = 0, flange_cam_sigma_r_deg = 0;
+  calib::HandEyeResult result;
+};
+
+struct HandEyeProcedureOptions {
+  calib::SystemCalibration cameras;  ///< intrinsics and T_cam_l_cam_r (needed); hand-eye replaced
+  WristMarker marker;
+  HandEyeCollectorOptions collector;
+  double pattern_amplitude_deg = 20.0;
+  int max_samples = 60;
+  int max_stills = 400;
+  std::chrono::seconds time_limit{900};
+  bool remove_outliers = true;
+  std::function<void(const std::string&)> log;
+  std::function<void(const HandEyeProgress&)> progress;
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct HandEyeOutcome {
+  bool done = false;
+  std::string error;
+  std::optional<HandEyeCollector> collector;
+  /// options.cameras (own resolution) with the three transforms; set whenever a solve succeeded.
+  std::optional<calib::SystemCalibration> calibration;
+  DoneCheck check;
+  std::string rule_text;
+  int stills = 0, refused = 0, too_close = 0, outliers_removed = 0;
+  std::vector<HandEyeSolveStep> history;
+  double first_sample_to_result_s = 0;
+  double total_s = 0;
+};
+
+HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOptions& options);
+
+/// `cameras` at width × height (intrinsics scaled); nothing with the reason.
+std::optional<calib::SystemCalibration> camerasAt(const calib::SystemCalibration& cameras, int width, int height,
+                                                  std::string* error);
+
+}  // namespace telesphere::console::calibration
