@@ -229,14 +229,10 @@ void HandEyePanel::start() {
   };
   o.progress = [this](const calibration::HandEyeProgress& p) {
     std::optional<calibration::HandEyeCollector> copy;
-    calibration::DoneCheck check;
-    if (p.collector != nullptr) {
-      copy = *p.collector;
-      check = p.collector->check();
-    }
+    if (p.collector != nullptr) copy = *p.collector;
     QMetaObject::invokeMethod(
         this,
-        [this, copy = std::move(copy), check, stills = p.stills, verdict = QString::fromStdString(p.verdict)] {
+        [this, copy = std::move(copy), check = p.check, stills = p.stills, verdict = QString::fromStdString(p.verdict)] {
           if (copy) showCollector(*copy);
           status_->setText(QString("still %1: %2 · %3 samples kept · %4")
                                .arg(stills)
@@ -311,21 +307,11 @@ void HandEyePanel::resolve(const QString& what) {
   resolve_what_ = what;
   const calib::SystemCalibration cameras = options_.cameras;
   worker_ = std::thread([this, base = std::move(base), cameras]() mutable {
-    calibration::HandEyeCollector& c = *base.collector;
     const auto t0 = std::chrono::steady_clock::now();
     std::string error;
-    const bool ok = c.solve(&error);
+    const bool ok = base.collector->solve(&error);
     last_resolve_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    base.check = c.check();
-    base.done = ok && base.check.done();
-    base.calibration.reset();
-    if (ok) {
-      base.calibration = cameras;
-      base.calibration->T_flange_cam_l = c.result()->T_flange_cam_l;
-      base.calibration->T_robot_mount = c.result()->T_robot_mount;
-      base.calibration->T_wrist_marker = c.result()->T_wrist_marker;
-    }
-    base.error = ok ? (base.done ? "" : base.check.describe()) : error;
+    calibration::takeSolve(base, cameras, ok, error);
     {
       std::lock_guard lock(result_mutex_);
       pending_ = std::move(base);

@@ -301,21 +301,18 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = "calibration head pose: the arm cannot reach it";
     return false;
   }
-  if (amplitude > 0.0) {  // every pose of the pattern must be reachable too: check its extremes
-    for (const double yaw : {-1.0, 1.0})
-      for (const double pitch : {-1.0, 1.0}) {
-        const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw * amplitude * M_PI / 180.0, Eigen::Vector3d::UnitZ()) *
-                                   Eigen::AngleAxisd(pitch * 0.6 * amplitude * M_PI / 180.0, Eigen::Vector3d::UnitY()))
-                                      .toRotationMatrix();
-        Eigen::Isometry3d T = T_robot_head;
-        T.linear() = T_robot_head.linear() * R;
+  // Every pose of the pattern must be reachable too: check its extremes.
+  for (const double yaw : {-1.0, 1.0})
+    for (const double pitch : {-1.0, 1.0})
+      for (const double roll : {-1.0, 1.0}) {
+        if (amplitude == 0.0) continue;
+        const Eigen::Isometry3d T = calibrationPatternSwing(T_robot_head, amplitude * M_PI / 180.0, yaw, pitch, roll);
         if (controller_.kinematics().inverse(T * T_flange_head_.inverse(), ik.q, controller_.config().ik).status !=
             IkResult::Status::kConverged) {
           *error = "calibration head pattern: the arm cannot reach its extremes at this amplitude";
           return false;
         }
       }
-  }
   if (!controller_.holdAt(T_robot_head, last_state_->q, clock_.nowNs())) {
     *error = "calibration head pose: not a rigid transform";
     return false;

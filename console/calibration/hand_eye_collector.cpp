@@ -153,13 +153,16 @@ DoneCheck HandEyeCollector::check() const {
   return c;
 }
 
+calib::SystemCalibration withHandEye(calib::SystemCalibration cameras, const calib::HandEyeResult& result) {
+  cameras.T_flange_cam_l = result.T_flange_cam_l;
+  cameras.T_robot_mount = result.T_robot_mount;
+  cameras.T_wrist_marker = result.T_wrist_marker;
+  return cameras;
+}
+
 std::optional<calib::SystemCalibration> HandEyeCollector::calibration() const {
   if (!result_) return std::nullopt;
-  calib::SystemCalibration out = cameras_;
-  out.T_flange_cam_l = result_->T_flange_cam_l;
-  out.T_robot_mount = result_->T_robot_mount;
-  out.T_wrist_marker = result_->T_wrist_marker;
-  return out;
+  return withHandEye(cameras_, *result_);
 }
 
 }  // namespace telesphere::console::calibration

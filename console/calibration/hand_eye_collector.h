@@ -44,6 +44,9 @@ struct HandEyeCollectorOptions {
   HandEyeDoneRule rule;
 };
 
+/// `cameras` with the three transforms of `result` (the rest of `cameras` unchanged).
+calib::SystemCalibration withHandEye(calib::SystemCalibration cameras, const calib::HandEyeResult& result);
+
 class HandEyeCollector {
  public:
   /// `cameras`: the intrinsics and T_cam_l_cam_r the solve holds fixed (its hand-eye transforms,

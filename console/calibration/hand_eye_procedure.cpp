@@ -28,6 +28,15 @@ std::optional<calib::SystemCalibration> camerasAt(const calib::SystemCalibration
   return out;
 }
 
+void takeSolve(HandEyeOutcome& out, const calib::SystemCalibration& cameras, bool ok, const std::string& error) {
+  const HandEyeCollector& c = *out.collector;
+  out.check = c.check();
+  out.done = ok && out.check.done();
+  out.calibration.reset();
+  if (ok) out.calibration = withHandEye(cameras, *c.result());
+  out.error = ok ? (out.done ? "" : out.check.describe()) : error;
+}
+
 HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOptions& options) {
   const auto log = [&](const std::string& line) {
     if (options.log) options.log(line);
@@ -81,21 +90,18 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
     }
     if (!sample) {
       ++out.refused;
-      progress.verdict = reason;
     } else if (!out.collector->offer(*sample, &reason)) {
       ++out.too_close;
-      progress.verdict = reason;
     } else {
-      progress.verdict = "kept";
+      progress.kept = true;
       if (!t_first_sample) t_first_sample = Clock::now();
     }
-    if (progress.verdict != "kept") {
-      log("still " + std::to_string(out.stills) + ": " + progress.verdict);
-    }
+    progress.verdict = progress.kept ? "kept" : reason;
+    if (!progress.kept) log("still " + std::to_string(out.stills) + ": " + reason);
     if (out.collector) {
       HandEyeCollector& c = *out.collector;
       const int n = int(c.samples().size());
-      if (progress.verdict == "kept" && n >= options.collector.auto_solve_from) {
+      if (progress.kept && n >= options.collector.auto_solve_from) {
         HandEyeSolveStep step;
         step.samples = n;
         step.ok = c.solve(&step.error);
@@ -114,12 +120,8 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
           step.flange_cam_sigma_t_mm = r.stddev[0].translation_m.norm() * 1e3;
           step.flange_cam_sigma_r_deg = r.stddev[0].rotation_deg.norm();
           step.result = r;
-          out.calibration = options.cameras;
-          out.calibration->T_flange_cam_l = r.T_flange_cam_l;
-          out.calibration->T_robot_mount = r.T_robot_mount;
-          out.calibration->T_wrist_marker = r.T_wrist_marker;
         }
-        out.check = c.check();
+        takeSolve(out, options.cameras, step.ok, step.error);
         char buf[300];
         if (step.ok) {
           std::snprintf(buf, sizeof buf, "%d samples: RMS %.2f px, T_flange_cam_l σ %.2f mm / %.3f°; %s", step.samples,
@@ -129,23 +131,15 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
         }
         log(buf);
         out.history.push_back(std::move(step));
-        if (out.check.done()) {
-          out.done = true;
-          out.first_sample_to_result_s = secondsSince(*t_first_sample);
-          progress.samples = int(c.samples().size());
-          progress.diversity = c.diversity();
-          progress.collector = &c;
-          if (options.progress) options.progress(progress);
-          return finish("");
-        }
-      } else if (progress.verdict == "kept") {
+        if (out.done) out.first_sample_to_result_s = secondsSince(*t_first_sample);
+      } else if (progress.kept) {
         out.check = c.check();
       }
-      progress.samples = int(c.samples().size());
-      progress.diversity = c.diversity();
       progress.collector = &c;
     }
+    progress.check = out.check;
     if (options.progress) options.progress(progress);
+    if (out.done) return finish("");
   }
 }
 

@@ -32,10 +32,10 @@ namespace telesphere::console::calibration {
 
 struct HandEyeProgress {
   int stills = 0;
-  int samples = 0;
-  calib::HandEyeIdentifiability diversity;
+  bool kept = false;
   std::string verdict;  ///< of the last still: "kept", or why not
-  const HandEyeCollector* collector = nullptr;  ///< valid during the call
+  DoneCheck check;      ///< the done rule after it
+  const HandEyeCollector* collector = nullptr;  ///< valid during the call (null before a first sample)
 };
 
 /// One solve along the way (accuracy against sample count).
@@ -78,6 +78,11 @@ struct HandEyeOutcome {
 };
 
 HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOptions& options);
+
+/// After a solve of out.collector (`ok`, or `error`): the done rule's check, done, the
+/// calibration (`cameras`, at their own resolution, with the result) and the error. Also for a
+/// solve again after the user deleted samples.
+void takeSolve(HandEyeOutcome& out, const calib::SystemCalibration& cameras, bool ok, const std::string& error);
 
 /// `cameras` at width × height (intrinsics scaled); nothing with the reason.
 std::optional<calib::SystemCalibration> camerasAt(const calib::SystemCalibration& cameras, int width, int height,
