@@ -3,6 +3,7 @@
 #include "calib/hand_eye_calibration.h"
 
 #include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 #include "calib/bearing_pose.h"
@@ -413,10 +414,16 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
     HandEyeSampleFit& fit = result.sample_fits[i];
     fit.rms_px = fit.corners ? std::sqrt(sample_sum2[i] / fit.corners) : 0.0;
   }
-  const double rms = std::max(result.rms_px_l, result.rms_px_r);
-  if (!(rms <= options.max_rms_px))
+  // Diverged when the typical sample does not fit: the median of the per-sample RMS, not the
+  // overall RMS, which one gross outlier (a still whose image and joints disagree) inflates
+  // past any bound for every later solve, so that it could never be marked and removed.
+  std::vector<double> sample_rms;
+  for (const HandEyeSampleFit& fit : result.sample_fits) sample_rms.push_back(fit.rms_px);
+  std::nth_element(sample_rms.begin(), sample_rms.begin() + std::ptrdiff_t(sample_rms.size() / 2), sample_rms.end());
+  const double median_rms = sample_rms[sample_rms.size() / 2];
+  if (!(median_rms <= options.max_rms_px))
     return CalibrationFailure{CalibrationError::kDiverged,
-                              "the hand-eye solve diverged: final RMS " + std::to_string(rms) +
+                              "the hand-eye solve diverged: the median sample RMS " + std::to_string(median_rms) +
                                   " px exceeds " + std::to_string(options.max_rms_px) +
                                   " px (wrong marker size, intrinsics or kinematics?)"};
   return result;

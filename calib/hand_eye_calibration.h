@@ -51,7 +51,7 @@ struct HandEyeOptions {
   int min_samples = 8;               ///< samples with the marker seen in at least one camera
   double min_axis_spread_deg = 10.0; ///< see HandEyeIdentifiability
   double min_rotation_deg = 3.0;     ///< relative rotations below this carry no axis
-  double max_rms_px = 5.0;           ///< a final RMS above this means the solve diverged
+  double max_rms_px = 5.0;           ///< a median sample RMS above this means the solve diverged
   std::function<void(const std::string&)> progress;
   /// A starting T_flange_cam_l (e.g. the calibration the robot runs with): below
   /// kClosedFormMinSamples samples the closed form is not unique, and the initialisation then

@@ -146,6 +146,28 @@ TEST(HandEyeCalibration, FewSamplesNeedAStartingFlangeCamera) {
             0.3 * test::translationError(*options.T_flange_cam_l_guess, truth.T_flange_cam_l));
 }
 
+// A still whose image and joints disagree (the marker 200 px away from where the joints put it)
+// must not make every solve "diverged": the solve fits the rest and the sample stands out, so it
+// can be marked and removed.
+TEST(HandEyeCalibration, AGrossOutlierDoesNotFailTheSolve) {
+  const auto truth = test::handEyeTruth();
+  auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true), test::trueTCamLCamR(),
+                                              0.1, 30, 0.3, 15);
+  for (auto* corners : {&samples[4].corners_l, &samples[4].corners_r})
+    for (auto& px : **corners) px += Eigen::Vector2d(200.0, -120.0);
+  const auto r = calibrateHandEye(stereoCameras(), 0.1, samples);
+  ASSERT_TRUE(r) << r.failure().message;
+  EXPECT_GT(std::max(r->rms_px_l, r->rms_px_r), 5.0);  // the overall RMS alone would have refused it
+  for (const HandEyeSampleFit& fit : r->sample_fits) {
+    if (fit.index == 4) {
+      EXPECT_GT(fit.rms_px, 100.0);
+    } else {
+      EXPECT_LT(fit.rms_px, 3.0) << fit.index;
+    }
+  }
+  expectRecovered(*r, truth, 5.0, 0.5);
+}
+
 TEST(HandEyeCalibration, RefusesHeadRotatingAboutOneAxis) {
   const auto truth = test::handEyeTruth();
   const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),

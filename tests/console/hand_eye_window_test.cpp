@@ -11,6 +11,7 @@
 
 #include <QDockWidget>
 #include <QLabel>
+#include <QPlainTextEdit>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTableWidget>
@@ -73,7 +74,8 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   EXPECT_TRUE(saw_partial_meter);
   test_rig::pumpFor(200);
   ASSERT_TRUE(panel->outcome());
-  ASSERT_TRUE(panel->outcome()->done) << panel->statusText().toStdString();
+  ASSERT_TRUE(panel->outcome()->done) << panel->statusText().toStdString() << "\n"
+                                      << panel->findChild<QPlainTextEdit*>("handeye_log")->toPlainText().right(4000).toStdString();
   EXPECT_NE(panel->statusText().indexOf("Done"), -1) << panel->statusText().toStdString();
   const auto& collector = *panel->outcome()->collector;
   const int n = int(collector.samples().size());
