@@ -29,6 +29,7 @@
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
 #include "robot/aravis_camera.h"
+#include "robot/calibration_in_use.h"
 #include "robot/ground_truth_log.h"
 #include "robot/head_arm_sim.h"
 #include "robot/head_loop.h"
@@ -230,31 +231,44 @@ int main(int argc, char** argv) {
               << ": " << e.what() << '\n';
     return 2;
   }
+  // The calibration in use, applied and reverted live by the console (link apply_calibration).
+  robot::CalibrationInUse calibration_in_use(calibration, "--calib " + calib_path, clock);
   robot::TelemetryBatcher telemetry;
   robot::HeadLoopConfig loop_config;
+  loop_config.calibration = &calibration_in_use;
   loop_config.auto_nominal = auto_nominal;
   loop_config.sphere_radius = sphere_radius;
   loop_config.telemetry = &telemetry;
   robot::HeadLoop loop(arm, controller, joints, *server, clock, loop_config);
 
-  // Camera poses at capture time; before any joint state, the pose at the initial configuration.
-  const Eigen::Isometry3d T_robot_cam_l0 =
-      controller.kinematics().forward(arm_config.q_initial) * *calibration.T_flange_cam_l;
-  const Eigen::Isometry3d T_robot_cam_r0 = T_robot_cam_l0 * *calibration.T_cam_l_cam_r;
-  const robot::CameraPoseAt poses = [&joints](robot::CameraSide side, std::int64_t t_ns) {
-    return joints.T_robot_cam(side, t_ns);
+  // Camera poses at capture time through the calibration in use; before any joint state, the
+  // pose at the initial configuration.
+  const robot::StereoPosesAt poses = [&calibration_in_use, &joints, q0 = arm_config.q_initial](
+                                         std::int64_t left_ns, std::int64_t right_ns) {
+    return calibration_in_use.posesAt(joints, q0, left_ns, right_ns);
   };
+  const Eigen::Isometry3d T_robot_flange0 = controller.kinematics().forward(arm_config.q_initial);
+  const Eigen::Isometry3d T_robot_cam_l0 = T_robot_flange0 * *true_calibration.T_flange_cam_l;
+  const Eigen::Isometry3d T_robot_cam_r0 = T_robot_cam_l0 * *true_calibration.T_cam_l_cam_r;
   // Where a synthetic camera really is at t_ns. The frame is rendered after its readout, by when
-  // the head loop (100 Hz) has normally simulated past t_ns; if it lags, wait for it a little.
-  const auto true_pose = [&truth, &clock](robot::CameraSide side, std::int64_t t_ns,
-                                          const Eigen::Isometry3d& T0) {
-    for (int waited_ms = 0; waited_ms < 100; ++waited_ms) {
+  // the head loop (100 Hz) has normally simulated past t_ns; if it lags (a loaded machine), the
+  // render waits for it, up to 2 s: a frame drawn at a made-up pose would put a silent error
+  // into everything downstream (calibration stills above all). Only before the arm's first state
+  // is the initial configuration's pose the truth; any other fallback is counted and said.
+  auto truth_fallbacks = std::make_shared<std::atomic<std::uint64_t>>(0);
+  const auto true_pose = [&truth, &clock, truth_fallbacks](robot::CameraSide side, std::int64_t t_ns,
+                                                           const Eigen::Isometry3d& T0) {
+    for (int waited_ms = 0; waited_ms < 2000; ++waited_ms) {
       const auto window = truth.window();
       if (window && window->second >= t_ns) break;
       if (!window && clock.nowNs() < t_ns) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    return truth.T_robot_cam(side, t_ns).value_or(T0);
+    if (const auto T = truth.T_robot_cam(side, t_ns)) return *T;
+    if (truth.window() && truth_fallbacks->fetch_add(1) % 100 == 0)
+      std::cerr << "telesphere-robot: synthetic camera: no true arm pose at the capture time after 2 s (the head "
+                   "loop is stalled); the frame shows the initial pose (" << truth_fallbacks->load() << " so far)\n";
+    return T0;
   };
 
   std::unique_ptr<robot::CameraSource> left, right;
@@ -308,8 +322,6 @@ int main(int argc, char** argv) {
   robot::PreviewStreamer preview(*server, preview_options);
   robot::VideoStreamerConfig video_config;
   video_config.jpeg = jpeg;
-  video_config.T_robot_cam_l_fixed = T_robot_cam_l0;
-  video_config.T_robot_cam_r_fixed = T_robot_cam_r0;
   video_config.telemetry = &telemetry;
   std::unique_ptr<robot::GroundTruthLog> truth_log;
   if (!truth_path.empty()) {
@@ -329,7 +341,7 @@ int main(int argc, char** argv) {
   };
   robot::VideoStreamer video(pairs, *server, clock, poses, video_config);
 
-  robot::RobotControl control(loop, &video, &stills, std::chrono::milliseconds(still_timeout_ms));
+  robot::RobotControl control(loop, &video, &stills, std::chrono::milliseconds(still_timeout_ms), &calibration_in_use);
   server->setControlHandler([&control](const link::proto::ControlRequest& r) { return control.handle(r); });
   robot::RobotHealthSources health_sources;
   health_sources.cameras = {left.get(), right.get()};

@@ -165,6 +165,13 @@ void HeadController::restoreMapping(const Eigen::Isometry3d& T_robot_vr) {
   T_robot_vr_ = T_robot_vr;
 }
 
+void HeadController::setGeometry(const HeadGeometry& geometry) {
+  config_.geometry = geometry;
+  T_flange_head_ = geometry.T_flange_head();
+  T_head_flange_ = T_flange_head_.inverse();
+  if (initialised_ || holding_) guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+}
+
 void HeadController::setCutoffHz(double cutoff_hz) {
   TS_ASSERT(cutoff_hz > 0, cutoff_hz);
   config_.cutoff_hz = cutoff_hz;

@@ -134,6 +134,11 @@ class HeadController {
   /// Restores a mapping T_robot_vr taken from an earlier initialise() (undo); needs one.
   void restoreMapping(const Eigen::Isometry3d& T_robot_vr);
 
+  /// A new camera mount (a calibration applied live), from the next tick on: the head frame is
+  /// the new one. The arm has not moved, so the guard starts from where the new head frame is
+  /// now, and a change beyond the jump thresholds is approached slowly like any jump.
+  void setGeometry(const HeadGeometry& geometry);
+
   /// Low-pass cut-off (> 0; +inf: off) and jump thresholds (> 0), from the next tick on.
   void setCutoffHz(double cutoff_hz);
   void setJumpThreshold(double position, double angle);

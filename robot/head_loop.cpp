@@ -61,6 +61,18 @@ void HeadLoop::tick() {
     buffer_.push(*state);
     last_state_ = *state;
   }
+  if (config_.calibration) {
+    const std::shared_ptr<const AppliedCalibration> in_use = config_.calibration->current();
+    if (in_use->generation != calibration_generation_) {
+      controller_.setGeometry(in_use->geometry);
+      buffer_.setGeometry(in_use->geometry);
+      T_flange_head_ = in_use->geometry.T_flange_head();
+      if (calibration_generation_ != 0)
+        std::cerr << "telesphere-robot: calibration generation " << in_use->generation << " in use (" << in_use->source
+                  << ")\n";
+      calibration_generation_ = in_use->generation;
+    }
+  }
 
   // The newest head target, if it is new, at its sampling time in the robot clock (see the header).
   std::optional<HmdSample> sample;
@@ -136,6 +148,7 @@ void HeadLoop::tick() {
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
     link::toLinkPose(*T_robot_head_measured, state.mutable_t_robot_head());
     state.set_calibration_hold(calibration_hold_);
+    state.set_calibration_generation(calibration_generation_);
     if (trial_.running()) {
       *state.mutable_trial() = trial_;
       state.mutable_trial()->set_elapsed_s(trial_.elapsed_s() + double(clock_.nowNs() - trial_received_ns_) * 1e-9);

@@ -29,6 +29,8 @@
 /// no HOLD step while held); poses outside the workspace or out of the arm's reach are refused.
 /// With a pattern amplitude the held pose moves every tick along the sinusoidal head pattern of
 /// robot/calibration_head_pattern.h (hand-eye sample collection).
+///
+/// A calibration applied live (HeadLoopConfig::calibration) takes effect at the next tick.
 #pragma once
 
 #include <atomic>
@@ -37,6 +39,7 @@
 #include <optional>
 #include <string>
 
+#include "robot/calibration_in_use.h"
 #include "robot/clock.h"
 #include "robot/head_arm.h"
 #include "robot/head_controller.h"
@@ -56,6 +59,10 @@ struct HeadLoopConfig {
   std::int64_t max_capture_age_ns = 250'000'000;
   /// Where the per-tick samples go (with the video path's); null: no telemetry.
   TelemetryBatcher* telemetry = nullptr;
+  /// The calibration in use, changed live: a new generation reaches the controller and the
+  /// joint-state buffer at the next tick, and the robot state names it. Null: the controller's
+  /// geometry stays (generation 0 in the state).
+  const CalibrationInUse* calibration = nullptr;
 };
 
 /// The sphere radius the link accepts, m.
@@ -117,7 +124,8 @@ class HeadLoop {
   link::LinkServer& server_;
   const Clock& clock_;
   HeadLoopConfig config_;
-  Eigen::Isometry3d T_flange_head_;
+  Eigen::Isometry3d T_flange_head_;  ///< of the calibration in use (guarded by mutex_)
+  std::uint64_t calibration_generation_ = 0;  ///< the one the controller has (0: its own)
 
   mutable std::mutex mutex_;  ///< everything below (tick vs control thread)
   std::optional<JointState> last_state_;

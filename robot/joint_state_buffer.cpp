@@ -75,7 +75,14 @@ std::optional<Eigen::Isometry3d> JointStateBuffer::T_robot_cam(CameraSide side,
                                                               std::int64_t t_ns) const {
   const std::optional<Eigen::Isometry3d> T = T_robot_flange(t_ns);
   if (!T) return std::nullopt;
+  std::shared_lock lock(mutex_);
   return *T * (side == CameraSide::kLeft ? T_flange_cam_l_ : T_flange_cam_r_);
+}
+
+void JointStateBuffer::setGeometry(const HeadGeometry& geometry) {
+  std::unique_lock lock(mutex_);
+  T_flange_cam_l_ = geometry.T_flange_cam_l;
+  T_flange_cam_r_ = geometry.T_flange_cam_l * geometry.T_cam_l_cam_r;
 }
 
 std::size_t JointStateBuffer::size() const {

@@ -43,6 +43,9 @@ class JointStateBuffer {
   /// When full, the oldest sample is dropped.
   bool push(const JointState& state);
 
+  /// The camera mount T_robot_cam uses from now on (a calibration applied live).
+  void setGeometry(const HeadGeometry& geometry);
+
   /// q(t_ns) in rad, or nothing outside the window (see the file comment).
   std::optional<JointVector> jointsAt(std::int64_t t_ns) const;
   /// T_robot_flange(t_ns) = FK(q(t_ns)).

@@ -31,6 +31,15 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
     else
       reply.set_error(error);
     if (!reply.ok()) reply.clear_still();
+  } else if (request.request_case() == link::proto::ControlRequest::kApplyCalibration ||
+             request.request_case() == link::proto::ControlRequest::kRevertCalibration ||
+             request.request_case() == link::proto::ControlRequest::kGetCalibration) {
+    if (calibration_) {
+      reply = calibration_->handleControl(request);
+    } else {
+      reply.set_id(request.id());
+      reply.set_error("this robot's calibration is fixed (no live apply)");
+    }
   } else {
     reply = loop_.handleControl(request);
   }

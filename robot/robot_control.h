@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 /// @brief The robot's answer to the link's control requests (DESIGN.md §7: every change through a
 ///        request with an explicit reply): JPEG quality goes to the video path, calibration stills
-///        to the still taker, everything else to the head loop; every reply carries the robot's settings after the request, so the
+///        to the still taker, applying, reverting and reading the calibration to the calibration
+///        in use, everything else to the head loop; every reply carries the robot's settings after the request, so the
 ///        console shows what is in force, never what it asked for.
 #pragma once
 
 #include <chrono>
 
+#include "robot/calibration_in_use.h"
 #include "robot/head_loop.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "robot/stereo_still.h"
@@ -19,11 +21,12 @@ class RobotControl {
   /// How long a calibration still may take by default (a frame, then the joint state after it).
   static constexpr std::chrono::milliseconds kStillTimeout{800};
 
-  /// `video` and `stills` may be null (no cameras): their requests are then refused.
-  /// `still_timeout`: cameras slower than a frame within 800 ms of the request need more.
+  /// `video`, `stills` and `calibration` may be null (no cameras, a fixed calibration): their
+  /// requests are then refused. `still_timeout`: cameras slower than a frame within 800 ms of
+  /// the request need more.
   RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr,
-               std::chrono::milliseconds still_timeout = kStillTimeout)
-      : loop_(loop), video_(video), stills_(stills), still_timeout_(still_timeout) {}
+               std::chrono::milliseconds still_timeout = kStillTimeout, CalibrationInUse* calibration = nullptr)
+      : loop_(loop), video_(video), stills_(stills), still_timeout_(still_timeout), calibration_(calibration) {}
 
   link::proto::ControlReply handle(const link::proto::ControlRequest& request);
   void fillSettings(link::proto::RobotSettings* settings) const;
@@ -33,6 +36,7 @@ class RobotControl {
   VideoStreamer* video_;
   StereoStillTaker* stills_;
   std::chrono::milliseconds still_timeout_;
+  CalibrationInUse* calibration_;
 };
 
 }  // namespace telesphere::robot

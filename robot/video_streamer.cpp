@@ -24,7 +24,7 @@ link::proto::ChromaSubsampling protoSubsampling(const CameraFrame& frame, Chroma
 }  // namespace
 
 VideoStreamer::VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
-                             CameraPoseAt poses, const VideoStreamerConfig& config)
+                             StereoPosesAt poses, const VideoStreamerConfig& config)
     : pairs_(pairs),
       server_(server),
       clock_(clock),
@@ -71,6 +71,8 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
   link::proto::StereoFrame message;
   message.set_sequence(++sequence_);
   std::uint64_t from_joints = 0, fixed = 0;
+  const StereoCameraPoses poses = poses_ ? poses_(pair.left.capture_ns, pair.right.capture_ns) : StereoCameraPoses{};
+  message.set_calibration_generation(poses.calibration_generation);
   const auto describe = [&](const CameraFrame& frame, CameraSide side, link::proto::CameraImage* image) {
     image->set_capture_ns(frame.capture_ns);
     image->set_width(static_cast<std::uint32_t>(frame.width));
@@ -78,17 +80,15 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
     image->set_subsampling(protoSubsampling(frame, settings.subsampling));
     image->set_exposure_us(frame.exposure_us);
     image->set_camera_sequence(frame.sequence);
-    std::optional<Eigen::Isometry3d> T_robot_cam;
-    if (poses_) T_robot_cam = poses_(side, frame.capture_ns);
-    if (T_robot_cam) {
+    const bool left = side == CameraSide::kLeft;
+    if (left ? poses.measured_l : poses.measured_r) {
       image->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
       ++from_joints;
     } else {
-      T_robot_cam = side == CameraSide::kLeft ? config_.T_robot_cam_l_fixed : config_.T_robot_cam_r_fixed;
       image->set_pose_source(link::proto::POSE_SOURCE_FIXED_CALIBRATION);
       ++fixed;
     }
-    link::toLinkPose(*T_robot_cam, image->mutable_t_robot_cam());
+    link::toLinkPose(left ? poses.T_robot_cam_l : poses.T_robot_cam_r, image->mutable_t_robot_cam());
   };
   describe(pair.left, CameraSide::kLeft, message.mutable_left());
   describe(pair.right, CameraSide::kRight, message.mutable_right());

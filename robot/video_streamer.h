@@ -2,7 +2,8 @@
 /// @brief The robot side of the video path (DESIGN.md §4): takes stereo pairs, encodes both
 ///        images in parallel, attaches each camera's pose T_robot_cam at its capture time (from
 ///        the joint-state buffer; the fixed calibrated pose, flagged as such, when the buffer
-///        cannot say) and publishes the frame on the link with its capture and encode stamps.
+///        cannot say) and the generation of the calibration that gave it, and publishes the frame
+///        on the link with its capture and encode stamps.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -14,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "robot/calibration_in_use.h"
 #include "robot/clock.h"
 #include "robot/joint_state_buffer.h"
 #include "robot/link/link_server.h"
@@ -23,14 +25,11 @@
 
 namespace telesphere::robot {
 
-/// T_robot_cam of one camera at a capture time, or nothing when it is not known.
-using CameraPoseAt = std::function<std::optional<Eigen::Isometry3d>(CameraSide, std::int64_t t_ns)>;
+/// Both cameras' T_robot_cam at their capture times (CalibrationInUse::posesAt on the robot).
+using StereoPosesAt = std::function<StereoCameraPoses(std::int64_t left_capture_ns, std::int64_t right_capture_ns)>;
 
 struct VideoStreamerConfig {
   JpegSettings jpeg;
-  /// Used, and flagged POSE_SOURCE_FIXED_CALIBRATION, when CameraPoseAt has no answer.
-  Eigen::Isometry3d T_robot_cam_l_fixed = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d T_robot_cam_r_fixed = Eigen::Isometry3d::Identity();
   /// Gets one SentFrame sample per frame sent (null: no telemetry).
   TelemetryBatcher* telemetry = nullptr;
   /// Called with every pair sent and its sequence (the console's preview); must not block.
@@ -52,7 +51,7 @@ struct VideoStreamerStats {
 class VideoStreamer {
  public:
   VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
-                CameraPoseAt poses, const VideoStreamerConfig& config);
+                StereoPosesAt poses, const VideoStreamerConfig& config);
   ~VideoStreamer();
   VideoStreamer(const VideoStreamer&) = delete;
   VideoStreamer& operator=(const VideoStreamer&) = delete;
@@ -74,7 +73,7 @@ class VideoStreamer {
   StereoPairSource& pairs_;
   link::LinkServer& server_;
   const Clock& clock_;
-  CameraPoseAt poses_;
+  StereoPosesAt poses_;
   VideoStreamerConfig config_;
   StereoEncoder encoder_;
   std::uint64_t sequence_ = 0;

@@ -97,8 +97,12 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
     link::LinkEndpoints endpoints;
     endpoints.base_port = port;
     port += 10;
-    const robot::CameraPoseAt poses = [](robot::CameraSide side, std::int64_t) {
-      return std::optional<Eigen::Isometry3d>(forwardCameraPose(side == robot::CameraSide::kLeft ? 0.032 : -0.032));
+    const robot::StereoPosesAt poses = [](std::int64_t, std::int64_t) {
+      robot::StereoCameraPoses p;
+      p.T_robot_cam_l = forwardCameraPose(0.032);
+      p.T_robot_cam_r = forwardCameraPose(-0.032);
+      p.measured_l = p.measured_r = true;
+      return p;
     };
     ReplayVideoSource robot_side(endpoints, left_frames, right_frames, 45.0, poses, std::chrono::milliseconds(0));
     std::string error;

@@ -24,7 +24,7 @@ struct ReplayVideoSource {
 
   ReplayVideoSource(const link::LinkEndpoints& endpoints, const std::vector<robot::CameraFrame>& left_frames,
                     const std::vector<robot::CameraFrame>& right_frames, double rate_hz,
-                    robot::CameraPoseAt poses, std::chrono::milliseconds delay)
+                    robot::StereoPosesAt poses, std::chrono::milliseconds delay)
       : start_ns(clock.nowNs() + delay.count() * 1'000'000),
         server(endpoints),
         left(clock, left_frames, cameraConfig("left", rate_hz)),

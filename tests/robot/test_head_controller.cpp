@@ -115,6 +115,43 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
             config.caught_up_position + 1e-9);
 }
 
+// A calibration applied live (issue #15): the operator's view stays where it is; the arm moves so
+// that the new head frame is there, a small change at once, a large one through the slow approach.
+TEST_F(HeadControllerTest, ANewCameraMountMovesTheArmNotTheView) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  const HeadCommand before = holdFor(level_hmd, 20);
+  HeadGeometry small = config.geometry;
+  small.T_flange_cam_l.translation() += Eigen::Vector3d(0.004, -0.002, 0.003);
+  small.T_flange_cam_l.linear() = small.T_flange_cam_l.linear() * Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitY());
+  controller.setGeometry(small);
+  const HeadCommand after = holdFor(level_hmd, 20);
+  EXPECT_LT((after.T_robot_headTarget.translation() - before.T_robot_headTarget.translation()).norm(), 1e-9);
+  const Eigen::Isometry3d head_new = controller.kinematics().forward(after.q_target) * small.T_flange_head();
+  EXPECT_LT((head_new.translation() - after.T_robot_headTarget.translation()).norm(), 2e-5);
+  EXPECT_LT(Eigen::AngleAxisd(head_new.linear().transpose() * after.T_robot_headTarget.linear()).angle(), 2e-4);
+  EXPECT_GT((after.q_target - before.q_target).norm(), 1e-3) << "the arm moved to carry the new mount";
+  EXPECT_EQ(controller.jumpCount(), 0);
+
+  HeadGeometry large = small;  // 12 cm: beyond the 10 cm jump threshold
+  large.T_flange_cam_l.translation().z() += 0.12;
+  controller.setGeometry(large);
+  Eigen::Vector3d previous = (controller.kinematics().forward(after.q_target) * large.T_flange_head()).translation();
+  HeadCommand cmd;
+  int ticks = 0;
+  do {
+    now += 10 * kMs;
+    cmd = controller.tick(HmdSample{now, level_hmd}, now);
+    const Eigen::Vector3d p = cmd.T_robot_headTarget.translation();
+    EXPECT_LE((p - previous).norm(), config.approach_speed * 0.010 + 1e-9) << ticks;
+    previous = p;
+    ++ticks;
+  } while (cmd.approaching && ticks < 1000);
+  EXPECT_EQ(controller.jumpCount(), 1);
+  EXPECT_GT(ticks, 60) << "12 cm at 0.15 m/s takes about 0.8 s";
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - before.T_robot_headTarget.translation()).norm(),
+            config.caught_up_position + 1e-9);
+}
+
 TEST_F(HeadControllerTest, WorkspaceClampHoldsTheTargetInside) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   // The operator walks 1 m forward slowly (no jump): the head stops at the box face.
