@@ -18,7 +18,9 @@ inline nlohmann::json operatorStatsJson(const xr::OperatorViewStats& s) {
           {"stereo_frames_shown", s.stereo_frames_shown},
           {"head_targets_sent", s.head_targets_sent},
           {"nominal_from_robot", s.nominal_from_robot},
-          {"settings_changes", s.settings_changes}};
+          {"settings_changes", s.settings_changes},
+          {"calibration_generation", s.calibration_generation},
+          {"calibration_changes", s.calibration_changes}};
 }
 
 }  // namespace telesphere::app

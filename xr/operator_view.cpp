@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "xr/latency_figure.h"
 #include "xr/trial_indicator.h"
@@ -80,6 +81,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
   trial_ = state ? state->trial() : link::proto::TrialIndicator();
+  if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
   if (state && options_.follow_robot_settings) {
     RenderSettings settings = renderer_.settings();
     if (const auto mode = renderModeOf(state->visual_mode())) settings.mode = *mode;
@@ -95,7 +97,9 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
 
   const auto before = renderer_.frame();
-  if (!renderer_.setFrame(frameToShow(), error)) return false;
+  const auto show = frameToShow();
+  if (!takeFetchedCalibration(show.get(), error)) return false;
+  if (!renderer_.setFrame(show, error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
   if (uploaded_this_frame_ns_ >= 0) {
     last_new_frame_ns_ = frame_begin_ns_;
@@ -107,6 +111,58 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
                  options_.endpoints.connect(0), secondsWithoutNewFrame(),
                  hasImage() ? " (showing the last one)" : " (is telesphere-robot running?)");
   }
+  return true;
+}
+
+void OperatorView::followRobotCalibration(const link::proto::RobotState& state) {
+  const std::uint64_t generation = state.calibration_generation();
+  if (generation == 0 || generation == stats_.calibration_generation) return;
+  {
+    std::lock_guard lock(control_result_mutex_);
+    if (fetched_calibration_ && fetched_calibration_->generation == generation) return;
+  }
+  // One request at a time; asked again when no answer came (the reply's handler clears it).
+  if (calibration_requested_ == generation && frame_begin_ns_ - calibration_requested_ns_ < 3'000'000'000) return;
+  calibration_requested_ = generation;
+  calibration_requested_ns_ = frame_begin_ns_;
+  link::proto::ControlRequest request;
+  request.set_get_calibration(true);
+  control_.send(std::move(request), [this](const std::optional<link::proto::ControlReply>& reply) {
+    if (!reply || !reply->ok() || !reply->has_calibration()) {
+      spdlog::warn("operator view: the robot's calibration: {}",
+                   !reply ? std::string("no reply within 2 s") : reply->ok() ? "no calibration in the reply" : reply->error());
+      return;
+    }
+    auto parsed = calib::parseCalibration(reply->calibration().yaml(), "robot calibration");
+    if (!parsed || parsed->cameras.size() != 2) {
+      spdlog::warn("operator view: the robot's calibration generation {} is unusable: {}",
+                   reply->calibration().generation(),
+                   parsed ? std::string("not two cameras") : parsed.error().describe());
+      return;
+    }
+    std::lock_guard lock(control_result_mutex_);
+    fetched_calibration_ = FetchedCalibration{reply->calibration().generation(), std::move(*parsed),
+                                              reply->calibration().source()};
+  });
+}
+
+bool OperatorView::takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error) {
+  std::optional<FetchedCalibration> fetched;
+  {
+    std::lock_guard lock(control_result_mutex_);
+    if (!fetched_calibration_) return true;
+    // Poses and intrinsics of one frame belong together: wait for a frame the robot stamped with it
+    // (a robot that restarted counts from 1 again: any other generation than the one shown).
+    const std::uint64_t frame_generation = frame ? frame->frame.calibration_generation() : 0;
+    if (frame && frame_generation != 0 && frame_generation != fetched_calibration_->generation) return true;
+    fetched.swap(fetched_calibration_);
+  }
+  if (!renderer_.setCalibration(fetched->calibration, error)) return false;
+  if (stats_.calibration_generation != 0 || fetched->generation != 1)
+    spdlog::info("operator view: calibration generation {} from the robot ({})", fetched->generation, fetched->source);
+  stats_.calibration_generation = fetched->generation;
+  ++stats_.calibration_changes;
+  calibration_requested_ = 0;
   return true;
 }
 
@@ -211,6 +267,7 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     telemetry_.set_missed_total(missed_frames);
     telemetry_.set_visual_mode(visualModeOf(renderer_.settings().mode));
     telemetry_.set_sphere_radius(renderer_.settings().radius);
+    telemetry_.set_calibration_generation(stats_.calibration_generation);
     client_.sendXrTelemetry(telemetry_);
     telemetry_.clear_frames();
     last_telemetry_ns_ = now;

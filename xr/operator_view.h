@@ -22,6 +22,13 @@
 ///        frames are shown dimmed (image gain kUnmeasuredGain) so the operator sees that the view
 ///        is not tracked. Counted, logged once per streak, and flagged in the telemetry.
 ///
+///        Calibration (follow_robot_calibration): the robot names the calibration it uses in its
+///        state (a generation: the console applies and reverts calibrations live, DESIGN.md §6);
+///        a new one is fetched (get_calibration, off the frame loop) and its camera models are
+///        taken at the first frame the robot stamped with it (StereoFrame.calibration_generation),
+///        so poses and intrinsics of one frame always belong together. Until the robot has
+///        answered, the calibration given at start-up is used.
+///
 ///        Frame protocol, on the thread whose GL context is current:
 ///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
 #pragma once
@@ -52,6 +59,9 @@ struct OperatorViewOptions {
   bool follow_robot_settings = true;
   /// How long the last measured frame is held while only unmeasured ones arrive, s.
   double hold_measured_s = 1.0;
+  /// Render with the robot's calibration (RobotState.calibration_generation, fetched with
+  /// get_calibration) instead of the one given at start-up (off: the start-up one stays).
+  bool follow_robot_calibration = true;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -68,6 +78,8 @@ struct OperatorViewStats {
   bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
   std::uint64_t unmeasured_frames_shown = 0;  ///< distinct frames shown dimmed (pose not measured)
   std::uint64_t unmeasured_frames_held_back = 0;  ///< passed over while a measured one was held
+  std::uint64_t calibration_generation = 0;  ///< the robot's calibration rendered with (0: start-up one)
+  std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
 };
 
 class OperatorView {
@@ -135,6 +147,10 @@ class OperatorView {
   void sendControl(link::proto::ControlRequest request, std::string what);
   /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
   std::shared_ptr<const DecodedStereoFrame> frameToShow();
+  /// Asks for the robot's calibration when its state names one this view does not render with.
+  void followRobotCalibration(const link::proto::RobotState& state);
+  /// Takes the fetched calibration once `frame` is stamped with it (or there is no frame).
+  bool takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error);
 
   link::LinkClient client_;
   StereoFrameDecoder decoder_;
@@ -163,6 +179,14 @@ class OperatorView {
 
   mutable std::mutex control_result_mutex_;
   std::string last_control_result_;
+  std::uint64_t calibration_requested_ = 0;  ///< generation asked for (0: none in flight)
+  std::int64_t calibration_requested_ns_ = 0;
+  struct FetchedCalibration {
+    std::uint64_t generation = 0;
+    calib::SystemCalibration calibration;
+    std::string source;
+  };
+  std::optional<FetchedCalibration> fetched_calibration_;  ///< under control_result_mutex_
   link::ControlQueue control_;  ///< after what its replies write to: it stops first
 };
 

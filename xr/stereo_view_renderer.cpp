@@ -14,6 +14,18 @@ StereoViewRenderer::StereoViewRenderer(const calib::SystemCalibration& calibrati
 
 StereoViewRenderer::~StereoViewRenderer() = default;
 
+bool StereoViewRenderer::setCalibration(const calib::SystemCalibration& calibration, std::string* error) {
+  if (calibration.cameras.size() != 2) {
+    *error = "the calibration needs two cameras for a stereo view";
+    return false;
+  }
+  calibration_ = calibration;
+  for (auto& camera : cameras_) camera.reset();
+  for (auto& coordinates : coordinates_) coordinates.reset();
+  frame_.reset();
+  return true;
+}
+
 bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame,
                                   std::string* error) {
   // The same decoded frame object: already up. (Not compared by sequence number: a restarted

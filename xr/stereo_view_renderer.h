@@ -47,6 +47,11 @@ class StereoViewRenderer {
   bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
                            EyeView view, GLuint framebuffer, std::string* error);
 
+  /// Renders with `calibration`'s camera models from the next setFrame on (a calibration applied
+  /// live): the cameras are prepared again and the frame on the GPU is dropped, so that next
+  /// setFrame uploads even the same frame again. Needs two cameras (false with the reason).
+  bool setCalibration(const calib::SystemCalibration& calibration, std::string* error);
+
   void setSettings(const RenderSettings& settings) { settings_ = settings; }
   const RenderSettings& settings() const { return settings_; }
 

@@ -14,6 +14,7 @@
 
 #include "tests/eventually.h"
 #include "calib/calibration_file.h"
+#include "calib/system_calibration_yaml.h"
 #include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
 #include "shaders/egl_context.h"
@@ -43,11 +44,17 @@ class OperatorViewTest : public ::testing::Test {
     auto calibration = calib::loadCalibrationFile(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml");
     ASSERT_TRUE(calibration) << calibration.error().describe();
     server_ = std::make_unique<link::LinkServer>(operatorViewEndpoints());
+    robot_calibration_ = *calibration;
     server_->setControlHandler([this](const link::proto::ControlRequest& r) {
       std::lock_guard lock(mutex_);
       requests_.push_back(r);
       link::proto::ControlReply reply;
       reply.set_ok(true);
+      if (r.get_calibration()) {  // the robot's calibration in use (here: generation 2)
+        reply.mutable_calibration()->set_generation(2);
+        reply.mutable_calibration()->set_yaml(calib::toSystemCalibrationYaml(robot_calibration_));
+        reply.mutable_calibration()->set_source("test");
+      }
       return reply;
     });
     OperatorViewOptions options;
@@ -62,9 +69,11 @@ class OperatorViewTest : public ::testing::Test {
 
   /// Publishes a 64×36 stereo frame (the calibration's 16:9) with both cameras looking along
   /// the robot's -z (left at x = -0.03 m, right at +0.03 m).
-  void publishFrame(link::proto::PoseSource pose_source = link::proto::POSE_SOURCE_JOINT_BUFFER) {
+  void publishFrame(link::proto::PoseSource pose_source = link::proto::POSE_SOURCE_JOINT_BUFFER,
+                    std::uint64_t calibration_generation = 0) {
     link::proto::StereoFrame f;
     f.set_sequence(++sequence_);
+    f.set_calibration_generation(calibration_generation);
     const std::int64_t now = link::linkNowNs();
     f.mutable_stamps()->set_capture_ns(now - 5'000'000);
     for (int i = 0; i < 2; ++i) {
@@ -115,6 +124,7 @@ class OperatorViewTest : public ::testing::Test {
   link::SharedBytes jpeg_ = std::make_shared<const std::vector<std::uint8_t>>(test::texturedJpeg(64, 36, 5));
   std::mutex mutex_;
   std::vector<link::proto::ControlRequest> requests_;
+  calib::SystemCalibration robot_calibration_;  ///< what get_calibration answers (under mutex_)
 };
 
 TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImage) {
@@ -215,6 +225,60 @@ TEST_F(OperatorViewTest, MeasuresSilenceFromTheRobot) {
     publishFrame();
     return frame() && view_->secondsWithoutNewFrame() < 0.1;
   }));
+}
+
+// A calibration applied live on the robot (issue #15): the view fetches it when the robot's state
+// names a new generation, and renders with it from the first frame the robot stamped with it,
+// not before (that frame's pose came from the old one).
+TEST_F(OperatorViewTest, TakesTheRobotsCalibrationAtTheFirstFrameStampedWithIt) {
+  {
+    std::lock_guard lock(mutex_);
+    for (auto& camera : robot_calibration_.cameras) {  // a 40 % longer focal length: the image zooms
+      Eigen::VectorXd p = camera.camera.params();
+      p[0] *= 1.4;
+      p[1] *= 1.4;
+      camera.camera = *calib::GenericCamera::create(camera.camera.modelName(), p);
+    }
+  }
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
+    return shownFrame() && view_->hasImage();
+  }));
+  const auto before = renderLeft();
+  EXPECT_EQ(view_->stats().calibration_generation, 0u);
+
+  // The robot now uses generation 2; its frames are still stamped with 1 for a while.
+  link::proto::RobotState state;
+  state.set_calibration_generation(2);
+  bool asked = false;
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
+    shownFrame();
+    for (const auto& r : requests()) asked = asked || r.get_calibration();
+    return asked;
+  }));
+  for (int i = 0; i < 10; ++i) {  // the answer is in; frames of generation 1 keep the old models
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
+    std::this_thread::sleep_for(10ms);
+    ASSERT_TRUE(shownFrame());
+  }
+  EXPECT_EQ(view_->stats().calibration_generation, 0u);
+  EXPECT_EQ(renderLeft(), before) << "a frame stamped with the old calibration is shown with it";
+
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 2);
+    return shownFrame() && view_->stats().calibration_generation == 2u;
+  }));
+  EXPECT_EQ(view_->stats().calibration_changes, 1u);
+  const auto after = renderLeft();
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < after.size(); i += 4) changed += std::abs(int(after[i]) - int(before[i])) > 8;
+  EXPECT_GT(changed, after.size() / 4 / 10) << "the new focal length zooms the image";
+  std::size_t asks = 0;
+  for (const auto& r : requests()) asks += r.get_calibration();
+  EXPECT_LE(asks, 2u) << "asked once (again only after 3 s without an answer)";
 }
 
 TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {
