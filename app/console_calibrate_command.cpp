@@ -56,6 +56,33 @@ int reportAndSave(const CalibrateCommandOptions& o, const nlohmann::ordered_json
   return 0;
 }
 
+int applyToRobot(console::calibration::CalibrationRobot& robot, const calib::SystemCalibration& result,
+                 console::calibration::MeasuredParts parts, const std::string& source) {
+  std::string error;
+  const auto in_use = robot.calibrationInUse(&error);
+  if (!in_use) {
+    std::cerr << "telesphere-console calibrate: not applied: the robot's calibration: " << error << '\n';
+    return 4;
+  }
+  const auto current = calib::parseCalibration(in_use->yaml(), "the robot's calibration");
+  if (!current) {
+    std::cerr << "telesphere-console calibrate: not applied: " << current.error().describe() << '\n';
+    return 4;
+  }
+  const calib::SystemCalibration next = console::calibration::withMeasured(*current, result, parts);
+  for (const auto& d : console::calibration::differences(*current, next)) {
+    if (d.value > 0) std::fprintf(stderr, "telesphere-console calibrate: change %s %.3f %s %s\n", d.what.c_str(), d.value, d.unit.c_str(), d.detail.c_str());
+  }
+  const auto applied = robot.applyCalibration(next, source, &error);
+  if (!applied) {
+    std::cerr << "telesphere-console calibrate: not applied: " << error << '\n';
+    return 4;
+  }
+  std::cerr << "telesphere-console calibrate: applied: the robot uses calibration generation " << applied->generation()
+            << " (was " << in_use->generation() << ")\n";
+  return 0;
+}
+
 namespace {
 
 nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& out) {
@@ -177,6 +204,8 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateCommandOptions& o) {
   intrinsics->add_option("--tolerance-px", o.tolerance_px, "the RMS a model must reach to be preselected, px")
       ->capture_default_str()->check(CLI::Range(0.01, 100.0));
   intrinsics->add_flag("--json", o.json, "print the figures as JSON on stdout (the log stays on stderr)");
+  intrinsics->add_flag("--apply", o.apply,
+                       "then make the robot and the XR app use the cameras and T_cam_l_cam_r live (exit 4 if refused)");
   addHandEyeSubcommand(*calibrate, o);
   return calibrate;
 }
@@ -232,7 +261,11 @@ int runCalibrateCommand(const CLI::App& calibrate, const CalibrateCommandOptions
     figures["tolerance_px"] = o.tolerance_px;
     figures["preselected_model"] = comparison.preselected.value_or("");
   }
-  return reportAndSave(o, figures, printFigures, outcome.done, outcome.error, outcome.calibration, *format);
+  const int code = reportAndSave(o, figures, printFigures, outcome.done, outcome.error, outcome.calibration, *format);
+  if (code != 0 || !o.apply) return code;
+  return applyToRobot(robot, *outcome.calibration, console::calibration::MeasuredParts::kCameras,
+                      "intrinsics wizard (headless), " + std::to_string(outcome.collector ? outcome.collector->samples().size() : 0) +
+                          " views, " + o.out);
 }
 
 }  // namespace telesphere::app

@@ -5,8 +5,12 @@
 ///        headless against the live robot (issue #15), for labs that script their set-up and for
 ///        tests. It drives the head, takes stills until
 ///        the done rule holds, solves, writes the file and prints the figures (--json: as JSON on
-///        stdout). Exit codes: 0 done and written; 1 bad arguments or files; 2 the done rule
-///        cannot be met (the reason is printed; no file is written); 3 the robot never answered.
+///        stdout). With --apply the robot (and the XR app through it) then uses the result live:
+///        only the part the procedure measured replaces the calibration in use
+///        (console/calibration/calibration_change.h). Exit codes: 0 done and written (and
+///        applied); 1 bad arguments or files; 2 the done rule cannot be met (the reason is
+///        printed; no file is written); 3 the robot never answered; 4 written, but the robot
+///        refused to apply it (its reason is printed).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,6 +20,7 @@
 #include <string>
 
 #include "calib/calibration_file.h"
+#include "console/calibration/calibration_change.h"
 #include "console/calibration/calibration_robot.h"
 #include "robot/link/link_endpoints.h"
 
@@ -37,6 +42,7 @@ struct CalibrateCommandOptions {
   double pattern_deg = 20.0;
   int min_samples = 15, max_samples = 60;
   double time_limit_s = 900;
+  bool apply = false;  ///< make the robot use the result (written first)
 };
 
 /// "tcp://HOST:PORT" or "HOST:PORT"; false when it is neither.
@@ -51,6 +57,11 @@ bool robotAnswers(console::calibration::CalibrationRobot& robot, const std::stri
 int reportAndSave(const CalibrateCommandOptions& options, const nlohmann::ordered_json& figures,
                   const std::function<void(const nlohmann::ordered_json&)>& print, bool done, const std::string& error,
                   const std::optional<calib::SystemCalibration>& calibration, calib::CalibrationFormat format);
+
+/// --apply: puts the measured part of `result` into the robot's calibration in use. 0, or 4 with
+/// the robot's reason said.
+int applyToRobot(console::calibration::CalibrationRobot& robot, const calib::SystemCalibration& result,
+                 console::calibration::MeasuredParts parts, const std::string& source);
 
 /// `calibrate handeye` (app/console_calibrate_handeye.cpp).
 CLI::App* addHandEyeSubcommand(CLI::App& calibrate, CalibrateCommandOptions& options);

@@ -123,6 +123,7 @@ CLI::App* addHandEyeSubcommand(CLI::App& calibrate, CalibrateCommandOptions& o) 
   handeye->add_option("--time-limit", o.time_limit_s, "give up after this many seconds")
       ->capture_default_str()->check(CLI::Range(1.0, 36000.0));
   handeye->add_flag("--json", o.json, "print the figures as JSON on stdout (the log stays on stderr)");
+  handeye->add_flag("--apply", o.apply, "then make the robot use T_flange_cam_l live (exit 4 if refused)");
   return handeye;
 }
 
@@ -154,8 +155,12 @@ int runHandEyeCalibrate(const CalibrateCommandOptions& o, const link::LinkEndpoi
   console::calibration::CalibrationRobot robot(client);
   if (!robotAnswers(robot, o.robot)) return 3;
   const auto outcome = console::calibration::runHandEyeAuto(robot, options);
-  return reportAndSave(o, handEyeFiguresOf(outcome), printHandEyeFigures, outcome.done, outcome.error,
-                       outcome.calibration, *format);
+  const int code = reportAndSave(o, handEyeFiguresOf(outcome), printHandEyeFigures, outcome.done, outcome.error,
+                                 outcome.calibration, *format);
+  if (code != 0 || !o.apply) return code;
+  return applyToRobot(robot, *outcome.calibration, console::calibration::MeasuredParts::kHandEye,
+                      "hand-eye wizard (headless), " +
+                          std::to_string(outcome.collector ? outcome.collector->samples().size() : 0) + " samples, " + o.out);
 }
 
 }  // namespace telesphere::app

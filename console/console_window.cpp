@@ -23,6 +23,7 @@
 #include "console/live_plot.h"
 #include "console/nominal_pose_panel.h"
 #include "console/calibration_panel.h"
+#include "console/calibration_in_use_panel.h"
 #include "console/hand_eye_panel.h"
 #include "console/study_panel.h"
 #include "console/supervisor_plots.h"
@@ -75,6 +76,24 @@ ConsoleWindow::ConsoleWindow(ConsoleSession& session, QWidget* parent) : QMainWi
   study_ = new StudyPanel(session_);
   calibration_ = new CalibrationPanel(session_.options().endpoints);
   hand_eye_ = new HandEyePanel(session_.options().endpoints);
+  in_use_ = new CalibrationInUsePanel(session_);
+  // A wizard's result that meets its rule becomes the candidate to apply live.
+  const auto offer = [this](const auto& outcome, calibration::MeasuredParts parts, const QString& what,
+                             const QString& unit) {
+    if (!outcome || !outcome->done || !outcome->calibration) return;
+    const int count = outcome->collector ? int(outcome->collector->samples().size()) : 0;
+    in_use_->setCandidate(*outcome->calibration, parts,
+                          QString("%1, %2 %3, %4")
+                              .arg(what)
+                              .arg(count)
+                              .arg(unit, QDateTime::currentDateTime().toString("HH:mm:ss")));
+  };
+  connect(calibration_, &CalibrationPanel::runFinished, this, [this, offer] {
+    offer(calibration_->outcome(), calibration::MeasuredParts::kCameras, "intrinsics wizard", "views");
+  });
+  connect(hand_eye_, &HandEyePanel::runFinished, this, [this, offer] {
+    offer(hand_eye_->outcome(), calibration::MeasuredParts::kHandEye, "hand-eye wizard", "samples");
+  });
   QDockWidget* health_dock = dock("Health", health_, Qt::LeftDockWidgetArea);
   QDockWidget* cameras_dock = dock("Cameras", preview_, Qt::RightDockWidgetArea);
   QDockWidget* control_dock = dock("Control", control_, Qt::RightDockWidgetArea);
@@ -82,10 +101,12 @@ ConsoleWindow::ConsoleWindow(ConsoleSession& session, QWidget* parent) : QMainWi
   QDockWidget* study_dock = dock("Study", study_, Qt::RightDockWidgetArea);
   QDockWidget* calibration_dock = dock("Calibration", calibration_, Qt::RightDockWidgetArea);
   QDockWidget* hand_eye_dock = dock("Hand-eye", hand_eye_, Qt::RightDockWidgetArea);
+  QDockWidget* in_use_dock = dock("Calibration in use", in_use_, Qt::RightDockWidgetArea);
   tabifyDockWidget(control_dock, nominal_dock);
   tabifyDockWidget(control_dock, study_dock);
   tabifyDockWidget(control_dock, calibration_dock);
   tabifyDockWidget(control_dock, hand_eye_dock);
+  tabifyDockWidget(control_dock, in_use_dock);
   control_dock->raise();
 
   QMenu* file = menuBar()->addMenu("&File");

@@ -26,6 +26,7 @@ class NominalPosePanel;
 class StudyPanel;
 class CalibrationPanel;
 class HandEyePanel;
+class CalibrationInUsePanel;
 
 class ConsoleWindow : public QMainWindow {
   Q_OBJECT
@@ -47,6 +48,7 @@ class ConsoleWindow : public QMainWindow {
   StudyPanel* studyPanel() const { return study_; }
   CalibrationPanel* calibrationPanel() const { return calibration_; }
   HandEyePanel* handEyePanel() const { return hand_eye_; }
+  CalibrationInUsePanel* calibrationInUsePanel() const { return in_use_; }
   FaultBanner* faultBanner() const { return banner_; }
   /// The dock holding `panel` (to show it, or to grab it for a screenshot).
   QDockWidget* dockOf(QWidget* panel) const;
@@ -75,6 +77,7 @@ class ConsoleWindow : public QMainWindow {
   StudyPanel* study_;
   CalibrationPanel* calibration_;
   HandEyePanel* hand_eye_;
+  CalibrationInUsePanel* in_use_;
   std::vector<QDockWidget*> docks_;
   QTimer redraw_timer_, panel_timer_;
   std::uint64_t drawn_version_ = ~0ull;

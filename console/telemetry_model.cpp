@@ -118,6 +118,7 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   last_xr_batch_ = t.batch();
   xr_mode_ = t.visual_mode();
   xr_radius_ = t.sphere_radius();
+  xr_calibration_ = t.calibration_generation();
   if (!t.clock_synced()) {  // the XR app had no offset to the robot: its stamps cannot be mapped
     ++counts_.unsynced_batches;
     return;

@@ -81,6 +81,8 @@ class TelemetryModel {
   /// What the XR app renders with, from its newest batch.
   std::optional<link::proto::VisualMode> xrVisualMode() const { return xr_mode_; }
   std::optional<double> xrSphereRadius() const { return xr_radius_; }
+  /// The robot calibration generation the XR app renders with (0: its start-up --calib).
+  std::optional<std::uint64_t> xrCalibrationGeneration() const { return xr_calibration_; }
   /// Whether the XR app's newest display frame showed a camera frame without a measured camera
   /// pose (dimmed), or held the last measured one back from such frames; empty before any.
   struct UnmeasuredPose {
@@ -110,6 +112,7 @@ class TelemetryModel {
   std::deque<HeadPoseSample> head_poses_;
   std::optional<link::proto::VisualMode> xr_mode_;
   std::optional<double> xr_radius_;
+  std::optional<std::uint64_t> xr_calibration_;
   std::optional<UnmeasuredPose> xr_unmeasured_;
 };
 

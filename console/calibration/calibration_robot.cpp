@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "calib/system_calibration_yaml.h"
 #include "robot/link/link_pose.h"
 
 namespace telesphere::console::calibration {
@@ -61,6 +62,36 @@ bool CalibrationRobot::release(std::string* error) {
   if (!request(std::move(r), error)) return false;
   holding_ = false;
   return true;
+}
+
+std::optional<link::proto::CalibrationInUse> CalibrationRobot::calibrationInUse(std::string* error) {
+  link::proto::ControlRequest r;
+  r.set_get_calibration(true);
+  const auto reply = request(std::move(r), error);
+  if (!reply) return std::nullopt;
+  return reply->calibration();
+}
+
+std::optional<link::proto::CalibrationInUse> CalibrationRobot::applyCalibration(
+    const calib::SystemCalibration& calibration, const std::string& source, std::string* error) {
+  if (const auto problem = calibration.inconsistency()) {
+    *error = "not applied: " + problem->first + ": " + problem->second;
+    return std::nullopt;
+  }
+  link::proto::ControlRequest r;
+  r.mutable_apply_calibration()->set_text(calib::toSystemCalibrationYaml(calibration));
+  r.mutable_apply_calibration()->set_source(source);
+  const auto reply = request(std::move(r), error);
+  if (!reply) return std::nullopt;
+  return reply->calibration();
+}
+
+std::optional<link::proto::CalibrationInUse> CalibrationRobot::revertCalibration(std::string* error) {
+  link::proto::ControlRequest r;
+  r.set_revert_calibration(true);
+  const auto reply = request(std::move(r), error);
+  if (!reply) return std::nullopt;
+  return reply->calibration();
 }
 
 bool CalibrationRobot::waitSettled(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,

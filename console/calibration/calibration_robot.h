@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "calib/system_calibration.h"
 #include "robot/link/link_client.h"
 
 namespace telesphere::console::calibration {
@@ -46,6 +47,15 @@ class CalibrationRobot {
   /// as the robot's --still-timeout-ms, so the wait here is `still_timeout`).
   std::optional<link::proto::CalibrationStill> takeStill(std::string* error);
   void setStillTimeout(std::chrono::milliseconds timeout) { still_timeout_ = timeout; }
+
+  /// The calibration the robot uses now (get_calibration).
+  std::optional<link::proto::CalibrationInUse> calibrationInUse(std::string* error);
+  /// Makes the robot use `calibration` from now on (apply_calibration; the XR app follows); the
+  /// calibration in use after it, or nothing with the robot's reason.
+  std::optional<link::proto::CalibrationInUse> applyCalibration(const calib::SystemCalibration& calibration,
+                                                                const std::string& source, std::string* error);
+  /// Back to the calibration before the last apply (revert_calibration).
+  std::optional<link::proto::CalibrationInUse> revertCalibration(std::string* error);
 
   /// The newest robot state's head pose (waits up to `timeout` for a first state).
   std::optional<Eigen::Isometry3d> headPose(std::chrono::milliseconds timeout);

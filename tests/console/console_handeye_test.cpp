@@ -14,10 +14,12 @@
 #include <nlohmann/json.hpp>
 
 #include "calib/calibration_file.h"
+#include "robot/link/link_client.h"
 #include "tests/console/sim_robot_process.h"
 
 namespace {
 namespace calib = telesphere::calib;
+namespace link = telesphere::link;
 
 constexpr int kPort = 28010;
 const std::string kBin = TELESPHERE_BINARY_DIR "/bin/";
@@ -59,8 +61,10 @@ double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_GT(robot_pid_, 0);
   const std::string out_file = (dir_ / "handeye.yaml").string();
-  const CommandResult r = runCommand(calibrate("--out " + out_file), dir_.string());
+  const CommandResult r = runCommand(calibrate("--apply --out " + out_file), dir_.string());
   ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 6000);
+  EXPECT_NE(r.err.find("applied: the robot uses calibration generation 2 (was 1)"), std::string::npos)
+      << r.err.substr(0, 6000);
   const nlohmann::json figures = nlohmann::json::parse(r.out);
   EXPECT_TRUE(figures["done"].get<bool>());
   EXPECT_GE(figures["samples"].get<int>(), 15);
@@ -106,6 +110,21 @@ TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
     // simulated resolution (0.5 mm, 0.05°).
     EXPECT_LT(dt_mm, 5.0 * sigma_mm.norm() + 0.5) << c.name;
     EXPECT_LT(dr_deg, 5.0 * sigma_deg.norm() + 0.05) << c.name;
+  }
+  // --apply: the robot uses the recovered T_flange_cam_l now, with its own cameras.
+  {
+    link::LinkEndpoints endpoints;
+    endpoints.base_port = kPort;
+    link::LinkClient client(endpoints);
+    link::proto::ControlRequest get;
+    get.set_get_calibration(true);
+    const auto reply = client.request(get, std::chrono::seconds(5));
+    ASSERT_TRUE(reply && reply->ok());
+    EXPECT_EQ(reply->calibration().generation(), 2u);
+    const auto in_use = calib::parseCalibration(reply->calibration().yaml(), "robot");
+    ASSERT_TRUE(in_use) << in_use.error().describe();
+    EXPECT_TRUE(in_use->T_flange_cam_l->isApprox(*recovered->T_flange_cam_l, 1e-12));
+    EXPECT_EQ(in_use->cameras[0].camera.params(), start->cameras[0].camera.params());
   }
   // The start's T_flange_cam_l lies outside those bounds: the check can fail.
   const nlohmann::json& f = figures["T_flange_cam_l"];

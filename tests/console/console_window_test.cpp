@@ -5,7 +5,8 @@
 ///        camera preview; every control reaching the robot and the XR app with its reply shown;
 ///        arm stop and clear with the fault banner; the nominal-pose step end to end (capture,
 ///        confirm, undo; refused without fresh head poses); robot killed and restarted; XR app
-///        gone. Writes screenshots of the main window, each plot and each panel (console/README.md
+///        gone; a calibration applied live from the "Calibration in use" panel reaching the robot's
+///        frames and the XR app, and reverted. Writes screenshots of the main window, each plot and each panel (console/README.md
 ///        shows them) into $TELESPHERE_SCREENSHOT_DIR or build/console-screenshots.
 #include <gtest/gtest.h>
 
@@ -21,6 +22,7 @@
 #include <QPushButton>
 #include <QSpinBox>
 #include <QTabWidget>
+#include <QTableWidget>
 #include <QTemporaryDir>
 #include <QThread>
 #include <algorithm>
@@ -28,6 +30,8 @@
 #include <optional>
 #include <functional>
 
+#include "calib/calibration_file.h"
+#include "console/calibration_in_use_panel.h"
 #include "console/camera_preview_panel.h"
 #include "console/column_decimator.h"
 #include "console/console_session.h"
@@ -38,6 +42,8 @@
 #include "console/live_plot.h"
 #include "console/nominal_pose_panel.h"
 #include "console/telemetry_model.h"
+#include "robot/link/link_client.h"
+#include "robot/link/link_pose.h"
 #include "tests/console/console_rig.h"
 
 namespace telesphere::console {
@@ -358,6 +364,105 @@ TEST(ConsoleWindow, PicksUpARestartedRobotAndNoticesTheXrAppGoing) {
   std::vector<Sample> drawn;
   ColumnDecimator().decimate(v_rob, v_rob.front().t, v_rob.back().t, (v_rob.back().t - v_rob.front().t) / 400, drawn);
   EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [](const Sample& s) { return std::isnan(s.v); }));
+}
+
+// Issue #15: a wizard's result applied live from the "Calibration in use" panel. Only the part the
+// wizard measured replaces the robot's calibration; the robot stamps its frames with it (their
+// left-to-right camera offset is the new T_cam_l_cam_r) and the XR app renders with it; Revert goes
+// back. Nothing restarts.
+TEST(ConsoleWindow, ACalibrationAppliedLiveReachesRobotAndXrAppAndReverts) {
+  Rig rig(27840);
+  rig.startRobot();
+  rig.startXr(true);
+  CalibrationInUsePanel* panel = rig.window->calibrationInUsePanel();
+  rig.window->dockOf(panel)->raise();
+  ASSERT_TRUE(pumpUntil([&] {
+    return rig.connected() && panel->inUse().has_value() && rig.session->telemetry().xrCalibrationGeneration() == 1u;
+  }, 60000)) << rig.logs();
+  EXPECT_EQ(panel->inUse()->generation(), 1u);
+  EXPECT_EQ(panel->inUse()->previous(), 0u);
+  auto* apply = panel->findChild<QPushButton*>("calibration_apply");
+  auto* revert = panel->findChild<QPushButton*>("calibration_revert");
+  ASSERT_TRUE(apply && revert);
+  EXPECT_FALSE(apply->isEnabled()) << "nothing to apply before a wizard's result";
+  EXPECT_FALSE(revert->isEnabled()) << "nothing to revert to at start";
+  const auto start = calib::parseCalibration(panel->inUse()->yaml(), "robot");
+  ASSERT_TRUE(start) << start.error().describe();
+
+  // An intrinsics-and-stereo result: baseline 3 mm wider, cam_l's focal length 2 % longer. Its
+  // T_flange_cam_l (the wizard's start file, 5 cm off here) must not be applied.
+  calib::SystemCalibration result = *start;
+  result.T_cam_l_cam_r->translation() += result.T_cam_l_cam_r->translation().normalized() * 0.003;
+  Eigen::VectorXd p = result.cameras[0].camera.params();
+  p[0] *= 1.02;
+  p[1] *= 1.02;
+  result.cameras[0].camera = *calib::GenericCamera::create(result.cameras[0].camera.modelName(), p);
+  result.T_flange_cam_l->translation().z() += 0.05;
+  panel->setCandidate(result, calibration::MeasuredParts::kCameras, "intrinsics wizard (test)");
+  ASSERT_TRUE(pumpUntil([&] { return apply->isEnabled(); }));
+  const auto* changes = panel->findChild<QTableWidget*>("calibration_in_use_changes");
+  ASSERT_NE(changes, nullptr);
+  QStringList rows;
+  for (int r = 0; r < changes->rowCount(); ++r)
+    rows << changes->item(r, 0)->text() + " " + changes->item(r, 1)->text();
+  EXPECT_TRUE(rows.contains("T_cam_l_cam_r translation 3.00 mm")) << rows.join("; ").toStdString();
+  EXPECT_TRUE(rows.contains("T_flange_cam_l translation 0.00 mm")) << rows.join("; ").toStdString();
+  pumpFor(500);
+  saveShot(rig.window->dockOf(panel), "panel_calibration_in_use.png");
+
+  QElapsedTimer since_click;
+  rig.click(apply);
+  since_click.start();
+  qint64 robot_ms = -1, xr_ms = -1;
+  ASSERT_TRUE(pumpUntil([&] {
+    if (robot_ms < 0 && rig.session->robotState() && rig.session->robotState()->calibration_generation() == 2u)
+      robot_ms = since_click.elapsed();
+    if (xr_ms < 0 && rig.session->telemetry().xrCalibrationGeneration() == 2u) xr_ms = since_click.elapsed();
+    return panel->inUse() && panel->inUse()->generation() == 2u && robot_ms >= 0 && xr_ms >= 0;
+  }, 30000)) << rig.logs();
+  // Heard at the console: robot state at 50 Hz, XR telemetry every 100 ms relayed by the robot.
+  std::printf("apply → robot state names generation 2: %lld ms; → XR telemetry renders it: %lld ms\n",
+              static_cast<long long>(robot_ms), static_cast<long long>(xr_ms));
+  EXPECT_FALSE(apply->isEnabled()) << "the robot already uses this result";
+  const auto applied = calib::parseCalibration(panel->inUse()->yaml(), "robot");
+  ASSERT_TRUE(applied);
+  EXPECT_TRUE(applied->T_flange_cam_l->isApprox(*start->T_flange_cam_l, 1e-12)) << "the hand-eye stays";
+  EXPECT_TRUE(applied->T_cam_l_cam_r->isApprox(*result.T_cam_l_cam_r, 1e-12));
+  EXPECT_TRUE(revert->isEnabled());
+
+  // The robot's frames of generation 2: the right camera sits at the new T_cam_l_cam_r.
+  const auto frameOffset = [&](std::uint64_t generation) -> std::optional<Eigen::Isometry3d> {
+    link::LinkEndpoints endpoints;
+    endpoints.base_port = rig.port;
+    link::LinkClient client(endpoints);
+    for (int i = 0; i < 100; ++i) {
+      const auto f = client.waitForFrame(std::chrono::milliseconds(500));
+      if (!f || f->frame.calibration_generation() != generation) continue;
+      return link::fromLinkPose(f->frame.left().t_robot_cam()).inverse() * link::fromLinkPose(f->frame.right().t_robot_cam());
+    }
+    return std::nullopt;
+  };
+  const auto offset2 = frameOffset(2);
+  ASSERT_TRUE(offset2.has_value()) << rig.logs();
+  EXPECT_LT((offset2->translation() - result.T_cam_l_cam_r->translation()).norm(), 0.0005);
+  EXPECT_GT((offset2->translation() - start->T_cam_l_cam_r->translation()).norm(), 0.0025);
+  pumpFor(300);
+  saveShot(rig.window->dockOf(panel), "panel_calibration_in_use_applied.png");
+
+  rig.click(revert);
+  ASSERT_TRUE(pumpUntil([&] {
+    return panel->inUse() && panel->inUse()->generation() == 3u &&
+           rig.session->telemetry().xrCalibrationGeneration() == 3u;
+  }, 30000)) << rig.logs();
+  const auto reverted = calib::parseCalibration(panel->inUse()->yaml(), "robot");
+  ASSERT_TRUE(reverted);
+  EXPECT_TRUE(reverted->T_cam_l_cam_r->isApprox(*start->T_cam_l_cam_r, 1e-12));
+  EXPECT_EQ(reverted->cameras[0].camera.params(), start->cameras[0].camera.params());
+  const auto offset3 = frameOffset(3);
+  ASSERT_TRUE(offset3.has_value());
+  EXPECT_LT((offset3->translation() - start->T_cam_l_cam_r->translation()).norm(), 0.0005);
+  EXPECT_FALSE(revert->isEnabled()) << "back at the start: nothing earlier";
+  EXPECT_NE(rig.robot->output().indexOf("calibration generation 3 in use"), -1) << rig.logs();
 }
 
 }  // namespace

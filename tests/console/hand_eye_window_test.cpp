@@ -17,6 +17,7 @@
 #include <QTableWidget>
 
 #include "calib/calibration_file.h"
+#include "console/calibration_in_use_panel.h"
 #include "console/hand_eye_panel.h"
 #include "robot/link/link_client.h"
 #include "tests/console/console_rig.h"
@@ -75,7 +76,8 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   test_rig::pumpFor(200);
   ASSERT_TRUE(panel->outcome());
   ASSERT_TRUE(panel->outcome()->done) << panel->statusText().toStdString() << "\n"
-                                      << panel->findChild<QPlainTextEdit*>("handeye_log")->toPlainText().right(4000).toStdString();
+                                      << panel->findChild<QPlainTextEdit*>("handeye_log")->toPlainText().right(4000).toStdString()
+                                      << "\n" << rig.logs();
   EXPECT_NE(panel->statusText().indexOf("Done"), -1) << panel->statusText().toStdString();
   const auto& collector = *panel->outcome()->collector;
   const int n = int(collector.samples().size());
@@ -106,6 +108,18 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
                          link::LinkClient::Options{.frames = false});
   ASSERT_TRUE(test_rig::pumpUntil([&] { return probe.latestRobotState().has_value(); }, 10000));
   EXPECT_FALSE(probe.latestRobotState()->calibration_hold());
+
+  // The result is the Calibration in use dock's candidate; Apply makes the robot use its T_flange_cam_l.
+  CalibrationInUsePanel* in_use = rig.window->calibrationInUsePanel();
+  auto* apply = in_use->findChild<QPushButton*>("calibration_apply");
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return apply->isEnabled(); }, 10000)) << "no candidate from the hand-eye run";
+  EXPECT_NE(in_use->findChild<QLabel*>("calibration_in_use_candidate")->text().indexOf("hand-eye wizard, " + QString::number(n) + " samples"), -1)
+      << in_use->findChild<QLabel*>("calibration_in_use_candidate")->text().toStdString();
+  apply->click();
+  ASSERT_TRUE(test_rig::pumpUntil([&] { return in_use->inUse() && in_use->inUse()->generation() == 2u; }, 10000));
+  const auto applied = calib::parseCalibration(in_use->inUse()->yaml(), "robot");
+  ASSERT_TRUE(applied);
+  EXPECT_TRUE(applied->T_flange_cam_l->isApprox(r.T_flange_cam_l, 1e-12));
 
   auto* save = panel->findChild<QPushButton*>("handeye_save");
   EXPECT_TRUE(save->isEnabled());

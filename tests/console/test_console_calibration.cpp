@@ -15,6 +15,7 @@
 #include "console/calibration/intrinsics_procedure.h"
 #include "console/calibration/intrinsics_view_plan.h"
 #include "console/calibration/hand_eye_collector.h"
+#include "console/calibration/calibration_change.h"
 #include "calib/target_render.h"
 #include "robot/link/link_pose.h"
 #include "tests/calib/calib_synthetic.h"
@@ -403,6 +404,49 @@ TEST(HandEyeCollector, RotationsAboutOneAxisAreRefusedAsDegenerate) {
   EXPECT_FALSE(c.result());
   EXPECT_FALSE(c.calibration());
   EXPECT_NE(c.check().describe().find("rotation axes spread: head"), std::string::npos) << c.check().describe();
+}
+
+// Applying live: only what a wizard measured replaces the calibration in use, and the change is
+// stated in mm, ° and image px (the same calibration at another resolution moves nothing).
+TEST(CalibrationChange, OnlyTheMeasuredPartIsAppliedAndTheChangeIsMeasured) {
+  auto loaded = calib::loadCalibrationFile(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml");
+  ASSERT_TRUE(loaded);
+  const calib::SystemCalibration in_use = *loaded;
+
+  calib::SystemCalibration result = in_use;
+  result.T_flange_cam_l->translation().x() += 0.012;
+  Eigen::VectorXd p = result.cameras[1].camera.params();
+  p[2] += 2.0;  // cx: the right image moves 2 px sideways
+  result.cameras[1].camera = *calib::GenericCamera::create(result.cameras[1].camera.modelName(), p);
+
+  const calib::SystemCalibration cameras = withMeasured(in_use, result, MeasuredParts::kCameras);
+  EXPECT_TRUE(cameras.T_flange_cam_l->isApprox(*in_use.T_flange_cam_l)) << "a camera result keeps the hand-eye";
+  EXPECT_EQ(cameras.cameras[1].camera.params(), p);
+  const calib::SystemCalibration hand_eye = withMeasured(in_use, result, MeasuredParts::kHandEye);
+  EXPECT_TRUE(hand_eye.T_flange_cam_l->isApprox(*result.T_flange_cam_l));
+  EXPECT_EQ(hand_eye.cameras[1].camera.params(), in_use.cameras[1].camera.params()) << "a hand-eye result keeps the cameras";
+
+  const auto find = [](const std::vector<CalibrationDifference>& ds, const std::string& what) {
+    for (const auto& d : ds)
+      if (d.what == what) return d;
+    ADD_FAILURE() << "no row " << what;
+    return CalibrationDifference{};
+  };
+  const auto none = differences(in_use, in_use);
+  for (const auto& d : none) EXPECT_LT(d.value, 1e-9) << d.what;
+  EXPECT_FALSE(find(none, "cam_l image").detail.empty());
+
+  const auto both = differences(in_use, result);
+  EXPECT_NEAR(find(both, "T_flange_cam_l translation").value, 12.0, 1e-9);
+  EXPECT_NEAR(find(both, "T_flange_cam_l rotation").value, 0.0, 1e-9);
+  EXPECT_NEAR(find(both, "cam_r image").value, 2.0, 1e-6) << find(both, "cam_r image").detail;
+  EXPECT_LT(find(both, "cam_l image").value, 1e-9);
+
+  // The same cameras calibrated at half the resolution: nothing moves.
+  calib::SystemCalibration half = in_use;
+  std::string error;
+  for (auto& camera : half.cameras) camera = *calib::atResolution(camera, camera.width / 2, camera.height / 2, &error);
+  EXPECT_LT(find(differences(in_use, half), "cam_l image").value, 1e-6);
 }
 
 }  // namespace
