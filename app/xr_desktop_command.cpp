@@ -149,7 +149,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
         std::snprintf(robot, sizeof robot, " — robot silent for %.0f s", view.secondsWithoutNewFrame());
       std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m%s",
                     double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
-                    std::string(xr::renderModeName(s.mode)).c_str(), s.radius, robot);
+                    std::string(telesphere::link::visualModeName(s.mode)).c_str(), s.radius, robot);
       window->setTitle(title);
       last_title = done;
       frames_at_title = frames;
@@ -179,7 +179,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     j.update({{"frames", frames},
               {"fps", seconds > 0 ? double(frames) / seconds : 0.0},
               {"missed_frames", missed},
-              {"mode", std::string(xr::renderModeName(view.settings().mode))},
+              {"mode", std::string(telesphere::link::visualModeName(view.settings().mode))},
               {"radius", view.settings().radius},
               {"head_position", {p.x(), p.y(), p.z()}},
               {"head_yaw", head.yaw()},

@@ -20,6 +20,7 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
+#include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
 #include "shaders/framebuffer_readback.h"
@@ -144,7 +145,7 @@ class OpenXrEyeWork {
       }
     } else {
       // The nominal pose: the HMD pose of the session's first rendered frame, pitch and roll removed.
-      if (!T_vr_nom_) T_vr_nom_ = xr::yawOnlyPose(eye.T_vr_hmd);
+      if (!T_vr_nom_) T_vr_nom_ = link::withoutPitchAndRoll(eye.T_vr_hmd);
       view.T_cam_eye = Eigen::Isometry3d(xr::kR_optical_view) * T_vr_nom_->inverse() * eye.T_vr_eye;
       if (!renderer_.render(*camera_, view, settings_, eye.framebuffer, &error_)) return false;
     }
@@ -159,7 +160,7 @@ class OpenXrEyeWork {
                 << q.w() << "," << view.fov.angle_left << "," << view.fov.angle_right << "," << view.fov.angle_up
                 << "," << view.fov.angle_down << "," << eye.width << "," << eye.height << ","
                 << (eye.srgb_swapchain ? 1 : 0) << "," << png << "," << sequence << ","
-                << xr::renderModeName(used.mode) << "," << used.radius << "\n";
+                << telesphere::link::visualModeName(used.mode) << "," << used.radius << "\n";
     }
     return true;
   }

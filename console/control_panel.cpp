@@ -17,6 +17,7 @@
 
 #include "console/console_session.h"
 #include "console/link_labels.h"
+#include "robot/link/sphere_radius.h"
 
 namespace telesphere::console {
 
@@ -58,7 +59,7 @@ ControlPanel::ControlPanel(ConsoleSession& session, QWidget* parent) : QWidget(p
   });
 
   radius_ = new QDoubleSpinBox;
-  radius_->setRange(0.05, 1000.0);
+  radius_->setRange(link::kMinSphereRadius, link::kMaxSphereRadius);
   radius_->setDecimals(2);
   radius_->setSingleStep(0.1);
   radius_->setValue(1.0);

@@ -26,6 +26,7 @@
 #include "console/study/study_report.h"
 #include "console/study/trial_order.h"
 #include "robot/link/link_endpoints.h"
+#include "robot/link/proto_enums.h"
 
 namespace telesphere::console {
 namespace {
@@ -38,10 +39,8 @@ QString modeLabel(const std::string& mode) {
 }
 
 std::optional<link::proto::VisualMode> visualModeOf(const std::string& mode) {
-  if (mode == "full6d") return link::proto::VISUAL_MODE_FULL6D;
-  if (mode == "orientation3d") return link::proto::VISUAL_MODE_ORIENTATION3D;
-  if (mode == "fixed") return link::proto::VISUAL_MODE_FIXED;
-  return std::nullopt;
+  const auto m = link::parseVisualMode(mode);
+  return m ? std::optional(link::toProto(*m)) : std::nullopt;
 }
 
 QString clock(double s) {

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "calib/debug_assert.h"
+#include "robot/link/head_angles.h"
 
 namespace telesphere::robot {
 namespace {
@@ -95,24 +96,6 @@ Eigen::Isometry3d HeadController::T_hmd_head() {
   return T;
 }
 
-Eigen::Isometry3d HeadController::levelled(const Eigen::Isometry3d& T_vr_head) {
-  const Eigen::Matrix3d& R = T_vr_head.linear();
-  const Eigen::Vector3d up(0, 1, 0);  // +y of the OpenXR reference space
-  Eigen::Vector3d forward = R.col(0) - R.col(0).dot(up) * up;
-  if (forward.norm() < 1e-6) {
-    // Looking straight down (up): the top of the head points forward (backward).
-    const Eigen::Vector3d z = R.col(0).dot(up) < 0 ? R.col(2) : Eigen::Vector3d(-R.col(2));
-    forward = z - z.dot(up) * up;
-  }
-  forward.normalize();
-  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
-  out.linear().col(0) = forward;
-  out.linear().col(1) = up.cross(forward);
-  out.linear().col(2) = up;
-  out.translation() = T_vr_head.translation();
-  return out;
-}
-
 bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_current) {
   if (!nominal.T_vr_hmd.matrix().allFinite() || !isRotation(nominal.T_vr_hmd.linear(), 1e-3) ||
       !q_current.allFinite())
@@ -129,7 +112,7 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
 }
 
 Eigen::Isometry3d HeadController::mappingFor(const Eigen::Isometry3d& T_vr_hmd) const {
-  const Eigen::Isometry3d T_vr_nom = levelled(T_vr_hmd * T_hmd_head());
+  const Eigen::Isometry3d T_vr_nom = link::withoutPitchAndRoll(T_vr_hmd) * T_hmd_head();
   return config_.T_robot_nom * T_vr_nom.inverse();
 }
 
@@ -220,7 +203,7 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
   std::int64_t target_t_ns = now_ns;
   if (holding_) {
     target = hold_target_;  // the nominal-pose step or a calibration pose: the operator is ignored
-  } else if (mode_ == HeadMode::kFixed) {
+  } else if (mode_ == link::VisualMode::kFixed) {
     // Operator ignored: the nominal pose pitched 45° down (about the head's y axis, left).
     target = config_.T_robot_nom * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitY());
   } else {
@@ -230,7 +213,7 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
       return hold(reason);
     }
     target = mapped(sample->T_vr_hmd);
-    if (mode_ == HeadMode::kOrientationOnly) target.translation() = config_.T_robot_nom.translation();
+    if (mode_ == link::VisualMode::kOrientation3d) target.translation() = config_.T_robot_nom.translation();
     target_t_ns = sample->t_ns;
     last_sample_t_ns_ = sample->t_ns;
   }

@@ -34,12 +34,12 @@
 
 #include "robot/head_geometry.h"
 #include "robot/joint_state.h"
+#include "robot/link/visual_mode.h"
 #include "robot/low_pass_filter.h"
 #include "robot/xarm6_kinematics.h"
 
 namespace telesphere::robot {
 
-enum class HeadMode { kFull6D, kOrientationOnly, kFixed };
 
 /// Why a tick did not produce a new target.
 enum class HeadRejectReason {
@@ -103,20 +103,18 @@ class HeadController {
 
   /// OpenXR view axes → head axes: columns are head x, y, z in the OpenXR view frame.
   static Eigen::Isometry3d T_hmd_head();
-  /// T_vr_head with pitch and roll removed (yaw about the vr +y axis kept), for T_vr_nom.
-  static Eigen::Isometry3d levelled(const Eigen::Isometry3d& T_vr_head);
 
   /// Starts the mapping with the operator looking straight ahead (`nominal`) and the arm at
   /// q_current: the output starts from the current head pose, so a distant nominal pose is
   /// approached slowly by the jump guard. False (nothing changes) if the sample is invalid.
   bool initialise(const HmdSample& nominal, const JointVector& q_current);
-  /// The mapping initialise() would set for this head pose: T_robot_nom · levelled(T_vr_hmd ·
+  /// The mapping initialise() would set for this head pose: T_robot_nom · (withoutPitchAndRoll(T_vr_hmd) ·
   /// T_hmd_head)⁻¹ (the console shows it before it is confirmed).
   Eigen::Isometry3d mappingFor(const Eigen::Isometry3d& T_vr_hmd) const;
   bool initialised() const { return initialised_; }
 
-  void setMode(HeadMode mode) { mode_ = mode; }
-  HeadMode mode() const { return mode_; }
+  void setMode(link::VisualMode mode) { mode_ = mode; }
+  link::VisualMode mode() const { return mode_; }
 
   /// Moves the head to T_robot_nom (through the jump guard's slow approach) and holds it there,
   /// the operator ignored, until releaseHold(). Without a mapping yet, the approach starts from
@@ -168,7 +166,7 @@ class HeadController {
   Eigen::Isometry3d T_flange_head_, T_head_flange_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   PoseLowPassFilter filter_;
-  HeadMode mode_ = HeadMode::kFull6D;
+  link::VisualMode mode_ = link::VisualMode::kFull6d;
   bool initialised_ = false;
   bool holding_ = false;
   Eigen::Isometry3d hold_target_ = Eigen::Isometry3d::Identity();  ///< while holding_

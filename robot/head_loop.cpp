@@ -6,6 +6,8 @@
 
 #include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
+#include "robot/link/proto_enums.h"
+#include "robot/link/sphere_radius.h"
 
 #include <chrono>
 #include <cmath>
@@ -14,23 +16,6 @@
 
 namespace telesphere::robot {
 
-std::optional<HeadMode> headModeOf(link::proto::VisualMode mode) {
-  switch (mode) {
-    case link::proto::VISUAL_MODE_FULL6D: return HeadMode::kFull6D;
-    case link::proto::VISUAL_MODE_ORIENTATION3D: return HeadMode::kOrientationOnly;
-    case link::proto::VISUAL_MODE_FIXED: return HeadMode::kFixed;
-    default: return std::nullopt;
-  }
-}
-
-link::proto::VisualMode visualModeOf(HeadMode mode) {
-  switch (mode) {
-    case HeadMode::kFull6D: return link::proto::VISUAL_MODE_FULL6D;
-    case HeadMode::kOrientationOnly: return link::proto::VISUAL_MODE_ORIENTATION3D;
-    case HeadMode::kFixed: return link::proto::VISUAL_MODE_FIXED;
-  }
-  return link::proto::VISUAL_MODE_FULL6D;
-}
 
 HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
                    link::LinkServer& server, const Clock& clock, const HeadLoopConfig& config)
@@ -139,7 +124,7 @@ void HeadLoop::tick() {
     state.set_t_ns(last_state_->t_ns);
     for (int i = 0; i < 6; ++i) state.add_joint_positions(last_state_->q[i]);
     link::toLinkPose(controller_.kinematics().forward(last_state_->q), state.mutable_t_robot_flange());
-    state.set_visual_mode(visualModeOf(controller_.mode()));
+    state.set_visual_mode(link::toProto(controller_.mode()));
     state.set_nominal_step(step_);
     state.set_arm_ok(arm_.status() == ArmStatus::kOk);
     state.set_fault(faultLocked());
@@ -180,7 +165,7 @@ std::string HeadLoop::faultLocked() const {
 
 void HeadLoop::fillSettings(link::proto::RobotSettings* settings) const {
   std::lock_guard lock(mutex_);
-  settings->set_visual_mode(visualModeOf(controller_.mode()));
+  settings->set_visual_mode(link::toProto(controller_.mode()));
   settings->set_sphere_radius(sphere_radius_);
   settings->set_filter_cutoff_hz(controller_.config().cutoff_hz);
   settings->set_jump_position_m(controller_.config().jump_position);
@@ -416,7 +401,7 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
     std::lock_guard lock(mutex_);
     switch (request.request_case()) {
       case link::proto::ControlRequest::kSetVisualMode:
-        if (const auto mode = headModeOf(request.set_visual_mode())) {
+        if (const auto mode = link::fromProto(request.set_visual_mode())) {
           controller_.setMode(*mode);
         } else {
           ok = false;
@@ -439,10 +424,10 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
         break;
       case link::proto::ControlRequest::kSetSphereRadius: {
         const double r = request.set_sphere_radius();
-        if (!(std::isfinite(r) && r >= kMinSphereRadius && r <= kMaxSphereRadius)) {
+        if (!link::acceptedSphereRadius(r)) {
           ok = false;
           error = "sphere radius " + std::to_string(r) + " m is outside [" +
-                  std::to_string(kMinSphereRadius) + ", " + std::to_string(kMaxSphereRadius) + "]";
+                  std::to_string(link::kMinSphereRadius) + ", " + std::to_string(link::kMaxSphereRadius) + "]";
         } else {
           sphere_radius_ = r;
         }

@@ -65,13 +65,7 @@ struct HeadLoopConfig {
   const CalibrationInUse* calibration = nullptr;
 };
 
-/// The sphere radius the link accepts, m.
-inline constexpr double kMinSphereRadius = 0.05;
-inline constexpr double kMaxSphereRadius = 1000.0;
-
 /// The link's visual mode ↔ the controller's head mode; nothing for VISUAL_MODE_UNSPECIFIED.
-std::optional<HeadMode> headModeOf(link::proto::VisualMode mode);
-link::proto::VisualMode visualModeOf(HeadMode mode);
 
 class HeadLoop {
  public:

@@ -9,9 +9,11 @@
 #include <string>
 #include <vector>
 
+#include "robot/link/chroma_subsampling.h"
+
 namespace telesphere::robot {
 
-enum class ChromaSubsampling { k420, k422, k444, kGray };
+using ChromaSubsampling = link::ChromaSubsampling;  ///< the video path's one chroma enum
 
 struct JpegSettings {
   int quality = 90;  ///< 1..100

@@ -2,6 +2,8 @@
 /// @brief RobotControl: dispatch and settings.
 #include "robot/robot_control.h"
 
+#include "robot/link/proto_enums.h"
+
 #include <string>
 
 namespace telesphere::robot {
@@ -52,12 +54,7 @@ void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {
   if (!video_) return;
   const JpegSettings jpeg = video_->jpegSettings();
   settings->set_jpeg_quality(jpeg.quality);
-  switch (jpeg.subsampling) {
-    case ChromaSubsampling::k420: settings->set_jpeg_subsampling(link::proto::CHROMA_420); break;
-    case ChromaSubsampling::k422: settings->set_jpeg_subsampling(link::proto::CHROMA_422); break;
-    case ChromaSubsampling::k444: settings->set_jpeg_subsampling(link::proto::CHROMA_444); break;
-    case ChromaSubsampling::kGray: settings->set_jpeg_subsampling(link::proto::CHROMA_GRAY); break;
-  }
+  settings->set_jpeg_subsampling(link::toProto(jpeg.subsampling));
 }
 
 }  // namespace telesphere::robot

@@ -2,6 +2,8 @@
 /// @brief VideoStreamer: pair → parallel encode → StereoFrame message → link.
 #include "robot/video_streamer.h"
 
+#include "robot/link/proto_enums.h"
+
 #include "robot/link/link_pose.h"
 
 #include <algorithm>
@@ -12,13 +14,7 @@ namespace {
 
 link::proto::ChromaSubsampling protoSubsampling(const CameraFrame& frame, ChromaSubsampling s) {
   if (frame.format == PixelFormat::kMono8) return link::proto::CHROMA_GRAY;
-  switch (s) {
-    case ChromaSubsampling::k420: return link::proto::CHROMA_420;
-    case ChromaSubsampling::k422: return link::proto::CHROMA_422;
-    case ChromaSubsampling::k444: return link::proto::CHROMA_444;
-    case ChromaSubsampling::kGray: return link::proto::CHROMA_GRAY;
-  }
-  return link::proto::CHROMA_420;
+  return link::toProto(s);
 }
 
 }  // namespace

@@ -7,15 +7,6 @@
 
 namespace telesphere::xr {
 
-std::string_view renderModeName(RenderMode mode) {
-  switch (mode) {
-    case RenderMode::kFull6d: return "full6d";
-    case RenderMode::kOrientation3d: return "orientation3d";
-    case RenderMode::kFixed: return "fixed";
-  }
-  return "?";
-}
-
 std::string_view renderPathName(RenderPath path) {
   switch (path) {
     case RenderPath::kExact: return "exact";
@@ -23,21 +14,6 @@ std::string_view renderPathName(RenderPath path) {
     case RenderPath::kLut: return "lut";
   }
   return "?";
-}
-
-RenderMode nextRenderMode(RenderMode mode) {
-  switch (mode) {
-    case RenderMode::kFull6d: return RenderMode::kOrientation3d;
-    case RenderMode::kOrientation3d: return RenderMode::kFixed;
-    case RenderMode::kFixed: return RenderMode::kFull6d;
-  }
-  return RenderMode::kFull6d;
-}
-
-std::optional<RenderMode> parseRenderMode(std::string_view name) {
-  for (RenderMode m : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed})
-    if (renderModeName(m) == name) return m;
-  return std::nullopt;
 }
 
 std::optional<RenderPath> parseRenderPath(std::string_view name) {
@@ -101,13 +77,13 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& s) {
 
 Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& settings) {
   switch (settings.mode) {
-    case RenderMode::kFull6d: return view.T_cam_eye;
-    case RenderMode::kOrientation3d: {
+    case link::VisualMode::kFull6d: return view.T_cam_eye;
+    case link::VisualMode::kOrientation3d: {
       Eigen::Isometry3d T = view.T_cam_eye;
       T.translation().setZero();
       return T;
     }
-    case RenderMode::kFixed: return settings.T_cam_eye_fixed;
+    case link::VisualMode::kFixed: return settings.T_cam_eye_fixed;
   }
   return view.T_cam_eye;
 }
@@ -115,7 +91,7 @@ Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& 
 std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
                                                      double radius, std::string* error) {
   RenderSettings settings;
-  const auto m = parseRenderMode(mode);
+  const auto m = link::parseVisualMode(mode);
   const auto p = parseRenderPath(path);
   if (!m) {
     *error = "render mode must be full6d, orientation3d or fixed, got \"" + std::string(mode) + "\"";

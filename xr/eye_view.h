@@ -15,6 +15,8 @@
 #include <string>
 #include <string_view>
 
+#include "robot/link/visual_mode.h"
+
 namespace telesphere::xr {
 
 /// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
@@ -41,25 +43,18 @@ struct EyeView {
   Eigen::Isometry3d T_cam_eye = Eigen::Isometry3d(kR_optical_view);
 };
 
-/// Modes (paper §IV-B). full6d: the sphere is centred on the camera and the eye at its tracked
-/// position. orientation3d: translation ignored (eye at the sphere's centre, only R_cam_eye
-/// used). fixed: the image is head-locked: the tracked pose is ignored and
-/// RenderSettings::T_cam_eye_fixed is used instead.
-enum class RenderMode { kFull6d, kOrientation3d, kFixed };
-
 /// Render paths, the speed/accuracy knob: exact per-fragment projection, a tessellated sphere
 /// with per-vertex projection, or a direction→pixel look-up texture.
 enum class RenderPath { kExact, kMesh, kLut };
 
-std::string_view renderModeName(RenderMode mode);  ///< "full6d", "orientation3d", "fixed"
 std::string_view renderPathName(RenderPath path);  ///< "exact", "mesh", "lut"
-std::optional<RenderMode> parseRenderMode(std::string_view name);
-/// The next mode in the operator's cycle full6d → orientation3d → fixed → full6d (the M key).
-RenderMode nextRenderMode(RenderMode mode);
 std::optional<RenderPath> parseRenderPath(std::string_view name);
 
 struct RenderSettings {
-  RenderMode mode = RenderMode::kFull6d;
+  /// The visual mode (robot/link/visual_mode.h). In the renderer: full6d puts the eye at its
+  /// tracked pose, orientation3d at the sphere's centre (only R_cam_eye used), fixed ignores the
+  /// tracked pose and uses T_cam_eye_fixed (head-locked).
+  link::VisualMode mode = link::VisualMode::kFull6d;
   RenderPath path = RenderPath::kExact;
   /// Sphere radius r (m), finite and > 0: the distance the whole scene is assumed to be at.
   double radius = 1.0;

@@ -46,10 +46,10 @@ JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expe
     return JpegDecodeError::kSizeMismatch;
   }
   switch (subsamp) {
-    case TJSAMP_420: out.subsampling = JpegSubsampling::k420; break;
-    case TJSAMP_422: out.subsampling = JpegSubsampling::k422; break;
-    case TJSAMP_444: out.subsampling = JpegSubsampling::k444; break;
-    case TJSAMP_GRAY: out.subsampling = JpegSubsampling::kGray; break;
+    case TJSAMP_420: out.subsampling = link::ChromaSubsampling::k420; break;
+    case TJSAMP_422: out.subsampling = link::ChromaSubsampling::k422; break;
+    case TJSAMP_444: out.subsampling = link::ChromaSubsampling::k444; break;
+    case TJSAMP_GRAY: out.subsampling = link::ChromaSubsampling::kGray; break;
     default:
       *error = "JPEG chroma subsampling " + std::to_string(subsamp) + " is not one the renderer takes";
       return JpegDecodeError::kUnsupported;

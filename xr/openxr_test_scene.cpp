@@ -35,15 +35,4 @@ SourceImage OpenXrTestScene::image() {
   return SourceImage::rgb8(w, h, std::move(rgb));
 }
 
-Eigen::Isometry3d yawOnlyPose(const Eigen::Isometry3d& T_vr_hmd) {
-  const Eigen::Vector3d forward = T_vr_hmd.linear() * Eigen::Vector3d(0, 0, -1);
-  const double yaw = (std::hypot(forward.x(), forward.z()) > 1e-9)
-                         ? std::atan2(-forward.x(), -forward.z())
-                         : 0.0;
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = T_vr_hmd.translation();
-  return T;
-}
-
 }  // namespace telesphere::xr

@@ -5,7 +5,8 @@
 ///        rendered offscreen by the Monado integration test to check the swapchain contents.
 ///
 /// Mapping (DESIGN.md §2 with the camera in place of the robot head): at the first valid frame
-/// the HMD pose (midpoint of the eyes) with pitch and roll removed becomes T_vr_nom; then
+/// the HMD pose (midpoint of the eyes) with pitch and roll removed (link::withoutPitchAndRoll)
+/// becomes T_vr_nom; then
 /// T_cam_eye = T_cam_nom · T_vr_nom⁻¹ · T_vr_eye with T_cam_nom = kR_optical_view (the nominal
 /// view looks along the camera's optical axis).
 #pragma once
@@ -27,10 +28,5 @@ struct OpenXrTestScene {
   /// alternating 64/192 between squares, plus a white cross at the image centre.
   static SourceImage image();
 };
-
-/// T_vr_hmd with pitch and roll removed: the yaw about the vr +y axis (OpenXR: y up, −z
-/// forward) that turns −z towards the horizontal projection of the HMD's forward direction,
-/// and the same position. Looking straight up or down (no horizontal forward) keeps yaw 0.
-Eigen::Isometry3d yawOnlyPose(const Eigen::Isometry3d& T_vr_hmd);
 
 }  // namespace telesphere::xr

@@ -10,29 +10,14 @@
 
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
+#include "robot/link/proto_enums.h"
+#include "robot/link/sphere_radius.h"
 #include "xr/latency_figure.h"
 #include "xr/trial_indicator.h"
 
 namespace telesphere::xr {
 namespace {
 
-std::optional<RenderMode> renderModeOf(link::proto::VisualMode mode) {
-  switch (mode) {
-    case link::proto::VISUAL_MODE_FULL6D: return RenderMode::kFull6d;
-    case link::proto::VISUAL_MODE_ORIENTATION3D: return RenderMode::kOrientation3d;
-    case link::proto::VISUAL_MODE_FIXED: return RenderMode::kFixed;
-    default: return std::nullopt;
-  }
-}
-
-link::proto::VisualMode visualModeOf(RenderMode mode) {
-  switch (mode) {
-    case RenderMode::kFull6d: return link::proto::VISUAL_MODE_FULL6D;
-    case RenderMode::kOrientation3d: return link::proto::VISUAL_MODE_ORIENTATION3D;
-    case RenderMode::kFixed: return link::proto::VISUAL_MODE_FIXED;
-  }
-  return link::proto::VISUAL_MODE_FULL6D;
-}
 
 bool poseMeasured(const link::proto::StereoFrame& frame) {
   return frame.left().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER &&
@@ -84,13 +69,12 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
   if (state && options_.follow_robot_settings) {
     RenderSettings settings = renderer_.settings();
-    if (const auto mode = renderModeOf(state->visual_mode())) settings.mode = *mode;
-    if (std::isfinite(state->sphere_radius()) && state->sphere_radius() > 0.0)
-      settings.radius = state->sphere_radius();
+    if (const auto mode = link::fromProto(state->visual_mode())) settings.mode = *mode;
+    if (link::acceptedSphereRadius(state->sphere_radius())) settings.radius = state->sphere_radius();
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
       spdlog::info("operator view: mode {} radius {} m (from the robot; was {} {} m)",
-                   renderModeName(settings.mode), settings.radius,
-                   renderModeName(renderer_.settings().mode), renderer_.settings().radius);
+                   link::visualModeName(settings.mode), settings.radius,
+                   link::visualModeName(renderer_.settings().mode), renderer_.settings().radius);
       renderer_.setSettings(settings);
       ++stats_.settings_changes;
     }
@@ -265,7 +249,7 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
       telemetry_.set_clock_synced(false);
     }
     telemetry_.set_missed_total(missed_frames);
-    telemetry_.set_visual_mode(visualModeOf(renderer_.settings().mode));
+    telemetry_.set_visual_mode(link::toProto(renderer_.settings().mode));
     telemetry_.set_sphere_radius(renderer_.settings().radius);
     telemetry_.set_calibration_generation(stats_.calibration_generation);
     client_.sendXrTelemetry(telemetry_);
@@ -312,10 +296,10 @@ void OperatorView::requestCaptureNominal() {
   sendControl(std::move(request), "capture_nominal");
 }
 
-void OperatorView::requestMode(RenderMode mode) {
+void OperatorView::requestMode(link::VisualMode mode) {
   link::proto::ControlRequest request;
-  request.set_set_visual_mode(visualModeOf(mode));
-  sendControl(std::move(request), "set_mode " + std::string(renderModeName(mode)));
+  request.set_set_visual_mode(link::toProto(mode));
+  sendControl(std::move(request), "set_mode " + std::string(link::visualModeName(mode)));
 }
 
 void OperatorView::requestRadius(double radius_m) {
@@ -325,7 +309,7 @@ void OperatorView::requestRadius(double radius_m) {
 }
 
 void OperatorView::requestRadiusScaled(double factor) {
-  requestRadius(std::clamp(settings().radius * factor, 0.05, 1000.0));
+  requestRadius(std::clamp(settings().radius * factor, link::kMinSphereRadius, link::kMaxSphereRadius));
 }
 
 std::string OperatorView::lastControlResult() const {

@@ -115,11 +115,11 @@ class OperatorView {
   /// mode / the sphere radius. Never blocks: the reply is logged, and the new values reach
   /// this view through the robot's state.
   void requestCaptureNominal();
-  void requestMode(RenderMode mode);
+  void requestMode(link::VisualMode mode);
   void requestRadius(double radius_m);
   /// The operator's keys: the next mode of the cycle; the radius times `factor`, kept in the
-  /// robot's accepted range [0.05, 1000] m.
-  void requestNextMode() { requestMode(nextRenderMode(settings().mode)); }
+  /// link's accepted range (robot/link/sphere_radius.h).
+  void requestNextMode() { requestMode(link::nextVisualMode(settings().mode)); }
   void requestRadiusScaled(double factor);
 
   /// The newest decoded frame is on the GPU (anything to show).

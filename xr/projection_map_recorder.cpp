@@ -65,7 +65,7 @@ bool ProjectionMapRecorder::record(OperatorView& view, std::int64_t display_ns, 
   }
   const RenderSettings& s = view.settings();
   csv_ << index_ << ',' << display_ns << ',' << frame->frame.sequence() << ',' << frame->frame.stamps().capture_ns()
-       << ',' << renderModeName(s.mode) << ',' << s.radius << ',' << ipd << ',' << eye.fov.angle_left << ','
+       << ',' << link::visualModeName(s.mode) << ',' << s.radius << ',' << ipd << ',' << eye.fov.angle_left << ','
        << eye.fov.angle_right << ',' << eye.fov.angle_up << ',' << eye.fov.angle_down << ',' << eye.width << ','
        << eye.height << ',' << (frame->left ? frame->left->width : 0) << ','
        << (frame->left ? frame->left->height : 0);

@@ -72,7 +72,7 @@ SourceImage SourceImage::yuv(int width, int height, int chroma_width, int chroma
   p->height = height;
   p->chroma_width = chroma_width;
   p->chroma_height = chroma_height;
-  p->subsampling = JpegSubsampling::kOther;
+  p->subsampling = std::nullopt;
   const std::size_t n = width > 0 && height > 0 ? static_cast<std::size_t>(width) * height : 0;
   const std::size_t nc = chroma_width > 0 && chroma_height > 0
                              ? static_cast<std::size_t>(chroma_width) * chroma_height

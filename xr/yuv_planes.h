@@ -5,11 +5,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
-namespace telesphere::xr {
+#include "robot/link/chroma_subsampling.h"
 
-enum class JpegSubsampling { k420, k422, k444, kGray, kOther };
+namespace telesphere::xr {
 
 /// Planes with rows tightly packed (stride = width). For kGray, u and v are empty.
 struct YuvPlanes {
@@ -17,7 +18,8 @@ struct YuvPlanes {
   int height = 0;
   int chroma_width = 0;
   int chroma_height = 0;
-  JpegSubsampling subsampling = JpegSubsampling::k420;
+  /// As the JPEG was encoded; nothing: planes not from a JPEG (any chroma size, SourceImage::yuv).
+  std::optional<link::ChromaSubsampling> subsampling = link::ChromaSubsampling::k420;
   std::vector<std::uint8_t> y, u, v;
 };
 

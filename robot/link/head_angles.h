@@ -9,7 +9,7 @@
 ///   pitch = asin(f.y)           looking up is positive;
 ///   roll  = rotation of the head's up axis about f, positive when the right ear goes down.
 /// At |pitch| = 90° (looking straight up or down) the yaw is taken from the top of the head
-/// instead of the gaze (as HeadController::levelled does), roll is then 0.
+/// instead of the gaze, roll is then 0.
 /// Removing pitch and roll (the nominal pose, DESIGN.md §2) keeps exactly `yaw`.
 #pragma once
 
@@ -47,6 +47,16 @@ inline HeadAngles headAnglesOf(const Eigen::Isometry3d& T_vr_hmd) {
   const Eigen::Vector3d up_level = f.cross(left).normalized();   // up, in the plane ⟂ gaze
   a.roll = std::atan2(-u.dot(left), u.dot(up_level));
   return a;
+}
+
+/// T_vr_hmd with pitch and roll removed: turned by its yaw alone about +y, the position kept (the
+/// nominal pose, DESIGN.md §2; the XR test scene's level frame). The one definition: straight up
+/// and down take the yaw from the top of the head, as headAnglesOf does.
+inline Eigen::Isometry3d withoutPitchAndRoll(const Eigen::Isometry3d& T_vr_hmd) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(headAnglesOf(T_vr_hmd).yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  T.translation() = T_vr_hmd.translation();
+  return T;
 }
 
 /// The inverse for tests and scripted heads: yaw about +y, then pitch about the head's left

@@ -174,13 +174,13 @@ TEST_F(HeadControllerTest, Modes) {
   Eigen::Isometry3d moved = level_hmd;
   moved.translation() += Eigen::Vector3d(0, 0.05, 0);
   moved.linear() = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitY()) * moved.linear();
-  controller.setMode(HeadMode::kOrientationOnly);
+  controller.setMode(link::VisualMode::kOrientation3d);
   HeadCommand cmd = holdFor(moved, 30);
   EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 1e-9);
   EXPECT_NEAR(rotationLog(cmd.T_robot_headTarget.linear() * config.T_robot_nom.linear().transpose())
                   .z(),
               10 * kDeg, 1e-6);
-  controller.setMode(HeadMode::kFixed);
+  controller.setMode(link::VisualMode::kFixed);
   for (int i = 0; i < 200; ++i) {  // the 45° change is a jump: slow approach, then settled
     now += 10 * kMs;
     Eigen::Isometry3d garbage = moved;
@@ -247,7 +247,7 @@ TEST_F(HeadControllerTest, NeverCommandsBeyondJointLimitsUnderFuzzedInput) {
     const int k = kind(rng);
     if (k == 0) T.translation().x() = NAN;
     if (k == 1) T.linear() *= 2.0;
-    if (k == 2) controller.setMode(static_cast<HeadMode>(i % 3));
+    if (k == 2) controller.setMode(static_cast<link::VisualMode>(i % 3));
     const HeadCommand cmd = controller.tick(HmdSample{k == 3 ? now - kMs * 500 : now, T}, now);
     ASSERT_TRUE(controller.kinematics().withinLimits(cmd.q_target)) << cmd.q_target.transpose();
     ASSERT_TRUE(config.workspace.contains(cmd.T_robot_headTarget.translation()) || !cmd.send);

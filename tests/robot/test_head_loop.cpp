@@ -229,8 +229,8 @@ TEST(HeadLoop, GuidedNominalStepHoldCaptureConfirmAndUndo) {
   // The proposed mapping takes the captured head pose, levelled, to the nominal head pose.
   const Eigen::Isometry3d T_robot_vr = link::fromLinkPose(reply.nominal().t_robot_vr());
   const Eigen::Isometry3d T_robot_head =
-      T_robot_vr * HeadController::levelled(link::fromLinkPose(reply.nominal().t_vr_hmd_captured()) *
-                                            HeadController::T_hmd_head());
+      T_robot_vr * link::withoutPitchAndRoll(link::fromLinkPose(reply.nominal().t_vr_hmd_captured())) *
+      HeadController::T_hmd_head();
   EXPECT_TRUE(T_robot_head.isApprox(T_robot_nom, 1e-9));
   for (int i = 0; i < 20; ++i) rig.step();
   EXPECT_FALSE(rig.controller.initialised());  // nothing applied before confirm

@@ -74,11 +74,11 @@ TEST_F(RendererGl, ExactPathMatchesTheReferenceForEveryModelPoseAndMode) {
     GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
     for (const auto& [pose, T] : test::testPoses()) {
-      for (RenderMode mode : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed}) {
+      for (link::VisualMode mode : {link::VisualMode::kFull6d, link::VisualMode::kOrientation3d, link::VisualMode::kFixed}) {
         RenderSettings s;
         s.mode = mode;
         const MapError e = compare(gpu, coords, testEye(T), s);
-        SCOPED_TRACE(lens + " " + pose + " " + std::string(renderModeName(mode)));
+        SCOPED_TRACE(lens + " " + pose + " " + std::string(link::visualModeName(mode)));
         EXPECT_LT(e.max_px, 0.05) << e;
         EXPECT_LE(e.validity_mismatch, e.total / 500 + 2) << e;
         worst = std::max(worst, e.max_px);
@@ -182,14 +182,14 @@ TEST_F(RendererGl, EveryPathHandlesEveryMode) {
   GpuCamera gpu(camera, kImageWidth, kImageHeight);
   ASSERT_TRUE(gpu.upload(coords));
   for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
-    for (RenderMode mode : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed})
+    for (link::VisualMode mode : {link::VisualMode::kFull6d, link::VisualMode::kOrientation3d, link::VisualMode::kFixed})
       for (const auto& [pose, T] : test::testPoses()) {
         RenderSettings s;
         s.path = path;
         s.mode = mode;
         s.T_cam_eye_fixed = eyePose({0.0, 0.02, 0.0}, rotation(-0.3, {1, 0, 0}));
         const MapError e = compare(gpu, coords, testEye(T), s);
-        SCOPED_TRACE(std::string(renderPathName(path)) + " " + std::string(renderModeName(mode)) +
+        SCOPED_TRACE(std::string(renderPathName(path)) + " " + std::string(link::visualModeName(mode)) +
                      " " + pose);
         EXPECT_LT(e.max_px, path == RenderPath::kExact ? 0.05 : 0.5) << e;
         EXPECT_LE(e.validity_mismatch, e.total / 100 + 2) << e;

@@ -34,7 +34,7 @@ TEST(JpegDecoder, DecodesToNativeYuvPlanes) {
   // Pure red: Y = 76, U = 85, V = 255 (JFIF full-range BT.601).
   const auto jpeg = flatJpeg(66, 50, 255, 0, 0, TJSAMP_420);
   ASSERT_EQ(decoder.decode(jpeg, 66, 50, 8192, planes, &error), JpegDecodeError::kNone) << error;
-  EXPECT_EQ(planes.subsampling, JpegSubsampling::k420);
+  EXPECT_EQ(planes.subsampling, link::ChromaSubsampling::k420);
   EXPECT_EQ(planes.y.size(), 66u * 50u);
   EXPECT_EQ(planes.chroma_width, 33);
   EXPECT_EQ(planes.chroma_height, 25);
@@ -43,7 +43,7 @@ TEST(JpegDecoder, DecodesToNativeYuvPlanes) {
   EXPECT_NEAR(planes.v[0], 255, 2);
   const auto gray = flatJpeg(16, 16, 200, 200, 200, TJSAMP_GRAY);
   ASSERT_EQ(decoder.decode(gray, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
-  EXPECT_EQ(planes.subsampling, JpegSubsampling::kGray);
+  EXPECT_EQ(planes.subsampling, link::ChromaSubsampling::kGray);
   EXPECT_TRUE(planes.u.empty());
   EXPECT_NEAR(planes.y[0], 200, 2);
 }

@@ -46,31 +46,6 @@ TEST(OpenXrPose, ViewsNeedBothOrientationAndPositionValid) {
   EXPECT_FALSE(viewPoseValid(0));
 }
 
-TEST(OpenXrTestScene, YawOnlyKeepsYawAndPositionAndRemovesPitchAndRoll) {
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> yaw(-M_PI + 1e-3, M_PI - 1e-3), tilt(-1.4, 1.4);
-  for (int i = 0; i < 500; ++i) {
-    const double psi = yaw(rng), theta = tilt(rng), phi = tilt(rng);
-    Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();
-    // OpenXR head: yaw about +y, then pitch about +x, then roll about −z (forward).
-    T_vr_hmd.linear() = (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()) *
-                         Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitX()) *
-                         Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()))
-                            .toRotationMatrix();
-    T_vr_hmd.translation() << 0.3, 1.7, -0.4;
-    const Eigen::Isometry3d T_vr_nom = yawOnlyPose(T_vr_hmd);
-    const Eigen::Matrix3d expected = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    ASSERT_LT((T_vr_nom.linear() - expected).norm(), 1e-9) << "psi " << psi << " theta " << theta;
-    ASSERT_LT((T_vr_nom.translation() - T_vr_hmd.translation()).norm(), 1e-15);
-  }
-}
-
-TEST(OpenXrTestScene, LookingStraightDownGivesAFiniteYaw) {
-  Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();
-  T_vr_hmd.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  EXPECT_FALSE(checkPose(yawOnlyPose(T_vr_hmd)).has_value());
-}
-
 TEST(OpenXrPose, MidpointOfTwoEyesIsTheHmd) {
   Eigen::Isometry3d l = Eigen::Isometry3d::Identity(), r = Eigen::Isometry3d::Identity();
   l.translation() << -0.032, 1.6, 0;

@@ -171,7 +171,7 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
   ASSERT_TRUE(::telesphere::test::eventually([&] {
     server_->publishRobotState(state);
     frame();
-    return view_->settings().mode == RenderMode::kOrientation3d;
+    return view_->settings().mode == link::VisualMode::kOrientation3d;
   }));
   EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0);
   EXPECT_TRUE(view_->T_robot_vr().isApprox(T_robot_vr));
@@ -186,7 +186,7 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
     server_->publishRobotState(state);
     std::this_thread::sleep_for(50ms);
     frame();
-    EXPECT_EQ(view_->settings().mode, RenderMode::kOrientation3d) << radius;
+    EXPECT_EQ(view_->settings().mode, link::VisualMode::kOrientation3d) << radius;
     EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0) << radius;
   }
 }
@@ -310,7 +310,7 @@ TEST_F(OperatorViewTest, GreyscaleFramesFromAMono8CameraAreShown) {
     publishFrame();
     return frame(0, &error) && view_->hasImage();
   })) << error;
-  EXPECT_EQ(view_->frame()->left->subsampling, JpegSubsampling::kGray);
+  EXPECT_EQ(view_->frame()->left->subsampling, link::ChromaSubsampling::kGray);
   const auto pixels = renderLeft();
   std::size_t grey = 0;
   for (std::size_t i = 0; i < pixels.size(); i += 4) {

@@ -50,7 +50,7 @@ TEST(ReferenceRenderer, Roll180MirrorsThroughThePrincipalPoint) {
       calib::DoubleSphereCamera<double>((Eigen::Matrix<double, 6, 1>() << 240, 240, 479.5, 269.5,
                                          -0.18, 0.59).finished()));
   const Eigen::Vector3d head_move(0.0, 0.0, 0.05);  // along the axis: keeps the symmetry
-  for (RenderMode mode : {RenderMode::kFull6d, RenderMode::kOrientation3d}) {
+  for (link::VisualMode mode : {link::VisualMode::kFull6d, link::VisualMode::kOrientation3d}) {
     RenderSettings s;
     s.mode = mode;
     const EyeView straight = smallEye(eyePose(head_move, Eigen::Matrix3d::Identity()));
@@ -77,7 +77,7 @@ TEST(ReferenceRenderer, HugeRadiusIsThePureRotationLimit) {
     const EyeView view = smallEye(eyePose({0.04, -0.03, 0.06}, rotation(0.3, {1, 1, 0})));
     RenderSettings full, rot;
     full.radius = rot.radius = 1000.0;
-    rot.mode = RenderMode::kOrientation3d;
+    rot.mode = link::VisualMode::kOrientation3d;
     int compared = 0;
     for (int row = 0; row < view.height; ++row)
       for (int col = 0; col < view.width; ++col) {
@@ -98,7 +98,7 @@ TEST(ReferenceRenderer, EyeAtTheCameraIsOrientationOnly) {
   for (double r : {0.01, 1.0, 1000.0}) {
     RenderSettings full, rot;
     full.radius = rot.radius = r;
-    rot.mode = RenderMode::kOrientation3d;
+    rot.mode = link::VisualMode::kOrientation3d;
     for (int row = 0; row < view.height; row += 3)
       for (int col = 0; col < view.width; col += 3) {
         const auto a = referenceCameraPixel(camera, 960, 540, view, full, col, row);

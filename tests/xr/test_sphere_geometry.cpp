@@ -202,18 +202,15 @@ TEST(Modes, PickThePoseTheyUse) {
   view.T_cam_eye = test::eyePose({0.1, 0.2, 0.3}, test::rotation(0.4, {1, 1, 0}));
   RenderSettings s;
   s.T_cam_eye_fixed = test::eyePose({0, 0, 0.01}, test::rotation(-0.785, {1, 0, 0}));
-  s.mode = RenderMode::kFull6d;
+  s.mode = link::VisualMode::kFull6d;
   EXPECT_TRUE(effectiveT_cam_eye(view, s).isApprox(view.T_cam_eye));
-  s.mode = RenderMode::kOrientation3d;
+  s.mode = link::VisualMode::kOrientation3d;
   EXPECT_TRUE(effectiveT_cam_eye(view, s).linear().isApprox(view.T_cam_eye.linear()));
   EXPECT_EQ(effectiveT_cam_eye(view, s).translation(), Eigen::Vector3d::Zero());
-  s.mode = RenderMode::kFixed;
+  s.mode = link::VisualMode::kFixed;
   EXPECT_TRUE(effectiveT_cam_eye(view, s).isApprox(s.T_cam_eye_fixed));
-  for (auto m : {RenderMode::kFull6d, RenderMode::kOrientation3d, RenderMode::kFixed})
-    EXPECT_EQ(parseRenderMode(renderModeName(m)), m);
   for (auto p : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
     EXPECT_EQ(parseRenderPath(renderPathName(p)), p);
-  EXPECT_FALSE(parseRenderMode("6d"));
   EXPECT_FALSE(parseRenderPath("fast"));
 }
 

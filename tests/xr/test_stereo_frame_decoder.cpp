@@ -98,7 +98,7 @@ TEST(StereoFrameDecoder, DecodesBothImagesAsAReferenceDecoderDoes) {
   ASSERT_TRUE(f->left && f->right);
   EXPECT_TRUE(samePlanes(*f->left, referenceDecode(rig.left_jpeg)));
   EXPECT_TRUE(samePlanes(*f->right, referenceDecode(rig.right_jpeg)));
-  EXPECT_EQ(f->right->subsampling, JpegSubsampling::k444);
+  EXPECT_EQ(f->right->subsampling, link::ChromaSubsampling::k444);
   const auto& st = f->frame.stamps();
   EXPECT_GE(st.received_ns(), st.sent_ns());  // one clock on loopback
   EXPECT_GE(st.decoded_ns(), st.received_ns());

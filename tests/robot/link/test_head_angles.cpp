@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Head yaw, pitch and roll: round trips over the whole range (seeded), the sign
-///        conventions on hand-made poses, and the straight-up/down cases.
+///        conventions on hand-made poses, the straight-up/down cases, and removing pitch and roll.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -51,6 +51,37 @@ TEST(HeadAngles, StraightUpAndDownKeepAYawFromTheTopOfTheHead) {
       EXPECT_NEAR(a.yaw, yaw, 1e-6) << yaw << " " << pitch;
       EXPECT_TRUE(std::isfinite(a.roll));
     }
+}
+
+TEST(HeadAngles, WithoutPitchAndRollKeepsYawAndPositionOnly) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> yaw(-M_PI + 1e-3, M_PI - 1e-3), tilt(-1.4, 1.4);
+  for (int i = 0; i < 500; ++i) {
+    const double psi = yaw(rng), theta = tilt(rng), phi = tilt(rng);
+    Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();
+    // OpenXR head: yaw about +y, then pitch about +x, then roll about −z (forward).
+    T_vr_hmd.linear() = (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()) *
+                         Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitX()) *
+                         Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitZ()))
+                            .toRotationMatrix();
+    T_vr_hmd.translation() << 0.3, 1.7, -0.4;
+    const Eigen::Isometry3d T_vr_nom = withoutPitchAndRoll(T_vr_hmd);
+    const Eigen::Matrix3d expected = Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    ASSERT_LT((T_vr_nom.linear() - expected).norm(), 1e-9) << "psi " << psi << " theta " << theta;
+    ASSERT_LT((T_vr_nom.translation() - T_vr_hmd.translation()).norm(), 1e-15);
+  }
+}
+
+TEST(HeadAngles, WithoutPitchAndRollLookingStraightDownIsARotation) {
+  Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();
+  T_vr_hmd.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  T_vr_hmd.translation() << 0.1, 1.5, 0.2;
+  const Eigen::Isometry3d T = withoutPitchAndRoll(T_vr_hmd);
+  EXPECT_TRUE(T.matrix().allFinite());
+  EXPECT_LT((T.linear() * T.linear().transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12);
+  // The top of the head points along −z (forward of the unrotated space): yaw 0.
+  EXPECT_LT((T.linear() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
+  EXPECT_EQ(T.translation(), T_vr_hmd.translation());
 }
 
 }  // namespace

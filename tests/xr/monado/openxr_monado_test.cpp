@@ -449,7 +449,7 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
     xr::GpuCamera gpu(camera->camera, planes->width, planes->height);
     ASSERT_TRUE(gpu.upload(xr::SourceImage::yuv(std::make_shared<const xr::YuvPlanes>(std::move(*planes))), &error)) << error;
     xr::RenderSettings settings;
-    settings.mode = xr::parseRenderMode(e.mode).value();
+    settings.mode = telesphere::link::parseVisualMode(e.mode).value();
     settings.radius = e.radius;
     ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;
     gl::OffscreenTarget target(e.view.width, e.view.height, GL_RGBA8);

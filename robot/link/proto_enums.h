@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+/// @brief The link's enums ↔ their protobuf values, in one place (the enums themselves,
+///        robot/link/visual_mode.h and chroma_subsampling.h, need no protobuf).
+#pragma once
+
+#include <optional>
+
+#include "robot/link/chroma_subsampling.h"
+#include "robot/link/telesphere_link.pb.h"
+#include "robot/link/visual_mode.h"
+
+namespace telesphere::link {
+
+inline proto::VisualMode toProto(VisualMode mode) {
+  switch (mode) {
+    case VisualMode::kFull6d: return proto::VISUAL_MODE_FULL6D;
+    case VisualMode::kOrientation3d: return proto::VISUAL_MODE_ORIENTATION3D;
+    case VisualMode::kFixed: return proto::VISUAL_MODE_FIXED;
+  }
+  return proto::VISUAL_MODE_UNSPECIFIED;
+}
+
+/// Nothing for VISUAL_MODE_UNSPECIFIED or a value this build does not know.
+inline std::optional<VisualMode> fromProto(proto::VisualMode mode) {
+  switch (mode) {
+    case proto::VISUAL_MODE_FULL6D: return VisualMode::kFull6d;
+    case proto::VISUAL_MODE_ORIENTATION3D: return VisualMode::kOrientation3d;
+    case proto::VISUAL_MODE_FIXED: return VisualMode::kFixed;
+    default: return std::nullopt;
+  }
+}
+
+inline proto::ChromaSubsampling toProto(ChromaSubsampling s) {
+  switch (s) {
+    case ChromaSubsampling::k420: return proto::CHROMA_420;
+    case ChromaSubsampling::k422: return proto::CHROMA_422;
+    case ChromaSubsampling::k444: return proto::CHROMA_444;
+    case ChromaSubsampling::kGray: return proto::CHROMA_GRAY;
+  }
+  return proto::CHROMA_420;
+}
+
+/// Nothing for a value this build does not know (a newer peer).
+inline std::optional<ChromaSubsampling> fromProto(proto::ChromaSubsampling s) {
+  switch (s) {
+    case proto::CHROMA_420: return ChromaSubsampling::k420;
+    case proto::CHROMA_422: return ChromaSubsampling::k422;
+    case proto::CHROMA_444: return ChromaSubsampling::k444;
+    case proto::CHROMA_GRAY: return ChromaSubsampling::kGray;
+    default: return std::nullopt;
+  }
+}
+
+}  // namespace telesphere::link
