@@ -255,9 +255,9 @@ int main(int argc, char** argv) {
   // render waits for it, up to 2 s: a frame drawn at a made-up pose would put a silent error
   // into everything downstream (calibration stills above all). Only before the arm's first state
   // is the initial configuration's pose the truth; any other fallback is counted and said.
-  auto truth_fallbacks = std::make_shared<std::atomic<std::uint64_t>>(0);
-  const auto true_pose = [&truth, &clock, truth_fallbacks](robot::CameraSide side, std::int64_t t_ns,
-                                                           const Eigen::Isometry3d& T0) {
+  std::atomic<std::uint64_t> truth_fallbacks{0};  // the cameras stop before main returns
+  const auto true_pose = [&truth, &clock, &truth_fallbacks](robot::CameraSide side, std::int64_t t_ns,
+                                                            const Eigen::Isometry3d& T0) {
     for (int waited_ms = 0; waited_ms < 2000; ++waited_ms) {
       const auto window = truth.window();
       if (window && window->second >= t_ns) break;
@@ -265,9 +265,9 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
     if (const auto T = truth.T_robot_cam(side, t_ns)) return *T;
-    if (truth.window() && truth_fallbacks->fetch_add(1) % 100 == 0)
+    if (truth.window() && truth_fallbacks.fetch_add(1) % 100 == 0)
       std::cerr << "telesphere-robot: synthetic camera: no true arm pose at the capture time after 2 s (the head "
-                   "loop is stalled); the frame shows the initial pose (" << truth_fallbacks->load() << " so far)\n";
+                   "loop is stalled); the frame shows the initial pose (" << truth_fallbacks.load() << " so far)\n";
     return T0;
   };
 

@@ -66,7 +66,6 @@ CalibrationInUsePanel::CalibrationInUsePanel(ConsoleSession& session, QWidget* p
   layout->addWidget(log_, 1);
   connect(apply_, &QPushButton::clicked, this, &CalibrationInUsePanel::apply);
   connect(revert_, &QPushButton::clicked, this, &CalibrationInUsePanel::revert);
-  connect(&session_, &ConsoleSession::updated, this, &CalibrationInUsePanel::refresh);
   refresh();
 }
 
@@ -187,24 +186,21 @@ void CalibrationInUsePanel::apply() {
   r.mutable_apply_calibration()->set_source(candidate_->source.toStdString());
   const QString what = "apply " + candidate_->source;
   apply_->setEnabled(false);
-  session_.request(std::move(r), what, [this](const ControlOutcome& outcome) {
-    if (outcome.ok && outcome.reply.has_calibration()) takeInUse(outcome.reply.calibration());
-    log(outcome.text(), outcome.ok);
-    emit answered(outcome.ok, outcome.text());
-    refresh();
-  });
+  session_.request(std::move(r), what, [this](const ControlOutcome& outcome) { takeReply(outcome); });
 }
 
 void CalibrationInUsePanel::revert() {
   link::proto::ControlRequest r;
   r.set_revert_calibration(true);
   revert_->setEnabled(false);
-  session_.request(std::move(r), "revert calibration", [this](const ControlOutcome& outcome) {
-    if (outcome.ok && outcome.reply.has_calibration()) takeInUse(outcome.reply.calibration());
-    log(outcome.text(), outcome.ok);
-    emit answered(outcome.ok, outcome.text());
-    refresh();
-  });
+  session_.request(std::move(r), "revert calibration", [this](const ControlOutcome& outcome) { takeReply(outcome); });
+}
+
+void CalibrationInUsePanel::takeReply(const ControlOutcome& outcome) {
+  if (outcome.ok && outcome.reply.has_calibration()) takeInUse(outcome.reply.calibration());
+  log(outcome.text(), outcome.ok);
+  emit answered(outcome.ok, outcome.text());
+  refresh();
 }
 
 void CalibrationInUsePanel::log(const QString& text, bool ok) {

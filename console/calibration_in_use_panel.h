@@ -24,6 +24,7 @@ class QTableWidget;
 namespace telesphere::console {
 
 class ConsoleSession;
+struct ControlOutcome;
 
 class CalibrationInUsePanel : public QWidget {
   Q_OBJECT
@@ -36,7 +37,8 @@ class CalibrationInUsePanel : public QWidget {
   /// The buttons' actions (tests call them as a click would).
   void apply();
   void revert();
-  /// Follows the robot's state (fetches a calibration it has not seen) and the XR app's telemetry.
+  /// Follows the robot's state (fetches a calibration it has not seen) and the XR app's telemetry
+  /// (the console window calls it with its other panels, every 250 ms).
   void refresh();
 
   /// The robot's calibration in use as last fetched (none before the first answer).
@@ -54,6 +56,7 @@ class CalibrationInUsePanel : public QWidget {
  private:
   void fetch();
   void takeInUse(const link::proto::CalibrationInUse& in_use);
+  void takeReply(const ControlOutcome& outcome);  ///< of an apply or revert
   void showChanges();
   void log(const QString& text, bool ok);
 

@@ -162,6 +162,7 @@ void ConsoleWindow::redraw(bool force) {
 void ConsoleWindow::refreshPanels() {
   health_->refresh();
   preview_->refresh();
+  in_use_->refresh();
   const PeerMonitor& robot = session_.robot();
   QString line;
   switch (robot.state()) {

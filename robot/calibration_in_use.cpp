@@ -165,13 +165,17 @@ StereoCameraPoses CalibrationInUse::posesAt(const JointStateBuffer& joints, cons
   const Eigen::Isometry3d T_flange_cam_r = T_flange_cam_l * in_use->geometry.T_cam_l_cam_r;
   StereoCameraPoses poses;
   poses.calibration_generation = in_use->generation;
-  const Eigen::Isometry3d T_robot_flange0 = kinematics_.forward(q_fallback);
-  const auto left = joints.T_robot_flange(left_capture_ns);
-  const auto right = joints.T_robot_flange(right_capture_ns);
+  auto left = joints.T_robot_flange(left_capture_ns);
+  auto right = joints.T_robot_flange(right_capture_ns);
   poses.measured_l = left.has_value();
   poses.measured_r = right.has_value();
-  poses.T_robot_cam_l = left.value_or(T_robot_flange0) * T_flange_cam_l;
-  poses.T_robot_cam_r = right.value_or(T_robot_flange0) * T_flange_cam_r;
+  if (!left || !right) {  // before the arm's first state (or a gap): the initial configuration
+    const Eigen::Isometry3d T_robot_flange0 = kinematics_.forward(q_fallback);
+    if (!left) left = T_robot_flange0;
+    if (!right) right = T_robot_flange0;
+  }
+  poses.T_robot_cam_l = *left * T_flange_cam_l;
+  poses.T_robot_cam_r = *right * T_flange_cam_r;
   return poses;
 }
 

@@ -64,12 +64,17 @@ bool CalibrationRobot::release(std::string* error) {
   return true;
 }
 
-std::optional<link::proto::CalibrationInUse> CalibrationRobot::calibrationInUse(std::string* error) {
-  link::proto::ControlRequest r;
-  r.set_get_calibration(true);
+std::optional<link::proto::CalibrationInUse> CalibrationRobot::calibrationRequest(link::proto::ControlRequest r,
+                                                                                 std::string* error) {
   const auto reply = request(std::move(r), error);
   if (!reply) return std::nullopt;
   return reply->calibration();
+}
+
+std::optional<link::proto::CalibrationInUse> CalibrationRobot::calibrationInUse(std::string* error) {
+  link::proto::ControlRequest r;
+  r.set_get_calibration(true);
+  return calibrationRequest(std::move(r), error);
 }
 
 std::optional<link::proto::CalibrationInUse> CalibrationRobot::applyCalibration(
@@ -81,17 +86,13 @@ std::optional<link::proto::CalibrationInUse> CalibrationRobot::applyCalibration(
   link::proto::ControlRequest r;
   r.mutable_apply_calibration()->set_text(calib::toSystemCalibrationYaml(calibration));
   r.mutable_apply_calibration()->set_source(source);
-  const auto reply = request(std::move(r), error);
-  if (!reply) return std::nullopt;
-  return reply->calibration();
+  return calibrationRequest(std::move(r), error);
 }
 
 std::optional<link::proto::CalibrationInUse> CalibrationRobot::revertCalibration(std::string* error) {
   link::proto::ControlRequest r;
   r.set_revert_calibration(true);
-  const auto reply = request(std::move(r), error);
-  if (!reply) return std::nullopt;
-  return reply->calibration();
+  return calibrationRequest(std::move(r), error);
 }
 
 bool CalibrationRobot::waitSettled(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,

@@ -63,6 +63,8 @@ class CalibrationRobot {
  private:
   std::optional<link::proto::ControlReply> request(link::proto::ControlRequest r, std::string* error,
                                                    std::optional<std::chrono::milliseconds> timeout = std::nullopt);
+  /// A get/apply/revert_calibration request: the calibration in use after it.
+  std::optional<link::proto::CalibrationInUse> calibrationRequest(link::proto::ControlRequest r, std::string* error);
 
   link::LinkClient& client_;
   std::chrono::milliseconds request_timeout_;
