@@ -227,6 +227,9 @@ int runHandEye(const std::string& samples_path, const std::string& calib_path, c
   }
   calib::HandEyeOptions options;
   options.progress = progressLine;
+  // The file's T_flange_cam_l is a second start for the solve (and the only one below
+  // kClosedFormMinSamples samples), as in the console's wizard.
+  options.T_flange_cam_l_guess = system->T_flange_cam_l;
   const auto result = calib::calibrateHandEye(*system, file->marker_size, file->samples, options);
   if (!result) {
     std::cerr << "telesphere-calib: " << result.failure().message << "\n";

@@ -201,6 +201,158 @@ struct MarkerCornerCost {
   }
 };
 
+/// What a refinement of the three poses works on.
+struct HandEyeFitInput {
+  const SystemCalibration* cameras;
+  bool stereo;
+  const std::vector<const HandEyeSample*>* used;
+  const std::array<Eigen::Vector3d, 4>* corners3;
+};
+
+/// Adds one residual block per marker corner seen in either camera; the count of corners.
+int addMarkerResiduals(const HandEyeFitInput& in, double huber_px, detail::PoseBlock& X, detail::PoseBlock& Z,
+                       detail::PoseBlock& Y, ceres::Problem& problem) {
+  int corners = 0;
+  for (const HandEyeSample* s : *in.used) {
+    for (int c = 0; c < (in.stereo ? 2 : 1); ++c) {
+      const auto& obs = c == 0 ? s->corners_l : s->corners_r;
+      if (!obs) continue;
+      const Eigen::Isometry3d T_cam_cam_l =
+          c == 0 ? Eigen::Isometry3d::Identity() : in.cameras->T_cam_l_cam_r->inverse();
+      in.cameras->cameras[static_cast<std::size_t>(c)].camera.visit([&](const auto& model) {
+        using ModelD = std::decay_t<decltype(model)>;
+        for (int k = 0; k < 4; ++k) {
+          auto* cost = new ceres::AutoDiffCostFunction<MarkerCornerCost<ModelD>, 2, 4, 3, 4, 3, 4, 3>(
+              new MarkerCornerCost<ModelD>{&model, s->T_robot_flange.inverse(), s->T_mount_wrist,
+                                           T_cam_cam_l, (*in.corners3)[static_cast<std::size_t>(k)],
+                                           (*obs)[static_cast<std::size_t>(k)]});
+          problem.AddResidualBlock(cost, new ceres::HuberLoss(huber_px), X.q.data(), X.t.data(), Z.q.data(),
+                                   Z.t.data(), Y.q.data(), Y.t.data());
+          ++corners;
+        }
+      });
+    }
+  }
+  return corners;
+}
+
+/// The robust cost of the three poses {X, Z, Y} without solving (to rank starts).
+double handEyeCost(const HandEyeFitInput& in, const std::array<Eigen::Isometry3d, 3>& poses) {
+  detail::PoseBlock X = detail::PoseBlock::from(poses[0]), Z = detail::PoseBlock::from(poses[1]),
+                    Y = detail::PoseBlock::from(poses[2]);
+  ceres::Problem problem;
+  X.addTo(problem);
+  Z.addTo(problem);
+  Y.addTo(problem);
+  addMarkerResiduals(in, HandEyeOptions{}.huber_px, X, Z, Y, problem);
+  double cost = INFINITY;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions{}, &cost, nullptr, nullptr, nullptr) || !std::isfinite(cost))
+    return INFINITY;
+  return cost;
+}
+
+/// Refines {X, Z, Y} from `start` with Ceres and fills r's poses, costs, standard deviations and
+/// per-camera and per-sample fits (indices into `used`); the median per-sample RMS (px).
+SolveResult<double> refineHandEye(const HandEyeFitInput& in, const std::array<Eigen::Isometry3d, 3>& start,
+                                  const HandEyeOptions& options, HandEyeResult& r) {
+  detail::PoseBlock X = detail::PoseBlock::from(start[0]);
+  detail::PoseBlock Z = detail::PoseBlock::from(start[1]);
+  detail::PoseBlock Y = detail::PoseBlock::from(start[2]);
+  ceres::Problem problem;
+  X.addTo(problem);
+  Z.addTo(problem);
+  Y.addTo(problem);
+  const int corners = addMarkerResiduals(in, options.huber_px, X, Z, Y, problem);
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = options.max_iterations;
+  so.function_tolerance = 1e-12;
+  so.parameter_tolerance = 1e-12;
+  detail::ProgressCallback callback("hand-eye", options.progress, corners);
+  so.callbacks.push_back(&callback);
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
+    return CalibrationFailure{CalibrationError::kDiverged, "the hand-eye solve failed: " + summary.message};
+  r.initial_cost = summary.initial_cost;
+  r.final_cost = summary.final_cost;
+  r.T_flange_cam_l = X.toIsometry();
+  r.T_robot_mount = Z.toIsometry();
+  r.T_wrist_marker = Y.toIsometry();
+
+  // Standard deviations: the covariance of the three poses, scaled by the residuals' variance.
+  // The quaternion manifold's tangent δ rotates by 2|δ| (Ceres: q' = [cos|δ|, sin|δ|·δ/|δ|]·q).
+  {
+    ceres::Covariance covariance(ceres::Covariance::Options{});
+    std::vector<std::pair<const double*, const double*>> blocks;
+    for (detail::PoseBlock* b : {&X, &Z, &Y}) {
+      blocks.emplace_back(b->q.data(), b->q.data());
+      blocks.emplace_back(b->t.data(), b->t.data());
+    }
+    if (covariance.Compute(blocks, &problem)) {
+      const double dof = std::max(1, 2 * corners - 18);
+      const double sigma2 = 2.0 * summary.final_cost / dof;
+      int k = 0;
+      for (detail::PoseBlock* b : {&X, &Z, &Y}) {
+        Eigen::Matrix3d cov_r, cov_t;
+        PoseStddev& sd = r.stddev[static_cast<std::size_t>(k++)];
+        sd = PoseStddev{};
+        if (!covariance.GetCovarianceBlockInTangentSpace(b->q.data(), b->q.data(), cov_r.data()) ||
+            !covariance.GetCovarianceBlock(b->t.data(), b->t.data(), cov_t.data()))
+          continue;
+        for (int i = 0; i < 3; ++i) {
+          sd.rotation_deg[i] = 2.0 * std::sqrt(std::max(0.0, cov_r(i, i) * sigma2)) * 180.0 / M_PI;
+          sd.translation_m[i] = std::sqrt(std::max(0.0, cov_t(i, i) * sigma2));
+        }
+        sd.valid = sd.rotation_deg.allFinite() && sd.translation_m.allFinite();
+      }
+    }
+  }
+
+  // Final errors per camera and per sample. A corner the model cannot project counts as
+  // unfitted: the solve gave it no residual, so a start that put the marker behind a camera
+  // must not look like a good fit.
+  const std::vector<const HandEyeSample*>& used = *in.used;
+  r.sample_fits.assign(used.size(), HandEyeSampleFit{});
+  std::vector<double> sample_sum2(used.size(), 0.0);
+  std::vector<int> unprojected(used.size(), 0);
+  for (int c = 0; c < (in.stereo ? 2 : 1); ++c) {
+    double sum2 = 0;
+    int n = 0;
+    const Eigen::Isometry3d T_cam_cam_l =
+        c == 0 ? Eigen::Isometry3d::Identity() : in.cameras->T_cam_l_cam_r->inverse();
+    for (std::size_t i = 0; i < used.size(); ++i) {
+      const HandEyeSample* s = used[i];
+      const auto& obs = c == 0 ? s->corners_l : s->corners_r;
+      if (!obs) continue;
+      const Eigen::Isometry3d T_cam_marker = T_cam_cam_l * r.T_flange_cam_l.inverse() *
+                                             s->T_robot_flange.inverse() * r.T_robot_mount *
+                                             s->T_mount_wrist * r.T_wrist_marker;
+      for (std::size_t k = 0; k < 4; ++k) {
+        Eigen::Vector2d px;
+        if (!in.cameras->cameras[static_cast<std::size_t>(c)].camera.project(T_cam_marker * (*in.corners3)[k], px)) {
+          ++unprojected[i];
+          continue;
+        }
+        const double e2 = (px - (*obs)[k]).squaredNorm();
+        sum2 += e2;
+        sample_sum2[i] += e2;
+        ++r.sample_fits[i].corners;
+        ++n;
+      }
+    }
+    (c == 0 ? r.rms_px_l : r.rms_px_r) = n ? std::sqrt(sum2 / n) : 0.0;
+  }
+  std::vector<double> sample_rms;
+  for (std::size_t i = 0; i < used.size(); ++i) {
+    HandEyeSampleFit& fit = r.sample_fits[i];
+    fit.rms_px = fit.corners ? std::sqrt(sample_sum2[i] / fit.corners) : 0.0;
+    sample_rms.push_back(unprojected[i] > 0 ? INFINITY : fit.rms_px);
+  }
+  std::nth_element(sample_rms.begin(), sample_rms.begin() + std::ptrdiff_t(sample_rms.size() / 2), sample_rms.end());
+  return sample_rms[sample_rms.size() / 2];
+}
+
 }  // namespace
 
 HandEyeIdentifiability checkHandEyeIdentifiability(const std::vector<HandEyeSample>& samples,
@@ -287,16 +439,25 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
     return CalibrationFailure{CalibrationError::kTooFewViews,
                               "the marker pose could be found in only " + std::to_string(used.size()) +
                                   " samples, at least " + std::to_string(options.min_samples) + " needed"};
-  std::optional<std::array<Eigen::Isometry3d, 3>> init;
+  // Starts: the closed form (from kClosedFormMinSamples samples) and the given T_flange_cam_l.
+  // Either can lead Ceres into a wrong minimum (the closed form is noisy with few samples, the
+  // guess is the calibration being corrected), so the one with the lower cost is refined first
+  // and the other as well when the first does not fit the samples; the better fit is kept.
+  struct Start {
+    const char* name;
+    std::array<Eigen::Isometry3d, 3> poses;
+    double cost = 0;
+  };
+  std::vector<Start> starts;
   if (static_cast<int>(used.size()) >= kClosedFormMinSamples) {
     progress("hand-eye: closed-form initialisation from " + std::to_string(used.size()) + " samples");
-    init = solveAXBYCZ(F, M, W);
+    if (auto closed = solveAXBYCZ(F, M, W)) starts.push_back({"closed form", *closed});
   }
-  if (!init && options.T_flange_cam_l_guess) {
-    progress("hand-eye: initialisation from the given T_flange_cam_l and " + std::to_string(used.size()) + " samples");
-    init = solveWithKnownX(F, M, W, *options.T_flange_cam_l_guess, options.min_rotation_deg);
+  if (options.T_flange_cam_l_guess) {
+    if (auto known = solveWithKnownX(F, M, W, *options.T_flange_cam_l_guess, options.min_rotation_deg))
+      starts.push_back({"the given T_flange_cam_l", *known});
   }
-  if (!init) {
+  if (starts.empty()) {
     if (static_cast<int>(used.size()) < kClosedFormMinSamples)
       return CalibrationFailure{CalibrationError::kTooFewViews,
                                 "the closed-form hand-eye initialisation needs " +
@@ -305,128 +466,39 @@ SolveResult<HandEyeResult> calibrateHandEye(const SystemCalibration& cameras, do
     return CalibrationFailure{CalibrationError::kInitialisationFailed,
                               "the closed-form hand-eye initialisation is degenerate"};
   }
-  result.initial = *init;
+  const HandEyeFitInput input{&cameras, stereo, &used, &corners3};
+  for (Start& s : starts) s.cost = handEyeCost(input, s.poses);
+  std::stable_sort(starts.begin(), starts.end(), [](const Start& a, const Start& b) { return a.cost < b.cost; });
 
-  detail::PoseBlock X = detail::PoseBlock::from((*init)[0]);
-  detail::PoseBlock Z = detail::PoseBlock::from((*init)[1]);
-  detail::PoseBlock Y = detail::PoseBlock::from((*init)[2]);
-  ceres::Problem problem;
-  X.addTo(problem);
-  Z.addTo(problem);
-  Y.addTo(problem);
-  int corners = 0;
-  for (const HandEyeSample* s : used) {
-    for (int c = 0; c < (stereo ? 2 : 1); ++c) {
-      const auto& obs = c == 0 ? s->corners_l : s->corners_r;
-      if (!obs) continue;
-      const Eigen::Isometry3d T_cam_cam_l =
-          c == 0 ? Eigen::Isometry3d::Identity() : cameras.T_cam_l_cam_r->inverse();
-      cameras.cameras[static_cast<std::size_t>(c)].camera.visit([&](const auto& model) {
-        using ModelD = std::decay_t<decltype(model)>;
-        for (int k = 0; k < 4; ++k) {
-          auto* cost = new ceres::AutoDiffCostFunction<MarkerCornerCost<ModelD>, 2, 4, 3, 4, 3, 4, 3>(
-              new MarkerCornerCost<ModelD>{&model, s->T_robot_flange.inverse(), s->T_mount_wrist,
-                                           T_cam_cam_l, corners3[static_cast<std::size_t>(k)],
-                                           (*obs)[static_cast<std::size_t>(k)]});
-          problem.AddResidualBlock(cost, new ceres::HuberLoss(options.huber_px), X.q.data(),
-                                   X.t.data(), Z.q.data(), Z.t.data(), Y.q.data(), Y.t.data());
-          ++corners;
-        }
-      });
+  std::optional<HandEyeResult> best;
+  double best_median_rms = INFINITY;
+  for (const Start& start : starts) {
+    progress(std::string("hand-eye: refining from ") + start.name);
+    HandEyeResult r = result;
+    const auto refined = refineHandEye(input, start.poses, options, r);
+    if (!refined) {
+      if (!best && &start == &starts.back()) return refined.failure();
+      continue;
     }
-  }
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = 1e-12;
-  so.parameter_tolerance = 1e-12;
-  detail::ProgressCallback callback("hand-eye", options.progress, corners);
-  so.callbacks.push_back(&callback);
-  ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
-  if (summary.termination_type == ceres::FAILURE || !std::isfinite(summary.final_cost))
-    return CalibrationFailure{CalibrationError::kDiverged, "the hand-eye solve failed: " + summary.message};
-  result.initial_cost = summary.initial_cost;
-  result.final_cost = summary.final_cost;
-  result.T_flange_cam_l = X.toIsometry();
-  result.T_robot_mount = Z.toIsometry();
-  result.T_wrist_marker = Y.toIsometry();
-  result.samples_used = static_cast<int>(used.size());
-
-  // Standard deviations: the covariance of the three poses, scaled by the residuals' variance.
-  // The quaternion manifold's tangent δ rotates by 2|δ| (Ceres: q' = [cos|δ|, sin|δ|·δ/|δ|]·q).
-  {
-    ceres::Covariance covariance(ceres::Covariance::Options{});
-    std::vector<std::pair<const double*, const double*>> blocks;
-    for (detail::PoseBlock* b : {&X, &Z, &Y}) {
-      blocks.emplace_back(b->q.data(), b->q.data());
-      blocks.emplace_back(b->t.data(), b->t.data());
+    r.initial = start.poses;
+    r.samples_used = static_cast<int>(used.size());
+    for (std::size_t i = 0; i < used.size(); ++i) r.sample_fits[i].index = used_index[i];
+    const double median_rms = *refined;
+    if (!best || r.final_cost < best->final_cost) {
+      best = std::move(r);
+      best_median_rms = median_rms;
     }
-    if (covariance.Compute(blocks, &problem)) {
-      const double dof = std::max(1, 2 * corners - 18);
-      const double sigma2 = 2.0 * summary.final_cost / dof;
-      int k = 0;
-      for (detail::PoseBlock* b : {&X, &Z, &Y}) {
-        Eigen::Matrix3d cov_r, cov_t;
-        PoseStddev& sd = result.stddev[static_cast<std::size_t>(k++)];
-        if (!covariance.GetCovarianceBlockInTangentSpace(b->q.data(), b->q.data(), cov_r.data()) ||
-            !covariance.GetCovarianceBlock(b->t.data(), b->t.data(), cov_t.data()))
-          continue;
-        for (int i = 0; i < 3; ++i) {
-          sd.rotation_deg[i] = 2.0 * std::sqrt(std::max(0.0, cov_r(i, i) * sigma2)) * 180.0 / M_PI;
-          sd.translation_m[i] = std::sqrt(std::max(0.0, cov_t(i, i) * sigma2));
-        }
-        sd.valid = sd.rotation_deg.allFinite() && sd.translation_m.allFinite();
-      }
-    }
-  }
-
-  // Final errors per camera and per sample.
-  result.sample_fits.resize(used.size());
-  for (std::size_t i = 0; i < used.size(); ++i) result.sample_fits[i].index = used_index[i];
-  std::vector<double> sample_sum2(used.size(), 0.0);
-  for (int c = 0; c < (stereo ? 2 : 1); ++c) {
-    double sum2 = 0;
-    int n = 0;
-    const Eigen::Isometry3d T_cam_cam_l =
-        c == 0 ? Eigen::Isometry3d::Identity() : cameras.T_cam_l_cam_r->inverse();
-    for (std::size_t i = 0; i < used.size(); ++i) {
-      const HandEyeSample* s = used[i];
-      const auto& obs = c == 0 ? s->corners_l : s->corners_r;
-      if (!obs) continue;
-      const Eigen::Isometry3d T_cam_marker = T_cam_cam_l * result.T_flange_cam_l.inverse() *
-                                             s->T_robot_flange.inverse() * result.T_robot_mount *
-                                             s->T_mount_wrist * result.T_wrist_marker;
-      for (std::size_t k = 0; k < 4; ++k) {
-        Eigen::Vector2d px;
-        if (!cameras.cameras[static_cast<std::size_t>(c)].camera.project(T_cam_marker * corners3[k], px))
-          continue;
-        const double e2 = (px - (*obs)[k]).squaredNorm();
-        sum2 += e2;
-        sample_sum2[i] += e2;
-        ++result.sample_fits[i].corners;
-        ++n;
-      }
-    }
-    (c == 0 ? result.rms_px_l : result.rms_px_r) = n ? std::sqrt(sum2 / n) : 0.0;
-  }
-  for (std::size_t i = 0; i < used.size(); ++i) {
-    HandEyeSampleFit& fit = result.sample_fits[i];
-    fit.rms_px = fit.corners ? std::sqrt(sample_sum2[i] / fit.corners) : 0.0;
+    if (best_median_rms <= options.max_rms_px) break;
   }
   // Diverged when the typical sample does not fit: the median of the per-sample RMS, not the
   // overall RMS, which one gross outlier (a still whose image and joints disagree) inflates
   // past any bound for every later solve, so that it could never be marked and removed.
-  std::vector<double> sample_rms;
-  for (const HandEyeSampleFit& fit : result.sample_fits) sample_rms.push_back(fit.rms_px);
-  std::nth_element(sample_rms.begin(), sample_rms.begin() + std::ptrdiff_t(sample_rms.size() / 2), sample_rms.end());
-  const double median_rms = sample_rms[sample_rms.size() / 2];
-  if (!(median_rms <= options.max_rms_px))
+  if (!(best_median_rms <= options.max_rms_px))
     return CalibrationFailure{CalibrationError::kDiverged,
-                              "the hand-eye solve diverged: the median sample RMS " + std::to_string(median_rms) +
+                              "the hand-eye solve diverged: the median sample RMS " + std::to_string(best_median_rms) +
                                   " px exceeds " + std::to_string(options.max_rms_px) +
                                   " px (wrong marker size, intrinsics or kinematics?)"};
-  return result;
+  return *best;
 }
 
 }  // namespace telesphere::calib

@@ -53,9 +53,10 @@ struct HandEyeOptions {
   double min_rotation_deg = 3.0;     ///< relative rotations below this carry no axis
   double max_rms_px = 5.0;           ///< a median sample RMS above this means the solve diverged
   std::function<void(const std::string&)> progress;
-  /// A starting T_flange_cam_l (e.g. the calibration the robot runs with): below
-  /// kClosedFormMinSamples samples the closed form is not unique, and the initialisation then
-  /// takes X from here and solves Z and Y from the marker poses it implies.
+  /// A starting T_flange_cam_l (e.g. the calibration the robot runs with): X from here, Z and Y
+  /// from the marker poses it implies. The only start below kClosedFormMinSamples samples (the
+  /// closed form is not unique there); from there on a second start beside the closed form,
+  /// which with few or noisy samples can lead into a wrong minimum.
   std::optional<Eigen::Isometry3d> T_flange_cam_l_guess;
 };
 

@@ -4,7 +4,10 @@
 ///        cannot separate the unknowns are refused.
 #include <gtest/gtest.h>
 
+#include "calib/calibration_file.h"
+#include "calib/camera_resolution.h"
 #include "calib/hand_eye_calibration.h"
+#include "calib/hand_eye_samples.h"
 #include "tests/calib/calib_synthetic.h"
 
 namespace telesphere::calib {
@@ -166,6 +169,40 @@ TEST(HandEyeCalibration, AGrossOutlierDoesNotFailTheSolve) {
     }
   }
   expectRecovered(*r, truth, 5.0, 0.5);
+}
+
+// A real wizard run (tests/calib/data/hand_eye_closed_form_trap.yaml): the closed-form start
+// alone ends in a wrong minimum; with the robot's T_flange_cam_l as a second start the solve
+// keeps the better fit and recovers the truth.
+TEST(HandEyeCalibration, AClosedFormTrapIsLeftThroughTheSecondStart) {
+  const std::string src = TELESPHERE_SOURCE_DIR "/";
+  const auto believed = loadCalibrationFile(src + "calib/data/sim_calibration.yaml");
+  const auto truth = loadCalibrationFile(src + "tests/console/data/handeye_truth.yaml");
+  const auto file = loadHandEyeSamples(src + "tests/calib/data/hand_eye_closed_form_trap.yaml");
+  ASSERT_TRUE(believed && truth && file);
+  ASSERT_EQ(file->samples.size(), 10u);
+  SystemCalibration cameras = *believed;
+  std::string error;
+  for (CameraCalibration& c : cameras.cameras) {
+    auto scaled = atResolution(c, 1280, 720, &error);
+    ASSERT_TRUE(scaled) << error;
+    c = *scaled;
+  }
+  const auto closed_form_only = calibrateHandEye(cameras, file->marker_size, file->samples);
+  ASSERT_FALSE(closed_form_only);
+  EXPECT_EQ(closed_form_only.failure().code, CalibrationError::kDiverged);
+
+  HandEyeOptions options;
+  options.T_flange_cam_l_guess = believed->T_flange_cam_l;
+  const auto result = calibrateHandEye(cameras, file->marker_size, file->samples, options);
+  ASSERT_TRUE(result) << result.failure().message;
+  EXPECT_LT(std::max(result->rms_px_l, result->rms_px_r), 0.5);
+  EXPECT_LT(test::translationError(result->T_flange_cam_l, *truth->T_flange_cam_l), 3e-3);
+  EXPECT_LT(test::rotationErrorDeg(result->T_flange_cam_l, *truth->T_flange_cam_l), 0.3);
+  EXPECT_LT(test::translationError(result->T_robot_mount, *truth->T_robot_mount), 10e-3);
+  // The believed T_flange_cam_l was 11 mm off: the solve moved away from its start.
+  EXPECT_GT(test::translationError(*believed->T_flange_cam_l, *truth->T_flange_cam_l), 5e-3);
+  for (const PoseStddev& sd : result->stddev) EXPECT_TRUE(sd.valid);
 }
 
 TEST(HandEyeCalibration, RefusesHeadRotatingAboutOneAxis) {

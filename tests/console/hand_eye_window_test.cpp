@@ -134,7 +134,7 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   test_rig::pumpFor(50);
   EXPECT_EQ(int(panel->outcome()->collector->samples().size()), n - 1);
   EXPECT_EQ(panel->findChild<QTableWidget*>("handeye_samples")->rowCount(), n - 1);
-  EXPECT_TRUE(panel->outcome()->collector->result());
+  EXPECT_TRUE(panel->outcome()->collector->result()) << panel->statusText().toStdString();
   std::printf("solving %d samples again after a delete: %.1f ms\n", n - 1, panel->lastResolveMs());
   EXPECT_NE(panel->statusText().indexOf("without sample 1"), -1) << panel->statusText().toStdString();
   if (panel->outcome()->done) {
