@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief EglContext: surfaceless Mesa EGL display, GL 4.5 core context.
+/// @brief EglContext: a windowless EGL display (Mesa surfaceless, else the first EGL device), GL 4.5 core context.
 #include "shaders/egl_context.h"
 
 #include <sstream>
@@ -16,6 +16,23 @@ bool fail(std::string* out_error, const char* call) {
   return false;
 }
 
+/// Mesa's surfaceless platform (llvmpipe without a GPU, or Mesa's GPU drivers).
+EGLDisplay mesaSurfacelessDisplay(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display) {
+  return get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+}
+
+/// The first EGL device (EGL_EXT_platform_device): NVIDIA's driver offers no Mesa platform, but
+/// makes windowless contexts on a device display.
+EGLDisplay firstDeviceDisplay(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display) {
+  const auto query_devices =
+      reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  if (!query_devices) return EGL_NO_DISPLAY;
+  EGLDeviceEXT devices[8];
+  EGLint count = 0;
+  if (!query_devices(8, devices, &count) || count < 1) return EGL_NO_DISPLAY;
+  return get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+}
+
 }  // namespace
 
 std::unique_ptr<EglContext> EglContext::createSurfaceless(std::string* out_error) {
@@ -25,10 +42,10 @@ std::unique_ptr<EglContext> EglContext::createSurfaceless(std::string* out_error
     fail(out_error, "eglGetProcAddress(\"eglGetPlatformDisplayEXT\")");
     return nullptr;
   }
-  EGLDisplay display =
-      get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  EGLDisplay display = mesaSurfacelessDisplay(get_platform_display);
+  if (display == EGL_NO_DISPLAY) display = firstDeviceDisplay(get_platform_display);
   if (display == EGL_NO_DISPLAY) {
-    fail(out_error, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA)");
+    fail(out_error, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, then EGL_PLATFORM_DEVICE_EXT)");
     return nullptr;
   }
   EGLint major = 0, minor = 0;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief An OpenGL 4.5 core context without a window: EGL on Mesa's surfaceless platform
-///        (EGL_PLATFORM_SURFACELESS_MESA; llvmpipe when there is no GPU), for tests, benchmarks,
+///        (EGL_PLATFORM_SURFACELESS_MESA; llvmpipe when there is no GPU), else on the first EGL
+///        device (EGL_PLATFORM_DEVICE_EXT: NVIDIA's driver), for tests, benchmarks,
 ///        the still command and offscreen rendering. Draw into framebuffer objects. Several may
 ///        exist at once: they share the process's one surfaceless display, which stays
 ///        initialised until exit.
