@@ -32,7 +32,7 @@
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
-#include "xr/spherical_renderer.h"
+#include "xr/render/spherical_renderer.h"
 
 namespace {
 

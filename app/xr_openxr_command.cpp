@@ -30,8 +30,8 @@
 #include "xr/openxr_session.h"
 #include "xr/openxr_test_scene.h"
 #include "xr/operator_view.h"
-#include "xr/spherical_renderer.h"
-#include "xr/yuv_planes_file.h"
+#include "xr/render/spherical_renderer.h"
+#include "xr/render/yuv_planes_file.h"
 
 namespace telesphere::app {
 namespace {

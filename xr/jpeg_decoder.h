@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "xr/yuv_planes.h"
+#include "xr/render/yuv_planes.h"
 
 namespace telesphere::xr {
 

@@ -13,7 +13,7 @@
 
 #include "calib/system_calibration.h"
 #include "robot/link/link_endpoints.h"
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 #include "xr/head_trajectory.h"
 #include "xr/operator_view.h"
 

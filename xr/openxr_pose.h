@@ -9,7 +9,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 
 namespace telesphere::xr {
 

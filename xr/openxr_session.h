@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "shaders/gl_api.h"
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 #include "xr/openxr_swapchain_format.h"
 #include "xr/session_state_machine.h"
 

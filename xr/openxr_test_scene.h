@@ -14,7 +14,7 @@
 #include <Eigen/Geometry>
 
 #include "calib/generic_camera.h"
-#include "xr/source_image.h"
+#include "xr/render/source_image.h"
 
 namespace telesphere::xr {
 

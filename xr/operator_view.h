@@ -45,7 +45,7 @@
 #include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_endpoints.h"
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 #include "xr/stereo_frame_decoder.h"
 #include "xr/stereo_view_renderer.h"
 

@@ -20,7 +20,7 @@
 #include <string>
 
 #include "shaders/offscreen_target.h"
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 #include "xr/operator_view.h"
 
 namespace telesphere::xr {

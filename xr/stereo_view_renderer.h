@@ -14,8 +14,8 @@
 #include <string>
 
 #include "calib/system_calibration.h"
-#include "xr/gpu_camera.h"
-#include "xr/spherical_renderer.h"
+#include "xr/render/gpu_camera.h"
+#include "xr/render/spherical_renderer.h"
 #include "xr/stereo_frame_decoder.h"
 
 namespace telesphere::xr {

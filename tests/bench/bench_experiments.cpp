@@ -38,9 +38,9 @@
 #include "tests/bench/child_process.h"
 #include "tests/bench/figure_png.h"
 #include "tests/truth/eye_image_truth.h"
-#include "xr/gpu_camera.h"
-#include "xr/sphere_geometry.h"
-#include "xr/spherical_renderer.h"
+#include "xr/render/gpu_camera.h"
+#include "xr/render/sphere_geometry.h"
+#include "xr/render/spherical_renderer.h"
 
 namespace telesphere::bench {
 namespace {

@@ -19,8 +19,8 @@
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 #include "tests/calib/camera_model_fixtures.h"
-#include "xr/reference_renderer.h"
-#include "xr/spherical_renderer.h"
+#include "xr/render/reference_renderer.h"
+#include "xr/render/spherical_renderer.h"
 
 namespace telesphere::bench {
 namespace {

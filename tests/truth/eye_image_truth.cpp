@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "calib/camera_resolution.h"
-#include "xr/sphere_geometry.h"
+#include "xr/render/sphere_geometry.h"
 
 namespace telesphere::truth {
 

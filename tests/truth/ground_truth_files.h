@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 
 namespace telesphere::truth {
 

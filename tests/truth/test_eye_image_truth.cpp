@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The ground-truth check itself, without processes: projection maps made by the double
-///        reference renderer (xr/reference_renderer.h) for known poses in the default scene. Eyes
+///        reference renderer (xr/render/reference_renderer.h) for known poses in the default scene. Eyes
 ///        at the cameras see the scene where it is (error ≈ 0, only the float32 map's rounding);
 ///        an eye 5 cm off the camera sees the sphere's distortion γ; a frame stamped with a pose
 ///        5 mm off the truth is caught; bad files are refused with their line.
@@ -13,7 +13,7 @@
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
 #include "tests/truth/eye_image_truth.h"
-#include "xr/reference_renderer.h"
+#include "xr/render/reference_renderer.h"
 
 namespace telesphere::truth {
 namespace {

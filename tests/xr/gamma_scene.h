@@ -11,8 +11,8 @@
 
 #include "calib/generic_camera.h"
 #include "tests/xr/render_fixtures.h"
-#include "xr/eye_view.h"
-#include "xr/source_image.h"
+#include "xr/render/eye_view.h"
+#include "xr/render/source_image.h"
 
 namespace telesphere::test {
 

@@ -10,7 +10,7 @@
 
 #include "calib/generic_camera.h"
 #include "tests/calib/camera_model_fixtures.h"
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 
 namespace telesphere::test {
 

@@ -18,9 +18,9 @@
 #include "shaders/shader_program.h"
 #include "tests/xr/gamma_scene.h"
 #include "tests/xr/render_fixtures.h"
-#include "xr/reference_renderer.h"
-#include "xr/sphere_geometry.h"
-#include "xr/spherical_renderer.h"
+#include "xr/render/reference_renderer.h"
+#include "xr/render/sphere_geometry.h"
+#include "xr/render/spherical_renderer.h"
 
 namespace telesphere::xr {
 namespace {

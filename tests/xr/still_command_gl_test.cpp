@@ -11,7 +11,7 @@
 
 #include "shaders/png_io.h"
 #include "tests/xr/render_fixtures.h"
-#include "xr/reference_renderer.h"
+#include "xr/render/reference_renderer.h"
 
 namespace telesphere::xr {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "tests/xr/jpeg_test_images.h"
 #include "xr/decode_pool.h"
-#include "xr/source_image.h"
+#include "xr/render/source_image.h"
 
 namespace telesphere::xr {
 namespace {

@@ -10,8 +10,8 @@
 
 #include "tests/xr/gamma_scene.h"
 #include "tests/xr/render_fixtures.h"
-#include "xr/reference_renderer.h"
-#include "xr/sphere_geometry.h"
+#include "xr/render/reference_renderer.h"
+#include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr {
 namespace {

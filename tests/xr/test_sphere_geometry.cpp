@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "tests/xr/render_fixtures.h"
-#include "xr/sphere_geometry.h"
+#include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr {
 namespace {

@@ -12,7 +12,7 @@
 #include "robot/link/link_client.h"
 #include "robot/link/link_server.h"
 #include "tests/xr/jpeg_test_images.h"
-#include "xr/source_image.h"
+#include "xr/render/source_image.h"
 #include "xr/stereo_frame_decoder.h"
 
 namespace telesphere::xr {

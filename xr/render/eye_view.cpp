@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Names and checks of eye views and render settings.
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 
 #include <cmath>
 #include <sstream>

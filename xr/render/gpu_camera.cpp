@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief GpuCamera: model uniforms, texture upload, mesh and look-up-table construction.
-#include "xr/gpu_camera.h"
+#include "xr/render/gpu_camera.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,7 +11,7 @@
 
 #include "calib/generic_camera.h"
 #include "shaders/gl_objects.h"
-#include "xr/source_image.h"
+#include "xr/render/source_image.h"
 
 namespace telesphere::xr {
 

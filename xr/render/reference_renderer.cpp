@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 /// @brief The CPU reference renderer.
-#include "xr/reference_renderer.h"
+#include "xr/render/reference_renderer.h"
 
 #include <cmath>
 
-#include "xr/sphere_geometry.h"
+#include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr {
 

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "calib/generic_camera.h"
-#include "xr/eye_view.h"
-#include "xr/source_image.h"
+#include "xr/render/eye_view.h"
+#include "xr/render/source_image.h"
 
 namespace telesphere::xr {
 

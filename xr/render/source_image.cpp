@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief SourceImage: construction and the double-precision bilinear sample.
-#include "xr/source_image.h"
+#include "xr/render/source_image.h"
 
 #include <algorithm>
 #include <cmath>

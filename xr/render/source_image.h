@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "xr/yuv_planes.h"
+#include "xr/render/yuv_planes.h"
 
 namespace telesphere::xr {
 

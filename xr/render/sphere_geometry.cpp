@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Spherical-rendering geometry in double precision.
-#include "xr/sphere_geometry.h"
+#include "xr/render/sphere_geometry.h"
 
 #include <cmath>
 

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <optional>
 
-#include "xr/eye_view.h"
+#include "xr/render/eye_view.h"
 
 namespace telesphere::xr {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 /// @brief SphericalRenderer: program cache, uniforms and draw calls of the three paths.
-#include "xr/spherical_renderer.h"
+#include "xr/render/spherical_renderer.h"
 
 #include <Eigen/Geometry>
 #include <cmath>
 
 #include "shaders/shader_program.h"
-#include "xr/sphere_geometry.h"
+#include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr {
 

@@ -14,8 +14,8 @@
 #include <tuple>
 
 #include "shaders/gl_objects.h"
-#include "xr/eye_view.h"
-#include "xr/gpu_camera.h"
+#include "xr/render/eye_view.h"
+#include "xr/render/gpu_camera.h"
 
 namespace telesphere::xr {
 

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "xr/yuv_planes.h"
+#include "xr/render/yuv_planes.h"
 
 namespace telesphere::xr {
 

@@ -30,8 +30,8 @@
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 #include "xr/openxr_test_scene.h"
-#include "xr/spherical_renderer.h"
-#include "xr/yuv_planes_file.h"
+#include "xr/render/spherical_renderer.h"
+#include "xr/render/yuv_planes_file.h"
 
 namespace telesphere::test {
 namespace {
