@@ -134,8 +134,7 @@ class OpenXrEyeWork {
       used = view_->settings();
       if (const auto& frame = view_->frame()) {
         sequence = frame->frame.sequence();
-        const auto& image = eye.eye == 0 ? frame->frame.left() : frame->frame.right();
-        view.T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * view_->T_robot_vr() * eye.T_vr_eye;
+        view.T_cam_eye = *view_->T_cam_eye(eye.eye, eye.T_vr_eye);  // as rendered
         if (pose_log_.is_open() && saved_planes_.insert({sequence, eye.eye}).second) {
           char name[80];
           std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);

@@ -136,6 +136,11 @@ class OperatorView {
   const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   const RenderSettings& settings() const { return renderer_.settings(); }
   const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
+  /// The pose an eye at T_vr_eye is rendered with in the frame on the GPU (T_cam_eye); nothing
+  /// before the first frame.
+  std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const {
+    return renderer_.cameraFromEye(eye, T_robot_vr_, T_vr_eye);
+  }
   /// The last control reply's text ("capture_nominal: ok", "set_mode: refused: …"), for a UI.
   std::string lastControlResult() const;
 

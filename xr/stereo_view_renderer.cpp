@@ -74,10 +74,16 @@ bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
   return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
 }
 
+std::optional<Eigen::Isometry3d> StereoViewRenderer::cameraFromEye(int eye, const Eigen::Isometry3d& T_robot_vr,
+                                                                   const Eigen::Isometry3d& T_vr_eye) const {
+  if (!frame_ || eye < 0 || eye > 1) return std::nullopt;
+  const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
+  return link::fromLinkPose(image.t_robot_cam()).inverse() * T_robot_vr * T_vr_eye;
+}
+
 bool StereoViewRenderer::placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
                                   EyeView* view, std::string* error) const {
-  const auto& image = eye == 0 ? frame_->frame.left() : frame_->frame.right();
-  view->T_cam_eye = link::fromLinkPose(image.t_robot_cam()).inverse() * T_robot_vr * T_vr_eye;
+  view->T_cam_eye = *cameraFromEye(eye, T_robot_vr, T_vr_eye);
   if (const auto why = checkPose(view->T_cam_eye)) {
     *error = "eye pose: " + *why;
     return false;

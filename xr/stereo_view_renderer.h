@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "calib/system_calibration.h"
@@ -55,9 +56,13 @@ class StereoViewRenderer {
   void setSettings(const RenderSettings& settings) { settings_ = settings; }
   const RenderSettings& settings() const { return settings_; }
 
+  /// T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye, the eye in the camera of the frame on the
+  /// GPU (T_robot_cam carried by that frame): the one place it is composed. Nothing without a frame.
+  std::optional<Eigen::Isometry3d> cameraFromEye(int eye, const Eigen::Isometry3d& T_robot_vr,
+                                                 const Eigen::Isometry3d& T_vr_eye) const;
+
  private:
-  /// view->T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye for the frame on the GPU (needs one);
-  /// false with the reason when that is not a pose.
+  /// view->T_cam_eye = cameraFromEye(…) (needs a frame); false with the reason when that is not a pose.
   bool placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye, EyeView* view,
                 std::string* error) const;
 

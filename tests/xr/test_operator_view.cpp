@@ -135,6 +135,7 @@ TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImag
   auto pixels = target_->readRgba8();
   EXPECT_EQ(pixels[0], 0);
   EXPECT_EQ(pixels[2], 255);  // the border colour: blue
+  EXPECT_FALSE(view_->T_cam_eye(0, T_vr_hmd_)) << "no eye pose before the first frame";
   ASSERT_TRUE(::telesphere::test::eventually([&] {
     publishFrame();
     return frame() && view_->hasImage();
@@ -144,6 +145,17 @@ TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImag
   std::size_t blue = 0;
   for (std::size_t i = 0; i < pixels.size(); i += 4) blue += (pixels[i] == 0 && pixels[i + 1] == 0 && pixels[i + 2] == 255);
   EXPECT_LT(blue, pixels.size() / 4 / 2) << "the camera image fills the view";
+  // The pose each eye is rendered with: T_robot_cam⁻¹ · T_robot_vr · T_vr_eye, each camera its own.
+  Eigen::Isometry3d T_vr_eye = Eigen::Isometry3d::Identity();
+  T_vr_eye.translation() << 0.01, -0.02, 0.03;
+  for (int eye = 0; eye < 2; ++eye) {
+    Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
+    T_robot_cam.translation().x() = eye == 0 ? -0.03 : 0.03;
+    const auto T_cam_eye = view_->T_cam_eye(eye, T_vr_eye);
+    ASSERT_TRUE(T_cam_eye);
+    EXPECT_TRUE(T_cam_eye->isApprox(T_robot_cam.inverse() * view_->T_robot_vr() * T_vr_eye, 1e-12)) << eye;
+  }
+  EXPECT_FALSE(view_->T_cam_eye(2, T_vr_eye));
 }
 
 TEST_F(OperatorViewTest, HeadTargetsReachTheRobotWithThePredictedDisplayTime) {
