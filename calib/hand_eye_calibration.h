@@ -97,7 +97,8 @@ struct HandEyeResult {
   Eigen::Isometry3d T_flange_cam_l = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_robot_mount = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d T_wrist_marker = Eigen::Isometry3d::Identity();
-  /// The closed-form initialisation (before Ceres), same order.
+  /// The start the result was refined from (before Ceres), same order: the closed form, or the
+  /// one from HandEyeOptions::T_flange_cam_l_guess when that fitted better.
   std::array<Eigen::Isometry3d, 3> initial;
   double rms_px_l = 0, rms_px_r = 0;  ///< final reprojection RMS per camera (0 when unused)
   int samples_used = 0;
