@@ -31,11 +31,6 @@ struct PipelineResolution {
   int width, height;
 };
 
-double medianOf(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
-
 /// One single-core encode plus one decode of `frame` (median of `reps`), and the JPEG size.
 double codecFloorMs(const robot::CameraFrame& frame, const robot::JpegSettings& settings, int reps,
                     std::size_t* jpeg_bytes) {
@@ -54,7 +49,7 @@ double codecFloorMs(const robot::CameraFrame& frame, const robot::JpegSettings& 
     if (i > 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
   }
   *jpeg_bytes = jpeg.size();
-  return medianOf(ms);
+  return quantile(ms, 0.5);
 }
 
 struct PipelineRun {

@@ -20,6 +20,13 @@ std::string formatNumber(double value, int digits) {
   return buf;
 }
 
+double quantile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double at = std::clamp(q, 0.0, 1.0) * double(values.size() - 1) + 0.5;
+  return values[std::min(values.size() - 1, std::size_t(at))];
+}
+
 void Table::print(std::ostream& out) const {
   std::vector<std::size_t> width(header_.size(), 0);
   for (std::size_t c = 0; c < header_.size(); ++c) width[c] = header_[c].size();

@@ -23,4 +23,8 @@ class Table {
 /// A number with a fixed count of significant digits (%.{digits}g).
 std::string formatNumber(double value, int digits = 3);
 
+/// The q-quantile (0…1) of `values`: the sorted element at round(q·(n − 1)) (q = 0.5: the upper
+/// median); 0 for no values.
+double quantile(std::vector<double> values, double q);
+
 }  // namespace telesphere::bench

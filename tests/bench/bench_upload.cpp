@@ -43,11 +43,7 @@ struct Percentiles {
   double p50 = 0, p99 = 0;
 };
 
-Percentiles percentiles(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) { return v[std::min(v.size() - 1, std::size_t(q * double(v.size() - 1) + 0.5))]; };
-  return {at(0.5), at(0.99)};
-}
+Percentiles percentiles(const std::vector<double>& v) { return {quantile(v, 0.5), quantile(v, 0.99)}; }
 
 /// One camera's three plane textures (R8), as GpuCamera allocates them for YUV input.
 struct PlaneTextures {
