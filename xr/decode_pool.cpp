@@ -78,6 +78,28 @@ std::size_t DecodePool::planesFree() const {
   return recycler_->free.size();
 }
 
+bool DecodePool::decodeIntoSlot(JpegDecoder& decoder, const DecodeJob& job, DecodeResult& result) {
+  if (!job.upload_slots) return false;
+  JpegHeader header;
+  result.error = decoder.readHeader(job.jpeg, job.expected_width, job.expected_height, job.max_side, &header,
+                                    &result.message);
+  if (result.error != JpegDecodeError::kNone) return true;  // refused: no memory of any kind needed
+  auto slot = job.upload_slots->take(header.layout);
+  if (!slot) return false;  // none free (or not this size): the pool's own memory
+  auto planes = std::make_shared<YuvPlanes>();
+  planes->width = header.layout.width;
+  planes->height = header.layout.height;
+  planes->chroma_width = header.layout.chroma_width;
+  planes->chroma_height = header.layout.chroma_height;
+  planes->subsampling = header.subsampling;
+  result.error = decoder.decodeInto(job.jpeg, header, slot->y, slot->u, slot->v, &result.message);
+  if (result.error != JpegDecodeError::kNone) return true;  // the slot goes back with `slot`
+  planes->slot = std::move(slot);
+  result.planes = std::move(planes);
+  result.in_upload_slot = true;
+  return true;
+}
+
 void DecodePool::work() {
   JpegDecoder decoder;
   for (;;) {
@@ -90,16 +112,18 @@ void DecodePool::work() {
       queue_.pop_front();
     }
     DecodeResult result;
-    std::unique_ptr<YuvPlanes> planes = recycler_->take();
     const auto t0 = std::chrono::steady_clock::now();
-    result.error = decoder.decode(task.job.jpeg, task.job.expected_width, task.job.expected_height,
-                                  task.job.max_side, *planes, &result.message);
+    if (!decodeIntoSlot(decoder, task.job, result)) {
+      std::unique_ptr<YuvPlanes> planes = recycler_->take();
+      result.error = decoder.decode(task.job.jpeg, task.job.expected_width, task.job.expected_height,
+                                    task.job.max_side, *planes, &result.message);
+      if (result.error == JpegDecodeError::kNone)
+        result.planes = Recycler::share(std::move(planes), recycler_);
+      else
+        recycler_->give(std::move(planes));
+    }
     result.decode_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    if (result.error == JpegDecodeError::kNone)
-      result.planes = Recycler::share(std::move(planes), recycler_);
-    else
-      recycler_->give(std::move(planes));
     task.job.keep_alive.reset();  // the bytes are no longer needed
     task.promise.set_value(std::move(result));
   }

@@ -4,6 +4,9 @@
 ///        immutable planes; when the last holder lets go of them their buffers go back to the
 ///        pool and the next decode of the same size reuses them (no allocation, no page faults
 ///        in steady state, and a bounded number of plane sets however slow the consumer is).
+///        A job may name an UploadSlotSource: the planes then go straight into a free slot of GL
+///        buffer memory (the render thread only queues a copy from it), and into the pool's own
+///        memory only when no slot of that size is free.
 #pragma once
 
 #include <condition_variable>
@@ -19,6 +22,7 @@
 #include <vector>
 
 #include "xr/jpeg_decoder.h"
+#include "xr/render/upload_ring.h"
 
 namespace telesphere::xr {
 
@@ -28,6 +32,7 @@ struct DecodeJob {
   int expected_width = 0;   ///< px, as the message said; 0 accepts any size
   int expected_height = 0;  ///< px
   int max_side = 8192;      ///< px; larger headers are refused before anything is allocated
+  std::shared_ptr<UploadSlotSource> upload_slots;  ///< decode into a slot of it when one is free
 };
 
 struct DecodeResult {
@@ -35,6 +40,7 @@ struct DecodeResult {
   std::string message;                      ///< why, when error != kNone
   std::shared_ptr<const YuvPlanes> planes;  ///< set when error == kNone
   double decode_ms = 0;                     ///< wall time of the decode on its worker
+  bool in_upload_slot = false;              ///< the planes are in GL buffer memory (planes->slot)
 };
 
 class DecodePool {
@@ -63,6 +69,9 @@ class DecodePool {
   struct Recycler;
 
   void work();
+  /// Decodes into a slot of job.upload_slots when one of the image's size is free; false (nothing
+  /// done) when there is no such slot. True with the result otherwise, errors included.
+  static bool decodeIntoSlot(JpegDecoder& decoder, const DecodeJob& job, DecodeResult& result);
 
   std::shared_ptr<Recycler> recycler_;
   std::mutex mutex_;

@@ -25,9 +25,8 @@ const char* jpegDecodeErrorName(JpegDecodeError error) {
   return "unknown";
 }
 
-JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expected_width,
-                                    int expected_height, int max_side, YuvPlanes& out,
-                                    std::string* error) {
+JpegDecodeError JpegDecoder::readHeader(std::span<const std::uint8_t> jpeg, int expected_width,
+                                        int expected_height, int max_side, JpegHeader* out, std::string* error) {
   int width = 0, height = 0, subsamp = 0, colorspace = 0;
   if (jpeg.empty() ||
       tjDecompressHeader3(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), &width,
@@ -46,32 +45,52 @@ JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expe
     return JpegDecodeError::kSizeMismatch;
   }
   switch (subsamp) {
-    case TJSAMP_420: out.subsampling = link::ChromaSubsampling::k420; break;
-    case TJSAMP_422: out.subsampling = link::ChromaSubsampling::k422; break;
-    case TJSAMP_444: out.subsampling = link::ChromaSubsampling::k444; break;
-    case TJSAMP_GRAY: out.subsampling = link::ChromaSubsampling::kGray; break;
+    case TJSAMP_420: out->subsampling = link::ChromaSubsampling::k420; break;
+    case TJSAMP_422: out->subsampling = link::ChromaSubsampling::k422; break;
+    case TJSAMP_444: out->subsampling = link::ChromaSubsampling::k444; break;
+    case TJSAMP_GRAY: out->subsampling = link::ChromaSubsampling::kGray; break;
     default:
       *error = "JPEG chroma subsampling " + std::to_string(subsamp) + " is not one the renderer takes";
       return JpegDecodeError::kUnsupported;
   }
-  out.width = width;
-  out.height = height;
   const bool gray = subsamp == TJSAMP_GRAY;
-  out.chroma_width = gray ? 0 : tjPlaneWidth(1, width, subsamp);
-  out.chroma_height = gray ? 0 : tjPlaneHeight(1, height, subsamp);
-  out.y.resize(static_cast<std::size_t>(width) * height);
-  out.u.resize(static_cast<std::size_t>(out.chroma_width) * out.chroma_height);
-  out.v.resize(out.u.size());
-  unsigned char* planes[3] = {out.y.data(), gray ? nullptr : out.u.data(), gray ? nullptr : out.v.data()};
-  int strides[3] = {width, out.chroma_width, out.chroma_width};
+  out->layout = {width, height, gray ? 0 : tjPlaneWidth(1, width, subsamp), gray ? 0 : tjPlaneHeight(1, height, subsamp)};
+  return JpegDecodeError::kNone;
+}
+
+JpegDecodeError JpegDecoder::decodeInto(std::span<const std::uint8_t> jpeg, const JpegHeader& header,
+                                        std::uint8_t* y, std::uint8_t* u, std::uint8_t* v, std::string* error) {
+  const PlaneLayout& l = header.layout;
+  const bool gray = header.subsampling == link::ChromaSubsampling::kGray;
+  unsigned char* planes[3] = {y, gray ? nullptr : u, gray ? nullptr : v};
+  int strides[3] = {l.width, l.chroma_width, l.chroma_width};
   if (tjDecompressToYUVPlanes(handle_, jpeg.data(), static_cast<unsigned long>(jpeg.size()), planes,
-                              width, strides, height, TJFLAG_FASTDCT | TJFLAG_STOPONWARNING) != 0) {
+                              l.width, strides, l.height, TJFLAG_FASTDCT | TJFLAG_STOPONWARNING) != 0) {
     // Warnings too (a truncated file decodes half grey): the operator keeps the previous frame
     // rather than seeing a broken one.
     *error = std::string("JPEG data: ") + tjGetErrorStr2(handle_);
     return JpegDecodeError::kCorrupt;
   }
   return JpegDecodeError::kNone;
+}
+
+JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expected_width,
+                                    int expected_height, int max_side, YuvPlanes& out,
+                                    std::string* error) {
+  JpegHeader header;
+  if (const auto e = readHeader(jpeg, expected_width, expected_height, max_side, &header, error);
+      e != JpegDecodeError::kNone)
+    return e;
+  out.subsampling = header.subsampling;
+  out.width = header.layout.width;
+  out.height = header.layout.height;
+  out.chroma_width = header.layout.chroma_width;
+  out.chroma_height = header.layout.chroma_height;
+  out.slot.reset();
+  out.y.resize(header.layout.lumaBytes());
+  out.u.resize(header.layout.chromaBytes());
+  out.v.resize(out.u.size());
+  return decodeInto(jpeg, header, out.y.data(), out.u.data(), out.v.data(), error);
 }
 
 }  // namespace telesphere::xr

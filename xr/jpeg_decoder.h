@@ -18,6 +18,12 @@ enum class JpegDecodeError { kNone, kCorrupt, kTooLarge, kSizeMismatch, kUnsuppo
 /// "none", "corrupt", "too_large", "size_mismatch", "unsupported".
 const char* jpegDecodeErrorName(JpegDecodeError error);
 
+/// What a JPEG header says, checked: the planes' sizes and the subsampling.
+struct JpegHeader {
+  PlaneLayout layout;
+  link::ChromaSubsampling subsampling = link::ChromaSubsampling::k420;
+};
+
 class JpegDecoder {
  public:
   JpegDecoder();
@@ -30,6 +36,14 @@ class JpegDecoder {
   /// larger than max_side. On failure out is left unspecified and *error says why.
   JpegDecodeError decode(std::span<const std::uint8_t> jpeg, int expected_width, int expected_height,
                          int max_side, YuvPlanes& out, std::string* error);
+
+  /// The two halves of decode(), for a caller that chooses the planes' memory by their size:
+  /// readHeader checks as decode() does (nothing allocated); decodeInto writes the planes of
+  /// that header to y, u, v (tightly packed; u, v null for greyscale).
+  JpegDecodeError readHeader(std::span<const std::uint8_t> jpeg, int expected_width, int expected_height,
+                             int max_side, JpegHeader* out, std::string* error);
+  JpegDecodeError decodeInto(std::span<const std::uint8_t> jpeg, const JpegHeader& header, std::uint8_t* y,
+                             std::uint8_t* u, std::uint8_t* v, std::string* error);
 
  private:
   void* handle_;

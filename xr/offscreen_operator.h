@@ -29,6 +29,7 @@ struct OffscreenOperatorOptions {
   double duration_s = 10.0;           ///< 0: until `stop`
   bool loop_trajectory = true;
   RenderSettings render;
+  int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;  ///< 0: upload from the decoder's memory
   std::string png_dir;       ///< when set: eyes_last.png (side by side) at the end
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
   std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives

@@ -24,13 +24,19 @@ bool poseMeasured(const link::proto::StereoFrame& frame) {
          frame.right().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER;
 }
 
+StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
+  StereoFrameDecoder::Options options;
+  options.upload_slots = renderer.uploadSlots();
+  return options;
+}
+
 }  // namespace
 
 OperatorView::OperatorView(const calib::SystemCalibration& calibration,
                            const OperatorViewOptions& options)
     : client_(options.endpoints),
-      decoder_(client_),
-      renderer_(calibration, options.render),
+      renderer_(calibration, options.render, options.upload_ring_slots),
+      decoder_(client_, decoderOptions(renderer_)),
       options_(options),
       frame_begin_ns_(link::linkNowNs()),
       last_new_frame_ns_(frame_begin_ns_),
@@ -217,7 +223,7 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     ++stats_.frames_with_image;
     if (uploaded_this_frame_ns_ >= 0) {
       ++stats_.stereo_frames_shown;
-      upload_ms_.push_back(double(uploaded_this_frame_ns_ - frame_begin_ns_) * 1e-6);
+      upload_ms_.push_back(renderer_.lastUploadMs());
     }
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
     const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
@@ -285,7 +291,13 @@ OperatorViewStats OperatorView::stats() const {
   out.render_ms_p99 = render.p99_ms;
   out.image_age_p50_ms = age.p50_ms;
   out.image_age_p99_ms = age.p99_ms;
-  out.upload_ms_p50 = latencyFigure(upload_ms_).p50_ms;
+  const LatencyFigure upload = latencyFigure(upload_ms_);
+  out.upload_ms_render_thread_p50 = upload.p50_ms;
+  out.upload_ms_render_thread_p99 = upload.p99_ms;
+  const StereoDecodeStats decoded = decoder_.stats();
+  out.decode_ms_p50 = decoded.decode.p50_ms;
+  out.images_in_upload_slots = decoded.images_in_upload_slots;
+  out.images_in_own_memory = decoded.images_in_own_memory;
   out.pose_to_display_ms_p50 = latencyFigure(pose_lead_ms_).p50_ms;
   return out;
 }

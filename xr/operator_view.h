@@ -62,6 +62,9 @@ struct OperatorViewOptions {
   /// Render with the robot's calibration (RobotState.calibration_generation, fetched with
   /// get_calibration) instead of the one given at start-up (off: the start-up one stays).
   bool follow_robot_calibration = true;
+  /// Images the upload ring holds (0: no ring; every image is uploaded from the decoder's memory
+  /// inside the frame).
+  int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -73,7 +76,12 @@ struct OperatorViewStats {
   std::uint64_t settings_changes = 0;     ///< mode/radius changes taken from the robot
   double render_ms_p50 = 0, render_ms_p99 = 0;
   double image_age_p50_ms = 0, image_age_p99_ms = 0;  ///< capture → display
-  double upload_ms_p50 = 0;
+  /// The render thread's time for a new camera frame: the copy commands from the upload ring (or,
+  /// from the decoder's own memory, the whole upload), ms.
+  double upload_ms_render_thread_p50 = 0, upload_ms_render_thread_p99 = 0;
+  double decode_ms_p50 = 0;                ///< one JPEG's decode on a decoder thread
+  std::uint64_t images_in_upload_slots = 0;  ///< camera images decoded straight into GL buffer memory
+  std::uint64_t images_in_own_memory = 0;    ///< … into the decoder's memory (uploaded from there)
   double pose_to_display_ms_p50 = 0;  ///< head-pose sample (frame start) → predicted display
   bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
   std::uint64_t unmeasured_frames_shown = 0;  ///< distinct frames shown dimmed (pose not measured)
@@ -158,8 +166,8 @@ class OperatorView {
   bool takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error);
 
   link::LinkClient client_;
+  StereoViewRenderer renderer_;  ///< before the decoder: its upload ring outlives the decoder's frames
   StereoFrameDecoder decoder_;
-  StereoViewRenderer renderer_;
   OperatorViewOptions options_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;

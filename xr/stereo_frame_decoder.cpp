@@ -90,6 +90,7 @@ void StereoFrameDecoder::decodePair(link::ReceivedFrame received) {
     j.expected_width = options_.check_message_size ? static_cast<int>(image.width()) : 0;
     j.expected_height = options_.check_message_size ? static_cast<int>(image.height()) : 0;
     j.max_side = options_.max_side;
+    j.upload_slots = options_.upload_slots;
     return j;
   };
   auto left_future = pool_.submit(job(received.left_jpeg, f.left()));
@@ -120,6 +121,7 @@ void StereoFrameDecoder::decodePair(link::ReceivedFrame received) {
   {
     std::lock_guard lock(stats_mutex_);
     ++decoded_;
+    for (const DecodeResult* r : {&left, &right}) ++(r->in_upload_slot ? images_in_upload_slots_ : images_in_own_memory_);
     const auto add = [&](int which, double value) {
       auto& d = samples_ms_[static_cast<std::size_t>(which)];
       d.push_back(value);
@@ -180,6 +182,8 @@ StereoDecodeStats StereoFrameDecoder::stats() const {
   std::lock_guard lock(stats_mutex_);
   s.decoded = decoded_;
   s.replaced_unread = replaced_unread_;
+  s.images_in_upload_slots = images_in_upload_slots_;
+  s.images_in_own_memory = images_in_own_memory_;
   s.dropped_by_reason = dropped_;
   s.dropped_by_reason[static_cast<int>(FrameDropReason::kSuperseded)] = superseded;
   // Publications within the window before now (a stalled stream reads 0 fps).

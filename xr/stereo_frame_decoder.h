@@ -49,6 +49,8 @@ struct StereoDecodeStats {
   double fps = 0;                  ///< published pairs per second over the recent window
   std::uint64_t decoded = 0;       ///< pairs published
   std::uint64_t replaced_unread = 0;  ///< published pairs replaced before any reader got them
+  std::uint64_t images_in_upload_slots = 0;  ///< images decoded straight into GL buffer memory
+  std::uint64_t images_in_own_memory = 0;    ///< images decoded into the pool's memory (no free slot, or no ring)
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_by_reason{};
   std::uint64_t dropped(FrameDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
   LatencyFigure decode;               ///< one JPEG's decode on a worker
@@ -67,6 +69,9 @@ class StereoFrameDecoder {
     bool check_message_size = true;  ///< header must equal the message's width × height
     std::chrono::milliseconds poll{20};  ///< how long the receive thread waits per round
     std::size_t stats_window = 512;      ///< samples kept per latency figure
+    /// The renderer's upload ring: images are decoded into its GL buffer memory when a slot is
+    /// free (null: always into the pool's own memory).
+    std::shared_ptr<UploadSlotSource> upload_slots;
   };
 
   /// Starts the receive thread on `client`, which must outlive this object.
@@ -104,6 +109,7 @@ class StereoFrameDecoder {
   mutable std::mutex stats_mutex_;
   std::uint64_t decoded_ = 0;
   std::uint64_t replaced_unread_ = 0;
+  std::uint64_t images_in_upload_slots_ = 0, images_in_own_memory_ = 0;
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_{};
   std::array<std::int64_t, static_cast<int>(FrameDropReason::kCount)> last_log_ns_{};
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> unlogged_{};

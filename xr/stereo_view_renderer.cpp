@@ -2,6 +2,8 @@
 /// @brief StereoViewRenderer: per-frame upload of both cameras' planes, per-eye render.
 #include "xr/stereo_view_renderer.h"
 
+#include <chrono>
+
 #include "calib/camera_resolution.h"
 #include "robot/link/link_endpoints.h"
 #include "robot/link/link_pose.h"
@@ -9,8 +11,8 @@
 namespace telesphere::xr {
 
 StereoViewRenderer::StereoViewRenderer(const calib::SystemCalibration& calibration,
-                                       const RenderSettings& settings)
-    : calibration_(calibration), settings_(settings) {}
+                                       const RenderSettings& settings, int upload_slots)
+    : ring_(upload_slots), calibration_(calibration), settings_(settings) {}
 
 StereoViewRenderer::~StereoViewRenderer() = default;
 
@@ -28,6 +30,7 @@ bool StereoViewRenderer::setCalibration(const calib::SystemCalibration& calibrat
 
 bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame,
                                   std::string* error) {
+  ring_.reclaim();  // slots whose copies are done go back to the decoder
   // The same decoded frame object: already up. (Not compared by sequence number: a restarted
   // robot counts from 1 again.)
   if (!frame || frame == frame_) return true;
@@ -48,8 +51,18 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
       cameras_[i] = std::make_unique<GpuCamera>(scaled->camera, planes->width, planes->height);
       if (!renderer_.prepare(*cameras_[i], settings_.path, error)) return false;
     }
-    if (!cameras_[i]->upload(SourceImage::yuv(planes), error)) return false;
   }
+  // The ring is made for the size the decoder delivers (the left camera's, should they differ):
+  // from the next frame on, the decoder writes into it.
+  if (ring_.source() && !ring_.preparedFor(frame->left->layout()) && !ring_.prepare(frame->left->layout(), error))
+    return false;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 2; ++i) {
+    const YuvPlanes& planes = *(i == 0 ? frame->left : frame->right);
+    if (!cameras_[i]->upload(SourceImage::yuv(i == 0 ? frame->left : frame->right), error)) return false;
+    if (planes.slot) ring_.fenceCopy(*planes.slot);
+  }
+  last_upload_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   frame_ = frame;
   uploaded_ns_ = link::linkNowNs();
   return true;

@@ -5,6 +5,11 @@
 ///        once the nominal pose is captured) and each camera's pose at capture time
 ///        (T_robot_cam, carried by the frame) give T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye.
 ///        Shared by the OpenXR, desktop and offscreen modes; needs a current GL context.
+///
+///        New images reach the GPU through an UploadRing: the decoder writes them into its slots
+///        (GL buffer memory), and setFrame only queues the copies into the textures and fences
+///        them. Images the decoder had to put into its own memory (no free slot, or before the
+///        ring knew their size) are uploaded from there, synchronously.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -17,14 +22,21 @@
 #include "calib/system_calibration.h"
 #include "xr/render/gpu_camera.h"
 #include "xr/render/spherical_renderer.h"
+#include "xr/render/upload_ring.h"
 #include "xr/stereo_frame_decoder.h"
 
 namespace telesphere::xr {
 
 class StereoViewRenderer {
  public:
+  /// Images (a stereo frame is two) the upload ring holds by default: one pair shown, one
+  /// published and unread, one decoding, one whose copy is still in flight.
+  static constexpr int kDefaultUploadSlots = 8;
+
   /// `calibration` needs two cameras; their models are rescaled to the frames' resolution.
-  StereoViewRenderer(const calib::SystemCalibration& calibration, const RenderSettings& settings);
+  /// `upload_slots` 0: no ring, every image is uploaded from the decoder's memory.
+  StereoViewRenderer(const calib::SystemCalibration& calibration, const RenderSettings& settings,
+                     int upload_slots = kDefaultUploadSlots);
   ~StereoViewRenderer();
   StereoViewRenderer(const StereoViewRenderer&) = delete;
   StereoViewRenderer& operator=(const StereoViewRenderer&) = delete;
@@ -35,6 +47,12 @@ class StereoViewRenderer {
   /// The frame on the GPU (null before the first), and when its upload finished (steady ns).
   const std::shared_ptr<const DecodedStereoFrame>& frame() const { return frame_; }
   std::int64_t uploadedNs() const { return uploaded_ns_; }
+  /// The render thread's time in the last setFrame that took a new frame (the copies issued,
+  /// or the uploads from client memory done), ms.
+  double lastUploadMs() const { return last_upload_ms_; }
+  /// What the decoder takes slots from (null when the ring is off).
+  std::shared_ptr<UploadSlotSource> uploadSlots() const { return ring_.source(); }
+  const UploadRing& uploadRing() const { return ring_; }
 
   /// Renders eye `eye` (0 left, 1 right) into `framebuffer` (width×height of `view`): `view`'s
   /// T_cam_eye is ignored and computed from T_robot_vr and T_vr_eye. Border colour where there
@@ -66,6 +84,7 @@ class StereoViewRenderer {
   bool placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye, EyeView* view,
                 std::string* error) const;
 
+  UploadRing ring_;  ///< first: destroyed after the frame and cameras that use its slots
   calib::SystemCalibration calibration_;
   RenderSettings settings_;
   SphericalRenderer renderer_;
@@ -73,6 +92,7 @@ class StereoViewRenderer {
   std::array<std::unique_ptr<GpuCamera>, 2> coordinates_;  ///< pixel-coordinate images, made on demand
   std::shared_ptr<const DecodedStereoFrame> frame_;
   std::int64_t uploaded_ns_ = 0;
+  double last_upload_ms_ = 0;
 };
 
 }  // namespace telesphere::xr

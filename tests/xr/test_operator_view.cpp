@@ -334,6 +334,30 @@ TEST_F(OperatorViewTest, GreyscaleFramesFromAMono8CameraAreShown) {
   EXPECT_GT(grey, pixels.size() / 4 / 2);
 }
 
+TEST_F(OperatorViewTest, NewFramesComeThroughTheUploadRingAndLookTheSameAsFromDecoderMemory) {
+  // The first frame is decoded before the ring knows the images' size: from the decoder's memory.
+  std::string error;
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame();
+    return frame(0, &error) && view_->hasImage();
+  })) << error;
+  const auto first = view_->frame();
+  const bool first_in_ring = first->left->slot != nullptr;
+  const auto from_memory = renderLeft();
+  // The same image again, now decoded straight into the ring's GL buffer memory.
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame();
+    return frame(0, &error) && view_->frame()->left->slot && view_->frame()->right->slot;
+  })) << error;
+  EXPECT_FALSE(first_in_ring) << "the ring was made at the first frame";
+  EXPECT_EQ(renderLeft(), from_memory) << "the same pixels either way";
+  view_->endFrame(link::linkNowNs(), 1.0, 0);
+  const OperatorViewStats stats = view_->stats();
+  EXPECT_GE(stats.images_in_upload_slots, 2u);
+  EXPECT_GE(stats.images_in_own_memory, 2u);
+  EXPECT_GT(stats.decode_ms_p50, 0.0);
+}
+
 TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOneIsHeld) {
   using link::proto::POSE_SOURCE_FIXED_CALIBRATION;
   const auto redGreen = [](const std::vector<std::uint8_t>& rgba) {  // the border has none

@@ -132,15 +132,22 @@ bool GpuCamera::upload(const SourceImage& image, std::string* out_error) {
                           kFloatFormat[image.channels - 1], GL_FLOAT, image.floats.data());
       break;
     case SourceImage::Format::kYuv: {
-      // Straight from the decoder's planes (consistent() checked their sizes): no CPU copy.
+      // Straight from the decoder's planes (consistent() checked their sizes): no CPU copy. From
+      // an upload slot the source is GL buffer memory: the calls only queue the copies.
       const YuvPlanes& p = *image.planes;
+      const auto source = [&](std::span<const std::uint8_t> plane, std::size_t slot_offset) -> const void* {
+        return p.slot ? reinterpret_cast<const void*>(slot_offset) : plane.data();
+      };
+      if (p.slot) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, p.slot->buffer);
       glTextureSubImage2D(textures_[0].id(), 0, 0, 0, width_, height_, GL_RED, GL_UNSIGNED_BYTE,
-                          p.y.data());
-      if (chroma_width_ == 0) break;  // greyscale: the neutral chroma planes stay
-      glTextureSubImage2D(textures_[1].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,
-                          GL_UNSIGNED_BYTE, p.u.data());
-      glTextureSubImage2D(textures_[2].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED,
-                          GL_UNSIGNED_BYTE, p.v.data());
+                          source(p.yPlane(), p.slot ? p.slot->y_offset : 0));
+      if (chroma_width_ != 0) {  // greyscale: the neutral chroma planes stay
+        glTextureSubImage2D(textures_[1].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED, GL_UNSIGNED_BYTE,
+                            source(p.uPlane(), p.slot ? p.slot->u_offset : 0));
+        glTextureSubImage2D(textures_[2].id(), 0, 0, 0, chroma_width_, chroma_height_, GL_RED, GL_UNSIGNED_BYTE,
+                            source(p.vPlane(), p.slot ? p.slot->v_offset : 0));
+      }
+      if (p.slot) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
       break;
     }
   }

@@ -117,11 +117,11 @@ bool SourceImage::consistent() const {
           planes->chroma_width != chroma_width || planes->chroma_height != chroma_height)
         return false;
       if (chroma_width == 0 && chroma_height == 0)  // greyscale: Y only
-        return planes->y.size() == n && planes->u.empty() && planes->v.empty();
+        return planes->yPlane().size() == n && planes->uPlane().empty() && planes->vPlane().empty();
       const std::size_t nc = static_cast<std::size_t>(chroma_width) * chroma_height;
       return chroma_width > 0 && chroma_height > 0 && chroma_width <= width &&
-             chroma_height <= height && planes->y.size() == n && planes->u.size() == nc &&
-             planes->v.size() == nc;
+             chroma_height <= height && planes->yPlane().size() == n && planes->uPlane().size() == nc &&
+             planes->vPlane().size() == nc;
     }
   }
   return false;
@@ -144,17 +144,18 @@ Eigen::Vector4d SourceImage::sample(const Eigen::Vector2d& px) const {
         });
       break;
     case Format::kYuv: {
+      const std::span<const std::uint8_t> luma = planes->yPlane();
       const double Y = bilinear(u, v, width, height, [&](int x, int y) {
-        return planes->y[static_cast<std::size_t>(y) * width + x] / 255.0;
+        return luma[static_cast<std::size_t>(y) * width + x] / 255.0;
       });
-      const auto chroma = [&](const std::vector<std::uint8_t>& plane) {
+      const auto chroma = [&](std::span<const std::uint8_t> plane) {
         return bilinear(u, v, chroma_width, chroma_height, [&](int x, int y) {
                  return plane[static_cast<std::size_t>(y) * chroma_width + x] / 255.0;
                }) -
                128.0 / 255.0;
       };
       const bool grey = chroma_width == 0;
-      const double cb = grey ? 0.0 : chroma(planes->u), cr = grey ? 0.0 : chroma(planes->v);
+      const double cb = grey ? 0.0 : chroma(planes->uPlane()), cr = grey ? 0.0 : chroma(planes->vPlane());
       out.head<3>() << Y + 1.402 * cr, Y - 0.344136 * cb - 0.714136 * cr, Y + 1.772 * cb;
       out.head<3>() = out.head<3>().cwiseMax(0.0).cwiseMin(1.0);
       break;

@@ -22,8 +22,8 @@ inline bool writeYuvPlanes(const std::string& path, const YuvPlanes& planes, std
   out << "telesphere-yuv " << planes.width << ' ' << planes.height << ' ' << planes.chroma_width << ' '
       << planes.chroma_height << ' ' << (planes.subsampling ? static_cast<int>(*planes.subsampling) : kNotFromJpeg)
       << '\n';
-  for (const auto* p : {&planes.y, &planes.u, &planes.v})
-    out.write(reinterpret_cast<const char*>(p->data()), static_cast<std::streamsize>(p->size()));
+  for (const auto plane : {planes.yPlane(), planes.uPlane(), planes.vPlane()})
+    out.write(reinterpret_cast<const char*>(plane.data()), static_cast<std::streamsize>(plane.size()));
   if (!out) {
     *error = path + ": cannot write the YUV planes";
     return false;
