@@ -49,12 +49,20 @@ StereoFrameDecoder::StereoFrameDecoder(link::LinkClient& client, Options options
       options_(options),
       superseded_at_start_(client.stats().dropped(link::DropReason::kSuperseded)),
       pool_(options.threads) {
+  max_in_flight_ = std::size_t(std::clamp(pool_.threads() / 2, 1, std::max(1, options_.pairs_in_flight)));
+  publisher_ = std::thread([this] { publish(); });
   receiver_ = std::thread([this] { receive(); });
 }
 
 StereoFrameDecoder::~StereoFrameDecoder() {
   running_ = false;
   receiver_.join();
+  {
+    std::lock_guard lock(in_flight_mutex_);
+    receiving_done_ = true;
+  }
+  in_flight_changed_.notify_all();
+  publisher_.join();  // after the pairs in flight are published
 }
 
 std::shared_ptr<const DecodedStereoFrame> StereoFrameDecoder::newest() const {
@@ -75,13 +83,17 @@ std::shared_ptr<const DecodedStereoFrame> StereoFrameDecoder::waitNewer(
 
 void StereoFrameDecoder::receive() {
   while (running_) {
-    // Whatever arrived while the previous pair decoded has replaced its predecessors in the
-    // client's one-frame slot: we always take the newest.
-    if (auto received = client_.waitForFrame(options_.poll)) decodePair(std::move(*received));
+    {
+      // Room for another pair: else frames wait in the client's one-frame slot, newest wins.
+      std::unique_lock lock(in_flight_mutex_);
+      if (!in_flight_changed_.wait_for(lock, options_.poll, [&] { return in_flight_.size() < max_in_flight_; }))
+        continue;
+    }
+    if (auto received = client_.waitForFrame(options_.poll)) submitPair(std::move(*received));
   }
 }
 
-void StereoFrameDecoder::decodePair(link::ReceivedFrame received) {
+void StereoFrameDecoder::submitPair(link::ReceivedFrame received) {
   const auto& f = received.frame;
   const auto job = [&](std::span<const std::uint8_t> jpeg, const link::proto::CameraImage& image) {
     DecodeJob j;
@@ -93,10 +105,44 @@ void StereoFrameDecoder::decodePair(link::ReceivedFrame received) {
     j.upload_slots = options_.upload_slots;
     return j;
   };
-  auto left_future = pool_.submit(job(received.left_jpeg, f.left()));
-  auto right_future = pool_.submit(job(received.right_jpeg, f.right()));
-  DecodeResult left = left_future.get();
-  DecodeResult right = right_future.get();
+  PairInFlight pair;
+  pair.left = pool_.submit(job(received.left_jpeg, f.left()));
+  pair.right = pool_.submit(job(received.right_jpeg, f.right()));
+  pair.received = std::move(received);
+  {
+    std::lock_guard lock(in_flight_mutex_);
+    in_flight_.push_back(std::move(pair));
+  }
+  in_flight_changed_.notify_all();
+}
+
+void StereoFrameDecoder::publish() {
+  for (;;) {
+    PairInFlight* oldest = nullptr;
+    {
+      std::unique_lock lock(in_flight_mutex_);
+      in_flight_changed_.wait(lock, [&] { return !in_flight_.empty() || receiving_done_; });
+      if (in_flight_.empty()) return;  // receiving done and every pair published
+      oldest = &in_flight_.front();  // stays put: the receiver only appends
+    }
+    oldest->left.wait();
+    oldest->right.wait();
+    PairInFlight pair;
+    {
+      std::lock_guard lock(in_flight_mutex_);
+      pair = std::move(in_flight_.front());
+      in_flight_.pop_front();
+    }
+    in_flight_changed_.notify_all();
+    finishPair(pair);
+  }
+}
+
+void StereoFrameDecoder::finishPair(PairInFlight& pair) {
+  link::ReceivedFrame& received = pair.received;
+  const auto& f = received.frame;
+  DecodeResult left = pair.left.get();
+  DecodeResult right = pair.right.get();
   const std::int64_t decoded_ns = link::linkNowNs();
   if (left.error != JpegDecodeError::kNone) {
     drop(stereoDropReason(left.error), f.sequence(), "left", left.message);

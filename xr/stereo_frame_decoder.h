@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @brief The operator's video path from the link to the renderer (DESIGN.md §4): a receive
-///        thread takes the newest stereo frame from the LinkClient (latest wins: frames that
-///        arrive while one is decoding replace each other and are counted "superseded"), decodes
-///        left and right in parallel on a DecodePool, checks each JPEG header against the
+///        thread takes the newest stereo frame from the LinkClient and starts decoding left and
+///        right in parallel on a DecodePool; up to pairs_in_flight pairs decode at once, so a
+///        pool of several threads keeps up with frames that take longer to decode than they take
+///        to arrive (latest wins: frames that arrive while that many pairs decode replace each
+///        other and are counted "superseded"). A publish thread takes the pairs in arrival
+///        order as they finish, checks each JPEG header against the
 ///        message's width × height, stamps decoded_ns (client clock) and publishes the pair into a
 ///        one-slot, latest-wins hand-over. The renderer takes `newest()` and wraps the planes in
 ///        SourceImage::yuv without copying them. Bad frames (corrupt, truncated, too large,
@@ -16,6 +19,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string_view>
@@ -68,6 +72,9 @@ class StereoFrameDecoder {
     int max_side = static_cast<int>(link::kMaxImageSide);  ///< px per side
     bool check_message_size = true;  ///< header must equal the message's width × height
     std::chrono::milliseconds poll{20};  ///< how long the receive thread waits per round
+    /// Stereo pairs decoding at once (each takes two pool threads): at most this, at most half
+    /// the pool's threads, at least one.
+    int pairs_in_flight = 2;
     std::size_t stats_window = 512;      ///< samples kept per latency figure
     /// The renderer's upload ring: images are decoded into its GL buffer memory when a slot is
     /// free (null: always into the pool's own memory).
@@ -93,8 +100,15 @@ class StereoFrameDecoder {
   const DecodePool& pool() const { return pool_; }
 
  private:
+  struct PairInFlight {
+    link::ReceivedFrame received;
+    std::future<DecodeResult> left, right;
+  };
   void receive();
-  void decodePair(link::ReceivedFrame received);
+  void submitPair(link::ReceivedFrame received);
+  /// Publishes decoded pairs in the order they arrived, as each finishes.
+  void publish();
+  void finishPair(PairInFlight& pair);
   void drop(FrameDropReason reason, std::uint64_t sequence, const char* side, const std::string& why);
 
   link::LinkClient& client_;
@@ -117,8 +131,13 @@ class StereoFrameDecoder {
   std::array<std::deque<double>, 6> samples_ms_;
 
   DecodePool pool_;  // after the state its workers' results feed; before the thread that uses it
+  std::size_t max_in_flight_ = 1;
+  std::mutex in_flight_mutex_;
+  std::condition_variable in_flight_changed_;
+  std::deque<PairInFlight> in_flight_;  ///< oldest first
+  bool receiving_done_ = false;         ///< under in_flight_mutex_: the publisher drains and stops
   std::atomic<bool> running_{true};
-  std::thread receiver_;
+  std::thread receiver_, publisher_;
 };
 
 }  // namespace telesphere::xr

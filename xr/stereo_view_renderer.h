@@ -30,8 +30,9 @@ namespace telesphere::xr {
 class StereoViewRenderer {
  public:
   /// Images (a stereo frame is two) the upload ring holds by default: one pair shown, one
-  /// published and unread, one decoding, one whose copy is still in flight.
-  static constexpr int kDefaultUploadSlots = 8;
+  /// published and unread, two decoding (StereoFrameDecoder's pairs_in_flight), one whose copy is
+  /// still in flight.
+  static constexpr int kDefaultUploadSlots = 10;
 
   /// `calibration` needs two cameras; their models are rescaled to the frames' resolution.
   /// `upload_slots` 0: no ring, every image is uploaded from the decoder's memory.

@@ -22,7 +22,7 @@ using namespace std::chrono_literals;
 
 link::LinkEndpoints stereoEndpoints(int n) {
   link::LinkEndpoints e;
-  e.base_port = 27300 + 10 * n;
+  e.base_port = 27340 + 8 * n;  // four ports each, clear of test_head_loop's 27200-27330 and 27380
   return e;
 }
 
@@ -156,10 +156,14 @@ TEST(StereoFrameDecoder, BadFramesAreDroppedWithTheirReasonAndTheStreamResumes) 
   EXPECT_LE(rig.decoder.pool().planesAllocated(), 8u);  // bad frames allocated nothing extra
 }
 
-TEST(StereoFrameDecoder, ASlowConsumerSeesOnlyNewerFramesAndNothingQueues) {
+/// Threads in the pool: 1 decodes left and right one after the other, one pair at a time; 4 has
+/// two pairs in flight, which must still come out in arrival order.
+class StereoFrameDecoderThreads : public ::testing::TestWithParam<int> {};
+
+TEST_P(StereoFrameDecoderThreads, ASlowConsumerSeesOnlyNewerFramesAndNothingQueues) {
   StereoFrameDecoder::Options options;
-  options.threads = 1;  // slow: left and right one after the other
-  Rig rig(2, options);
+  options.threads = GetParam();
+  Rig rig(GetParam() == 1 ? 2 : 4, options);
   ASSERT_TRUE(rig.connect());
   // Large enough that decoding takes far longer than publishing a burst.
   constexpr int kW = 1280, kH = 960;
@@ -193,9 +197,12 @@ TEST(StereoFrameDecoder, ASlowConsumerSeesOnlyNewerFramesAndNothingQueues) {
   // queued: decoding one pair takes far longer than publishing the burst.
   EXPECT_GT(s.dropped(FrameDropReason::kSuperseded) + s.replaced_unread, 0u);
   // Plane sets stay bounded (slot + held + in flight + free), and the held frame is intact.
-  EXPECT_LE(rig.decoder.pool().planesAllocated(), 10u);
+  // (4 threads: a second pair in flight, two more sets.)
+  EXPECT_LE(rig.decoder.pool().planesAllocated(), GetParam() == 1 ? 10u : 12u);
   EXPECT_TRUE(samePlanes(*held->left, held_copy));
 }
+
+INSTANTIATE_TEST_SUITE_P(Pool, StereoFrameDecoderThreads, ::testing::Values(1, 4));
 
 TEST(StereoFrameDecoder, StatsCoverEveryStage) {
   Rig rig(3);
