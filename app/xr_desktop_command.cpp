@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @brief `telesphere-xr desktop`: options, the window loop, keys → robot requests, statistics.
+/// @brief `telesphere-xr desktop`: options, the window as the operator loop's output, keys → head
+///        and robot requests between frames, statistics.
 #include "app/xr_desktop_command.h"
 
 #include <algorithm>
@@ -11,14 +12,14 @@
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "shaders/offscreen_target.h"
 #include "xr/eyes_png.h"
 #include "xr/desktop_window.h"
+#include "xr/operator_loop.h"
 #include "xr/operator_view.h"
+#include "xr/paced_output.h"
 #include "xr/virtual_head.h"
 
 namespace telesphere::app {
@@ -30,6 +31,22 @@ extern "C" void onDesktopSignal(int) { g_desktop_stop = true; }
 bool desktopParseSize(const std::string& text, int& w, int& h) {
   return std::sscanf(text.c_str(), "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 8192 && h <= 8192;
 }
+
+/// The window as the operator loop's output: both eyes presented side by side.
+class DesktopOutput final : public xr::PacedOutput {
+ public:
+  DesktopOutput(const xr::PacedOutputOptions& options, HeadAt head, xr::DesktopWindow& window)
+      : PacedOutput(options, std::move(head)), window_(window) {}
+
+ protected:
+  bool present(std::string* error) override {
+    return window_.present(left().framebuffer(), right().framebuffer(), options().eye_width, options().eye_height,
+                           error);
+  }
+
+ private:
+  xr::DesktopWindow& window_;
+};
 
 }  // namespace
 
@@ -75,24 +92,21 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
 
   auto window = xr::DesktopWindow::create(win_w, win_h, "telesphere-xr desktop", &error);
   if (!window) return fail(2, error);
-  gl::OffscreenTarget left(eye_w, eye_h), right(eye_w, eye_h);
-  if (!left.complete() || !right.complete()) return fail(3, "cannot create " + o.eye_size + " eye targets");
+  xr::VirtualHead head;
+  xr::PacedOutputOptions paced;  // about 100° × 104° like the paper's headset, at this aspect
+  paced.rate_hz = o.rate_hz;
+  paced.ipd = o.ipd;
+  paced.eye_width = eye_w;
+  paced.eye_height = eye_h;
+  DesktopOutput output(paced, [&](double) { return head.pose(); }, *window);
+  if (!output.complete()) return fail(3, "cannot create " + o.eye_size + " eye targets");
 
   xr::OperatorViewOptions view_options;
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
   xr::OperatorView view(*calibration, view_options);
-  xr::VirtualHead head;
-  Eigen::Isometry3d T_hmd_eye[2];
-  for (int eye = 0; eye < 2; ++eye) {
-    T_hmd_eye[eye] = Eigen::Isometry3d::Identity();
-    T_hmd_eye[eye].translation().x() = (eye == 0 ? -0.5 : 0.5) * o.ipd;
-  }
-  xr::EyeView eye_view;  // about 100° × 104° like the paper's headset, at this aspect
-  eye_view.width = eye_w;
-  eye_view.height = eye_h;
-  eye_view.fov = {-0.87, 0.87, 0.90, -0.90};
+  xr::OperatorLoop loop(view, output);
   std::cout << "telesphere-xr desktop: W/A/S/D walk, R/F up/down, drag with the left mouse button to look, "
                "N capture the nominal pose, M cycle the mode, +/- sphere radius, Home reset, Esc quit"
             << std::endl;
@@ -100,16 +114,12 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   std::signal(SIGINT, onDesktopSignal);
   std::signal(SIGTERM, onDesktopSignal);
   using Clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / o.rate_hz));
-  const auto to_ns = [](Clock::time_point t) {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-  };
   const auto t0 = Clock::now();
-  auto last = t0, next = t0, last_title = t0;
-  std::uint64_t frames = 0, frames_at_title = 0, missed = 0;
-  double last_render_ms = 0;
+  auto last = t0, last_title = t0;
+  std::uint64_t frames_at_title = 0;
   int code = 0;
   while (!g_desktop_stop.load() && !window->shouldClose()) {
+    output.waitUntilDue();  // then the keys and mouse, so the frame's head pose is as fresh as can be
     const auto now = Clock::now();
     if (o.duration_s > 0 && now - t0 >= std::chrono::duration<double>(o.duration_s)) break;
     window->pollEvents();
@@ -122,24 +132,13 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (commands.cycle_mode) view.requestNextMode();
     if (commands.radius_up) view.requestRadiusScaled(1.25);
     if (commands.radius_down) view.requestRadiusScaled(1.0 / 1.25);
-
-    // Shown after this frame's work: the last frame's render time ahead.
-    const std::int64_t display_ns = to_ns(now) + std::int64_t(last_render_ms * 1e6);
-    const Eigen::Isometry3d T_vr_hmd = head.pose();
-    if (!view.beginFrame(T_vr_hmd, display_ns, true, &error)) { code = fail(3, error); break; }
-    bool ok = true;
-    for (int eye = 0; eye < 2 && ok; ++eye)
-      ok = view.renderEye(eye, T_vr_hmd * T_hmd_eye[eye], eye_view, eye == 0 ? left.framebuffer() : right.framebuffer(),
-                          &error);
-    if (!ok || !window->present(left.framebuffer(), right.framebuffer(), eye_w, eye_h, &error)) {
+    if (!loop.step(&error)) {
       code = fail(3, error);
       break;
     }
     const auto done = Clock::now();
-    last_render_ms = std::chrono::duration<double, std::milli>(done - now).count();
-    ++frames;
-    view.endFrame(to_ns(done), last_render_ms, missed);
     if (done - last_title >= std::chrono::seconds(1)) {
+      const std::uint64_t frames = loop.stats().frames;
       char title[256];
       const xr::RenderSettings& s = view.settings();
       char robot[64] = "";
@@ -154,22 +153,16 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
       last_title = done;
       frames_at_title = frames;
     }
-    next += period;
-    if (done > next) {
-      const auto behind = (done - next) / period + 1;
-      missed += std::uint64_t(behind);
-      next += behind * period;
-    }
-    std::this_thread::sleep_until(next);
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const xr::OperatorLoopStats loop_stats = loop.stats();
+  const std::uint64_t frames = loop_stats.frames, missed = loop_stats.missed_frames;
   const xr::OperatorViewStats s = view.stats();
   std::printf("desktop: %llu frames, %.1f fps, render+present ms p50/p99 %.1f/%.1f, %llu missed at %.0f Hz, "
               "%llu camera frames shown, image age p50/p99 %.1f/%.1f ms, %llu head targets sent, nominal from the "
               "robot: %s\n",
-              static_cast<unsigned long long>(frames), seconds > 0 ? double(frames) / seconds : 0.0, s.render_ms_p50,
+              static_cast<unsigned long long>(frames), loop_stats.fps, s.render_ms_p50,
               s.render_ms_p99, static_cast<unsigned long long>(missed), o.rate_hz,
               static_cast<unsigned long long>(s.stereo_frames_shown), s.image_age_p50_ms, s.image_age_p99_ms,
               static_cast<unsigned long long>(s.head_targets_sent), s.nominal_from_robot ? "yes" : "no");
@@ -177,7 +170,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     const Eigen::Vector3d p = head.position();
     nlohmann::json j = operatorStatsJson(s);
     j.update({{"frames", frames},
-              {"fps", seconds > 0 ? double(frames) / seconds : 0.0},
+              {"fps", loop_stats.fps},
               {"missed_frames", missed},
               {"mode", std::string(telesphere::link::visualModeName(view.settings().mode))},
               {"radius", view.settings().radius},
@@ -186,7 +179,8 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
               {"head_pitch", head.pitch()},
               {"last_control", view.lastControlResult()}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
-    if (code == 0 && !xr::writeEyesPng(o.out_dir + "/eyes_last.png", left, right, &error)) code = fail(3, error);
+    if (code == 0 && !xr::writeEyesPng(o.out_dir + "/eyes_last.png", output.left(), output.right(), &error))
+      code = fail(3, error);
   }
   return code;
 }

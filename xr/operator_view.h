@@ -45,6 +45,7 @@
 #include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_endpoints.h"
+#include "xr/operator_loop.h"
 #include "xr/render/eye_view.h"
 #include "xr/stereo_frame_decoder.h"
 #include "xr/stereo_view_renderer.h"
@@ -90,7 +91,7 @@ struct OperatorViewStats {
   std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
 };
 
-class OperatorView {
+class OperatorView final : public OperatorScene {
  public:
   OperatorView(const calib::SystemCalibration& calibration, const OperatorViewOptions& options);
   ~OperatorView();
@@ -102,11 +103,11 @@ class OperatorView {
   /// newest stereo frame, takes mode/radius/nominal from the robot's state. False with the
   /// reason when the upload fails (a frame that does not fit the calibration).
   bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid,
-                  std::string* error);
+                  std::string* error) override;
   /// Renders eye `eye` (0 left, 1 right) whose pose in the VR frame is `T_vr_eye` into
   /// `framebuffer` (fov and size from `view`). Border colour before the first frame.
   bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
-                 GLuint framebuffer, std::string* error);
+                 GLuint framebuffer, std::string* error) override;
   /// The projection map of eye `eye` for the same pose (StereoViewRenderer::renderProjectionMap).
   bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
                            GLuint framebuffer, std::string* error) {
@@ -114,7 +115,7 @@ class OperatorView {
   }
   /// End of the frame: `shown_ns` is when it is displayed (link clock), `render_ms` the work
   /// of both eyes. Sends XrStats to the robot once a second.
-  void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames);
+  void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) override;
 
   /// How often a telemetry batch goes to the robot (for the console).
   static constexpr std::int64_t kTelemetryPeriodNs = 100'000'000;
@@ -146,7 +147,7 @@ class OperatorView {
   const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
   /// The pose an eye at T_vr_eye is rendered with in the frame on the GPU (T_cam_eye); nothing
   /// before the first frame.
-  std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const {
+  std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const override {
     return renderer_.cameraFromEye(eye, T_robot_vr_, T_vr_eye);
   }
   /// The last control reply's text ("capture_nominal: ok", "set_mode: refused: …"), for a UI.
