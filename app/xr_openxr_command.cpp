@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-/// @brief `telesphere-xr openxr`: options, the session loop (with reconnect), the per-eye work,
-///        readback, statistics.
+/// @brief `telesphere-xr openxr`: options, sessions (with reconnect) around the operator loop over
+///        an OpenXrOutput, the per-eye extras (pose log, shown planes, readback, mirror),
+///        statistics.
 #include "app/xr_openxr_command.h"
 
 #include <algorithm>
@@ -20,17 +21,16 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "robot/link/head_angles.h"
-#include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
 #include "shaders/framebuffer_readback.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 #include "xr/desktop_window.h"
+#include "xr/openxr_output.h"
 #include "xr/openxr_session.h"
-#include "xr/openxr_test_scene.h"
+#include "xr/openxr_test_scene_view.h"
+#include "xr/operator_loop.h"
 #include "xr/operator_view.h"
-#include "xr/render/spherical_renderer.h"
 #include "xr/render/yuv_planes_file.h"
 
 namespace telesphere::app {
@@ -56,14 +56,15 @@ std::string openXrStates(const xr::SessionStateMachine& machine) {
 
 /// Counters over all sessions of one run.
 struct OpenXrRunCounters {
-  std::uint64_t waited = 0, submitted = 0, not_rendered = 0, missed = 0;
+  std::uint64_t waited = 0, submitted = 0, not_rendered = 0;
   int sessions = 0;
   bool focused_ever = false;
   /// Submitted frames per second from the first submitted frame on (session start-up excluded).
   std::optional<std::chrono::steady_clock::time_point> first_submitted, last_submitted;
 };
 
-/// The per-eye work of one run: the robot's frames through OperatorView, or the test scene.
+/// What one run draws (the robot's frames through OperatorView, or the test scene), and what it
+/// does with each eye besides: the pose log and shown planes (readback mode), the mirror window.
 class OpenXrEyeWork {
  public:
   OpenXrEyeWork(const OpenXrCommandOptions& o, const xr::RenderSettings& settings) : o_(o), settings_(settings) {}
@@ -88,11 +89,8 @@ class OpenXrEyeWork {
       pose_log_ << std::setprecision(17);
     }
     if (o_.test_scene) {
-      camera_ = std::make_unique<xr::GpuCamera>(xr::OpenXrTestScene::camera(), xr::OpenXrTestScene::kImageWidth,
-                                                xr::OpenXrTestScene::kImageHeight);
-      if (!camera_->upload(xr::OpenXrTestScene::image(), error)) return 3;
-      if (!renderer_.prepare(*camera_, settings_.path, error)) return 3;
-      return 0;
+      test_scene_ = xr::OpenXrTestSceneView::create(settings_, error);
+      return test_scene_ ? 0 : 3;
     }
     auto calibration = calib::loadCalibrationFile(o_.calib);
     if (!calibration) {
@@ -112,55 +110,40 @@ class OpenXrEyeWork {
     return 0;
   }
 
+  xr::OperatorScene& scene() { return view_ ? static_cast<xr::OperatorScene&>(*view_) : *test_scene_; }
+
   void newSession(int session) {
     session_ = session;
-    T_vr_nom_.reset();
+    if (test_scene_) test_scene_->restart();
   }
 
-  /// Renders one eye; false (reason in error()) stops the run.
-  bool render(const xr::OpenXrEye& eye) {
-    xr::EyeView view;
-    view.fov = eye.fov;
-    view.width = eye.width;
-    view.height = eye.height;
+  /// After an eye was drawn: the pose it was drawn with, and the planes it showed (readback mode).
+  bool afterEye(const xr::OpenXrEye& eye, std::string* error) {
+    if (!pose_log_.is_open()) return true;
     std::uint64_t sequence = 0;
-    xr::RenderSettings used = settings_;
-    if (view_) {
-      if (eye.eye == 0) {
-        work_start_ns_ = link::linkNowNs();
-        if (!view_->beginFrame(eye.T_vr_hmd, eye.predicted_display_steady_ns, true, &error_)) return false;
+    const xr::RenderSettings used = view_ ? view_->settings() : settings_;
+    if (view_ && view_->frame()) {
+      const auto& frame = view_->frame();
+      sequence = frame->frame.sequence();
+      if (saved_planes_.insert({sequence, eye.eye}).second) {
+        char name[80];
+        std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);
+        if (!xr::writeYuvPlanes(o_.readback_dir + name, *(eye.eye == 0 ? frame->left : frame->right), error))
+          return false;
       }
-      if (!view_->renderEye(eye.eye, eye.T_vr_eye, view, eye.framebuffer, &error_)) return false;
-      used = view_->settings();
-      if (const auto& frame = view_->frame()) {
-        sequence = frame->frame.sequence();
-        view.T_cam_eye = *view_->T_cam_eye(eye.eye, eye.T_vr_eye);  // as rendered
-        if (pose_log_.is_open() && saved_planes_.insert({sequence, eye.eye}).second) {
-          char name[80];
-          std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);
-          if (!xr::writeYuvPlanes(o_.readback_dir + name, *(eye.eye == 0 ? frame->left : frame->right), &error_))
-            return false;
-        }
-      }
-    } else {
-      // The nominal pose: the HMD pose of the session's first rendered frame, pitch and roll removed.
-      if (!T_vr_nom_) T_vr_nom_ = link::withoutPitchAndRoll(eye.T_vr_hmd);
-      view.T_cam_eye = Eigen::Isometry3d(xr::kR_optical_view) * T_vr_nom_->inverse() * eye.T_vr_eye;
-      if (!renderer_.render(*camera_, view, settings_, eye.framebuffer, &error_)) return false;
     }
-    if (pose_log_.is_open()) {
-      const Eigen::Quaterniond q(view.T_cam_eye.linear());
-      const Eigen::Vector3d t = view.T_cam_eye.translation();
-      char png[64];
-      std::snprintf(png, sizeof png, "s%d_frame%05llu_eye%d.png", session_,
-                    static_cast<unsigned long long>(eye.frame_index), eye.eye);
-      pose_log_ << session_ << "," << eye.frame_index << "," << eye.eye << "," << eye.predicted_display_time_ns << ","
-                << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z() << ","
-                << q.w() << "," << view.fov.angle_left << "," << view.fov.angle_right << "," << view.fov.angle_up
-                << "," << view.fov.angle_down << "," << eye.width << "," << eye.height << ","
-                << (eye.srgb_swapchain ? 1 : 0) << "," << png << "," << sequence << ","
-                << telesphere::link::visualModeName(used.mode) << "," << used.radius << "\n";
-    }
+    const Eigen::Isometry3d T_cam_eye = scene().T_cam_eye(eye.eye, eye.T_vr_eye).value_or(Eigen::Isometry3d::Identity());
+    const Eigen::Quaterniond q(T_cam_eye.linear());
+    const Eigen::Vector3d t = T_cam_eye.translation();
+    char png[64];
+    std::snprintf(png, sizeof png, "s%d_frame%05llu_eye%d.png", session_,
+                  static_cast<unsigned long long>(eye.frame_index), eye.eye);
+    pose_log_ << session_ << "," << eye.frame_index << "," << eye.eye << "," << eye.predicted_display_time_ns << ","
+              << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z() << ","
+              << q.w() << "," << eye.fov.angle_left << "," << eye.fov.angle_right << "," << eye.fov.angle_up
+              << "," << eye.fov.angle_down << "," << eye.width << "," << eye.height << ","
+              << (eye.srgb_swapchain ? 1 : 0) << "," << png << "," << sequence << ","
+              << telesphere::link::visualModeName(used.mode) << "," << used.radius << "\n";
     return true;
   }
 
@@ -188,13 +171,6 @@ class OpenXrEyeWork {
       std::cerr << "telesphere-xr openxr: " << write_error << "\n";
   }
 
-  /// After a submitted frame: statistics (robot mode).
-  void frameDone(const xr::OpenXrFrameResult& frame, std::uint64_t missed) {
-    if (!view_ || !frame.submitted) return;
-    view_->endFrame(frame.predicted_display_steady_ns, double(link::linkNowNs() - work_start_ns_) * 1e-6, missed);
-  }
-
-  const std::string& error() const { return error_; }
   xr::OperatorView* view() { return view_.get(); }
 
   /// What the mirror window shows now, as a PNG (false with the reason when nothing was shown).
@@ -233,14 +209,10 @@ class OpenXrEyeWork {
   const OpenXrCommandOptions& o_;
   xr::RenderSettings settings_;
   std::unique_ptr<xr::OperatorView> view_;
-  std::unique_ptr<xr::GpuCamera> camera_;
-  xr::SphericalRenderer renderer_;
-  std::optional<Eigen::Isometry3d> T_vr_nom_;
+  std::unique_ptr<xr::OpenXrTestSceneView> test_scene_;
   std::ofstream pose_log_;
   std::set<std::pair<std::uint64_t, int>> saved_planes_;
-  std::string error_;
   int session_ = 0;
-  std::int64_t work_start_ns_ = 0;
   std::array<std::unique_ptr<gl::OffscreenTarget>, 2> mirror_;
   bool mirror_ready_ = false;
 };
@@ -248,14 +220,14 @@ class OpenXrEyeWork {
 enum class SessionEnd { kFinished, kLost, kFailed };
 
 /// Runs one session until it ends; the exit code in *code when it failed.
-SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, const OpenXrCommandOptions& o,
-                            xr::DesktopWindow* window, OpenXrRunCounters& counters, int* code) {
+SessionEnd runOpenXrSession(xr::OpenXrSession& session, xr::OpenXrOutput& output, xr::OperatorLoop& loop,
+                            OpenXrEyeWork& work, const OpenXrCommandOptions& o, xr::DesktopWindow* window,
+                            OpenXrRunCounters& counters, int* code) {
   std::string error;
   std::optional<std::chrono::steady_clock::time_point> exit_asked;
   bool interrupted_reported = false;
-  std::int64_t last_display_xr = 0;
-  const auto render = [&](const xr::OpenXrEye& eye) { return work.render(eye); };
-  const auto read_back = [&](const xr::OpenXrEye& eye) { work.readBack(eye); };
+  output.setSession(&session);
+  loop.outputRestarted();
   while (true) {
     if (window && !work.mirror(*window)) g_openxr_interrupted = 1;  // the mirror window was closed
     const bool want_exit = g_openxr_interrupted != 0 || (o.frames > 0 && counters.submitted >= std::uint64_t(o.frames));
@@ -291,38 +263,24 @@ SessionEnd runOpenXrSession(xr::OpenXrSession& session, OpenXrEyeWork& work, con
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
       continue;
     }
-    xr::OpenXrFrameResult frame;
-    if (!session.frame(render, read_back, &frame, &error)) {
+    if (!loop.step(&error)) {
       if (session.lost()) {
         std::cerr << "telesphere-xr openxr: the OpenXR runtime went away during the session (" << error << ")\n";
         return SessionEnd::kLost;
       }
-      *code = openXrFail(3, work.error().empty() ? error : work.error());
+      *code = openXrFail(3, error);
       return SessionEnd::kFailed;
     }
-    if (!work.error().empty()) {
-      *code = openXrFail(3, work.error());
-      return SessionEnd::kFailed;
-    }
-    if (frame.waited) {
-      ++counters.waited;
-      // Display periods skipped between this frame and the previous one: missed refreshes.
-      if (last_display_xr != 0 && frame.predicted_display_period_ns > 0) {
-        const std::int64_t gap = frame.predicted_display_time_ns - last_display_xr;
-        const std::int64_t periods = (gap + frame.predicted_display_period_ns / 2) / frame.predicted_display_period_ns;
-        if (periods > 1) counters.missed += std::uint64_t(periods - 1);
-      }
-      last_display_xr = frame.predicted_display_time_ns;
-    }
-    if (frame.submitted) {
+    const xr::OperatorOutput::Shown& shown = loop.last();
+    if (shown.began) ++counters.waited;
+    if (shown.drawn) {
       ++counters.submitted;
       counters.last_submitted = std::chrono::steady_clock::now();
       if (!counters.first_submitted) counters.first_submitted = counters.last_submitted;
-    } else if (frame.waited) {
+    } else if (shown.began) {
       ++counters.not_rendered;
     }
-    work.frameDone(frame, counters.missed);
-    if (frame.capture_nominal_pressed && work.view()) {
+    if (output.lastResult().capture_nominal_pressed && work.view()) {
       std::cout << "controller: capture the nominal pose" << std::endl;
       work.view()->requestCaptureNominal();
     }
@@ -403,6 +361,9 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   }
   OpenXrEyeWork work(o, *parsed);
   if (const int code = work.prepare(&error)) return openXrFail(code, error);
+  xr::OpenXrOutput output([&](const xr::OpenXrEye& eye, std::string* eye_error) { return work.afterEye(eye, eye_error); },
+                          [&](const xr::OpenXrEye& eye) { work.readBack(eye); });
+  xr::OperatorLoop loop(work.scene(), output);
 
   std::signal(SIGINT, onOpenXrInterrupt);
   std::signal(SIGTERM, onOpenXrInterrupt);
@@ -434,7 +395,8 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
               << "; space: " << session->referenceSpace()
               << "; swapchain: " << xr::glFormatName(session->swapchainFormat().format) << " " << session->eyeWidth()
               << "x" << session->eyeHeight() << " per eye" << std::endl;
-    const SessionEnd end = runOpenXrSession(*session, work, o, window.get(), counters, &code);
+    const SessionEnd end = runOpenXrSession(*session, output, loop, work, o, window.get(), counters, &code);
+    output.setSession(nullptr);
     if (!states.empty()) states += " | ";
     states += openXrStates(session->state());
     session.reset();
@@ -457,7 +419,8 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   if (counters.sessions == 0) return code;  // the one message above says why
   std::cout << "frames: requested " << o.frames << ", waited " << counters.waited << ", submitted "
             << counters.submitted << " with a projection layer, " << counters.not_rendered
-            << " ended without layers (not visible or pose invalid), " << counters.missed << " display periods missed\n";
+            << " ended without layers (not visible or pose invalid), " << loop.stats().missed_frames
+            << " display periods missed\n";
   std::cout << "sessions: " << counters.sessions << "\n";
   std::cout << "states: " << (states.empty() ? std::string("(none)") : states) << "\n";
   std::cout << "focused: " << (counters.focused_ever ? "yes" : "no") << std::endl;
@@ -466,7 +429,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
                       {"frames_waited", counters.waited},
                       {"frames_submitted", counters.submitted},
                       {"frames_without_layers", counters.not_rendered},
-                      {"missed_frames", counters.missed},
+                      {"missed_frames", loop.stats().missed_frames},
                       {"fps", submit_seconds > 0 ? double(counters.submitted - 1) / submit_seconds : 0.0},
                       {"run_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"focused", counters.focused_ever}};
