@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-/// @brief `telesphere-xr openxr`: options, sessions (with reconnect) around the operator loop over
-///        an OpenXrOutput, the per-eye extras (pose log, shown planes, readback, mirror),
+/// @brief `telesphere-xr openxr`: options, the GL context, what is drawn (robot or test scene),
+///        the per-eye extras (pose log, shown planes, readback, mirror), and the wiring of
+///        xr::runOpenXrSessions (sessions, reconnect, the operator loop over an OpenXrOutput);
 ///        statistics.
 #include "app/xr_openxr_command.h"
 
@@ -27,6 +28,7 @@
 #include "shaders/png_io.h"
 #include "xr/desktop_window.h"
 #include "xr/openxr_output.h"
+#include "xr/openxr_run.h"
 #include "xr/openxr_session.h"
 #include "xr/openxr_test_scene_view.h"
 #include "xr/operator_loop.h"
@@ -36,32 +38,13 @@
 namespace telesphere::app {
 namespace {
 
-volatile std::sig_atomic_t g_openxr_interrupted = 0;
-extern "C" void onOpenXrInterrupt(int) { g_openxr_interrupted = 1; }
+std::atomic<bool> g_openxr_stop{false};
+extern "C" void onOpenXrInterrupt(int) { g_openxr_stop = true; }
 
 int openXrFail(int code, const std::string& message) {
   std::cerr << "telesphere-xr openxr: " << message << "\n";
   return code;
 }
-
-std::string openXrStates(const xr::SessionStateMachine& machine) {
-  std::string text;
-  for (const xr::SessionState s : machine.history()) {
-    if (!text.empty()) text.append(" ");
-    text.append(xr::sessionStateName(s));
-  }
-  return text.empty() ? "(none)" : text;
-}
-
-
-/// Counters over all sessions of one run.
-struct OpenXrRunCounters {
-  std::uint64_t waited = 0, submitted = 0, not_rendered = 0;
-  int sessions = 0;
-  bool focused_ever = false;
-  /// Submitted frames per second from the first submitted frame on (session start-up excluded).
-  std::optional<std::chrono::steady_clock::time_point> first_submitted, last_submitted;
-};
 
 /// What one run draws (the robot's frames through OperatorView, or the test scene), and what it
 /// does with each eye besides: the pose log and shown planes (readback mode), the mirror window.
@@ -217,76 +200,6 @@ class OpenXrEyeWork {
   bool mirror_ready_ = false;
 };
 
-enum class SessionEnd { kFinished, kLost, kFailed };
-
-/// Runs one session until it ends; the exit code in *code when it failed.
-SessionEnd runOpenXrSession(xr::OpenXrSession& session, xr::OpenXrOutput& output, xr::OperatorLoop& loop,
-                            OpenXrEyeWork& work, const OpenXrCommandOptions& o, xr::DesktopWindow* window,
-                            OpenXrRunCounters& counters, int* code) {
-  std::string error;
-  std::optional<std::chrono::steady_clock::time_point> exit_asked;
-  bool interrupted_reported = false;
-  output.setSession(&session);
-  loop.outputRestarted();
-  while (true) {
-    if (window && !work.mirror(*window)) g_openxr_interrupted = 1;  // the mirror window was closed
-    const bool want_exit = g_openxr_interrupted != 0 || (o.frames > 0 && counters.submitted >= std::uint64_t(o.frames));
-    if (want_exit && !exit_asked) {
-      if (g_openxr_interrupted != 0 && !interrupted_reported) {
-        std::cout << "interrupted: ending the session" << std::endl;
-        interrupted_reported = true;
-      }
-      exit_asked = std::chrono::steady_clock::now();
-      if (!session.requestExit(&error) && !session.lost()) {
-        *code = openXrFail(3, error);
-        return SessionEnd::kFailed;
-      }
-    }
-    if (exit_asked && std::chrono::steady_clock::now() - *exit_asked > std::chrono::duration<double>(o.exit_timeout_s)) {
-      std::cerr << "telesphere-xr openxr: the runtime did not end the session within " << o.exit_timeout_s
-                << " s of xrRequestExitSession; destroying it\n";
-      return SessionEnd::kFinished;
-    }
-    if (!session.pollEvents(&error) && !session.lost()) {
-      *code = openXrFail(3, error);
-      return SessionEnd::kFailed;
-    }
-    if (session.state().reached(xr::SessionState::kFocused)) counters.focused_ever = true;
-    if (session.lost()) {
-      std::cerr << "telesphere-xr openxr: the OpenXR runtime went away during the session ("
-                << (error.empty() ? std::string("instance loss pending") : error) << ")\n";
-      return SessionEnd::kLost;
-    }
-    if (session.state().finished()) return SessionEnd::kFinished;
-    if (!session.state().shouldSyncFrames()) {
-      // Not running yet (or no longer): events arrive without frames; poll at 100 Hz.
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      continue;
-    }
-    if (!loop.step(&error)) {
-      if (session.lost()) {
-        std::cerr << "telesphere-xr openxr: the OpenXR runtime went away during the session (" << error << ")\n";
-        return SessionEnd::kLost;
-      }
-      *code = openXrFail(3, error);
-      return SessionEnd::kFailed;
-    }
-    const xr::OperatorOutput::Shown& shown = loop.last();
-    if (shown.began) ++counters.waited;
-    if (shown.drawn) {
-      ++counters.submitted;
-      counters.last_submitted = std::chrono::steady_clock::now();
-      if (!counters.first_submitted) counters.first_submitted = counters.last_submitted;
-    } else if (shown.began) {
-      ++counters.not_rendered;
-    }
-    if (output.lastResult().capture_nominal_pressed && work.view()) {
-      std::cout << "controller: capture the nominal pose" << std::endl;
-      work.view()->requestCaptureNominal();
-    }
-  }
-}
-
 }  // namespace
 
 CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
@@ -365,74 +278,60 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
                           [&](const xr::OpenXrEye& eye) { work.readBack(eye); });
   xr::OperatorLoop loop(work.scene(), output);
 
+  xr::OpenXrRunOptions run_options;
+  run_options.session = options;
+  run_options.frames = std::uint64_t(o.frames);
+  run_options.exit_timeout_s = o.exit_timeout_s;
+  run_options.reconnect_s = o.reconnect_s;
+  xr::OpenXrRunHooks hooks;
+  if (window) hooks.between_frames = [&] { return work.mirror(*window); };
+  hooks.capture_nominal = [&] {
+    if (!work.view()) return;
+    std::cout << "controller: capture the nominal pose" << std::endl;
+    work.view()->requestCaptureNominal();
+  };
+  hooks.session_started = [&](const xr::OpenXrSession& session, int number) {
+    work.newSession(number);
+    std::cout << "session " << number << ": runtime: " << session.runtimeName() << "; system: " << session.systemName()
+              << "; binding: " << session.graphicsBinding() << "; space: " << session.referenceSpace()
+              << "; swapchain: " << xr::glFormatName(session.swapchainFormat().format) << " " << session.eyeWidth()
+              << "x" << session.eyeHeight() << " per eye" << std::endl;
+  };
+  hooks.note = [](const std::string& line, bool is_error) {
+    if (is_error) std::cerr << "telesphere-xr openxr: " << line << std::endl;
+    else std::cout << line << std::endl;
+  };
+
   std::signal(SIGINT, onOpenXrInterrupt);
   std::signal(SIGTERM, onOpenXrInterrupt);
-  OpenXrRunCounters counters;
-  int code = 0;
-  std::optional<std::chrono::steady_clock::time_point> reconnect_until;
-  std::string states;
   const auto t0 = std::chrono::steady_clock::now();
-  while (g_openxr_interrupted == 0) {
-    xr::OpenXrFailure failure = xr::OpenXrFailure::kNone;
-    auto session = xr::OpenXrSession::create(options, &error, &failure);
-    if (!session) {
-      if (reconnect_until && failure == xr::OpenXrFailure::kNoRuntime) {
-        if (std::chrono::steady_clock::now() < *reconnect_until) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(500));
-          continue;
-        }
-        code = openXrFail(4, "the OpenXR runtime did not come back within " + std::to_string(o.reconnect_s) +
-                                 " s; start it again and rerun");
-        break;
-      }
-      code = openXrFail(failure == xr::OpenXrFailure::kNoRuntime ? 5 : 3, error);
-      break;
-    }
-    reconnect_until.reset();
-    work.newSession(++counters.sessions);
-    std::cout << "session " << counters.sessions << ": runtime: " << session->runtimeName()
-              << "; system: " << session->systemName() << "; binding: " << session->graphicsBinding()
-              << "; space: " << session->referenceSpace()
-              << "; swapchain: " << xr::glFormatName(session->swapchainFormat().format) << " " << session->eyeWidth()
-              << "x" << session->eyeHeight() << " per eye" << std::endl;
-    const SessionEnd end = runOpenXrSession(*session, output, loop, work, o, window.get(), counters, &code);
-    output.setSession(nullptr);
-    if (!states.empty()) states += " | ";
-    states += openXrStates(session->state());
-    session.reset();
-    if (end == SessionEnd::kFailed) break;
-    if (end == SessionEnd::kFinished) break;
-    // Lost: wait for the runtime to come back, or give up.
-    if (o.reconnect_s <= 0.0 || g_openxr_interrupted != 0) {
-      code = openXrFail(4, "the OpenXR runtime went away during the session; start the runtime again and rerun");
-      break;
-    }
-    std::cout << "the OpenXR runtime went away; waiting up to " << o.reconnect_s << " s for it to come back"
-              << std::endl;
-    reconnect_until = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                                             std::chrono::duration<double>(o.reconnect_s));
-  }
+  const xr::OpenXrRunResult run = xr::runOpenXrSessions(output, loop, run_options, hooks, g_openxr_stop);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  const double submit_seconds =
-      counters.first_submitted ? std::chrono::duration<double>(*counters.last_submitted - *counters.first_submitted).count() : 0.0;
-  if (counters.sessions == 0) return code;  // the one message above says why
-  std::cout << "frames: requested " << o.frames << ", waited " << counters.waited << ", submitted "
-            << counters.submitted << " with a projection layer, " << counters.not_rendered
+  int code = 0;
+  switch (run.end) {
+    case xr::OpenXrRunEnd::kFinished: break;
+    case xr::OpenXrRunEnd::kFailed: code = openXrFail(3, run.error); break;
+    case xr::OpenXrRunEnd::kRuntimeGone: code = openXrFail(4, run.error); break;
+    case xr::OpenXrRunEnd::kNoRuntime: code = openXrFail(5, run.error); break;
+  }
+  if (run.sessions == 0) return code;  // the one message above says why
+  std::cout << "frames: requested " << o.frames << ", waited " << run.waited << ", submitted " << run.submitted
+            << " with a projection layer, " << run.not_rendered
             << " ended without layers (not visible or pose invalid), " << loop.stats().missed_frames
             << " display periods missed\n";
-  std::cout << "sessions: " << counters.sessions << "\n";
-  std::cout << "states: " << (states.empty() ? std::string("(none)") : states) << "\n";
-  std::cout << "focused: " << (counters.focused_ever ? "yes" : "no") << std::endl;
-  nlohmann::json j = {{"sessions", counters.sessions},
+  std::cout << "sessions: " << run.sessions << "\n";
+  std::cout << "states: " << (run.states.empty() ? std::string("(none)") : run.states) << "\n";
+  std::cout << "focused: " << (run.focused_ever ? "yes" : "no") << std::endl;
+  nlohmann::json j = {{"sessions", run.sessions},
                       {"frames_requested", o.frames},
-                      {"frames_waited", counters.waited},
-                      {"frames_submitted", counters.submitted},
-                      {"frames_without_layers", counters.not_rendered},
+                      {"frames_waited", run.waited},
+                      {"frames_submitted", run.submitted},
+                      {"frames_without_layers", run.not_rendered},
                       {"missed_frames", loop.stats().missed_frames},
-                      {"fps", submit_seconds > 0 ? double(counters.submitted - 1) / submit_seconds : 0.0},
+                      {"fps", run.fps},
                       {"run_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
-                      {"focused", counters.focused_ever}};
+                      {"focused", run.focused_ever}};
   if (xr::OperatorView* view = work.view()) {
     const xr::OperatorViewStats s = view->stats();
     std::cout << "robot frames: " << s.stereo_frames_shown << " shown; image age p50/p99 " << s.image_age_p50_ms

@@ -195,8 +195,12 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
     state.set_visual_mode(static_cast<link::proto::VisualMode>(17));
     state.set_sphere_radius(radius);
     state.set_t_ns(state.t_ns() + 1);
-    server_->publishRobotState(state);
-    std::this_thread::sleep_for(50ms);
+    // The nonsense must have arrived before "nothing changed" means anything.
+    ASSERT_TRUE(::telesphere::test::eventually([&] {
+      server_->publishRobotState(state);
+      const auto arrived = view_->client().latestRobotState();
+      return arrived && arrived->t_ns() == state.t_ns();
+    }));
     frame();
     EXPECT_EQ(view_->settings().mode, link::VisualMode::kOrientation3d) << radius;
     EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0) << radius;
