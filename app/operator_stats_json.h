@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "xr/operator_view.h"
+#include "xr/operator/operator_view.h"
 
 namespace telesphere::app {
 

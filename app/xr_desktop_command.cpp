@@ -15,12 +15,12 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "xr/eyes_png.h"
-#include "xr/desktop_window.h"
-#include "xr/operator_loop.h"
-#include "xr/operator_view.h"
-#include "xr/paced_output.h"
-#include "xr/virtual_head.h"
+#include "xr/operator/eyes_png.h"
+#include "xr/desktop/desktop_window.h"
+#include "xr/operator/operator_loop.h"
+#include "xr/operator/operator_view.h"
+#include "xr/operator/paced_output.h"
+#include "xr/desktop/virtual_head.h"
 
 namespace telesphere::app {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief `telesphere-xr desktop`: the operator app without a headset, in a window (GLFW on X11,
-///        EGL context): the mouse and keyboard move a virtual head (xr/virtual_head.h), both eyes
+///        EGL context): the mouse and keyboard move a virtual head (xr/desktop/virtual_head.h), both eyes
 ///        are rendered from telesphere-robot's newest stereo frame and shown side by side, the
 ///        head pose goes to the robot as the head target, and N/M/+/− capture the nominal pose,
 ///        cycle the mode and change the sphere radius through the robot (like the console).

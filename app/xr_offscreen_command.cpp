@@ -12,7 +12,7 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "xr/offscreen_operator.h"
+#include "xr/operator/offscreen_operator.h"
 
 namespace telesphere::app {
 namespace {

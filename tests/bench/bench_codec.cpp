@@ -26,8 +26,8 @@
 #include "shaders/png_io.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
-#include "xr/decode_pool.h"
-#include "xr/jpeg_decoder.h"
+#include "xr/video/decode_pool.h"
+#include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::bench {
 namespace {

@@ -18,8 +18,8 @@
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/prerendered_frames.h"
 #include "tests/bench/replay_video_source.h"
-#include "xr/jpeg_decoder.h"
-#include "xr/stereo_frame_decoder.h"
+#include "xr/video/jpeg_decoder.h"
+#include "xr/video/stereo_frame_decoder.h"
 
 namespace telesphere::bench {
 namespace {

@@ -20,7 +20,7 @@
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/prerendered_frames.h"
 #include "tests/bench/replay_video_source.h"
-#include "xr/offscreen_operator.h"
+#include "xr/operator/offscreen_operator.h"
 
 namespace telesphere::bench {
 namespace {

@@ -28,7 +28,7 @@
 #include "console/study_panel.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "tests/console/console_rig.h"
-#include "xr/trial_indicator.h"
+#include "xr/operator/trial_indicator.h"
 
 namespace telesphere::console {
 namespace {

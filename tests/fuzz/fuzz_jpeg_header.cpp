@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "xr/jpeg_decoder.h"
+#include "xr/video/jpeg_decoder.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static telesphere::xr::JpegDecoder decoder;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief Readers of the two ground-truth files of a simulated run: the robot's per-frame truth
 ///        (robot/ground_truth_log.h, `telesphere-robot --truth-out`) and the operator app's
-///        projection maps (xr/projection_map_recorder.h, `telesphere-xr offscreen --truth-out`).
+///        projection maps (xr/operator/projection_map_recorder.h, `telesphere-xr offscreen --truth-out`).
 #pragma once
 
 #include <Eigen/Geometry>

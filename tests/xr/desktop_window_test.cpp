@@ -23,7 +23,7 @@
 
 #include "shaders/egl_context.h"
 #include "shaders/gl_objects.h"
-#include "xr/desktop_window.h"
+#include "xr/desktop/desktop_window.h"
 
 // Xlib last: its macros (Success, None, Bool, Status, …) break Eigen and gtest headers.
 #include <X11/Xlib.h>

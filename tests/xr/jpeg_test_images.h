@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "xr/jpeg_decoder.h"
+#include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::xr::test {
 

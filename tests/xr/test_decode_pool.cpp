@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/xr/jpeg_test_images.h"
-#include "xr/decode_pool.h"
+#include "xr/video/decode_pool.h"
 #include "xr/render/source_image.h"
 
 namespace telesphere::xr {

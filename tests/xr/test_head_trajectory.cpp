@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "xr/head_trajectory.h"
+#include "xr/operator/head_trajectory.h"
 
 namespace telesphere::xr {
 namespace {

@@ -4,7 +4,7 @@
 #include <gtest/gtest.h>
 #include <turbojpeg.h>
 
-#include "xr/jpeg_decoder.h"
+#include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::xr {
 namespace {

@@ -3,8 +3,8 @@
 ///        the call's text and place, qualified successes, and the swapchain format choice.
 #include <gtest/gtest.h>
 
-#include "xr/openxr_check.h"
-#include "xr/openxr_swapchain_format.h"
+#include "xr/openxr/openxr_check.h"
+#include "xr/openxr/openxr_swapchain_format.h"
 
 namespace telesphere::xr {
 namespace {

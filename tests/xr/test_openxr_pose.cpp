@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "xr/openxr_pose.h"
-#include "xr/openxr_test_scene.h"
+#include "xr/openxr/openxr_pose.h"
+#include "xr/openxr/openxr_test_scene.h"
 
 namespace telesphere::xr {
 namespace {

@@ -10,7 +10,7 @@
 #include <deque>
 #include <vector>
 
-#include "xr/operator_loop.h"
+#include "xr/operator/operator_loop.h"
 
 namespace telesphere::xr {
 namespace {

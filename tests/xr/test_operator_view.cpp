@@ -19,10 +19,10 @@
 #include "robot/link/link_server.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
-#include "xr/trial_indicator.h"
+#include "xr/operator/trial_indicator.h"
 #include "shaders/offscreen_target.h"
 #include "tests/xr/jpeg_test_images.h"
-#include "xr/operator_view.h"
+#include "xr/operator/operator_view.h"
 
 namespace telesphere::xr {
 namespace {

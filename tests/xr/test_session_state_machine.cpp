@@ -6,7 +6,7 @@
 
 #include <random>
 
-#include "xr/session_state_machine.h"
+#include "xr/openxr/session_state_machine.h"
 
 namespace telesphere::xr {
 namespace {

@@ -13,7 +13,7 @@
 #include "robot/link/link_server.h"
 #include "tests/xr/jpeg_test_images.h"
 #include "xr/render/source_image.h"
-#include "xr/stereo_frame_decoder.h"
+#include "xr/video/stereo_frame_decoder.h"
 
 namespace telesphere::xr {
 namespace {

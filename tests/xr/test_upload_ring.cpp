@@ -14,7 +14,7 @@
 #include "calib/camera_resolution.h"
 #include "shaders/egl_context.h"
 #include "tests/xr/jpeg_test_images.h"
-#include "xr/decode_pool.h"
+#include "xr/video/decode_pool.h"
 #include "xr/render/gpu_camera.h"
 #include "xr/render/upload_ring.h"
 

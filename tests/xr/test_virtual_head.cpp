@@ -8,7 +8,7 @@
 #include <limits>
 #include <random>
 
-#include "xr/virtual_head.h"
+#include "xr/desktop/virtual_head.h"
 
 namespace telesphere::xr {
 namespace {

@@ -29,7 +29,7 @@
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
-#include "xr/openxr_test_scene.h"
+#include "xr/openxr/openxr_test_scene.h"
 #include "xr/render/spherical_renderer.h"
 #include "xr/render/yuv_planes_file.h"
 

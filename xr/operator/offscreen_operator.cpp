@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+/// @brief runOffscreenOperator: the operator loop on an EGL surfaceless context, paced by the clock.
+#include "xr/operator/offscreen_operator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "shaders/egl_context.h"
+#include "xr/operator/eyes_png.h"
+#include "xr/operator/operator_loop.h"
+#include "xr/operator/operator_view.h"
+#include "xr/operator/paced_output.h"
+#include "xr/operator/projection_map_recorder.h"
+
+namespace telesphere::xr {
+
+std::optional<OffscreenOperatorStats> runOffscreenOperator(
+    const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
+    const OffscreenOperatorOptions& options, const std::atomic<bool>& stop, std::string* error) {
+  if (calibration.cameras.size() != 2) {
+    *error = "the calibration needs two cameras";
+    return std::nullopt;
+  }
+  if (!(options.rate_hz > 0.0 && options.rate_hz <= 1000.0)) {
+    *error = "display rate must be in (0, 1000] Hz";
+    return std::nullopt;
+  }
+  auto context = gl::EglContext::createSurfaceless(error);
+  if (!context || !context->makeCurrent()) {
+    if (error->empty()) *error = "cannot make the EGL context current";
+    return std::nullopt;
+  }
+  PacedOutputOptions paced;
+  paced.rate_hz = options.rate_hz;
+  paced.ipd = options.ipd;
+  paced.eye_width = options.eye_width;
+  paced.eye_height = options.eye_height;
+  paced.fov = options.fov;
+  OffscreenOutput output(paced, [&](double display_s) { return trajectory.sample(display_s, options.loop_trajectory); });
+  if (!output.complete()) {
+    *error = "cannot create " + std::to_string(options.eye_width) + "x" +
+             std::to_string(options.eye_height) + " render targets";
+    return std::nullopt;
+  }
+
+  OperatorViewOptions view_options;
+  view_options.endpoints = options.endpoints;
+  view_options.render = options.render;
+  view_options.upload_ring_slots = options.upload_ring_slots;
+  OperatorView operator_view(calibration, view_options);
+
+  using Clock = std::chrono::steady_clock;
+  // Wait for the first decoded frame so a slow robot start does not count as missed frames.
+  const auto first_deadline = Clock::now() + options.wait_first_frame;
+  while (!operator_view.decoder().waitNewer(0, std::chrono::milliseconds(50)) && !stop.load()) {
+    if (Clock::now() > first_deadline) {
+      *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
+               std::to_string(options.wait_first_frame.count()) + " ms (is telesphere-robot running?)";
+      return std::nullopt;
+    }
+  }
+
+  std::unique_ptr<ProjectionMapRecorder> truth;
+  if (!options.truth_dir.empty()) {
+    truth = ProjectionMapRecorder::open(options.truth_dir, options.eye_width, options.eye_height, error);
+    if (!truth) return std::nullopt;
+  }
+
+  OperatorLoop loop(operator_view, output);
+  const Eigen::Isometry3d T_hmd_eye[2] = {output.T_hmd_eye(0), output.T_hmd_eye(1)};
+  const auto t0 = Clock::now();
+  while (!stop.load()) {
+    if (options.duration_s > 0 && Clock::now() - t0 >= std::chrono::duration<double>(options.duration_s)) break;
+    if (!loop.step(error)) return std::nullopt;
+    const DisplayFrame& shown = loop.last().frame;
+    const std::uint64_t frames = loop.stats().frames;
+    // The projection maps are extra work for the check, after the frame's own (not in render_ms).
+    if (truth && options.truth_every_frames > 0 && frames % static_cast<std::uint64_t>(options.truth_every_frames) == 0 &&
+        !truth->record(operator_view, shown.display_ns, shown.T_vr_hmd, T_hmd_eye, options.ipd, shown.views[0], error))
+      return std::nullopt;
+    if (options.png_every_frames > 0 && !options.png_dir.empty() &&
+        frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(frames));
+      if (!writeEyesPng(options.png_dir + name, output.left(), output.right(), error)) return std::nullopt;
+    }
+  }
+  OffscreenOperatorStats stats;
+  const OperatorLoopStats loop_stats = loop.stats();
+  stats.fps = loop_stats.fps;
+  stats.missed_frames = loop_stats.missed_frames;
+  stats.view = operator_view.stats();
+  if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
+    return std::nullopt;
+  return stats;
+}
+
+}  // namespace telesphere::xr

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator app without a headset (DESIGN.md §7, issue "operator app"): an EGL
+///        surfaceless context, head poses from a trajectory, the same per-frame work as with a
+///        headset — newest decoded stereo frame → both eyes rendered → head target sent to the
+///        robot — paced at the headset's rate. Writes statistics and, optionally, PNGs of the
+///        eyes. Used by tests, the benchmark and the README's demo.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "calib/system_calibration.h"
+#include "robot/link/link_endpoints.h"
+#include "xr/render/eye_view.h"
+#include "xr/operator/head_trajectory.h"
+#include "xr/operator/operator_view.h"
+
+namespace telesphere::xr {
+
+struct OffscreenOperatorOptions {
+  link::LinkEndpoints endpoints;
+  int eye_width = 1440;   ///< px per eye (the paper's Vive Pro Eye)
+  int eye_height = 1600;
+  Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
+  double ipd = 0.064;                 ///< m
+  double rate_hz = 90.0;              ///< display rate the loop paces at
+  double duration_s = 10.0;           ///< 0: until `stop`
+  bool loop_trajectory = true;
+  RenderSettings render;
+  int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;  ///< 0: upload from the decoder's memory
+  std::string png_dir;       ///< when set: eyes_last.png (side by side) at the end
+  int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
+  std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
+  /// When set: the projection maps of every truth_every_frames-th frame go there
+  /// (ProjectionMapRecorder), for the ground-truth check.
+  std::string truth_dir;
+  int truth_every_frames = 10;
+};
+
+/// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's
+/// own pacing figures.
+struct OffscreenOperatorStats {
+  OperatorViewStats view;
+  std::uint64_t missed_frames = 0;  ///< display periods missed because the work overran
+  double fps = 0;
+};
+
+/// Runs the loop; nothing, with the reason in *error, when GL, the calibration or the link do
+/// not allow it (or no frame arrived in wait_first_frame).
+std::optional<OffscreenOperatorStats> runOffscreenOperator(
+    const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
+    const OffscreenOperatorOptions& options, const std::atomic<bool>& stop, std::string* error);
+
+}  // namespace telesphere::xr

@@ -1,0 +1,350 @@
+// SPDX-License-Identifier: MIT
+/// @brief OperatorView: head target out, newest frame up, robot settings followed, eyes rendered.
+#include "xr/operator/operator_view.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "calib/calibration_file.h"
+#include "robot/link/link_pose.h"
+#include "robot/link/proto_enums.h"
+#include "robot/link/sphere_radius.h"
+#include "xr/video/latency_figure.h"
+#include "xr/operator/trial_indicator.h"
+
+namespace telesphere::xr {
+namespace {
+
+
+bool poseMeasured(const link::proto::StereoFrame& frame) {
+  return frame.left().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER &&
+         frame.right().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER;
+}
+
+StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
+  StereoFrameDecoder::Options options;
+  options.upload_slots = renderer.uploadSlots();
+  return options;
+}
+
+}  // namespace
+
+OperatorView::OperatorView(const calib::SystemCalibration& calibration,
+                           const OperatorViewOptions& options)
+    : client_(options.endpoints),
+      renderer_(calibration, options.render, options.upload_ring_slots),
+      decoder_(client_, decoderOptions(renderer_)),
+      options_(options),
+      frame_begin_ns_(link::linkNowNs()),
+      last_new_frame_ns_(frame_begin_ns_),
+      control_(client_) {}
+
+OperatorView::~OperatorView() = default;
+
+bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns,
+                              bool valid, std::string* error) {
+  frame_begin_ns_ = link::linkNowNs();
+  link::proto::HeadTarget target;
+  target.set_t_ns(frame_begin_ns_);
+  target.set_predicted_display_ns(display_ns);
+  link::toLinkPose(valid ? T_vr_hmd : Eigen::Isometry3d::Identity(), target.mutable_t_vr_hmd());
+  target.set_valid(valid);
+  const auto clock = client_.clock().estimate();
+  if (clock) target.set_t_robot_ns(frame_begin_ns_ - clock->server_to_client_offset_ns);
+  client_.sendHeadTarget(target);
+  telemetry_frame_.Clear();
+  telemetry_frame_.set_display_ns(display_ns);
+  telemetry_frame_.set_head_valid(valid);
+  if (valid) link::toLinkPose(T_vr_hmd, telemetry_frame_.mutable_t_vr_hmd());
+  telemetry_frame_.set_eye_camera_distance_m(-1.0);
+  ++stats_.head_targets_sent;
+  if (valid) pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
+
+  // The robot's state: nominal mapping, and (when followed) mode and radius.
+  const auto state = client_.latestRobotState();
+  if (state && state->nominal_set()) {
+    T_robot_vr_ = link::fromLinkPose(state->t_robot_vr());
+    stats_.nominal_from_robot = true;
+  } else if (T_robot_vr_stand_in_) {
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  trial_ = state ? state->trial() : link::proto::TrialIndicator();
+  if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
+  if (state && options_.follow_robot_settings) {
+    RenderSettings settings = renderer_.settings();
+    if (const auto mode = link::fromProto(state->visual_mode())) settings.mode = *mode;
+    if (link::acceptedSphereRadius(state->sphere_radius())) settings.radius = state->sphere_radius();
+    if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
+      spdlog::info("operator view: mode {} radius {} m (from the robot; was {} {} m)",
+                   link::visualModeName(settings.mode), settings.radius,
+                   link::visualModeName(renderer_.settings().mode), renderer_.settings().radius);
+      renderer_.setSettings(settings);
+      ++stats_.settings_changes;
+    }
+  }
+
+  const auto before = renderer_.frame();
+  const auto show = frameToShow();
+  if (!takeFetchedCalibration(show.get(), error)) return false;
+  if (!renderer_.setFrame(show, error)) return false;
+  uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
+  if (uploaded_this_frame_ns_ >= 0) {
+    last_new_frame_ns_ = frame_begin_ns_;
+    if (robot_silent_) spdlog::info("operator view: camera frames from the robot again");
+    robot_silent_ = false;
+  } else if (!robot_silent_ && secondsWithoutNewFrame() > kSilentRobotS) {
+    robot_silent_ = true;
+    spdlog::warn("operator view: no new camera frame from the robot at {} for {:.1f} s{}",
+                 options_.endpoints.connect(0), secondsWithoutNewFrame(),
+                 hasImage() ? " (showing the last one)" : " (is telesphere-robot running?)");
+  }
+  return true;
+}
+
+void OperatorView::followRobotCalibration(const link::proto::RobotState& state) {
+  const std::uint64_t generation = state.calibration_generation();
+  if (generation == 0 || generation == stats_.calibration_generation) return;
+  {
+    std::lock_guard lock(control_result_mutex_);
+    if (fetched_calibration_ && fetched_calibration_->generation == generation) return;
+  }
+  // One request at a time; asked again when no answer came (the reply's handler clears it).
+  if (calibration_requested_ == generation && frame_begin_ns_ - calibration_requested_ns_ < 3'000'000'000) return;
+  calibration_requested_ = generation;
+  calibration_requested_ns_ = frame_begin_ns_;
+  link::proto::ControlRequest request;
+  request.set_get_calibration(true);
+  control_.send(std::move(request), [this](const std::optional<link::proto::ControlReply>& reply) {
+    if (!reply || !reply->ok() || !reply->has_calibration()) {
+      spdlog::warn("operator view: the robot's calibration: {}",
+                   !reply ? std::string("no reply within 2 s") : reply->ok() ? "no calibration in the reply" : reply->error());
+      return;
+    }
+    auto parsed = calib::parseCalibration(reply->calibration().yaml(), "robot calibration");
+    if (!parsed || parsed->cameras.size() != 2) {
+      spdlog::warn("operator view: the robot's calibration generation {} is unusable: {}",
+                   reply->calibration().generation(),
+                   parsed ? std::string("not two cameras") : parsed.error().describe());
+      return;
+    }
+    std::lock_guard lock(control_result_mutex_);
+    fetched_calibration_ = FetchedCalibration{reply->calibration().generation(), std::move(*parsed),
+                                              reply->calibration().source()};
+  });
+}
+
+bool OperatorView::takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error) {
+  std::optional<FetchedCalibration> fetched;
+  {
+    std::lock_guard lock(control_result_mutex_);
+    if (!fetched_calibration_) return true;
+    // Poses and intrinsics of one frame belong together: wait for a frame the robot stamped with it
+    // (a robot that restarted counts from 1 again: any other generation than the one shown).
+    const std::uint64_t frame_generation = frame ? frame->frame.calibration_generation() : 0;
+    if (frame && frame_generation != 0 && frame_generation != fetched_calibration_->generation) return true;
+    fetched.swap(fetched_calibration_);
+  }
+  if (!renderer_.setCalibration(fetched->calibration, error)) return false;
+  if (stats_.calibration_generation != 0 || fetched->generation != 1)
+    spdlog::info("operator view: calibration generation {} from the robot ({})", fetched->generation, fetched->source);
+  stats_.calibration_generation = fetched->generation;
+  ++stats_.calibration_changes;
+  calibration_requested_ = 0;
+  return true;
+}
+
+std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
+  auto newest = decoder_.newest();
+  const auto& current = renderer_.frame();
+  if (!newest || newest == current) return newest;
+  if (poseMeasured(newest->frame)) {
+    if (unmeasured_since_ns_ >= 0)
+      spdlog::info("operator view: camera poses are measured again (joint states from the robot)");
+    unmeasured_since_ns_ = -1;
+    holding_measured_ = showing_unmeasured_ = false;
+    RenderSettings settings = renderer_.settings();
+    settings.image_gain = 1.0f;
+    renderer_.setSettings(settings);
+    return newest;
+  }
+  if (unmeasured_since_ns_ < 0) {
+    unmeasured_since_ns_ = frame_begin_ns_;
+    spdlog::warn("operator view: the robot's camera frames carry no measured camera pose (no joint "
+                 "state at their capture time); {}",
+                 current && !showing_unmeasured_ ? "holding the last measured frame, then showing them dimmed"
+                                                 : "showing them dimmed");
+  }
+  const bool can_hold = current && !showing_unmeasured_ &&
+                        double(frame_begin_ns_ - unmeasured_since_ns_) * 1e-9 < options_.hold_measured_s;
+  if (can_hold) {
+    if (newest->frame.sequence() != last_unmeasured_sequence_) ++stats_.unmeasured_frames_held_back;
+    last_unmeasured_sequence_ = newest->frame.sequence();
+    holding_measured_ = true;
+    return current;
+  }
+  holding_measured_ = false;
+  showing_unmeasured_ = true;
+  ++stats_.unmeasured_frames_shown;
+  RenderSettings settings = renderer_.settings();
+  settings.image_gain = kUnmeasuredGain;
+  renderer_.setSettings(settings);
+  return newest;
+}
+
+bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                             GLuint framebuffer, std::string* error) {
+  if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
+    // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
+    T_robot_vr_stand_in_ = link::fromLinkPose(renderer_.frame()->frame.left().t_robot_cam()) *
+                           Eigen::Isometry3d(kR_optical_view) * T_vr_eye.inverse();
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  if (eye == 0 && renderer_.frame() && stats_.nominal_from_robot) {
+    // Δs: where the left eye is against where the left camera was when the image was taken.
+    const Eigen::Vector3d p_robot_eye = T_robot_vr_ * T_vr_eye.translation();
+    const auto& t = renderer_.frame()->frame.left().t_robot_cam();
+    telemetry_frame_.set_eye_camera_distance_m((p_robot_eye - Eigen::Vector3d(t.tx(), t.ty(), t.tz())).norm());
+  }
+  if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
+  if (trial_.running()) {
+    drawTrialIndicator(framebuffer, view.width, view.height, trial_.elapsed_s(), trial_.time_limit_s());
+    if (eye == 0) telemetry_frame_.set_trial_indicator_shown(true);
+  }
+  return true;
+}
+
+void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) {
+  ++stats_.frames;
+  render_ms_.push_back(render_ms);
+  if (const auto& frame = renderer_.frame()) {
+    ++stats_.frames_with_image;
+    if (uploaded_this_frame_ns_ >= 0) {
+      ++stats_.stereo_frames_shown;
+      upload_ms_.push_back(renderer_.lastUploadMs());
+    }
+    const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
+    const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
+    age_ms_.push_back(double(shown_ns - capture) * 1e-6);
+    telemetry_frame_.set_stereo_sequence(frame->frame.sequence());
+    if (uploaded_this_frame_ns_ >= 0) {
+      telemetry_frame_.set_new_image(true);
+      link::proto::StageStamps* stamps = telemetry_frame_.mutable_stamps();
+      *stamps = frame->frame.stamps();
+      stamps->set_uploaded_ns(uploaded_this_frame_ns_);
+      stamps->set_displayed_ns(shown_ns);
+    }
+  }
+  telemetry_frame_.set_pose_unmeasured(showing_unmeasured_);
+  telemetry_frame_.set_holding_measured(holding_measured_);
+  telemetry_frame_.set_render_ms(render_ms);
+  telemetry_frame_.set_missed(static_cast<std::uint32_t>(missed_frames - std::min(missed_frames, missed_at_last_frame_)));
+  missed_at_last_frame_ = missed_frames;
+  *telemetry_.add_frames() = telemetry_frame_;
+
+  const std::int64_t now = link::linkNowNs();
+  if (now - last_telemetry_ns_ >= kTelemetryPeriodNs) {
+    telemetry_.set_batch(telemetry_.batch() + 1);
+    if (const auto clock = client_.clock().estimate()) {
+      telemetry_.set_clock_synced(true);
+      telemetry_.set_robot_to_xr_offset_ns(clock->server_to_client_offset_ns);
+      telemetry_.set_round_trip_ns(clock->round_trip_ns);
+    } else {
+      telemetry_.set_clock_synced(false);
+    }
+    telemetry_.set_missed_total(missed_frames);
+    telemetry_.set_visual_mode(link::toProto(renderer_.settings().mode));
+    telemetry_.set_sphere_radius(renderer_.settings().radius);
+    telemetry_.set_calibration_generation(stats_.calibration_generation);
+    client_.sendXrTelemetry(telemetry_);
+    telemetry_.clear_frames();
+    last_telemetry_ns_ = now;
+  }
+
+  // Statistics for the console, once a second, over the last second.
+  if (last_stats_ns_ == 0) last_stats_ns_ = now;
+  if (now - last_stats_ns_ >= 1'000'000'000) {
+    link::proto::XrStats xr_stats;
+    xr_stats.set_t_ns(now);
+    xr_stats.set_fps(double(stats_.frames - frames_at_last_stats_) / (double(now - last_stats_ns_) * 1e-9));
+    const LatencyFigure age = latencyFigure({age_ms_.begin() + std::ptrdiff_t(age_at_last_stats_), age_ms_.end()});
+    const LatencyFigure render =
+        latencyFigure({render_ms_.begin() + std::ptrdiff_t(render_at_last_stats_), render_ms_.end()});
+    xr_stats.set_render_ms(render.p50_ms);
+    xr_stats.set_missed_frames(missed_frames);
+    xr_stats.set_image_age_p50_ms(age.p50_ms);
+    xr_stats.set_image_age_p99_ms(age.p99_ms);
+    client_.sendXrStats(xr_stats);
+    last_stats_ns_ = now;
+    frames_at_last_stats_ = stats_.frames;
+    age_at_last_stats_ = age_ms_.size();
+    render_at_last_stats_ = render_ms_.size();
+  }
+}
+
+OperatorViewStats OperatorView::stats() const {
+  OperatorViewStats out = stats_;
+  const LatencyFigure render = latencyFigure(render_ms_), age = latencyFigure(age_ms_);
+  out.render_ms_p50 = render.p50_ms;
+  out.render_ms_p99 = render.p99_ms;
+  out.image_age_p50_ms = age.p50_ms;
+  out.image_age_p99_ms = age.p99_ms;
+  const LatencyFigure upload = latencyFigure(upload_ms_);
+  out.upload_ms_render_thread_p50 = upload.p50_ms;
+  out.upload_ms_render_thread_p99 = upload.p99_ms;
+  const StereoDecodeStats decoded = decoder_.stats();
+  out.decode_ms_p50 = decoded.decode.p50_ms;
+  out.images_in_upload_slots = decoded.images_in_upload_slots;
+  out.images_in_own_memory = decoded.images_in_own_memory;
+  out.pose_to_display_ms_p50 = latencyFigure(pose_lead_ms_).p50_ms;
+  return out;
+}
+
+void OperatorView::requestCaptureNominal() {
+  link::proto::ControlRequest request;
+  request.set_capture_nominal(true);
+  sendControl(std::move(request), "capture_nominal");
+}
+
+void OperatorView::requestMode(link::VisualMode mode) {
+  link::proto::ControlRequest request;
+  request.set_set_visual_mode(link::toProto(mode));
+  sendControl(std::move(request), "set_mode " + std::string(link::visualModeName(mode)));
+}
+
+void OperatorView::requestRadius(double radius_m) {
+  link::proto::ControlRequest request;
+  request.set_set_sphere_radius(radius_m);
+  sendControl(std::move(request), "set_sphere_radius " + std::to_string(radius_m));
+}
+
+void OperatorView::requestRadiusScaled(double factor) {
+  requestRadius(std::clamp(settings().radius * factor, link::kMinSphereRadius, link::kMaxSphereRadius));
+}
+
+std::string OperatorView::lastControlResult() const {
+  std::lock_guard lock(control_result_mutex_);
+  return last_control_result_;
+}
+
+void OperatorView::sendControl(link::proto::ControlRequest request, std::string what) {
+  control_.send(std::move(request), [this, what](const std::optional<link::proto::ControlReply>& reply) {
+    std::string result;
+    if (!reply) {
+      result = what + ": no reply from the robot within 2 s (is telesphere-robot running?)";
+      spdlog::warn("operator view: {}", result);
+    } else if (!reply->ok()) {
+      result = what + ": refused: " + reply->error();
+      spdlog::warn("operator view: {}", result);
+    } else {
+      result = what + ": ok";
+      spdlog::info("operator view: {}", result);
+    }
+    std::lock_guard lock(control_result_mutex_);
+    last_control_result_ = result;
+  });
+}
+
+}  // namespace telesphere::xr

@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: MIT
+/// @brief The per-frame work of the operator app that does not depend on where the head pose
+///        comes from or where the eyes go (DESIGN.md §2–§4), shared by the OpenXR, desktop and
+///        offscreen modes: the head pose at the predicted display time goes to the robot as the
+///        head target (link clock, latest wins); the newest decoded stereo frame goes to the
+///        GPU; the robot's mode and sphere radius are followed live (the console changes them
+///        through the robot); the nominal mapping T_robot_vr comes from the robot once the
+///        nominal pose is captured (before that, a stand-in that puts the head at the left
+///        camera); both eyes are rendered through it. Control requests (capture the nominal
+///        pose, change mode or radius) are sent without blocking the frame loop.
+///
+///        Telemetry for the console (link XrTelemetry, batched every kTelemetryPeriodNs): one
+///        sample per display frame with its head pose and display time, render time, missed
+///        periods, the camera frame shown (all stage stamps on its first display) and Δs, the
+///        distance from the left eye to the left camera at capture time (paper Fig. 7).
+///
+///        Frames whose camera pose was not measured (link pose_source FIXED_CALIBRATION: the
+///        robot had no joint state for the capture time, e.g. the arm's report stream is
+///        down) would put the scene in the wrong place. Once a measured frame has been shown,
+///        such a frame is not taken for up to hold_measured_s: the last measured frame stays
+///        (right geometry, growing age); after that, or before any measured frame, unmeasured
+///        frames are shown dimmed (image gain kUnmeasuredGain) so the operator sees that the view
+///        is not tracked. Counted, logged once per streak, and flagged in the telemetry.
+///
+///        Calibration (follow_robot_calibration): the robot names the calibration it uses in its
+///        state (a generation: the console applies and reverts calibrations live, DESIGN.md §6);
+///        a new one is fetched (get_calibration, off the frame loop) and its camera models are
+///        taken at the first frame the robot stamped with it (StereoFrame.calibration_generation),
+///        so poses and intrinsics of one frame always belong together. Until the robot has
+///        answered, the calibration given at start-up is used.
+///
+///        Frame protocol, on the thread whose GL context is current:
+///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calib/system_calibration.h"
+#include "robot/link/control_queue.h"
+#include "robot/link/link_client.h"
+#include "robot/link/link_endpoints.h"
+#include "xr/operator/operator_loop.h"
+#include "xr/render/eye_view.h"
+#include "xr/video/stereo_frame_decoder.h"
+#include "xr/operator/stereo_view_renderer.h"
+
+namespace telesphere::xr {
+
+struct OperatorViewOptions {
+  link::LinkEndpoints endpoints;
+  /// Until the robot's state says otherwise: mode and radius are then the robot's.
+  RenderSettings render;
+  /// Follow the mode and radius the robot publishes (off: the command line's stay).
+  bool follow_robot_settings = true;
+  /// How long the last measured frame is held while only unmeasured ones arrive, s.
+  double hold_measured_s = 1.0;
+  /// Render with the robot's calibration (RobotState.calibration_generation, fetched with
+  /// get_calibration) instead of the one given at start-up (off: the start-up one stays).
+  bool follow_robot_calibration = true;
+  /// Images the upload ring holds (0: no ring; every image is uploaded from the decoder's memory
+  /// inside the frame).
+  int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;
+};
+
+/// Whole-run figures of the operator loop (the loop adds its own pacing figures).
+struct OperatorViewStats {
+  std::uint64_t frames = 0;               ///< endFrame calls
+  std::uint64_t frames_with_image = 0;    ///< of those, frames that showed a camera image
+  std::uint64_t stereo_frames_shown = 0;  ///< distinct camera frames displayed
+  std::uint64_t head_targets_sent = 0;
+  std::uint64_t settings_changes = 0;     ///< mode/radius changes taken from the robot
+  double render_ms_p50 = 0, render_ms_p99 = 0;
+  double image_age_p50_ms = 0, image_age_p99_ms = 0;  ///< capture → display
+  /// The render thread's time for a new camera frame: the copy commands from the upload ring (or,
+  /// from the decoder's own memory, the whole upload), ms.
+  double upload_ms_render_thread_p50 = 0, upload_ms_render_thread_p99 = 0;
+  double decode_ms_p50 = 0;                ///< one JPEG's decode on a decoder thread
+  std::uint64_t images_in_upload_slots = 0;  ///< camera images decoded straight into GL buffer memory
+  std::uint64_t images_in_own_memory = 0;    ///< … into the decoder's memory (uploaded from there)
+  double pose_to_display_ms_p50 = 0;  ///< head-pose sample (frame start) → predicted display
+  bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
+  std::uint64_t unmeasured_frames_shown = 0;  ///< distinct frames shown dimmed (pose not measured)
+  std::uint64_t unmeasured_frames_held_back = 0;  ///< passed over while a measured one was held
+  std::uint64_t calibration_generation = 0;  ///< the robot's calibration rendered with (0: start-up one)
+  std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
+};
+
+class OperatorView final : public OperatorScene {
+ public:
+  OperatorView(const calib::SystemCalibration& calibration, const OperatorViewOptions& options);
+  ~OperatorView();
+  OperatorView(const OperatorView&) = delete;
+  OperatorView& operator=(const OperatorView&) = delete;
+
+  /// Start of a display frame. `T_vr_hmd` is the head pose predicted for `display_ns` (link
+  /// clock, steady ns); `valid` false sends an invalid target (the robot holds). Uploads the
+  /// newest stereo frame, takes mode/radius/nominal from the robot's state. False with the
+  /// reason when the upload fails (a frame that does not fit the calibration).
+  bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid,
+                  std::string* error) override;
+  /// Renders eye `eye` (0 left, 1 right) whose pose in the VR frame is `T_vr_eye` into
+  /// `framebuffer` (fov and size from `view`). Border colour before the first frame.
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                 GLuint framebuffer, std::string* error) override;
+  /// The projection map of eye `eye` for the same pose (StereoViewRenderer::renderProjectionMap).
+  bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+                           GLuint framebuffer, std::string* error) {
+    return renderer_.renderProjectionMap(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
+  }
+  /// End of the frame: `shown_ns` is when it is displayed (link clock), `render_ms` the work
+  /// of both eyes. Sends XrStats to the robot once a second.
+  void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) override;
+
+  /// How often a telemetry batch goes to the robot (for the console).
+  static constexpr std::int64_t kTelemetryPeriodNs = 100'000'000;
+
+  /// Asks the robot to capture the nominal pose from the latest head target / to change the
+  /// mode / the sphere radius. Never blocks: the reply is logged, and the new values reach
+  /// this view through the robot's state.
+  void requestCaptureNominal();
+  void requestMode(link::VisualMode mode);
+  void requestRadius(double radius_m);
+  /// The operator's keys: the next mode of the cycle; the radius times `factor`, kept in the
+  /// link's accepted range (robot/link/sphere_radius.h).
+  void requestNextMode() { requestMode(link::nextVisualMode(settings().mode)); }
+  void requestRadiusScaled(double factor);
+
+  /// The newest decoded frame is on the GPU (anything to show).
+  bool hasImage() const { return renderer_.frame() != nullptr; }
+  /// Seconds since the last new camera frame went up (since construction before the first), as
+  /// of the last beginFrame. The view keeps showing the last frame while the robot is silent;
+  /// a warning is logged when this passes kSilentRobotS, and a note when frames come back.
+  double secondsWithoutNewFrame() const { return double(frame_begin_ns_ - last_new_frame_ns_) * 1e-9; }
+  static constexpr double kSilentRobotS = 2.0;
+  /// Image gain of frames whose camera pose was not measured.
+  static constexpr float kUnmeasuredGain = 0.4f;
+  /// Whether the frame on show has no measured camera pose (it is dimmed).
+  bool showingUnmeasured() const { return showing_unmeasured_; }
+  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
+  const RenderSettings& settings() const { return renderer_.settings(); }
+  const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
+  /// The pose an eye at T_vr_eye is rendered with in the frame on the GPU (T_cam_eye); nothing
+  /// before the first frame.
+  std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const override {
+    return renderer_.cameraFromEye(eye, T_robot_vr_, T_vr_eye);
+  }
+  /// The last control reply's text ("capture_nominal: ok", "set_mode: refused: …"), for a UI.
+  std::string lastControlResult() const;
+
+  link::LinkClient& client() { return client_; }
+  StereoFrameDecoder& decoder() { return decoder_; }
+  OperatorViewStats stats() const;
+
+ private:
+  void sendControl(link::proto::ControlRequest request, std::string what);
+  /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
+  std::shared_ptr<const DecodedStereoFrame> frameToShow();
+  /// Asks for the robot's calibration when its state names one this view does not render with.
+  void followRobotCalibration(const link::proto::RobotState& state);
+  /// Takes the fetched calibration once `frame` is stamped with it (or there is no frame).
+  bool takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error);
+
+  link::LinkClient client_;
+  StereoViewRenderer renderer_;  ///< before the decoder: its upload ring outlives the decoder's frames
+  StereoFrameDecoder decoder_;
+  OperatorViewOptions options_;
+  Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
+  std::int64_t uploaded_this_frame_ns_ = -1;  ///< upload time when this frame uploaded a new image
+  std::int64_t frame_begin_ns_ = 0;
+  std::int64_t last_new_frame_ns_ = 0;  ///< set at construction, then at every new frame
+  bool robot_silent_ = false;           ///< the silence warning was given
+  link::proto::TrialIndicator trial_;  ///< the study's trial, from the robot's state
+  bool showing_unmeasured_ = false;     ///< the frame on show has no measured pose
+  bool holding_measured_ = false;       ///< a newer unmeasured frame is passed over
+  std::int64_t unmeasured_since_ns_ = -1;  ///< first unmeasured frame of the streak (-1: none)
+  std::uint64_t last_unmeasured_sequence_ = 0;
+  OperatorViewStats stats_;
+  std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
+  std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;
+  std::int64_t last_stats_ns_ = 0;
+  std::uint64_t frames_at_last_stats_ = 0;
+  link::proto::XrFrame telemetry_frame_;  ///< the sample of the frame in progress
+  link::proto::XrTelemetry telemetry_;    ///< the batch in progress
+  std::int64_t last_telemetry_ns_ = 0;
+  std::uint64_t missed_at_last_frame_ = 0;
+
+  mutable std::mutex control_result_mutex_;
+  std::string last_control_result_;
+  std::uint64_t calibration_requested_ = 0;  ///< generation asked for (0: none in flight)
+  std::int64_t calibration_requested_ns_ = 0;
+  struct FetchedCalibration {
+    std::uint64_t generation = 0;
+    calib::SystemCalibration calibration;
+    std::string source;
+  };
+  std::optional<FetchedCalibration> fetched_calibration_;  ///< under control_result_mutex_
+  link::ControlQueue control_;  ///< after what its replies write to: it stops first
+};
+
+}  // namespace telesphere::xr

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: MIT
+/// @brief Outputs without a headset runtime (offscreen and desktop modes): display frames paced
+///        by the steady clock at rate_hz (an overrun skips refreshes, never bursts), the head
+///        pose from a function of the display time, the eyes ipd apart on the head's x axis, each
+///        eye drawn into an offscreen target of its own. What "shown" means is the subclass's:
+///        OffscreenOutput waits for the GL (glFinish); the desktop window presents both eyes.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include "shaders/offscreen_target.h"
+#include "xr/operator/operator_loop.h"
+
+namespace telesphere::xr {
+
+struct PacedOutputOptions {
+  double rate_hz = 90.0;   ///< display rate, (0, 1000]
+  double ipd = 0.064;      ///< m
+  int eye_width = 1440;    ///< px per eye (the paper's Vive Pro Eye)
+  int eye_height = 1600;
+  Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
+};
+
+class PacedOutput : public OperatorOutput {
+ public:
+  /// The head pose predicted for a display time, in seconds since the first frame began.
+  using HeadAt = std::function<Eigen::Isometry3d(double display_s)>;
+
+  /// Makes the eye targets (needs a current GL context); check complete().
+  PacedOutput(const PacedOutputOptions& options, HeadAt head);
+
+  /// Sleeps until the next frame is due (frame() does it when this was not called): call it
+  /// before reading input that the next frame's head pose should reflect.
+  void waitUntilDue();
+  bool frame(const DrawEye& draw, Shown* shown, std::string* error) final;
+
+  bool complete() const { return left_.complete() && right_.complete(); }
+  const gl::OffscreenTarget& left() const { return left_; }
+  const gl::OffscreenTarget& right() const { return right_; }
+  /// Eye `eye` in the head frame: ∓ipd/2 along x.
+  const Eigen::Isometry3d& T_hmd_eye(int eye) const { return T_hmd_eye_[std::size_t(eye)]; }
+  const PacedOutputOptions& options() const { return options_; }
+
+ protected:
+  /// Shows the drawn eyes; false with the reason.
+  virtual bool present(std::string* error) = 0;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  PacedOutputOptions options_;
+  HeadAt head_;
+  gl::OffscreenTarget left_, right_;
+  std::array<Eigen::Isometry3d, 2> T_hmd_eye_;
+  Clock::duration period_;
+  std::optional<Clock::time_point> first_start_;
+  Clock::time_point next_start_;
+  bool due_ = true;  ///< next_start_ has been waited for (or none yet)
+  std::uint64_t index_ = 0;
+};
+
+/// Offscreen: a frame is shown when the GL has finished it.
+class OffscreenOutput final : public PacedOutput {
+ public:
+  using PacedOutput::PacedOutput;
+
+ protected:
+  bool present(std::string*) override;
+};
+
+}  // namespace telesphere::xr
