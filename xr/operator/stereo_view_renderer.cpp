@@ -54,7 +54,7 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
   }
   // The ring is made for the size the decoder delivers (the left camera's, should they differ):
   // from the next frame on, the decoder writes into it.
-  if (ring_.source() && !ring_.preparedFor(frame->left->layout()) && !ring_.prepare(frame->left->layout(), error))
+  if (ring_.source() && !ring_.prepare(frame->left->layout(), error))
     return false;
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < 2; ++i) {
