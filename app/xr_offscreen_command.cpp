@@ -60,11 +60,11 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   xr::OffscreenOperatorOptions options;
   options.endpoints.host = o.host;
   options.endpoints.base_port = o.port;
-  if (std::sscanf(o.eye_size.c_str(), "%dx%d", &options.eye_width, &options.eye_height) != 2 ||
-      options.eye_width <= 0 || options.eye_height <= 0 || options.eye_width > 8192 ||
-      options.eye_height > 8192)
+  xr::PacedOutputOptions& display = options.display;
+  if (std::sscanf(o.eye_size.c_str(), "%dx%d", &display.eye_width, &display.eye_height) != 2 ||
+      display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
     return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
-  options.rate_hz = o.rate_hz;
+  display.rate_hz = o.rate_hz;
   options.duration_s = o.duration_s;
   const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
   if (!render) return fail(1, error);

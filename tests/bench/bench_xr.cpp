@@ -113,8 +113,8 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
 
     xr::OffscreenOperatorOptions options;
     options.endpoints = endpoints;
-    options.eye_width = c.eye_width;
-    options.eye_height = c.eye_height;
+    options.display.eye_width = c.eye_width;
+    options.display.eye_height = c.eye_height;
     options.duration_s = seconds;
     options.render.path = c.path;
     options.upload_ring_slots = c.upload_ring_slots;

@@ -22,7 +22,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     *error = "the calibration needs two cameras";
     return std::nullopt;
   }
-  if (!(options.rate_hz > 0.0 && options.rate_hz <= 1000.0)) {
+  if (!(options.display.rate_hz > 0.0 && options.display.rate_hz <= 1000.0)) {
     *error = "display rate must be in (0, 1000] Hz";
     return std::nullopt;
   }
@@ -31,16 +31,10 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     if (error->empty()) *error = "cannot make the EGL context current";
     return std::nullopt;
   }
-  PacedOutputOptions paced;
-  paced.rate_hz = options.rate_hz;
-  paced.ipd = options.ipd;
-  paced.eye_width = options.eye_width;
-  paced.eye_height = options.eye_height;
-  paced.fov = options.fov;
-  OffscreenOutput output(paced, [&](double display_s) { return trajectory.sample(display_s, options.loop_trajectory); });
+  OffscreenOutput output(options.display, [&](double display_s) { return trajectory.sample(display_s, options.loop_trajectory); });
   if (!output.complete()) {
-    *error = "cannot create " + std::to_string(options.eye_width) + "x" +
-             std::to_string(options.eye_height) + " render targets";
+    *error = "cannot create " + std::to_string(options.display.eye_width) + "x" +
+             std::to_string(options.display.eye_height) + " render targets";
     return std::nullopt;
   }
 
@@ -63,7 +57,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
 
   std::unique_ptr<ProjectionMapRecorder> truth;
   if (!options.truth_dir.empty()) {
-    truth = ProjectionMapRecorder::open(options.truth_dir, options.eye_width, options.eye_height, error);
+    truth = ProjectionMapRecorder::open(options.truth_dir, options.display.eye_width, options.display.eye_height, error);
     if (!truth) return std::nullopt;
   }
 
@@ -77,7 +71,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     const std::uint64_t frames = loop.stats().frames;
     // The projection maps are extra work for the check, after the frame's own (not in render_ms).
     if (truth && options.truth_every_frames > 0 && frames % static_cast<std::uint64_t>(options.truth_every_frames) == 0 &&
-        !truth->record(operator_view, shown.display_ns, shown.T_vr_hmd, T_hmd_eye, options.ipd, shown.views[0], error))
+        !truth->record(operator_view, shown.display_ns, shown.T_vr_hmd, T_hmd_eye, options.display.ipd, shown.views[0], error))
       return std::nullopt;
     if (options.png_every_frames > 0 && !options.png_dir.empty() &&
         frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {

@@ -16,16 +16,13 @@
 #include "xr/render/eye_view.h"
 #include "xr/operator/head_trajectory.h"
 #include "xr/operator/operator_view.h"
+#include "xr/operator/paced_output.h"
 
 namespace telesphere::xr {
 
 struct OffscreenOperatorOptions {
   link::LinkEndpoints endpoints;
-  int eye_width = 1440;   ///< px per eye (the paper's Vive Pro Eye)
-  int eye_height = 1600;
-  Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
-  double ipd = 0.064;                 ///< m
-  double rate_hz = 90.0;              ///< display rate the loop paces at
+  PacedOutputOptions display;  ///< rate the loop paces at, eye size and field of view, ipd
   double duration_s = 10.0;           ///< 0: until `stop`
   bool loop_trajectory = true;
   RenderSettings render;
