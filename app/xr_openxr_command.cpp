@@ -1,39 +1,34 @@
 // SPDX-License-Identifier: MIT
 /// @brief `telesphere-xr openxr`: options, the GL context, what is drawn (robot or test scene),
-///        the per-eye extras (pose log, shown planes, readback, mirror), and the wiring of
+///        the per-eye extras (xr::OpenXrReadbackLog, xr::OpenXrMirror and its keys), and the wiring of
 ///        xr::runOpenXrSessions (sessions, reconnect, the operator loop over an OpenXrOutput);
 ///        statistics.
 #include "app/xr_openxr_command.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <set>
 #include <thread>
 #include <vector>
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
 #include "shaders/egl_context.h"
-#include "shaders/framebuffer_readback.h"
-#include "shaders/offscreen_target.h"
-#include "shaders/png_io.h"
 #include "xr/desktop/desktop_window.h"
+#include "xr/openxr/openxr_mirror.h"
 #include "xr/openxr/openxr_output.h"
+#include "xr/openxr/openxr_readback_log.h"
 #include "xr/openxr/openxr_run.h"
 #include "xr/openxr/openxr_session.h"
 #include "xr/openxr/openxr_test_scene_view.h"
 #include "xr/operator/operator_loop.h"
 #include "xr/operator/operator_view.h"
-#include "xr/render/yuv_planes_file.h"
 
 namespace telesphere::app {
 namespace {
@@ -47,30 +42,15 @@ int openXrFail(int code, const std::string& message) {
 }
 
 /// What one run draws (the robot's frames through OperatorView, or the test scene), and what it
-/// does with each eye besides: the pose log and shown planes (readback mode), the mirror window.
+/// does with each eye besides: the readback folder, the mirror window and its keys.
 class OpenXrEyeWork {
  public:
   OpenXrEyeWork(const OpenXrCommandOptions& o, const xr::RenderSettings& settings) : o_(o), settings_(settings) {}
 
-  /// Loads the calibration and connects (robot mode) or uploads the test scene. Exit code or 0.
+  /// Opens the readback folder; loads the calibration and connects (robot mode) or uploads the
+  /// test scene. Exit code or 0.
   int prepare(std::string* error) {
-    if (!o_.readback_dir.empty()) {
-      std::error_code ec;
-      std::filesystem::create_directories(o_.readback_dir, ec);
-      if (ec) {
-        *error = o_.readback_dir + ": cannot create the folder: " + ec.message();
-        return 1;
-      }
-      pose_log_.open(o_.readback_dir + "/poses.csv");
-      if (!pose_log_) {
-        *error = o_.readback_dir + "/poses.csv: cannot write";
-        return 1;
-      }
-      pose_log_ << "session,frame,eye,predicted_display_time_ns,tx,ty,tz,qx,qy,qz,qw,"
-                   "angle_left,angle_right,angle_up,angle_down,width,height,srgb_swapchain,png,"
-                   "sequence,mode,radius\n";
-      pose_log_ << std::setprecision(17);
-    }
+    if (!o_.readback_dir.empty() && !(readback_ = xr::OpenXrReadbackLog::open(o_.readback_dir, error))) return 1;
     if (o_.test_scene) {
       test_scene_ = xr::OpenXrTestSceneView::create(settings_, error);
       return test_scene_ ? 0 : 3;
@@ -94,84 +74,27 @@ class OpenXrEyeWork {
   }
 
   xr::OperatorScene& scene() { return view_ ? static_cast<xr::OperatorScene&>(*view_) : *test_scene_; }
+  xr::OperatorView* view() { return view_.get(); }
+  xr::OpenXrMirror& mirror() { return mirror_; }
 
   void newSession(int session) {
-    session_ = session;
+    if (readback_) readback_->newSession(session);
     if (test_scene_) test_scene_->restart();
   }
 
-  /// After an eye was drawn: the pose it was drawn with, and the planes it showed (readback mode).
   bool afterEye(const xr::OpenXrEye& eye, std::string* error) {
-    if (!pose_log_.is_open()) return true;
-    std::uint64_t sequence = 0;
-    const xr::RenderSettings used = view_ ? view_->settings() : settings_;
-    if (view_ && view_->frame()) {
-      const auto& frame = view_->frame();
-      sequence = frame->frame.sequence();
-      if (saved_planes_.insert({sequence, eye.eye}).second) {
-        char name[80];
-        std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);
-        if (!xr::writeYuvPlanes(o_.readback_dir + name, *(eye.eye == 0 ? frame->left : frame->right), error))
-          return false;
-      }
-    }
-    const Eigen::Isometry3d T_cam_eye = scene().T_cam_eye(eye.eye, eye.T_vr_eye).value_or(Eigen::Isometry3d::Identity());
-    const Eigen::Quaterniond q(T_cam_eye.linear());
-    const Eigen::Vector3d t = T_cam_eye.translation();
-    char png[64];
-    std::snprintf(png, sizeof png, "s%d_frame%05llu_eye%d.png", session_,
-                  static_cast<unsigned long long>(eye.frame_index), eye.eye);
-    pose_log_ << session_ << "," << eye.frame_index << "," << eye.eye << "," << eye.predicted_display_time_ns << ","
-              << t.x() << "," << t.y() << "," << t.z() << "," << q.x() << "," << q.y() << "," << q.z() << ","
-              << q.w() << "," << eye.fov.angle_left << "," << eye.fov.angle_right << "," << eye.fov.angle_up
-              << "," << eye.fov.angle_down << "," << eye.width << "," << eye.height << ","
-              << (eye.srgb_swapchain ? 1 : 0) << "," << png << "," << sequence << ","
-              << telesphere::link::visualModeName(used.mode) << "," << used.radius << "\n";
-    return true;
+    return !readback_ || readback_->eyeDrawn(eye, scene(), view_.get(), view_ ? view_->settings() : settings_, error);
   }
 
-  /// Copies the swapchain image for the mirror window (when there is one) and saves it
-  /// (readback mode).
   void readBack(const xr::OpenXrEye& eye) {
-    if (o_.mirror) {
-      auto& target = mirror_[std::size_t(eye.eye)];
-      if (!target || target->width() != eye.width || target->height() != eye.height)
-        target = std::make_unique<gl::OffscreenTarget>(eye.width, eye.height, GL_SRGB8_ALPHA8);
-      // sRGB swapchain: the bytes as they are; linear swapchain: encoded to sRGB on the way.
-      if (!eye.srgb_swapchain) glEnable(GL_FRAMEBUFFER_SRGB);
-      glBlitNamedFramebuffer(eye.framebuffer, target->framebuffer(), 0, 0, eye.width, eye.height, 0, 0, eye.width,
-                             eye.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-      glDisable(GL_FRAMEBUFFER_SRGB);
-      mirror_ready_ = mirror_[0] && mirror_[1];
-    }
-    if (o_.readback_dir.empty()) return;
-    char png[64];
-    std::snprintf(png, sizeof png, "/s%d_frame%05llu_eye%d.png", session_,
-                  static_cast<unsigned long long>(eye.frame_index), eye.eye);
-    const auto pixels = gl::readFramebufferRgba8(eye.framebuffer, GL_COLOR_ATTACHMENT0, eye.width, eye.height);
-    std::string write_error;
-    if (!gl::writePng(o_.readback_dir + png, eye.width, eye.height, 4, pixels.data(), &write_error))
-      std::cerr << "telesphere-xr openxr: " << write_error << "\n";
+    if (o_.mirror) mirror_.copyEye(eye);
+    std::string error;
+    if (readback_ && !readback_->saveImage(eye, &error)) std::cerr << "telesphere-xr openxr: " << error << "\n";
   }
 
-  xr::OperatorView* view() { return view_.get(); }
-
-  /// What the mirror window shows now, as a PNG (false with the reason when nothing was shown).
-  bool saveMirror(xr::DesktopWindow& window, const std::string& path, std::string* error) {
-    if (!mirror_ready_) {
-      *error = "the mirror never got an eye image";
-      return false;
-    }
-    if (!window.compose(mirror_[0]->framebuffer(), mirror_[1]->framebuffer(), mirror_[0]->width(),
-                        mirror_[0]->height(), error))
-      return false;
-    const auto pixels = window.readBackBufferRgba();
-    return gl::writePng(path, window.framebufferWidth(), window.framebufferHeight(), 4, pixels.data(), error);
-  }
-
-  /// Shows the newest eye images in the mirror window and handles its keys (N nominal, M
-  /// mode, +/- radius, Escape quit → false).
-  bool mirror(xr::DesktopWindow& window) {
+  /// The mirror window between frames: its keys (N nominal, M mode, +/- radius; Escape quits →
+  /// false) and the newest eye images.
+  bool betweenFrames(xr::DesktopWindow& window) {
     window.pollEvents();
     (void)window.headInput();  // the head is the headset's; only the commands count here
     const xr::DesktopCommands c = window.takeCommands();
@@ -181,10 +104,8 @@ class OpenXrEyeWork {
       if (c.radius_up) view_->requestRadiusScaled(1.25);
       if (c.radius_down) view_->requestRadiusScaled(1.0 / 1.25);
     }
-    std::string mirror_error;
-    if (mirror_ready_ && !window.present(mirror_[0]->framebuffer(), mirror_[1]->framebuffer(), mirror_[0]->width(),
-                                         mirror_[0]->height(), &mirror_error))
-      std::cerr << "telesphere-xr openxr: mirror: " << mirror_error << "\n";
+    std::string error;
+    if (!mirror_.present(window, &error)) std::cerr << "telesphere-xr openxr: mirror: " << error << "\n";
     return !(c.quit || window.shouldClose());
   }
 
@@ -193,11 +114,8 @@ class OpenXrEyeWork {
   xr::RenderSettings settings_;
   std::unique_ptr<xr::OperatorView> view_;
   std::unique_ptr<xr::OpenXrTestSceneView> test_scene_;
-  std::ofstream pose_log_;
-  std::set<std::pair<std::uint64_t, int>> saved_planes_;
-  int session_ = 0;
-  std::array<std::unique_ptr<gl::OffscreenTarget>, 2> mirror_;
-  bool mirror_ready_ = false;
+  std::unique_ptr<xr::OpenXrReadbackLog> readback_;
+  xr::OpenXrMirror mirror_;
 };
 
 }  // namespace
@@ -284,7 +202,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   run_options.exit_timeout_s = o.exit_timeout_s;
   run_options.reconnect_s = o.reconnect_s;
   xr::OpenXrRunHooks hooks;
-  if (window) hooks.between_frames = [&] { return work.mirror(*window); };
+  if (window) hooks.between_frames = [&] { return work.betweenFrames(*window); };
   hooks.capture_nominal = [&] {
     if (!work.view()) return;
     std::cout << "controller: capture the nominal pose" << std::endl;
@@ -342,7 +260,7 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   }
   if (!o.out_dir.empty()) {
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
-    if (window && o.mirror && !work.saveMirror(*window, o.out_dir + "/mirror_last.png", &error))
+    if (window && o.mirror && !work.mirror().save(*window, o.out_dir + "/mirror_last.png", &error))
       std::cerr << "telesphere-xr openxr: mirror_last.png: " << error << "\n";
   }
   return code;
