@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief JointStateBuffer: interpolation, camera poses by forward kinematics, refusal outside the
 ///        window, bounded extrapolation, gaps, ordering, capacity, and one writer with concurrent
-///        readers.
+///        readers; TrueCameraPoses, the simulation's truth read from such a buffer.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "robot/joint_state_buffer.h"
+#include "robot/sim_clock.h"
+#include "robot/true_camera_poses.h"
 
 namespace telesphere::robot {
 namespace {
@@ -137,6 +139,61 @@ TEST(JointStateBuffer, OneWriterSeveralReaders) {
   EXPECT_EQ(mismatches.load(), 0);
   EXPECT_GT(answered.load(), 0);
   EXPECT_EQ(buffer.window()->second, kSamples * 10 * kMs);
+}
+
+}  // namespace
+}  // namespace telesphere::robot
+
+// TrueCameraPoses (robot/true_camera_poses.h): the synthetic cameras' truth from such a buffer.
+namespace telesphere::robot {
+namespace {
+
+std::array<Eigen::Isometry3d, 2> initialPoses() {
+  Eigen::Isometry3d T_l = Eigen::Isometry3d::Identity(), T_r = Eigen::Isometry3d::Identity();
+  T_l.translation() << 0.1, 0.2, 0.3;
+  T_r.translation() << 0.16, 0.2, 0.3;
+  return {T_l, T_r};
+}
+
+TEST(TrueCameraPoses, BeforeTheArmsFirstStateTheInitialPoseIsTheTruthAndNoFallbackIsCounted) {
+  const JointStateBuffer truth(HeadGeometry::example());
+  const SimClock clock(100 * kMs);
+  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  EXPECT_TRUE(poses.at(CameraSide::kRight, 150 * kMs).isApprox(initialPoses()[1]));
+  EXPECT_EQ(poses.fallbacks(), 0u);
+}
+
+TEST(TrueCameraPoses, InsideTheWindowThePoseIsTheBuffersForThatSide) {
+  JointStateBuffer truth(HeadGeometry::example());
+  for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
+  const SimClock clock(10 * kMs);
+  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  for (CameraSide side : {CameraSide::kLeft, CameraSide::kRight})
+    EXPECT_TRUE(poses.at(side, 4 * kMs + 500'000).isApprox(*truth.T_robot_cam(side, 4 * kMs + 500'000), 1e-12));
+  EXPECT_EQ(poses.fallbacks(), 0u);
+}
+
+TEST(TrueCameraPoses, WaitsForTheSimulationToCatchUpThenFallsBackAndCountsWhenItNeverDoes) {
+  JointStateBuffer truth(HeadGeometry::example());
+  for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
+  const SimClock clock(10 * kMs);
+  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(5000));
+  // A writer at the simulation's pace (1 ms steps) catches up with the capture time while at() waits: the true pose, no fallback.
+  std::thread writer([&truth] {
+    for (int k = 11; k <= 40; ++k) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      truth.push(stateAt(k * kMs));
+    }
+  });
+  const Eigen::Isometry3d T = poses.at(CameraSide::kLeft, 35 * kMs);
+  writer.join();
+  EXPECT_TRUE(T.isApprox(*truth.T_robot_cam(CameraSide::kLeft, 35 * kMs), 1e-12));
+  EXPECT_EQ(poses.fallbacks(), 0u);
+  // Far beyond what the (now stalled) simulation reached, past its extrapolation: after the wait,
+  // the initial pose, counted.
+  const TrueCameraPoses impatient(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  EXPECT_TRUE(impatient.at(CameraSide::kLeft, 5000 * kMs).isApprox(initialPoses()[0]));
+  EXPECT_EQ(impatient.fallbacks(), 1u);
 }
 
 }  // namespace

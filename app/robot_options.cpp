@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+#include "app/robot_options.h"
+
+#include <cstdio>
+
+namespace telesphere::app {
+
+void addRobotOptions(CLI::App& app, RobotOptions& o) {
+  app.add_flag("--sim", o.sim, "simulated arm and synthetic cameras (the default)");
+  app.add_option("--calib", o.calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
+      ->capture_default_str();
+  app.add_option("--port", o.port, "link base port (frames, state, uplink, control: port..port+3)")
+      ->capture_default_str()->check(CLI::Range(1024, 65532));
+  app.add_option("--size", o.size, "camera image size WxH (synthetic cameras; the calibration is scaled)")
+      ->capture_default_str();
+  app.add_option("--fps", o.fps, "camera frame rate, Hz")->capture_default_str()->check(CLI::Range(0.1, 1000.0));
+  app.add_option("--quality", o.quality, "JPEG quality")->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_option("--subsampling", o.subsampling, "JPEG chroma subsampling")
+      ->capture_default_str()->check(CLI::IsMember({"420", "422", "444"}));
+  app.add_option("--duration", o.duration_s, "stop after this many seconds (0: run until SIGINT)")
+      ->capture_default_str();
+  app.add_option("--stats-period", o.stats_period_s, "seconds between statistics lines (0: none)")
+      ->capture_default_str();
+  app.add_option("--camera-left", o.camera_left, "Aravis device id (name or serial) of the left camera");
+  app.add_option("--camera-right", o.camera_right, "Aravis device id of the right camera");
+  app.add_option("--auto-nominal", o.auto_nominal,
+                 "take the first head pose as the nominal pose (else the console captures it)")
+      ->capture_default_str();
+  app.add_option("--sphere-radius", o.sphere_radius, "initial sphere radius r, m")->capture_default_str();
+  app.add_option("--render-threads", o.render_threads, "threads per synthetic camera")->capture_default_str();
+  app.add_option("--preview-width", o.preview_width, "width of the console's camera preview, px")
+      ->capture_default_str()->check(CLI::Range(16, 1920));
+  app.add_option("--preview-rate", o.preview_hz, "console preview frames per second (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 30.0));
+  app.add_option("--exposure-ms", o.exposure_ms, "synthetic cameras: exposure, ms (half of it delays delivery)")
+      ->capture_default_str()->check(CLI::Range(0.01, 1000.0));
+  app.add_option("--transfer-ms", o.transfer_ms, "synthetic cameras: readout and transfer after the exposure, ms")
+      ->capture_default_str()->check(CLI::Range(0.0, 1000.0));
+  app.add_option("--sim-truth,--true-calib", o.true_calib_path,
+                 "synthetic cameras and simulated arm: the calibration they really have (default: "
+                 "--calib); a different one shows what a calibration error does to the operator's "
+                 "view, and is what the calibration wizards must recover");
+  app.add_option("--still-timeout-ms", o.still_timeout_ms,
+                 "calibration stills: how long to wait for a pair captured after the request (slow cameras "
+                 "or a slow simulation need more)")
+      ->capture_default_str()->check(CLI::Range(100, 60000));
+  app.add_option("--truth-out", o.truth_path,
+                 "synthetic cameras: write each sent frame's true camera poses (CSV) to this file");
+  app.add_flag("--sim-manipulator", o.sim_manipulator,
+               "synthetic cameras: the wrist marker rides on a simulated manipulator (xArm 6) moving along a "
+               "teach-mode path, mounted at --sim-truth's T_robot_mount with the marker at its T_wrist_marker "
+               "(both or neither; default: across the table, ManipulatorMounting::example)");
+}
+
+bool checkRobotOptions(RobotOptions& o, std::string* error) {
+  if (!o.camera_left.empty() && (!o.true_calib_path.empty() || !o.truth_path.empty() || o.sim_manipulator)) {
+    *error = "--sim-truth, --truth-out and --sim-manipulator need the synthetic cameras";
+    return false;
+  }
+  if (o.sim && !o.camera_left.empty()) {
+    *error = "--sim uses synthetic cameras; drop --camera-left/--camera-right";
+    return false;
+  }
+  if (o.camera_left.empty() != o.camera_right.empty()) {
+    *error = "give both --camera-left and --camera-right, or neither (--sim)";
+    return false;
+  }
+  if (std::sscanf(o.size.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width <= 0 || o.height <= 0 ||
+      o.width > 16384 || o.height > 16384) {
+    *error = "--size '" + o.size + "' is not WxH";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace telesphere::app

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+/// @brief telesphere-robot's options: what the command line sets, with the defaults of an embedded
+///        run (simulated arm, synthetic cameras, the simulation calibration), and their checks.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+namespace telesphere::app {
+
+struct RobotOptions {
+  std::string calib_path = TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml";
+  int port = 5760;
+  std::string size = "640x360";  ///< the synthetic cameras render in real time at this size
+  int width = 640, height = 360;  ///< parsed from size by checkRobotOptions
+  int still_timeout_ms = 800;
+  double fps = 45.0;
+  int quality = 90;
+  std::string subsampling = "420";
+  double duration_s = 0.0;
+  double stats_period_s = 2.0;
+  std::string camera_left, camera_right;  ///< Aravis device ids; empty: synthetic cameras
+  bool auto_nominal = true;
+  double sphere_radius = 1.0;
+  int render_threads = 2;
+  int preview_width = 320;
+  double preview_hz = 5.0;
+  bool sim = false;           ///< the default anyway; explicit for scripts
+  double exposure_ms = 8.0;   ///< the paper's cameras
+  double transfer_ms = 10.0;  ///< the paper: about 10 ms over USB
+  std::string true_calib_path;
+  std::string truth_path;
+  bool sim_manipulator = false;
+
+  bool syntheticCameras() const { return camera_left.empty(); }
+};
+
+/// Declares every option on `app`, bound to `options`.
+void addRobotOptions(CLI::App& app, RobotOptions& options);
+
+/// The checks across options (and the size's parse into width × height); false with the message.
+bool checkRobotOptions(RobotOptions& options, std::string* error);
+
+}  // namespace telesphere::app
