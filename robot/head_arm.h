@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "robot/joint_state.h"
 
@@ -38,8 +39,13 @@ class HeadArm {
   virtual void stop() = 0;
 
   /// Clears a stop (ArmStatus::kStopped) so that targets are followed again; false if the arm
-  /// cannot be re-enabled now (e.g. disconnected).
+  /// cannot be re-enabled now (e.g. disconnected). An arm that can reconnect does so here, and
+  /// only here: the supervisor's "clear fault" is the request.
   virtual bool clearStop() = 0;
+
+  /// Why the arm is not kOk, in words for the console ("xArm controller error 22: self-collision
+  /// detected", "no joint report for 120 ms"); empty when there is nothing to say beyond status().
+  virtual std::string faultText() const { return {}; }
 };
 
 }  // namespace telesphere::robot

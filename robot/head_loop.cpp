@@ -156,9 +156,15 @@ void HeadLoop::run(const std::atomic<bool>& stop) {
 std::string HeadLoop::faultLocked() const {
   switch (arm_.status()) {
     case ArmStatus::kOk: return "";
-    case ArmStatus::kStopped:
-      return stop_reason_.empty() ? "arm stopped (fault or emergency stop)" : stop_reason_;
-    case ArmStatus::kDisconnected: return "arm disconnected";
+    case ArmStatus::kStopped: {
+      if (!stop_reason_.empty()) return stop_reason_;
+      const std::string why = arm_.faultText();
+      return why.empty() ? "arm stopped (fault or emergency stop)" : "arm stopped: " + why;
+    }
+    case ArmStatus::kDisconnected: {
+      const std::string why = arm_.faultText();
+      return why.empty() ? "arm disconnected" : "arm disconnected: " + why;
+    }
   }
   return "";
 }
