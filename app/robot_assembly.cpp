@@ -13,6 +13,7 @@
 #include "robot/calibration_in_use.h"
 #include "robot/ground_truth_log.h"
 #include "robot/head_arm_sim.h"
+#include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
 #include "robot/preview_streamer.h"
 #include "robot/robot_control.h"
@@ -34,8 +35,10 @@ struct RobotAssembly::Parts {
   robot::JointStateBuffer manipulator_reports{robot::HeadGeometry{}};
   std::unique_ptr<robot::HeadController> controller;
   robot::JointVector q_initial = robot::JointVector::Zero();
-  std::unique_ptr<robot::JointStateBuffer> truth;  ///< the arm's noise-free joints at every physics step
-  std::unique_ptr<robot::SimulatedArm> arm;
+  /// The simulated arm's noise-free joints at every physics step (null with a real arm).
+  std::unique_ptr<robot::JointStateBuffer> truth;
+  std::unique_ptr<robot::HeadArm> arm;  ///< SimulatedArm or XArmHeadArm
+  std::string arm_description;          ///< for the console's health view
   std::unique_ptr<robot::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
   std::unique_ptr<robot::CalibrationInUse> calibration_in_use;
@@ -102,8 +105,10 @@ bool makeManipulator(RobotAssembly::Parts& p, std::string* error) {
   return p.manipulator.has_value();
 }
 
-/// The head loop: simulated arm, controller, joint-state buffers (reported and true).
-void makeHead(RobotAssembly::Parts& p) {
+/// The head loop: the arm (simulated, or the real xArm started and at the nominal joints),
+/// controller, joint-state buffers (reported, and with the simulated arm the truth). False with
+/// the reason and *exit_code (2: the real arm could not start).
+bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
   robot::HeadControllerConfig controller_config;
   controller_config.geometry.T_flange_cam_l = *p.calibration.T_flange_cam_l;
   controller_config.geometry.T_cam_l_cam_r = *p.calibration.T_cam_l_cam_r;
@@ -114,6 +119,27 @@ void makeHead(RobotAssembly::Parts& p) {
       robot::JointVector::Zero(), controller_config.ik);
   if (ik.status == robot::IkResult::Status::kConverged) p.q_initial = ik.q;
 
+  p.joints = std::make_unique<robot::JointStateBuffer>(controller_config.geometry);
+  const RobotOptions& o = p.options;
+  if (o.realArm()) {
+    robot::XArmOptions xarm;
+    xarm.address = o.arm_address;
+    xarm.command_port = o.arm_command_port;
+    xarm.report_port = o.arm_report_port;
+    xarm.clear_errors = o.arm_clear_errors;
+    xarm.nominal_q = p.q_initial;
+    auto arm = robot::XArmHeadArm::start(xarm, p.clock, error, [](const std::string& step) {
+      std::fprintf(stderr, "telesphere-robot: xArm: %s\n", step.c_str());
+    });
+    if (!arm) {
+      *error = "xArm at " + o.arm_address + ": " + *error;
+      *exit_code = 2;
+      return false;
+    }
+    p.arm_description = "xArm 6 at " + o.arm_address + " (firmware " + arm->stats().firmware + ")";
+    p.arm = std::move(arm);
+    return true;
+  }
   robot::HeadGeometry true_geometry;
   true_geometry.T_flange_cam_l = *p.true_calibration.T_flange_cam_l;
   true_geometry.T_cam_l_cam_r = *p.true_calibration.T_cam_l_cam_r;
@@ -124,7 +150,8 @@ void makeHead(RobotAssembly::Parts& p) {
   arm_config.q_initial = p.q_initial;
   arm_config.on_true_state = [truth = p.truth.get()](const robot::JointState& s) { truth->push(s); };
   p.arm = std::make_unique<robot::SimulatedArm>(p.clock, arm_config);
-  p.joints = std::make_unique<robot::JointStateBuffer>(controller_config.geometry);
+  p.arm_description = "simulated xArm 6";
+  return true;
 }
 
 /// Synthetic cameras (rendering at the arm's true pose) or GenICam cameras; started. False with
@@ -134,8 +161,9 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
   if (o.syntheticCameras()) {
     const Eigen::Isometry3d T_robot_cam_l0 =
         p.controller->kinematics().forward(p.q_initial) * *p.true_calibration.T_flange_cam_l;
+    // With the real arm there is no truth but what it reports: the synthetic cameras render there.
     p.true_poses = std::make_unique<robot::TrueCameraPoses>(
-        *p.truth, p.clock,
+        p.truth ? *p.truth : *p.joints, p.clock,
         std::array<Eigen::Isometry3d, 2>{T_robot_cam_l0, T_robot_cam_l0 * *p.true_calibration.T_cam_l_cam_r});
     robot::DefaultSceneLayout layout;
     if (p.manipulator)
@@ -189,7 +217,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   *exit_code = 1;
   if (!loadCalibrations(*p, error)) return nullptr;
   if (o.sim_manipulator && !makeManipulator(*p, error)) return nullptr;
-  makeHead(*p);
+  if (!makeHead(*p, exit_code, error)) return nullptr;
 
   link::LinkEndpoints endpoints;
   endpoints.base_port = o.port;
@@ -253,7 +281,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   health_sources.control = p->control.get();
   health_sources.server = p->server.get();
   health_sources.telemetry = &p->telemetry;
-  health_sources.arm = "simulated xArm 6";
+  health_sources.arm = p->arm_description;
   health_sources.cameras_kind = o.syntheticCameras() ? "synthetic" : "aravis";
   p->health = std::make_unique<robot::RobotHealthReporter>(health_sources, p->clock);
   *exit_code = 0;
@@ -264,7 +292,8 @@ std::string RobotAssembly::describe() const {
   const RobotOptions& o = parts_->options;
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", o.fps);
-  return std::string(o.syntheticCameras() ? "simulated arm, synthetic cameras " : "simulated arm, cameras ") +
+  return (o.realArm() ? "xArm 6 at " + o.arm_address : std::string("simulated arm")) +
+         (o.syntheticCameras() ? ", synthetic cameras " : ", cameras ") +
          std::to_string(o.width) + "x" + std::to_string(o.height) + " at " + rate + " Hz, link on port " +
          std::to_string(o.port);
 }

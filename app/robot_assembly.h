@@ -5,7 +5,7 @@
 ///          capture time from the joint-state buffer)
 ///          link (head targets) → head controller → arm → joint-state buffer → link (state)
 ///        plus the console's services (preview, calibration stills, control, health). The arm is
-///        the simulated xArm 6; the cameras are synthetic (rendering the default scene through the
+///        the simulated xArm 6 or a real one (XArmHeadArm, --arm xarm); the cameras are synthetic (rendering the default scene through the
 ///        true calibration at the arm's true pose, TrueCameraPoses) or GenICam cameras (Aravis).
 #pragma once
 
@@ -19,9 +19,9 @@ namespace telesphere::app {
 
 class RobotAssembly {
  public:
-  /// Loads the calibration(s), opens the link and starts the cameras. Null on failure, with
-  /// *exit_code 1 (bad arguments or files) or 2 (a camera or the link could not start) and the
-  /// reason in *error.
+  /// Loads the calibration(s), starts the arm (a real one moves to the nominal joints), opens the
+  /// link and starts the cameras. Null on failure, with *exit_code 1 (bad arguments or files) or
+  /// 2 (the arm, a camera or the link could not start) and the reason in *error.
   static std::unique_ptr<RobotAssembly> build(const RobotOptions& options, int* exit_code, std::string* error);
   ~RobotAssembly();
   RobotAssembly(const RobotAssembly&) = delete;

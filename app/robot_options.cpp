@@ -50,9 +50,36 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
                "synthetic cameras: the wrist marker rides on a simulated manipulator (xArm 6) moving along a "
                "teach-mode path, mounted at --sim-truth's T_robot_mount with the marker at its T_wrist_marker "
                "(both or neither; default: across the table, ManipulatorMounting::example)");
+  app.add_option("--arm", o.arm, "head arm: sim (the simulated xArm 6) or xarm (a real xArm 6, robot/xarm/README.md)")
+      ->capture_default_str()->check(CLI::IsMember({"sim", "xarm"}));
+  app.add_option("--arm-address", o.arm_address, "--arm xarm: the controller's IPv4 address");
+  app.add_option("--arm-command-port", o.arm_command_port, "--arm xarm: the controller's command port")
+      ->capture_default_str()->check(CLI::Range(1, 65535));
+  app.add_option("--arm-report-port", o.arm_report_port, "--arm xarm: the controller's real-time report port")
+      ->capture_default_str()->check(CLI::Range(1, 65535));
+  app.add_flag("--arm-clear-errors", o.arm_clear_errors,
+               "--arm xarm: clear the controller's errors and warnings at start-up (check the arm first); "
+               "without it, a controller error stops the start with its code and meaning");
 }
 
 bool checkRobotOptions(RobotOptions& o, std::string* error) {
+  if (o.realArm()) {
+    if (o.arm_address.empty()) {
+      *error = "--arm xarm needs --arm-address IP (the controller's address)";
+      return false;
+    }
+    if (o.sim) {
+      *error = "--sim means the simulated arm; drop it with --arm xarm";
+      return false;
+    }
+    if (!o.true_calib_path.empty() || !o.truth_path.empty() || o.sim_manipulator) {
+      *error = "--sim-truth, --truth-out and --sim-manipulator need the simulated arm (--arm sim)";
+      return false;
+    }
+  } else if (!o.arm_address.empty() || o.arm_clear_errors) {
+    *error = "--arm-address and --arm-clear-errors are for --arm xarm";
+    return false;
+  }
   if (!o.camera_left.empty() && (!o.true_calib_path.empty() || !o.truth_path.empty() || o.sim_manipulator)) {
     *error = "--sim-truth, --truth-out and --sim-manipulator need the synthetic cameras";
     return false;

@@ -31,8 +31,14 @@ struct RobotOptions {
   std::string true_calib_path;
   std::string truth_path;
   bool sim_manipulator = false;
+  std::string arm = "sim";       ///< "sim" (simulated xArm 6) or "xarm" (the real one)
+  std::string arm_address;       ///< the xArm controller's IPv4 address
+  int arm_command_port = 502;    ///< its command port (the protocol simulator's may differ)
+  int arm_report_port = 30003;   ///< its real-time report port
+  bool arm_clear_errors = false; ///< clear the controller's errors at start-up (the supervisor asks)
 
   bool syntheticCameras() const { return camera_left.empty(); }
+  bool realArm() const { return arm == "xarm"; }
 };
 
 /// Declares every option on `app`, bound to `options`.

@@ -3,15 +3,16 @@
 ///        server, wired by RobotAssembly (app/robot_assembly.h) from RobotOptions
 ///        (app/robot_options.h).
 ///
-/// With --sim (the default; the only arm this build can drive) the arm is the simulated xArm 6
+/// With --sim (the default) the arm is the simulated xArm 6
 /// and the cameras are synthetic, rendering the default scene through the true calibration
 /// (--sim-truth, by default the one the robot uses) at the arm's true pose at the middle of each
 /// exposure, delivered after exposure/2 + transfer; frames are stamped, as on the real robot,
 /// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame.
 /// --sim-manipulator adds the manipulator carrying the wrist marker (hand-eye calibration).
-/// With --camera-left/--camera-right the cameras are GenICam cameras through Aravis.
+/// With --camera-left/--camera-right the cameras are GenICam cameras through Aravis. With --arm
+/// xarm --arm-address IP the head arm is a real xArm 6 (robot/xarm/README.md: the lab's steps).
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
-/// Exit codes: 0 ok, 1 bad arguments or files, 2 a camera or the link could not start.
+/// Exit codes: 0 ok, 1 bad arguments or files, 2 the arm, a camera or the link could not start.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <csignal>

@@ -6,20 +6,27 @@
 ///        threshold 0.05 m/s), the operator-eye-to-camera deviation Δs, how the simulator's
 ///        latency setting maps to t1/t2, the controller's cost per tick, and the filter cut-off's
 ///        lag/jitter trade. Writes the trace as CSV and PNG under --out (default bench-out/head).
+///        --arm xarm-sim runs the replay also in real time through the real arm's driver and the
+///        xArm protocol simulator on loopback (JSON adds report_hz, command_hz,
+///        report_jitter_ms_p99 and xarm_sim).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "robot/head_arm_sim.h"
+#include "robot/head_arm_xarm.h"
 #include "robot/head_controller.h"
 #include "robot/head_motion_trace.h"
 #include "robot/joint_state_buffer.h"
 #include "robot/low_pass_filter.h"
 #include "robot/sim_clock.h"
+#include "robot/xarm/controller_simulator.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 
@@ -43,6 +50,13 @@ std::string& outDir() {
   return dir;
 }
 
+/// --arm: "sim" (the simulated arm on a simulated clock) or "xarm-sim" (also through the real
+/// arm's driver and the xArm protocol simulator, side by side).
+std::string& armChoice() {
+  static std::string arm = "sim";
+  return arm;
+}
+
 /// Lateral offset (to the operator's right) of the minimum-jerk motion at t (s).
 double offsetAt(double t) {
   const double s = std::clamp((t - kStart) / kDuration, 0.0, 1.0);
@@ -62,54 +76,22 @@ struct Replay {
   double mean_deviation = 0, max_deviation = 0;  // m, while the operator moves
 };
 
-Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = robot::SimulatedArmConfig{}.breakaway_rad) {
-  HeadControllerConfig config;
-  config.cutoff_hz = cutoff_hz;
-  HeadController controller(config);
-  const robot::Xarm6Kinematics& kin = controller.kinematics();
-  JointVector seed;
-  seed << 0.0, -0.3, -1.0, 0.0, -0.6, 0.0;
-  const Eigen::Isometry3d T_head_flange = config.geometry.T_flange_head().inverse();
-  const JointVector q_nom = kin.inverse(config.T_robot_nom * T_head_flange, seed).q;
-
-  robot::SimClock clock(0);
-  robot::SimulatedArmConfig arm_config;
-  arm_config.command_latency_ns = latency_ns;
-  arm_config.breakaway_rad = breakaway_rad;
-  arm_config.q_initial = q_nom;
-  robot::SimulatedArm arm(clock, arm_config);
-  robot::JointStateBuffer buffer(config.geometry);
-  controller.initialise({0, operatorPose(0)}, q_nom);
-
+/// The 10 ms trace of a run from the arm's joint states in `buffer` (the replay's time zero at
+/// t0_ns, the same clock as the states): speeds by finite differences, Δs between the operator's
+/// left eye and cam_l, the deviation while the operator moves, t1 and t2.
+void traceRun(const robot::JointStateBuffer& buffer, const HeadControllerConfig& config,
+              const Eigen::Isometry3d& T_robot_vr, const JointVector& q_nom, std::int64_t t0_ns, Replay& out) {
+  const robot::Xarm6Kinematics kin;
   const Eigen::Isometry3d T_head_eye_l(Eigen::Translation3d(0, 0.0325, 0));  // 65 mm IPD
-  const auto operatorHead = [&](double t) {
-    return controller.T_robot_vr() * operatorPose(t) * HeadController::T_hmd_head();
-  };
-  Replay out;
-  robot::HmdSample hmd{0, operatorPose(0)};
+  const auto operatorHead = [&](double t) { return T_robot_vr * operatorPose(t) * HeadController::T_hmd_head(); };
   Eigen::Vector3d p_rob_prev = (kin.forward(q_nom) * config.geometry.T_flange_head()).translation();
   double deviation_sum = 0;
   int deviation_n = 0;
   const std::int64_t end_ns = static_cast<std::int64_t>(kTotal * 1e9);
-  for (std::int64_t t = kMs; t <= end_ns; t += kMs) {
-    clock.set(t);
-    arm.update();
-    while (auto s = arm.pollState()) buffer.push(*s);
-    if (t / kHmdPeriodNs != (t - kMs) / kHmdPeriodNs) {
-      const std::int64_t t_hmd = (t / kHmdPeriodNs) * kHmdPeriodNs;
-      hmd = {t_hmd, operatorPose(static_cast<double>(t_hmd) * 1e-9)};
-    }
-    if (t % (10 * kMs) != 0) continue;
-    const auto t0 = std::chrono::steady_clock::now();
-    const robot::HeadCommand cmd = controller.tick(hmd, t);
-    const auto t1 = std::chrono::steady_clock::now();
-    out.tick_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-    if (cmd.send) arm.sendTarget(cmd.q_target);
-
-    // The 10 ms trace: speeds by finite differences, Δs between left eye and cam_l.
+  for (std::int64_t t = 10 * kMs; t <= end_ns; t += 10 * kMs) {
     const double ts = static_cast<double>(t) * 1e-9;
-    const auto T_flange = buffer.T_robot_flange(t);
-    const auto T_cam_l = buffer.T_robot_cam(robot::CameraSide::kLeft, t);
+    const auto T_flange = buffer.T_robot_flange(t0_ns + t);
+    const auto T_cam_l = buffer.T_robot_cam(robot::CameraSide::kLeft, t0_ns + t);
     if (!T_flange || !T_cam_l) continue;
     const Eigen::Vector3d p_rob = (*T_flange * config.geometry.T_flange_head()).translation();
     robot::HeadMotionSample s;
@@ -127,6 +109,111 @@ Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = 
   }
   out.mean_deviation = deviation_sum / std::max(1, deviation_n);
   out.latencies = robot::measureHeadLatencies(out.trace, kThreshold);
+}
+
+JointVector nominalJoints(const HeadControllerConfig& config) {
+  JointVector seed;
+  seed << 0.0, -0.3, -1.0, 0.0, -0.6, 0.0;
+  const Eigen::Isometry3d T_head_flange = config.geometry.T_flange_head().inverse();
+  return robot::Xarm6Kinematics().inverse(config.T_robot_nom * T_head_flange, seed).q;
+}
+
+Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = robot::SimulatedArmConfig{}.breakaway_rad) {
+  HeadControllerConfig config;
+  config.cutoff_hz = cutoff_hz;
+  HeadController controller(config);
+  const JointVector q_nom = nominalJoints(config);
+
+  robot::SimClock clock(0);
+  robot::SimulatedArmConfig arm_config;
+  arm_config.command_latency_ns = latency_ns;
+  arm_config.breakaway_rad = breakaway_rad;
+  arm_config.q_initial = q_nom;
+  robot::SimulatedArm arm(clock, arm_config);
+  robot::JointStateBuffer buffer(config.geometry);
+  controller.initialise({0, operatorPose(0)}, q_nom);
+
+  Replay out;
+  robot::HmdSample hmd{0, operatorPose(0)};
+  const std::int64_t end_ns = static_cast<std::int64_t>(kTotal * 1e9);
+  for (std::int64_t t = kMs; t <= end_ns; t += kMs) {
+    clock.set(t);
+    arm.update();
+    while (auto s = arm.pollState()) buffer.push(*s);
+    if (t / kHmdPeriodNs != (t - kMs) / kHmdPeriodNs) {
+      const std::int64_t t_hmd = (t / kHmdPeriodNs) * kHmdPeriodNs;
+      hmd = {t_hmd, operatorPose(static_cast<double>(t_hmd) * 1e-9)};
+    }
+    if (t % (10 * kMs) != 0) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    const robot::HeadCommand cmd = controller.tick(hmd, t);
+    const auto t1 = std::chrono::steady_clock::now();
+    out.tick_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    if (cmd.send) arm.sendTarget(cmd.q_target);
+  }
+  traceRun(buffer, config, controller.T_robot_vr(), q_nom, 0, out);
+  return out;
+}
+
+/// The same replay in real time through the real arm's driver (XArmHeadArm) and the xArm protocol
+/// simulator on loopback: reports at 100 Hz over TCP, servo targets as protocol frames, joint
+/// states stamped by the driver on the steady clock. The simulated arm's dynamics are the same.
+struct XArmSimReplay {
+  Replay replay;
+  robot::XArmHeadArm::Stats stats;
+  double report_hz = 0, command_hz = 0;
+};
+
+XArmSimReplay replayThroughXArmSim(double cutoff_hz, std::int64_t latency_ns) {
+  HeadControllerConfig config;
+  config.cutoff_hz = cutoff_hz;
+  HeadController controller(config);
+  const JointVector q_nom = nominalJoints(config);
+  xarm::ControllerSimulatorOptions sim_options;
+  sim_options.arm.command_latency_ns = latency_ns;
+  sim_options.arm.q_initial = q_nom;
+  std::string error;
+  const auto sim = xarm::ControllerSimulator::start(sim_options, &error);
+  if (!sim) throw std::runtime_error("xArm protocol simulator: " + error);
+  robot::SteadyClock clock;
+  robot::XArmOptions options;
+  options.address = "127.0.0.1";
+  options.command_port = sim->commandPort();
+  options.report_port = sim->reportPort();
+  const auto arm = robot::XArmHeadArm::start(options, clock, &error);
+  if (!arm) throw std::runtime_error("xArm driver against the simulator: " + error);
+  robot::JointStateBuffer buffer(config.geometry);
+  while (arm->pollState()) {
+  }
+
+  XArmSimReplay out;
+  const std::int64_t t0 = clock.nowNs();
+  controller.initialise({t0, operatorPose(0)}, q_nom);
+  const auto stats0 = arm->stats();
+  const std::int64_t end_ns = static_cast<std::int64_t>(kTotal * 1e9);
+  auto next = std::chrono::steady_clock::now();
+  for (;;) {
+    next += std::chrono::milliseconds(10);
+    std::this_thread::sleep_until(next);
+    const std::int64_t now = clock.nowNs();
+    if (now - t0 > end_ns + 200 * kMs) break;  // the last states arrive after the run
+    arm->update();
+    while (auto s = arm->pollState()) buffer.push(*s);
+    if (now - t0 > end_ns) continue;
+    const std::int64_t t_hmd = t0 + ((now - t0) / kHmdPeriodNs) * kHmdPeriodNs;
+    const robot::HmdSample hmd{t_hmd, operatorPose(static_cast<double>(t_hmd - t0) * 1e-9)};
+    const auto c0 = std::chrono::steady_clock::now();
+    const robot::HeadCommand cmd = controller.tick(hmd, now);
+    out.replay.tick_us.push_back(
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - c0).count());
+    if (cmd.send && !arm->sendTarget(cmd.q_target) && arm->status() != robot::ArmStatus::kOk)
+      throw std::runtime_error("the xArm driver stopped: " + arm->faultText());
+  }
+  const double run_s = static_cast<double>(clock.nowNs() - t0) * 1e-9;
+  out.stats = arm->stats();
+  out.report_hz = double(out.stats.reports - stats0.reports) / run_s;
+  out.command_hz = double(out.stats.targets_sent - stats0.targets_sent) / (kTotal);
+  traceRun(buffer, config, controller.T_robot_vr(), q_nom, t0, out.replay);
   return out;
 }
 
@@ -201,6 +288,44 @@ nlohmann::json runHead(const BenchContext& ctx) {
   json["mean_deviation_mm"] = main.mean_deviation * 1e3;
   json["max_deviation_mm"] = main.max_deviation * 1e3;
   json["sim_command_latency_ms"] = static_cast<double>(latency_ns) / kMs;
+
+  // 1b. The same through the xArm driver and the protocol simulator (--arm xarm-sim).
+  if (armChoice() == "xarm-sim") {
+    const XArmSimReplay x = replayThroughXArmSim(100.0, latency_ns);
+    std::vector<double> xticks = x.replay.tick_us;
+    std::sort(xticks.begin(), xticks.end());
+    double xmean = 0;
+    for (double t : xticks) xmean += t;
+    xmean /= static_cast<double>(std::max<std::size_t>(1, xticks.size()));
+    const auto xpct = [&](double q) { return xticks.empty() ? 0.0 : xticks[static_cast<std::size_t>(q * double(xticks.size() - 1))]; };
+    ctx.out << "\nThe same replay through the xArm driver (XArmHeadArm) and the xArm protocol simulator on loopback, "
+               "in real time (reports 100 Hz over TCP, servo joint frames, states stamped by the driver):\n";
+    Table side({"figure", "simulated arm (sim clock)", "xArm driver + protocol sim", "paper"});
+    side.addRow({"start latency t1 (ms)", ms(main.latencies.start_s), ms(x.replay.latencies.start_s), "~130"});
+    side.addRow({"finish latency t2 (ms)", ms(main.latencies.finish_s), ms(x.replay.latencies.finish_s), "~100"});
+    side.addRow({"mean / max deviation ds (mm)",
+                 formatNumber(main.mean_deviation * 1e3) + " / " + formatNumber(main.max_deviation * 1e3),
+                 formatNumber(x.replay.mean_deviation * 1e3) + " / " + formatNumber(x.replay.max_deviation * 1e3), "-"});
+    side.addRow({"joint reports (Hz)", "100 (by construction)", formatNumber(x.report_hz), "100"});
+    side.addRow({"servo commands (Hz)", "100 (by construction)", formatNumber(x.command_hz), "100"});
+    side.addRow({"report arrival jitter p99 (ms)", "0", formatNumber(x.stats.report_jitter_ms_p99), "-"});
+    side.addRow({"link delay, one way (ms)", "0", formatNumber(x.stats.link_delay_ms), "-"});
+    side.addRow({"controller tick p50 / p99 (us)", formatNumber(pct(0.5)) + " / " + formatNumber(pct(0.99)),
+                 formatNumber(xpct(0.5)) + " / " + formatNumber(xpct(0.99)), "-"});
+    side.print(ctx.out);
+    json["report_hz"] = x.report_hz;
+    json["command_hz"] = x.command_hz;
+    json["report_jitter_ms_p99"] = x.stats.report_jitter_ms_p99;
+    json["xarm_sim"] = {{"start_latency_ms", x.replay.latencies.start_s ? *x.replay.latencies.start_s * 1e3 : -1.0},
+                        {"finish_latency_ms", x.replay.latencies.finish_s ? *x.replay.latencies.finish_s * 1e3 : -1.0},
+                        {"mean_deviation_mm", x.replay.mean_deviation * 1e3},
+                        {"max_deviation_mm", x.replay.max_deviation * 1e3},
+                        {"controller_tick_us", xmean},
+                        {"link_delay_ms", x.stats.link_delay_ms},
+                        {"reports", x.stats.reports},
+                        {"targets_sent", x.stats.targets_sent},
+                        {"refused_jumps", x.stats.refused_jumps}};
+  }
 
   // 2. How the simulator's latency setting maps to t1 and t2.
   ctx.out << "\nSimulator command latency -> measured latencies (cut-off 100 Hz):\n";
@@ -289,5 +414,9 @@ TELESPHERE_BENCH_TOPIC(head, telesphere::bench::BenchTopic{
                                  [](CLI::App& sub) {
                                    sub.add_option("--out", telesphere::bench::outDir(),
                                                   "directory for the CSV and PNG trace");
+                                   sub.add_option("--arm", telesphere::bench::armChoice(),
+                                                  "sim, or xarm-sim: also through the xArm driver and "
+                                                  "its protocol simulator, side by side")
+                                       ->check(CLI::IsMember({"sim", "xarm-sim"}));
                                  },
                                  telesphere::bench::runHead});
