@@ -295,6 +295,28 @@ TEST_F(XArmHeadArmTest, TheControllersFaultReachesTheConsoleOverTheLinkAndItsCle
   server.setControlHandler(nullptr);
 }
 
+TEST_F(XArmHeadArmTest, TheSimulatorDropsAClientThatSendsGarbageAndServesTheNextOne) {
+  std::string error;
+  auto raw = xarm::TcpSocket::connect("127.0.0.1", sim->commandPort(), 1000ms, &error);
+  ASSERT_TRUE(raw) << error;
+  const std::vector<std::uint8_t> garbage{0, 1, 0, 9, 0, 2, 13, 0};  // protocol id 9
+  ASSERT_TRUE(raw->sendAll(garbage, 1000ms, &error)) << error;
+  std::vector<std::uint8_t> buffer(64);
+  std::size_t n = 0;
+  xarm::TcpSocket::Received got = xarm::TcpSocket::Received::kTimeout;
+  for (int i = 0; i < 100 && got == xarm::TcpSocket::Received::kTimeout; ++i) got = raw->receive(buffer, 20ms, &n, &error);
+  EXPECT_EQ(got, xarm::TcpSocket::Received::kClosed);
+  // A truncated request, then the connection gone: nothing breaks.
+  auto truncated = xarm::TcpSocket::connect("127.0.0.1", sim->commandPort(), 1000ms, &error);
+  ASSERT_TRUE(truncated) << error;
+  const auto request = xarm::encodeRequest(5, xarm::Register::kGetState, {});
+  ASSERT_TRUE(truncated->sendAll(std::span(request).first(4), 1000ms, &error));
+  truncated->close();
+  // The next client is served as usual.
+  startArm();
+  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+}
+
 TEST(XArmHeadArmStart, NobodyListeningFailsWithTheAddressAndAHint) {
   std::string error;
   int port = 0;
