@@ -169,6 +169,9 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
     if (p.manipulator)
       layout.marker_pose = [m = &*p.manipulator](std::int64_t t_ns) { return m->T_robot_marker(t_ns); };
     auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene(layout));
+    // One trigger line for both: when rendering falls behind the frame rate they still expose the
+    // same ticks, so every frame can pair.
+    const auto trigger = std::make_shared<robot::SyntheticTrigger>();
     for (int index : {0, 1}) {
       const auto camera = calib::atResolution(p.true_calibration.cameras[std::size_t(index)], o.width, o.height, error);
       if (!camera) {
@@ -181,6 +184,7 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
       options.threads = o.render_threads;
       options.exposure_us = static_cast<std::uint32_t>(std::lround(o.exposure_ms * 1000.0));
       options.transfer_ns = std::llround(o.transfer_ms * 1e6);
+      options.trigger = trigger;
       const robot::CameraSide side = index == 0 ? robot::CameraSide::kLeft : robot::CameraSide::kRight;
       (index == 0 ? p.left : p.right) = std::make_unique<robot::SyntheticCamera>(
           camera->camera, o.width, o.height, scene,

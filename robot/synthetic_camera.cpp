@@ -181,9 +181,11 @@ void SyntheticCamera::run() {
       }
     }
     const std::int64_t latest = syntheticFloorDiv(clock_.nowNs() - delay - phase, period_ns_);
-    if (latest > k) {
-      skipped_ticks_.fetch_add(static_cast<std::uint64_t>(latest - k), std::memory_order_relaxed);
-      k = latest;
+    const std::int64_t wanted = std::max(k, latest);
+    const std::int64_t chosen = options_.trigger ? options_.trigger->tickFor(k, wanted) : wanted;
+    if (chosen > k) {
+      skipped_ticks_.fetch_add(static_cast<std::uint64_t>(chosen - k), std::memory_order_relaxed);
+      k = chosen;
     }
     const std::int64_t capture_ns = phase + k * period_ns_;
     auto pixels = std::make_shared<std::vector<std::uint8_t>>();

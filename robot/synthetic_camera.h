@@ -19,8 +19,9 @@
 /// images); start() runs a thread that waits for each tick on the clock (a SimClock makes frames
 /// step deterministically: set the clock to a tick, take the frame) and queues frames for
 /// nextFrame(). When rendering falls behind, ticks are skipped (the next frame is exposed at the
-/// latest tick reached, counted by skippedTicks()); sequence numbers stay gap-free, and only
-/// frames dropped from a full queue (the consumer too slow) count as lost.
+/// latest tick reached, counted by skippedTicks(); with a shared SyntheticTrigger, at the tick a
+/// partner camera chose, so that a stereo pair keeps exposing the same ticks); sequence numbers
+/// stay gap-free, and only frames dropped from a full queue (the consumer too slow) count as lost.
 #pragma once
 
 #include <atomic>
@@ -37,6 +38,7 @@
 #include "robot/camera_source.h"
 #include "robot/clock.h"
 #include "robot/synthetic_scene.h"
+#include "robot/synthetic_trigger.h"
 
 namespace telesphere::robot {
 
@@ -50,6 +52,10 @@ struct SyntheticCameraOptions {
   int supersampling = 1;            ///< n: n×n rays per pixel, 1…8 (the speed/accuracy knob)
   int threads = 2;                  ///< rendering threads per frame (≥ 1)
   std::size_t queue_depth = 4;      ///< frames waiting for nextFrame(); the oldest is dropped
+  /// Shared by the two cameras of a stereo pair (same fps and phase): when rendering falls
+  /// behind, a camera renders the tick its partner chose rather than skipping past it (see
+  /// synthetic_trigger.h). Null: the camera skips on its own.
+  std::shared_ptr<SyntheticTrigger> trigger;
 };
 
 class SyntheticCamera final : public CameraSource {

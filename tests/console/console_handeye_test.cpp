@@ -50,6 +50,11 @@ class CalibrateHandEye : public ::testing::Test {
     return kBin + "telesphere-console calibrate handeye --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
            " --calib " + kSrc + "calib/data/sim_calibration.yaml --json " + extra;
   }
+  /// The robot's own account, for a failure message (the folder is gone after the suite).
+  static std::string robotLogTail() {
+    const std::string log = telesphere::test::fileText((dir_ / "robot.log").string());
+    return log.size() > 6000 ? log.substr(log.size() - 6000) : log;
+  }
   static inline std::filesystem::path dir_;
   static inline pid_t robot_pid_ = -1;
 };
@@ -62,7 +67,7 @@ TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_GT(robot_pid_, 0);
   const std::string out_file = (dir_ / "handeye.yaml").string();
   const CommandResult r = runCommand(calibrate("--apply --out " + out_file), dir_.string());
-  ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 6000);
+  ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 6000) << "\n--- robot log (last 6000 characters):\n" << robotLogTail();
   EXPECT_NE(r.err.find("applied: the robot uses calibration generation 2 (was 1)"), std::string::npos)
       << r.err.substr(0, 6000);
   const nlohmann::json figures = nlohmann::json::parse(r.out);
