@@ -33,6 +33,8 @@ packages=(
   qt6-base-dev libqcustomplot-dev libsqlite3-dev libqt6sql6-sqlite
   # video path and link
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
+  # session recordings (MCAP chunk compression)
+  libzstd-dev liblz4-dev zlib1g-dev
   # files, command lines, logging
   libyaml-cpp-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   # tests, benchmarks and fuzzing (libFuzzer comes with clang's runtime)
@@ -90,7 +92,7 @@ case "$what" in
     ctest --test-dir build-test --output-on-failure -j "$jobs"
     # libFuzzer targets need clang: a separate tree, each target fuzzed briefly from its corpus.
     CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_FUZZ=ON -DTELESPHERE_COMPONENTS="robot/link" \
+      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_FUZZ=ON -DTELESPHERE_COMPONENTS="robot/link;robot/record" \
       -DTELESPHERE_FUZZ_SECONDS="${TELESPHERE_FUZZ_SECONDS:-20}" "${launcher[@]}"
     cmake --build build-fuzz -j "$jobs"
     ctest --test-dir build-fuzz --output-on-failure -L fuzz

@@ -16,6 +16,7 @@
 #include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
 #include "robot/preview_streamer.h"
+#include "robot/record/session_recorder.h"
 #include "robot/robot_control.h"
 #include "robot/robot_health_reporter.h"
 #include "robot/simulated_manipulator.h"
@@ -41,6 +42,7 @@ struct RobotAssembly::Parts {
   std::string arm_description;          ///< for the console's health view
   std::unique_ptr<robot::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
+  std::shared_ptr<record::SessionRecorder> recorder;  ///< --record: the link's tap
   std::unique_ptr<robot::CalibrationInUse> calibration_in_use;
   robot::TelemetryBatcher telemetry;
   std::unique_ptr<robot::HeadLoop> loop;
@@ -233,6 +235,16 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     *exit_code = 2;
     return nullptr;
   }
+  if (!o.record_path.empty()) {
+    record::SessionRecorderOptions recording;
+    recording.mcap.compression = *record::parseCompression(o.record_compression);
+    p->recorder = record::SessionRecorder::start(o.record_path, recording, error);
+    if (!p->recorder) {
+      *error = "--record: " + *error;
+      return nullptr;
+    }
+    p->server->setTap(p->recorder);
+  }
   // The calibration in use, applied and reverted live by the console (link apply_calibration).
   p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
   robot::HeadLoopConfig loop_config;
@@ -353,6 +365,16 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
   head_thread.join();
   manipulator_thread.join();
   p.server->setControlHandler(nullptr);  // the link's thread must not call into what goes next
+  if (p.recorder) {
+    p.server->setTap(nullptr);
+    const bool whole = p.recorder->stop();
+    const auto r = p.recorder->stats();
+    std::fprintf(stderr, "telesphere-robot: recorded %llu messages (%llu stereo frames, %.1f MB) to %s%s%s\n",
+                 static_cast<unsigned long long>(r.messages), static_cast<unsigned long long>(r.stereo_frames),
+                 double(r.file_bytes) * 1e-6, p.recorder->path().c_str(),
+                 whole ? "" : (", " + std::to_string(r.dropped) + " messages dropped").c_str(),
+                 r.error.empty() ? "" : (": " + r.error).c_str());
+  }
   return p.video->stats().frames_sent;
 }
 

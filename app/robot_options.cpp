@@ -60,6 +60,10 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
   app.add_flag("--arm-clear-errors", o.arm_clear_errors,
                "--arm xarm: clear the controller's errors and warnings at start-up (check the arm first); "
                "without it, a controller error stops the start with its code and meaning");
+  app.add_option("--record", o.record_path,
+                 "record the session (stereo frames, state, telemetry, head targets, control) to this MCAP file");
+  app.add_option("--record-compression", o.record_compression, "--record: chunk compression (none, lz4, zstd)")
+      ->capture_default_str()->check(CLI::IsMember({"none", "lz4", "zstd"}));
 }
 
 bool checkRobotOptions(RobotOptions& o, std::string* error) {

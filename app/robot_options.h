@@ -36,6 +36,8 @@ struct RobotOptions {
   int arm_command_port = 502;    ///< its command port (the protocol simulator's may differ)
   int arm_report_port = 30003;   ///< its real-time report port
   bool arm_clear_errors = false; ///< clear the controller's errors at start-up (the supervisor asks)
+  std::string record_path;       ///< record the session (everything on the link) to this MCAP file
+  std::string record_compression = "none";  ///< chunk compression: none, lz4, zstd
 
   bool syntheticCameras() const { return camera_left.empty(); }
   bool realArm() const { return arm == "xarm"; }

@@ -61,6 +61,18 @@ struct LinkServer::Impl {
   const std::uint64_t instance = newLinkInstanceId();
   std::atomic<bool> running{true};
   std::thread service;
+  std::mutex tap_mutex;
+  std::shared_ptr<LinkTap> tap;  ///< copied under tap_mutex, called outside it
+
+  void tell(LinkTap::Direction direction, const proto::Envelope& envelope, const SharedBytes& left = nullptr,
+            const SharedBytes& right = nullptr) {
+    std::shared_ptr<LinkTap> t;
+    {
+      std::lock_guard lock(tap_mutex);
+      t = tap;
+    }
+    if (t) t->onLinkMessage(direction, envelope, left, right);
+  }
 
   // A PUB past its high-water mark drops the newest message. Frames: keep the queue short, at
   // most two stereo frames (three parts each) wait per subscriber, older ones never pile up.
@@ -83,8 +95,11 @@ struct LinkServer::Impl {
   void send(zmq::socket_t& socket, std::mutex& mutex, proto::Envelope envelope) {
     envelope.set_schema_version(kSchemaVersion);
     envelope.set_sender_clock_ns(linkNowNs());
-    std::lock_guard lock(mutex);
-    if (socket.send(serialise(envelope), zmq::send_flags::dontwait)) stats.countSent();
+    {
+      std::lock_guard lock(mutex);
+      if (socket.send(serialise(envelope), zmq::send_flags::dontwait)) stats.countSent();
+    }
+    tell(LinkTap::Direction::kSent, envelope);
   }
 
   void serve() {
@@ -109,11 +124,16 @@ struct LinkServer::Impl {
       auto envelope = stats.parse(message.data(), message.size(), "uplink");
       if (!envelope) continue;
       stats.countReceived();
+      tell(LinkTap::Direction::kReceived, *envelope);
       if (envelope->has_head_target()) {
         if (!takeHeadTarget(envelope->head_target())) stats.countDrop(DropReason::kSuperseded, "uplink");
       } else if (envelope->has_xr_stats() || envelope->has_xr_telemetry()) {
-        // For the console: republished as it came, stamped with the XR app's clock inside.
-        send(state, state_mutex, std::move(*envelope));
+        // For the console: republished as it came, stamped with the XR app's clock inside (the
+        // tap heard it as received: the republished copy is not told again).
+        envelope->set_schema_version(kSchemaVersion);
+        envelope->set_sender_clock_ns(linkNowNs());
+        std::lock_guard lock(state_mutex);
+        if (state.send(serialise(*envelope), zmq::send_flags::dontwait)) stats.countSent();
       } else {
         stats.countDrop(DropReason::kUnexpectedBody, "uplink");
       }
@@ -162,6 +182,7 @@ struct LinkServer::Impl {
         reply.mutable_pong()->set_server_ns(linkNowNs());
         reply.mutable_pong()->set_server_instance(instance);
       } else if (envelope->has_control_request()) {
+        tell(LinkTap::Direction::kReceived, *envelope);
         std::lock_guard lock(handler_mutex);
         if (handler) {
           *reply.mutable_control_reply() = handler(envelope->control_request());
@@ -178,6 +199,7 @@ struct LinkServer::Impl {
       reply.set_sender_clock_ns(linkNowNs());
       control.send(parts[0], zmq::send_flags::sndmore | zmq::send_flags::dontwait);
       if (control.send(serialise(reply), zmq::send_flags::dontwait)) stats.countSent();
+      if (reply.has_control_reply()) tell(LinkTap::Direction::kSent, reply);
     }
   }
 };
@@ -205,6 +227,7 @@ std::int64_t LinkServer::publishStereoFrame(proto::StereoFrame frame, SharedByte
       socket.send(zeroCopy(left_jpeg), zmq::send_flags::sndmore | zmq::send_flags::dontwait) &&
       socket.send(zeroCopy(right_jpeg), zmq::send_flags::dontwait))
     impl_->stats.countSent();
+  impl_->tell(LinkTap::Direction::kSent, envelope, left_jpeg, right_jpeg);
   return now;
 }
 
@@ -252,6 +275,11 @@ std::optional<proto::HeadTarget> LinkServer::latestHeadTarget() const {
 void LinkServer::setControlHandler(ControlHandler handler) {
   std::lock_guard lock(impl_->handler_mutex);
   impl_->handler = std::move(handler);
+}
+
+void LinkServer::setTap(std::shared_ptr<LinkTap> tap) {
+  std::lock_guard lock(impl_->tap_mutex);
+  impl_->tap = std::move(tap);
 }
 
 LinkStatsSnapshot LinkServer::stats() const { return impl_->stats.snapshot(); }

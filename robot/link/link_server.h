@@ -18,6 +18,7 @@
 
 #include "robot/link/link_endpoints.h"
 #include "robot/link/link_stats.h"
+#include "robot/link/link_tap.h"
 #include "robot/link/telesphere_link.pb.h"
 
 namespace telesphere::link {
@@ -56,6 +57,10 @@ class LinkServer {
   /// Called on the link's thread for every control request; the reply goes back to its sender.
   /// Without a handler requests are answered {ok: false, error: "no handler"}.
   void setControlHandler(ControlHandler handler);
+
+  /// Everything sent and received from now on also goes to `tap` (null: nobody). A call in
+  /// flight keeps the tap it started with alive.
+  void setTap(std::shared_ptr<LinkTap> tap);
 
   LinkStatsSnapshot stats() const;
 

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+/// @brief The recording's topics and schemas (see recording_topics.h).
+#include "robot/record/recording_topics.h"
+
+#include <google/protobuf/descriptor.pb.h>
+
+#include <functional>
+#include <set>
+
+#include "robot/record/foxglove_compressed_image.pb.h"
+
+namespace telesphere::record {
+
+const std::vector<RecordedTopicInfo>& recordedTopics() {
+  namespace p = link::proto;
+  static const std::vector<RecordedTopicInfo> topics{
+      {RecordedTopic::kStereoFrame, "/stereo/frame", p::StereoFrame::descriptor()},
+      {RecordedTopic::kLeftImage, "/stereo/left/compressed", foxglove::CompressedImage::descriptor()},
+      {RecordedTopic::kRightImage, "/stereo/right/compressed", foxglove::CompressedImage::descriptor()},
+      {RecordedTopic::kRobotState, "/robot/state", p::RobotState::descriptor()},
+      {RecordedTopic::kRobotTelemetry, "/robot/telemetry", p::RobotTelemetry::descriptor()},
+      {RecordedTopic::kRobotHealth, "/robot/health", p::RobotHealth::descriptor()},
+      {RecordedTopic::kControlRequest, "/control/request", p::ControlRequest::descriptor()},
+      {RecordedTopic::kControlReply, "/control/reply", p::ControlReply::descriptor()},
+      {RecordedTopic::kHeadTarget, "/xr/head_target", p::HeadTarget::descriptor()},
+      {RecordedTopic::kXrStats, "/xr/stats", p::XrStats::descriptor()},
+      {RecordedTopic::kXrTelemetry, "/xr/telemetry", p::XrTelemetry::descriptor()},
+  };
+  return topics;
+}
+
+std::optional<RecordedTopic> topicOf(const link::proto::Envelope& envelope) {
+  using B = link::proto::Envelope::BodyCase;
+  switch (envelope.body_case()) {
+    case B::kStereoFrame: return RecordedTopic::kStereoFrame;
+    case B::kRobotState: return RecordedTopic::kRobotState;
+    case B::kRobotTelemetry: return RecordedTopic::kRobotTelemetry;
+    case B::kRobotHealth: return RecordedTopic::kRobotHealth;
+    case B::kControlRequest: return RecordedTopic::kControlRequest;
+    case B::kControlReply: return RecordedTopic::kControlReply;
+    case B::kHeadTarget: return RecordedTopic::kHeadTarget;
+    case B::kXrStats: return RecordedTopic::kXrStats;
+    case B::kXrTelemetry: return RecordedTopic::kXrTelemetry;
+    default: return std::nullopt;
+  }
+}
+
+std::string fileDescriptorSetOf(const google::protobuf::Descriptor* type) {
+  google::protobuf::FileDescriptorSet set;
+  std::set<std::string> added;
+  const std::function<void(const google::protobuf::FileDescriptor*)> add = [&](const google::protobuf::FileDescriptor* f) {
+    if (!added.insert(f->name()).second) return;
+    for (int i = 0; i < f->dependency_count(); ++i) add(f->dependency(i));
+    f->CopyTo(set.add_file());
+  };
+  add(type->file());
+  return set.SerializeAsString();
+}
+
+namespace {
+void varint(std::string& out, std::uint64_t v) {
+  while (v >= 0x80) {
+    out.push_back(static_cast<char>(v | 0x80));
+    v >>= 7;
+  }
+  out.push_back(static_cast<char>(v));
+}
+void lengthDelimited(std::string& out, int field, std::size_t size) {
+  varint(out, (std::uint64_t(field) << 3) | 2);
+  varint(out, size);
+}
+}  // namespace
+
+std::string compressedImagePrefix(std::int64_t capture_ns, const std::string& frame_id, std::size_t jpeg_size) {
+  std::string timestamp;  // google.protobuf.Timestamp {seconds = 1, nanos = 2}, floor division
+  std::int64_t seconds = capture_ns / 1'000'000'000;
+  std::int64_t nanos = capture_ns % 1'000'000'000;
+  if (nanos < 0) {
+    nanos += 1'000'000'000;
+    --seconds;
+  }
+  if (seconds != 0) {
+    varint(timestamp, (1u << 3) | 0);
+    varint(timestamp, static_cast<std::uint64_t>(seconds));
+  }
+  if (nanos != 0) {
+    varint(timestamp, (2u << 3) | 0);
+    varint(timestamp, static_cast<std::uint64_t>(nanos));
+  }
+  std::string out;
+  lengthDelimited(out, 1, timestamp.size());
+  out += timestamp;
+  lengthDelimited(out, 4, frame_id.size());
+  out += frame_id;
+  lengthDelimited(out, 3, 4);
+  out += "jpeg";
+  lengthDelimited(out, 2, jpeg_size);
+  return out;
+}
+
+}  // namespace telesphere::record

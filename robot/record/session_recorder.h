@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+/// @brief Records a session: everything that crosses the link (a link::LinkTap on the robot's
+///        LinkServer) into an MCAP file, on its own thread, never slowing the link.
+///
+///   link threads ──onLinkMessage──▶ bounded queue ──writer thread──▶ McapWriter ──▶ FILE.mcap
+///
+/// The link's threads only copy the (small) message body and keep a reference to the JPEGs; the
+/// writer thread encodes, chunks and writes. When the disk cannot keep up the queue fills to
+/// `max_queue_bytes` and further messages are dropped and counted (stats().dropped), never
+/// waited for; a write error ends the recording (stats().error) and counts the rest as dropped.
+/// Topics and schemas: recording_topics.h.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "robot/link/link_tap.h"
+#include "robot/record/mcap_writer.h"
+#include "robot/record/recording_topics.h"
+
+namespace telesphere::record {
+
+struct SessionRecorderOptions {
+  McapWriterOptions mcap;
+  std::size_t max_queue_bytes = std::size_t(512) << 20;  ///< about 15 s of the paper's 30 MB/s
+};
+
+struct SessionRecorderStats {
+  std::uint64_t messages = 0;        ///< written to the file
+  std::uint64_t stereo_frames = 0;   ///< of them, stereo frames (three messages each)
+  std::uint64_t dropped = 0;         ///< messages lost: queue full or the file failed
+  std::uint64_t payload_bytes = 0;   ///< message bytes written
+  std::uint64_t file_bytes = 0;      ///< the file's size so far
+  std::size_t queue_bytes_max = 0;   ///< the queue's high-water mark
+  std::string error;                 ///< why recording stopped early (empty: it did not)
+};
+
+class SessionRecorder final : public link::LinkTap {
+ public:
+  /// Creates `path`, writes the schemas and channels, starts the writer thread; null with the
+  /// reason. Give it to LinkServer::setTap to record.
+  static std::shared_ptr<SessionRecorder> start(const std::string& path, const SessionRecorderOptions& options,
+                                                std::string* error);
+  ~SessionRecorder() override;
+
+  void onLinkMessage(Direction direction, const link::proto::Envelope& envelope,
+                     const std::shared_ptr<const std::vector<std::uint8_t>>& left_jpeg,
+                     const std::shared_ptr<const std::vector<std::uint8_t>>& right_jpeg) override;
+
+  /// Writes what is queued, finishes the file (summary, footer) and stops; later messages are
+  /// ignored. True when the whole recording is in the file. Idempotent.
+  bool stop();
+
+  SessionRecorderStats stats() const;
+  const std::string& path() const { return path_; }
+
+ private:
+  struct Item {
+    RecordedTopic topic;
+    std::uint64_t log_time_ns, publish_time_ns;
+    std::uint32_t sequence;
+    std::string body;  ///< the serialized message (for a stereo frame: its StereoFrame)
+    std::int64_t capture_ns[2] = {0, 0};
+    std::shared_ptr<const std::vector<std::uint8_t>> jpeg[2];
+    std::size_t bytes() const;
+  };
+  SessionRecorder(std::string path, std::unique_ptr<McapWriter> writer, std::size_t max_queue_bytes);
+  void run();
+  void writeItem(const Item& item);
+
+  std::string path_;
+  std::unique_ptr<McapWriter> writer_;
+  std::uint16_t channel_[static_cast<int>(RecordedTopic::kCount)] = {};
+  std::size_t max_queue_bytes_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<Item> queue_;
+  std::size_t queue_bytes_ = 0;
+  bool stopping_ = false, stopped_ = false;
+  SessionRecorderStats stats_;
+  std::thread thread_;
+};
+
+}  // namespace telesphere::record
