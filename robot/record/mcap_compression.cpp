@@ -5,6 +5,8 @@
 #include <lz4frame.h>
 #include <zstd.h>
 
+#include <algorithm>
+
 namespace telesphere::record {
 
 void compressChunk(McapCompression c, const std::uint8_t* data, std::size_t size, std::vector<std::uint8_t>* out,
@@ -44,14 +46,51 @@ bool decompressChunk(McapCompression c, const std::uint8_t* data, std::size_t si
       out->assign(data, data + size);
       return true;
     case McapCompression::kZstd: {
-      out->resize(uncompressed_size);
-      const std::size_t n = ZSTD_decompress(out->data(), out->size(), data, size);
-      if (ZSTD_isError(n) || n != uncompressed_size) {
-        *error = std::string("zstd chunk: ") +
-                 (ZSTD_isError(n) ? ZSTD_getErrorName(n) : "decompressed size differs from the chunk's");
+      // Streamed into a buffer that grows with what actually comes out (a damaged chunk's claim
+      // is not trusted with memory), never past the claim.
+      ZSTD_DCtx* ctx = ZSTD_createDCtx();
+      if (ctx == nullptr) {
+        *error = "zstd: no decompression context";
         return false;
       }
-      return true;
+      // One byte beyond the claim: a frame that ends exactly at the claim finishes with room to spare.
+      const std::uint64_t cap = uncompressed_size + 1;
+      out->resize(std::min<std::uint64_t>(cap, 4 * std::uint64_t(size) + 65536));
+      ZSTD_inBuffer in{data, size, 0};
+      std::size_t produced = 0;
+      bool ok = true;
+      for (;;) {
+        ZSTD_outBuffer o{out->data(), out->size(), produced};
+        const std::size_t rc = ZSTD_decompressStream(ctx, &o, &in);
+        produced = o.pos;
+        if (ZSTD_isError(rc)) {
+          *error = std::string("zstd chunk: ") + ZSTD_getErrorName(rc);
+          ok = false;
+          break;
+        }
+        if (rc == 0 && in.pos == in.size) break;  // frame(s) complete
+        if (o.pos < o.size && in.pos == in.size) {
+          *error = "zstd chunk ends inside its frame";
+          ok = false;
+          break;
+        }
+        if (o.pos == o.size) {
+          if (out->size() >= cap) {
+            *error = "zstd chunk decompresses to more than the " + std::to_string(uncompressed_size) + " bytes it claims";
+            ok = false;
+            break;
+          }
+          out->resize(std::min<std::uint64_t>(cap, 2 * std::uint64_t(out->size())));
+        }
+      }
+      ZSTD_freeDCtx(ctx);
+      out->resize(std::min<std::size_t>(produced, out->size()));
+      if (ok && produced != uncompressed_size) {
+        *error = "zstd chunk decompressed to " + std::to_string(produced) + " bytes, claims " +
+                 std::to_string(uncompressed_size);
+        ok = false;
+      }
+      return ok;
     }
     case McapCompression::kLz4: {
       LZ4F_dctx* ctx = nullptr;
@@ -59,10 +98,13 @@ bool decompressChunk(McapCompression c, const std::uint8_t* data, std::size_t si
         *error = "lz4: no decompression context";
         return false;
       }
-      out->resize(uncompressed_size);
+      const std::uint64_t cap = uncompressed_size + 1;
+      out->resize(std::min<std::uint64_t>(cap, 4 * std::uint64_t(size) + 65536));
       std::size_t in_at = 0, out_at = 0;
       bool ok = true;
       for (;;) {
+        if (out_at == out->size() && out->size() < cap)
+          out->resize(std::min<std::uint64_t>(cap, 2 * std::uint64_t(out->size())));
         std::size_t in_n = size - in_at, out_n = out->size() - out_at;
         const std::size_t hint = LZ4F_decompress(ctx, out->data() + out_at, &out_n, data + in_at, &in_n, nullptr);
         if (LZ4F_isError(hint)) {
@@ -74,7 +116,8 @@ bool decompressChunk(McapCompression c, const std::uint8_t* data, std::size_t si
         out_at += out_n;
         if (hint == 0) break;  // frame complete
         if (in_n == 0 && out_n == 0) {
-          *error = "lz4 chunk ends inside its frame";
+          *error = out_at >= uncompressed_size ? "lz4 chunk decompresses to more than it claims"
+                                               : "lz4 chunk ends inside its frame";
           ok = false;
           break;
         }
@@ -85,6 +128,7 @@ bool decompressChunk(McapCompression c, const std::uint8_t* data, std::size_t si
                  std::to_string(uncompressed_size);
         ok = false;
       }
+      out->resize(out_at);
       return ok;
     }
   }
