@@ -16,7 +16,7 @@
 #include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
 #include "robot/preview_streamer.h"
-#include "robot/record/session_recorder.h"
+#include "robot/session_recording.h"
 #include "robot/robot_control.h"
 #include "robot/robot_health_reporter.h"
 #include "robot/simulated_manipulator.h"
@@ -42,7 +42,7 @@ struct RobotAssembly::Parts {
   std::string arm_description;          ///< for the console's health view
   std::unique_ptr<robot::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
-  std::shared_ptr<record::SessionRecorder> recorder;  ///< --record: the link's tap
+  std::unique_ptr<robot::SessionRecording> recording;  ///< --record, --record-dir, the console's requests
   std::unique_ptr<robot::CalibrationInUse> calibration_in_use;
   robot::TelemetryBatcher telemetry;
   std::unique_ptr<robot::HeadLoop> loop;
@@ -235,15 +235,12 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     *exit_code = 2;
     return nullptr;
   }
-  if (!o.record_path.empty()) {
-    record::SessionRecorderOptions recording;
-    recording.mcap.compression = *record::parseCompression(o.record_compression);
-    p->recorder = record::SessionRecorder::start(o.record_path, recording, error);
-    if (!p->recorder) {
-      *error = "--record: " + *error;
-      return nullptr;
-    }
-    p->server->setTap(p->recorder);
+  record::SessionRecorderOptions recording;
+  recording.mcap.compression = *record::parseCompression(o.record_compression);
+  p->recording = std::make_unique<robot::SessionRecording>(*p->server, o.record_dir, recording);
+  if (!o.record_path.empty() && !p->recording->startFile(o.record_path, error)) {
+    *error = "--record: " + *error;
+    return nullptr;
   }
   // The calibration in use, applied and reverted live by the console (link apply_calibration).
   p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
@@ -288,7 +285,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   p->video = std::make_unique<robot::VideoStreamer>(*p->pairs, *p->server, p->clock, poses, video_config);
   p->control = std::make_unique<robot::RobotControl>(*p->loop, p->video.get(), p->stills.get(),
                                                      std::chrono::milliseconds(o.still_timeout_ms),
-                                                     p->calibration_in_use.get());
+                                                     p->calibration_in_use.get(), p->recording.get());
   robot::RobotHealthSources health_sources;
   health_sources.cameras = {p->left.get(), p->right.get()};
   health_sources.pairs = p->pairs.get();
@@ -297,6 +294,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   health_sources.control = p->control.get();
   health_sources.server = p->server.get();
   health_sources.telemetry = &p->telemetry;
+  health_sources.recording = p->recording.get();
   health_sources.arm = p->arm_description;
   health_sources.cameras_kind = o.syntheticCameras() ? "synthetic" : "aravis";
   p->health = std::make_unique<robot::RobotHealthReporter>(health_sources, p->clock);
@@ -365,15 +363,13 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
   head_thread.join();
   manipulator_thread.join();
   p.server->setControlHandler(nullptr);  // the link's thread must not call into what goes next
-  if (p.recorder) {
-    p.server->setTap(nullptr);
-    const bool whole = p.recorder->stop();
-    const auto r = p.recorder->stats();
-    std::fprintf(stderr, "telesphere-robot: recorded %llu messages (%llu stereo frames, %.1f MB) to %s%s%s\n",
-                 static_cast<unsigned long long>(r.messages), static_cast<unsigned long long>(r.stereo_frames),
-                 double(r.file_bytes) * 1e-6, p.recorder->path().c_str(),
-                 whole ? "" : (", " + std::to_string(r.dropped) + " messages dropped").c_str(),
-                 r.error.empty() ? "" : (": " + r.error).c_str());
+  if (p.recording->active()) {
+    std::string why;
+    const bool whole = p.recording->stop(&why);
+    const auto r = p.recording->state();
+    std::fprintf(stderr, "telesphere-robot: recorded %llu messages (%.1f MB) to %s%s%s\n",
+                 static_cast<unsigned long long>(r.messages()), double(r.bytes()) * 1e-6, r.file().c_str(),
+                 whole ? "" : ": ", whole ? "" : why.c_str());
   }
   return p.video->stats().frames_sent;
 }

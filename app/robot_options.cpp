@@ -62,11 +62,27 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
                "without it, a controller error stops the start with its code and meaning");
   app.add_option("--record", o.record_path,
                  "record the session (stereo frames, state, telemetry, head targets, control) to this MCAP file");
+  app.add_option("--record-dir", o.record_dir,
+                 "folder for the recordings the console starts (record button, study trials); none: refused");
   app.add_option("--record-compression", o.record_compression, "--record: chunk compression (none, lz4, zstd)")
       ->capture_default_str()->check(CLI::IsMember({"none", "lz4", "zstd"}));
+  app.add_option("--replay", o.replay_path,
+                 "serve a recorded session (MCAP, --record) on the link at its recorded pace instead of a robot");
+  app.add_option("--rate", o.replay_rate, "--replay: pace relative to the recording (2: twice as fast)")
+      ->capture_default_str()->check(CLI::Range(0.01, 100.0));
+  app.add_flag("--loop", o.replay_loop, "--replay: start again at the end, until stopped");
 }
 
 bool checkRobotOptions(RobotOptions& o, std::string* error) {
+  if (o.replay() && (o.realArm() || !o.camera_left.empty() || o.sim_manipulator || !o.truth_path.empty() ||
+                     !o.true_calib_path.empty())) {
+    *error = "--replay serves a recording: no arm, cameras, manipulator or truth options with it";
+    return false;
+  }
+  if (!o.replay() && (o.replay_rate != 1.0 || o.replay_loop)) {
+    *error = "--rate and --loop are for --replay";
+    return false;
+  }
   if (o.realArm()) {
     if (o.arm_address.empty()) {
       *error = "--arm xarm needs --arm-address IP (the controller's address)";

@@ -37,10 +37,15 @@ struct RobotOptions {
   int arm_report_port = 30003;   ///< its real-time report port
   bool arm_clear_errors = false; ///< clear the controller's errors at start-up (the supervisor asks)
   std::string record_path;       ///< record the session (everything on the link) to this MCAP file
+  std::string record_dir;        ///< where the console's and the study's recordings go (empty: none)
   std::string record_compression = "none";  ///< chunk compression: none, lz4, zstd
+  std::string replay_path;       ///< serve this recording on the link instead of a robot
+  double replay_rate = 1.0;      ///< --replay: pace (2: twice as fast)
+  bool replay_loop = false;      ///< --replay: start again at the end
 
   bool syntheticCameras() const { return camera_left.empty(); }
   bool realArm() const { return arm == "xarm"; }
+  bool replay() const { return !replay_path.empty(); }
 };
 
 /// Declares every option on `app`, bound to `options`.

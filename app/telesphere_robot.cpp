@@ -11,6 +11,8 @@
 /// --sim-manipulator adds the manipulator carrying the wrist marker (hand-eye calibration).
 /// With --camera-left/--camera-right the cameras are GenICam cameras through Aravis. With --arm
 /// xarm --arm-address IP the head arm is a real xArm 6 (robot/xarm/README.md: the lab's steps).
+/// --record FILE records everything on the link (MCAP); --replay FILE serves such a recording
+/// instead of a robot (app/robot_replay.h).
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.
 /// Exit codes: 0 ok, 1 bad arguments or files, 2 the arm, a camera or the link could not start.
 #include <CLI/CLI.hpp>
@@ -20,6 +22,7 @@
 
 #include "app/robot_assembly.h"
 #include "app/robot_options.h"
+#include "app/robot_replay.h"
 
 namespace {
 
@@ -37,6 +40,11 @@ int main(int argc, char** argv) {
   if (!telesphere::app::checkRobotOptions(options, &error)) {
     std::cerr << "telesphere-robot: " << error << '\n';
     return 1;
+  }
+  if (options.replay()) {
+    std::signal(SIGINT, onSignal);
+    std::signal(SIGTERM, onSignal);
+    return telesphere::app::runReplay(options, g_stop);
   }
   int exit_code = 0;
   const auto robot = telesphere::app::RobotAssembly::build(options, &exit_code, &error);

@@ -9,6 +9,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QListWidget>
+#include <QDateTime>
 #include <QPushButton>
 #include <QSpinBox>
 #include <cmath>
@@ -132,6 +133,25 @@ ControlPanel::ControlPanel(ConsoleSession& session, QWidget* parent) : QWidget(p
   grid->addWidget(stop_, row, 0, 1, 2);
   grid->addWidget(clear_, row, 2, 1, 2);
   ++row;
+  // Recording the session (everything on the link, MCAP) into the robot's --record-dir.
+  record_ = new QPushButton("Record session");
+  record_->setToolTip("Record everything on the link (frames, state, telemetry, control) to an MCAP file in the "
+                      "robot's record folder; open it in Foxglove, replay it with telesphere-robot --replay");
+  connect(record_, &QPushButton::clicked, this, [this] {
+    const auto& health = session_.health();
+    link::proto::ControlRequest r;
+    const bool stop = health && health->recording().active();
+    r.mutable_recording()->set_start(!stop);
+    const QString name = "session-" + QDateTime::currentDateTime().toString("yyyyMMdd-HHmmss");
+    if (!stop) r.mutable_recording()->set_name(name.toStdString());
+    send(stop ? QString("recording: stop") : "recording: start " + name, r);
+  });
+  record_now_ = new QLabel("-");
+  record_now_->setWordWrap(true);
+  grid->addWidget(new QLabel("recording"), row, 0);
+  grid->addWidget(record_now_, row, 1, 1, 2);
+  grid->addWidget(record_, row, 3);
+  ++row;
   grid->addWidget(new QLabel("replies (newest first)"), row++, 0, 1, 4);
   log_ = new QListWidget;
   log_->setMaximumHeight(110);
@@ -146,6 +166,8 @@ QPushButton* ControlPanel::applyButton(const QString& row) const {
   const auto it = apply_.find(row);
   return it == apply_.end() ? nullptr : it->second;
 }
+
+QString ControlPanel::recordingText() const { return record_now_->text(); }
 
 QString ControlPanel::lastOutcome() const { return log_->count() > 0 ? log_->item(0)->text() : QString(); }
 
@@ -164,7 +186,21 @@ void ControlPanel::refresh() {
   stop_->setEnabled(connected);
   clear_->setEnabled(connected);
   const auto& health = session_.health();
+  record_->setEnabled(connected && health && health->recording().available());
   if (!health) return;
+  const auto& rec = health->recording();
+  record_->setText(rec.active() ? "Stop recording" : "Record session");
+  const QString file = QString::fromStdString(rec.file()).section('/', -1);
+  if (!rec.available())
+    record_now_->setText("off (start the robot with --record-dir DIR)");
+  else if (rec.active())
+    record_now_->setText(QString("● %1: %2 MB%3").arg(file).arg(double(rec.bytes()) * 1e-6, 0, 'f', 1)
+                             .arg(rec.dropped() > 0 ? QString(", %1 dropped").arg(rec.dropped()) : QString()));
+  else if (!rec.file().empty())
+    record_now_->setText(QString("last: %1, %2 MB%3").arg(file).arg(double(rec.bytes()) * 1e-6, 0, 'f', 1)
+                             .arg(rec.dropped() > 0 || !rec.error().empty() ? " (not whole)" : ""));
+  else
+    record_now_->setText("not recording");
   const auto& st = health->settings();
   mode_now_->setText(visualModeLabel(st.visual_mode()));
   radius_now_->setText(QString("%1 m").arg(st.sphere_radius()));

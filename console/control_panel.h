@@ -40,6 +40,9 @@ class ControlPanel : public QWidget {
   QPushButton* applyButton(const QString& row) const;
   QPushButton* stopButton() const { return stop_; }
   QPushButton* clearFaultButton() const { return clear_; }
+  /// Starts a recording (session-DATE-TIME) in the robot's record folder, or stops the one running.
+  QPushButton* recordButton() const { return record_; }
+  QString recordingText() const;
   /// The newest reply, in words ("set_sphere_radius 2: ok").
   QString lastOutcome() const;
 
@@ -57,6 +60,8 @@ class ControlPanel : public QWidget {
   QLabel *mode_now_, *radius_now_, *quality_now_, *cutoff_now_, *jump_now_;
   QPushButton* stop_;
   QPushButton* clear_;
+  QPushButton* record_;
+  QLabel* record_now_;
   QListWidget* log_;
   std::map<QString, QPushButton*> apply_;
 };

@@ -2,6 +2,8 @@
 /// @brief StudyPanel (see study_panel.h).
 #include "console/study_panel.h"
 
+#include <cctype>
+
 #include <QDateTime>
 #include <QDir>
 #include <QFile>
@@ -437,6 +439,12 @@ void StudyPanel::sendIndicator() {
   if (running) {
     indicator->set_elapsed_s(runner_->elapsedS(link::linkNowNs()));
     indicator->set_time_limit_s(study_.time_limit_s);
+    // The robot records the trial under this name when it has a record folder (--record-dir).
+    std::string name = (session_record_ ? session_record_->participant : std::string("participant")) + "-" +
+                       runner_->mode() + "-trial" + std::to_string(runner_->trialId());
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
+    indicator->set_recording_name(name);
   }
   session_.request(request, running ? "study: trial indicator on" : "study: trial indicator off");
 }

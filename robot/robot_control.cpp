@@ -42,11 +42,43 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       reply.set_id(request.id());
       reply.set_error("this robot's calibration is fixed (no live apply)");
     }
+  } else if (request.request_case() == link::proto::ControlRequest::kRecording) {
+    reply.set_id(request.id());
+    std::string error;
+    const auto& r = request.recording();
+    if (!recording_) {
+      reply.set_error("this robot cannot record");
+    } else if (r.start() ? recording_->startNamed(r.name(), &error) : recording_->stop(&error)) {
+      reply.set_ok(true);
+      if (r.start()) trial_recording_ = false;  // the supervisor's: a trial's end does not stop it
+    } else {
+      reply.set_error(error);
+    }
+    if (recording_) *reply.mutable_recording() = recording_->state();
   } else {
     reply = loop_.handleControl(request);
+    if (request.request_case() == link::proto::ControlRequest::kSetTrialIndicator && reply.ok() && recording_)
+      followTrial(request.set_trial_indicator(), &reply);
   }
   fillSettings(reply.mutable_settings());
   return reply;
+}
+
+void RobotControl::followTrial(const link::proto::TrialIndicator& trial, link::proto::ControlReply* reply) {
+  std::string error;
+  if (trial.running() && !trial.recording_name().empty() && recording_->available()) {
+    // A recording the supervisor started goes on through the trial (it holds the trial too).
+    if (!recording_->active()) {
+      if (recording_->startNamed(trial.recording_name(), &error))
+        trial_recording_ = true;
+      else
+        reply->set_error("the trial runs, but is not recorded: " + error);  // ok stays: the trial is on
+    }
+  } else if (!trial.running() && trial_recording_) {
+    trial_recording_ = false;
+    if (!recording_->stop(&error)) reply->set_error("the trial's recording: " + error);
+  }
+  *reply->mutable_recording() = recording_->state();
 }
 
 void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {

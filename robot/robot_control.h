@@ -10,6 +10,7 @@
 
 #include "robot/calibration_in_use.h"
 #include "robot/head_loop.h"
+#include "robot/session_recording.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "robot/stereo_still.h"
 #include "robot/video_streamer.h"
@@ -24,19 +25,32 @@ class RobotControl {
   /// `video`, `stills` and `calibration` may be null (no cameras, a fixed calibration): their
   /// requests are then refused. `still_timeout`: cameras slower than a frame within 800 ms of
   /// the request need more.
+  /// `recording` (may be null: recording requests refused) also records study trials: a trial
+  /// indicator that turns on with a recording name starts a recording, turning off stops it.
   RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr,
-               std::chrono::milliseconds still_timeout = kStillTimeout, CalibrationInUse* calibration = nullptr)
-      : loop_(loop), video_(video), stills_(stills), still_timeout_(still_timeout), calibration_(calibration) {}
+               std::chrono::milliseconds still_timeout = kStillTimeout, CalibrationInUse* calibration = nullptr,
+               SessionRecording* recording = nullptr)
+      : loop_(loop),
+        video_(video),
+        stills_(stills),
+        still_timeout_(still_timeout),
+        calibration_(calibration),
+        recording_(recording) {}
 
   link::proto::ControlReply handle(const link::proto::ControlRequest& request);
   void fillSettings(link::proto::RobotSettings* settings) const;
 
  private:
+  /// Starts or stops the trial's recording after the head loop took a trial indicator.
+  void followTrial(const link::proto::TrialIndicator& trial, link::proto::ControlReply* reply);
+
   HeadLoop& loop_;
   VideoStreamer* video_;
   StereoStillTaker* stills_;
   std::chrono::milliseconds still_timeout_;
   CalibrationInUse* calibration_;
+  SessionRecording* recording_;
+  bool trial_recording_ = false;  ///< the recording in progress was started by a trial indicator
 };
 
 }  // namespace telesphere::robot

@@ -19,6 +19,7 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   h.set_started_ns(started_ns_);
   h.set_arm(sources_.arm);
   h.set_cameras_kind(sources_.cameras_kind);
+  if (sources_.recording != nullptr) *h.mutable_recording() = sources_.recording->state();
   if (sources_.server) {
     h.set_instance(sources_.server->instance());
     const link::LinkStatsSnapshot link_stats = sources_.server->stats();

@@ -17,6 +17,7 @@
 #include "robot/robot_control.h"
 #include "robot/stereo_pairer.h"
 #include "robot/telemetry_batcher.h"
+#include "robot/session_recording.h"
 #include "robot/video_streamer.h"
 
 namespace telesphere::robot {
@@ -30,6 +31,7 @@ struct RobotHealthSources {
   const RobotControl* control = nullptr;
   const link::LinkServer* server = nullptr;
   const TelemetryBatcher* telemetry = nullptr;
+  const SessionRecording* recording = nullptr;
   std::string arm;           ///< "simulated xArm 6", …
   std::string cameras_kind;  ///< "synthetic", "aravis", …
 };

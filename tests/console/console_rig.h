@@ -110,7 +110,8 @@ struct Rig {
     robot = std::make_unique<Process>(
         "telesphere-robot",
         QStringList{"--sim", "--size", "320x180", "--fps", "15", "--port", QString::number(port), "--auto-nominal",
-                    "false", "--stats-period", "0", "--preview-rate", "5"},
+                    "false", "--stats-period", "0", "--preview-rate", "5", "--record-dir",
+                    dir.filePath("recordings")},
         dir.filePath("robot.log"));
   }
   /// The XR app offscreen; `still`: the operator keeps the head still (a nominal pose), else the

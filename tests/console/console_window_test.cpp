@@ -10,6 +10,8 @@
 ///        shows them) into $TELESPHERE_SCREENSHOT_DIR or build/console-screenshots.
 #include <gtest/gtest.h>
 
+#include <QFileInfo>
+
 #include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
@@ -250,8 +252,22 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
     EXPECT_TRUE(outcome->text().contains("refused: sphere radius")) << outcome->text().toStdString();
     EXPECT_EQ(outcome->reply.settings().sphere_radius(), 2.5);
   }
+  // Recording: the button starts one in the robot's record folder, health shows it, again stops it.
+  ASSERT_TRUE(pumpUntil([&] { return control->recordButton()->isEnabled(); })) << control->recordingText().toStdString();
+  rig.click(control->recordButton());
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->health() && rig.session->health()->recording().active(); }));
+  EXPECT_TRUE(pumpUntil([&] { return control->recordingText().startsWith("● session-"); }))
+      << control->recordingText().toStdString();
+  EXPECT_EQ(control->recordButton()->text(), "Stop recording");
   pumpFor(300);
   saveShot(rig.window->dockOf(control), "panel_control.png");
+  rig.click(control->recordButton());
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->health() && !rig.session->health()->recording().active(); }));
+  const std::string recorded = rig.session->health()->recording().file();
+  EXPECT_TRUE(QFileInfo::exists(QString::fromStdString(recorded))) << recorded;
+  EXPECT_GT(rig.session->health()->recording().messages(), 0u);
+  EXPECT_TRUE(pumpUntil([&] { return control->recordingText().startsWith("last: session-"); }))
+      << control->recordingText().toStdString();
 
   // Arm stop: the fault banner stays until acknowledged, also after the fault is cleared.
   rig.click(control->stopButton());

@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+/// @brief SessionReplayer (see session_replayer.h).
+#include "robot/record/session_replayer.h"
+
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/reflection.h>
+
+#include <chrono>
+#include <cmath>
+#include <set>
+#include <thread>
+
+#include "robot/link/link_endpoints.h"
+#include "robot/record/foxglove_compressed_image.pb.h"
+
+namespace telesphere::record {
+namespace {
+
+/// *_ns fields that are not robot-clock times: durations and the operator's clock.
+const std::set<std::string>& notRobotClock() {
+  static const std::set<std::string> names{"robot_to_xr_offset_ns", "round_trip_ns", "head_target_age_ns",
+                                           "predicted_display_ns",  "display_ns",
+                                           "client_send_ns",        "received_ns",  "decoded_ns",
+                                           "uploaded_ns",           "displayed_ns"};
+  return names;
+}
+
+bool endsWithNs(const std::string& name) { return name.size() > 3 && name.compare(name.size() - 3, 3, "_ns") == 0; }
+
+}  // namespace
+
+void mapRobotClockStamps(google::protobuf::Message* message, std::int64_t first_ns, std::int64_t start_ns,
+                         double rate) {
+  using google::protobuf::FieldDescriptor;
+  const google::protobuf::Reflection* r = message->GetReflection();
+  const google::protobuf::Descriptor* d = message->GetDescriptor();
+  const auto map = [&](std::int64_t t) {
+    return t == 0 ? t : start_ns + std::llround(double(t - first_ns) / rate);
+  };
+  for (int i = 0; i < d->field_count(); ++i) {
+    const FieldDescriptor* f = d->field(i);
+    if (f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
+      if (f->is_repeated()) {
+        for (int k = 0; k < r->FieldSize(*message, f); ++k)
+          mapRobotClockStamps(r->MutableRepeatedMessage(message, f, k), first_ns, start_ns, rate);
+      } else if (r->HasField(*message, f)) {
+        mapRobotClockStamps(r->MutableMessage(message, f), first_ns, start_ns, rate);
+      }
+    } else if (f->cpp_type() == FieldDescriptor::CPPTYPE_INT64 && endsWithNs(f->name()) &&
+               notRobotClock().count(f->name()) == 0) {
+      if (f->is_repeated()) {
+        for (int k = 0; k < r->FieldSize(*message, f); ++k)
+          r->SetRepeatedInt64(message, f, k, map(r->GetRepeatedInt64(*message, f, k)));
+      } else {
+        r->SetInt64(message, f, map(r->GetInt64(*message, f)));
+      }
+    }
+  }
+}
+
+std::unique_ptr<SessionReplayer> SessionReplayer::open(const std::string& path, std::string* error) {
+  auto reader = McapReader::open(path, error);
+  if (!reader) return nullptr;
+  std::unique_ptr<SessionReplayer> replayer(new SessionReplayer(std::move(reader)));
+  if (!replayer->reader_->summary(&replayer->summary_, error)) {
+    *error = path + ": " + *error;
+    return nullptr;
+  }
+  bool frames = false;
+  for (const auto& [id, c] : replayer->summary_.channels) frames = frames || c.topic == "/stereo/frame";
+  if (!frames) {
+    *error = path + ": not a telesphere session recording (no /stereo/frame channel)";
+    return nullptr;
+  }
+  return replayer;
+}
+
+SessionReplayStats SessionReplayer::stats() const {
+  SessionReplayStats s;
+  s.frames = frames_;
+  s.states = states_;
+  s.telemetry = telemetry_;
+  s.health = health_;
+  s.loops = loops_;
+  s.skipped = skipped_;
+  s.late_ms_max = late_ms_max_;
+  return s;
+}
+
+bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& options,
+                          const std::atomic<bool>& stop, std::string* error) {
+  const double rate = options.rate > 0 ? options.rate : 1.0;
+  do {
+    const auto wall_start = std::chrono::steady_clock::now();
+    const std::int64_t start_ns = link::linkNowNs();
+    std::optional<std::int64_t> first_ns;
+    // The frame being joined: its StereoFrame, then its two images (same sequence).
+    std::optional<link::proto::StereoFrame> frame;
+    std::shared_ptr<const std::vector<std::uint8_t>> images[2];
+    const auto skip = [this] {
+      ++skipped_;
+      return true;  // go on with the next message
+    };
+    const bool read = reader_->forEachMessage(
+        [&](const McapMessageView& m) {
+          if (stop) return false;
+          const auto t = static_cast<std::int64_t>(m.log_time_ns);
+          if (!first_ns) first_ns = t;
+          // Due at the recorded pace; wait in slices so that a stop is heard.
+          const auto due = wall_start + std::chrono::nanoseconds(std::llround(double(t - *first_ns) / rate));
+          while (!stop && std::chrono::steady_clock::now() < due)
+            std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+          if (stop) return false;
+          const double late_ms =
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - due).count();
+          if (late_ms > late_ms_max_) late_ms_max_ = late_ms;
+          const std::string& topic = m.channel->topic;
+          const int size = static_cast<int>(m.size);
+          if (topic == "/stereo/frame") {
+            if (frame) ++skipped_;  // the previous one never got both images
+            frame.emplace();
+            images[0].reset();
+            images[1].reset();
+            if (!frame->ParseFromArray(m.data, size)) {
+              frame.reset();
+              ++skipped_;
+            }
+          } else if (topic == "/stereo/left/compressed" || topic == "/stereo/right/compressed") {
+            const int side = topic == "/stereo/left/compressed" ? 0 : 1;
+            foxglove::CompressedImage image;
+            if (!frame || frame->sequence() % (std::uint64_t(1) << 32) != m.sequence ||
+                !image.ParseFromArray(m.data, size)) {
+              ++skipped_;
+              return true;
+            }
+            images[side] = std::make_shared<const std::vector<std::uint8_t>>(image.data().begin(), image.data().end());
+            if (images[0] && images[1]) {
+              mapRobotClockStamps(&*frame, *first_ns, start_ns, rate);
+              server.publishStereoFrame(std::move(*frame), images[0], images[1]);
+              frame.reset();
+              ++frames_;
+            }
+          } else if (topic == "/robot/state") {
+            link::proto::RobotState state;
+            if (!state.ParseFromArray(m.data, size)) return skip();
+            mapRobotClockStamps(&state, *first_ns, start_ns, rate);
+            server.publishRobotState(state);
+            ++states_;
+          } else if (topic == "/robot/telemetry") {
+            link::proto::RobotTelemetry telemetry;
+            if (!telemetry.ParseFromArray(m.data, size)) return skip();
+            mapRobotClockStamps(&telemetry, *first_ns, start_ns, rate);
+            server.publishTelemetry(telemetry);
+            ++telemetry_;
+          } else if (topic == "/robot/health") {
+            link::proto::RobotHealth health;
+            if (!health.ParseFromArray(m.data, size)) return skip();
+            mapRobotClockStamps(&health, *first_ns, start_ns, rate);
+            server.publishHealth(health);
+            ++health_;
+          } else {
+            ++skipped_;  // what clients sent the robot
+          }
+          return true;
+        },
+        error);
+    if (!read) return false;
+    if (!stop) ++loops_;
+  } while (options.loop && !stop);
+  return true;
+}
+
+}  // namespace telesphere::record

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+/// @brief SessionRecording (see session_recording.h).
+#include "robot/session_recording.h"
+
+#include <filesystem>
+
+namespace telesphere::robot {
+
+SessionRecording::SessionRecording(link::LinkServer& server, std::string dir, record::SessionRecorderOptions options)
+    : server_(server), dir_(std::move(dir)), options_(options) {}
+
+SessionRecording::~SessionRecording() {
+  std::string ignored;
+  if (active()) stop(&ignored);
+}
+
+bool SessionRecording::startFile(const std::string& path, std::string* error) {
+  std::lock_guard lock(mutex_);
+  if (recorder_) {
+    *error = "already recording to " + recorder_->path();
+    return false;
+  }
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) {
+    *error = path + " exists: a recording never overwrites a file";
+    return false;
+  }
+  auto recorder = record::SessionRecorder::start(path, options_, error);
+  if (!recorder) return false;
+  recorder_ = std::move(recorder);
+  server_.setTap(recorder_);
+  return true;
+}
+
+bool SessionRecording::startNamed(const std::string& name, std::string* error) {
+  if (dir_.empty()) {
+    *error = "this robot records only with a record folder (telesphere-robot --record-dir DIR)";
+    return false;
+  }
+  const bool plain = !name.empty() && name.size() <= 200 && name.front() != '.' &&
+                     name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") ==
+                         std::string::npos;
+  if (!plain) {
+    *error = "recording name '" + name + "' is not a plain file name (letters, digits, - _ .)";
+    return false;
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) {
+    *error = "cannot create the record folder " + dir_ + ": " + ec.message();
+    return false;
+  }
+  const bool has_suffix = name.size() > 5 && name.compare(name.size() - 5, 5, ".mcap") == 0;
+  return startFile((std::filesystem::path(dir_) / (has_suffix ? name : name + ".mcap")).string(), error);
+}
+
+bool SessionRecording::stop(std::string* error) {
+  std::shared_ptr<record::SessionRecorder> recorder;
+  {
+    std::lock_guard lock(mutex_);
+    if (!recorder_) {
+      *error = "not recording";
+      return false;
+    }
+    recorder = std::move(recorder_);
+  }
+  server_.setTap(nullptr);
+  const bool whole = recorder->stop();
+  const auto stats = recorder->stats();
+  std::lock_guard lock(mutex_);
+  last_.Clear();
+  last_.set_file(recorder->path());
+  last_.set_messages(stats.messages);
+  last_.set_bytes(stats.file_bytes);
+  last_.set_dropped(stats.dropped);
+  last_.set_error(stats.error);
+  if (!whole)
+    *error = recorder->path() + " is not whole: " +
+             (stats.error.empty() ? std::to_string(stats.dropped) + " messages dropped" : stats.error);
+  return whole;
+}
+
+bool SessionRecording::active() const {
+  std::lock_guard lock(mutex_);
+  return recorder_ != nullptr;
+}
+
+link::proto::RecordingState SessionRecording::state() const {
+  std::lock_guard lock(mutex_);
+  link::proto::RecordingState s;
+  if (recorder_) {
+    const auto stats = recorder_->stats();
+    s.set_active(true);
+    s.set_file(recorder_->path());
+    s.set_messages(stats.messages);
+    s.set_bytes(stats.file_bytes);
+    s.set_dropped(stats.dropped);
+    s.set_error(stats.error);
+  } else {
+    s = last_;
+  }
+  s.set_available(!dir_.empty());
+  return s;
+}
+
+}  // namespace telesphere::robot

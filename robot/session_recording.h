@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot's recording switch (issue #18): one session recording at a time on the
+///        robot's link — from the command line (--record FILE), a console request (the record
+///        folder's NAME.mcap), or a study trial (the trial indicator's recording name) — with its
+///        state for replies and health. Never overwrites a file; a name is a plain file name.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "robot/link/link_server.h"
+#include "robot/record/session_recorder.h"
+
+namespace telesphere::robot {
+
+class SessionRecording {
+ public:
+  /// `dir`: where named recordings go (empty: only startFile); created when first needed.
+  SessionRecording(link::LinkServer& server, std::string dir, record::SessionRecorderOptions options);
+  /// Stops and finishes a recording in progress.
+  ~SessionRecording();
+  SessionRecording(const SessionRecording&) = delete;
+  SessionRecording& operator=(const SessionRecording&) = delete;
+
+  /// Records to `path` (a new file). False with the reason (recording already, file exists, …).
+  bool startFile(const std::string& path, std::string* error);
+  /// Records to dir/NAME.mcap; NAME: letters, digits, '-', '_', '.' (not starting with '.').
+  bool startNamed(const std::string& name, std::string* error);
+  /// Stops and finishes the file; false with the reason (nothing recording, or the file is not
+  /// whole: dropped messages or a write error — the file is still finished and readable).
+  bool stop(std::string* error);
+
+  bool active() const;
+  bool available() const { return !dir_.empty(); }
+  link::proto::RecordingState state() const;
+
+ private:
+  link::LinkServer& server_;
+  std::string dir_;
+  record::SessionRecorderOptions options_;
+  mutable std::mutex mutex_;
+  std::shared_ptr<record::SessionRecorder> recorder_;
+  link::proto::RecordingState last_;  ///< of the last finished recording
+};
+
+}  // namespace telesphere::robot
