@@ -67,7 +67,13 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
 void RobotControl::followTrial(const link::proto::TrialIndicator& trial, link::proto::ControlReply* reply) {
   std::string error;
   if (trial.running() && !trial.recording_name().empty() && recording_->available()) {
-    // A recording the supervisor started goes on through the trial (it holds the trial too).
+    // A trial recording whose trial never ended (the console went away) ends here; a recording
+    // the supervisor started goes on through the trial (it holds the trial too).
+    if (trial_recording_ && recording_->active()) {
+      std::string ignored;
+      recording_->stop(&ignored);
+      trial_recording_ = false;
+    }
     if (!recording_->active()) {
       if (recording_->startNamed(trial.recording_name(), &error))
         trial_recording_ = true;

@@ -253,6 +253,14 @@ TEST(StudyWindow, AWholeSessionFromModeSwitchToReport) {
   }
   // After the trials, the headset shows no indicator any more.
   EXPECT_TRUE(pumpUntil([&] { return rig.session->robotState() && !rig.session->robotState()->trial().running(); }));
+  // The robot (--record-dir) recorded each trial under the participant, mode and trial id.
+  for (const study::TrialRecord& t : trials) {
+    const QString file = rig.dir.filePath(QString("recordings/P05-%1-trial%2.mcap")
+                                              .arg(QString::fromStdString(t.mode))
+                                              .arg(t.id));
+    EXPECT_TRUE(QFileInfo::exists(file)) << file.toStdString();
+    EXPECT_GT(QFileInfo(file).size(), 1000) << file.toStdString();
+  }
 
   // The questionnaire pages, one per mode in the session's order, complete before save.
   for (int page = 0; page < 3; ++page) {
