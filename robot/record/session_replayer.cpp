@@ -101,6 +101,17 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
       ++skipped_;
       return true;  // go on with the next message
     };
+    // A robot message parsed, its stamps moved, sent again with `publish` and counted.
+    const auto republish = [&]<typename Message>(const McapMessageView& m,
+                                                 void (link::LinkServer::*publish)(const Message&),
+                                                 std::atomic<std::uint64_t>& count) {
+      Message message;
+      if (!message.ParseFromArray(m.data, static_cast<int>(m.size))) return skip();
+      mapRobotClockStamps(&message, *first_ns, start_ns, rate);
+      (server.*publish)(message);
+      ++count;
+      return true;
+    };
     const bool read = reader_->forEachMessage(
         [&](const McapMessageView& m) {
           if (stop) return false;
@@ -141,23 +152,11 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
               ++frames_;
             }
           } else if (topic == "/robot/state") {
-            link::proto::RobotState state;
-            if (!state.ParseFromArray(m.data, size)) return skip();
-            mapRobotClockStamps(&state, *first_ns, start_ns, rate);
-            server.publishRobotState(state);
-            ++states_;
+            return republish(m, &link::LinkServer::publishRobotState, states_);
           } else if (topic == "/robot/telemetry") {
-            link::proto::RobotTelemetry telemetry;
-            if (!telemetry.ParseFromArray(m.data, size)) return skip();
-            mapRobotClockStamps(&telemetry, *first_ns, start_ns, rate);
-            server.publishTelemetry(telemetry);
-            ++telemetry_;
+            return republish(m, &link::LinkServer::publishTelemetry, telemetry_);
           } else if (topic == "/robot/health") {
-            link::proto::RobotHealth health;
-            if (!health.ParseFromArray(m.data, size)) return skip();
-            mapRobotClockStamps(&health, *first_ns, start_ns, rate);
-            server.publishHealth(health);
-            ++health_;
+            return republish(m, &link::LinkServer::publishHealth, health_);
           } else {
             ++skipped_;  // what clients sent the robot
           }
