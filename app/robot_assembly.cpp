@@ -365,7 +365,7 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
   p.server->setControlHandler(nullptr);  // the link's thread must not call into what goes next
   if (p.recording->active()) {
     std::string why;
-    const bool whole = p.recording->stop(&why);
+    const bool whole = p.recording->stop(&why) && p.recording->waitFinished(&why);
     const auto r = p.recording->state();
     std::fprintf(stderr, "telesphere-robot: recorded %llu messages (%.1f MB) to %s%s%s\n",
                  static_cast<unsigned long long>(r.messages()), double(r.bytes()) * 1e-6, r.file().c_str(),

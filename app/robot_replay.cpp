@@ -3,6 +3,7 @@
 #include "app/robot_replay.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -20,6 +21,13 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
     return 1;
   }
   const record::McapSummary& s = replayer->summary();
+  // Declared before the server: its thread may call the handler until the server is gone.
+  const std::string refusal = "this is a replay of " + o.replay_path + ": the robot cannot be controlled";
+  std::error_code ec;
+  if (!o.record_path.empty() && std::filesystem::exists(o.record_path, ec)) {
+    std::cerr << "telesphere-robot: --record: " << o.record_path << " exists: a recording never overwrites a file\n";
+    return 1;
+  }
   link::LinkEndpoints endpoints;
   endpoints.base_port = o.port;
   std::unique_ptr<link::LinkServer> server;
@@ -30,7 +38,6 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
               << '\n';
     return 2;
   }
-  const std::string refusal = "this is a replay of " + o.replay_path + ": the robot cannot be controlled";
   server->setControlHandler([&refusal](const link::proto::ControlRequest&) {
     link::proto::ControlReply reply;
     reply.set_ok(false);
@@ -43,6 +50,7 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
     recording.mcap.compression = *record::parseCompression(o.record_compression);
     if (!(recorder = record::SessionRecorder::start(o.record_path, recording, &error))) {
       std::cerr << "telesphere-robot: --record: " << error << '\n';
+      server->setControlHandler(nullptr);
       return 1;
     }
     server->setTap(recorder);

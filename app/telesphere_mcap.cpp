@@ -38,6 +38,7 @@ int summary(const std::string& path, bool json, bool scan) {
     j["end_ns"] = s.end_ns;
     j["duration_s"] = duration_s;
     j["from_summary_section"] = s.from_summary_section;
+    if (!s.summary_problem.empty()) j["summary_problem"] = s.summary_problem;
     j["compression"] = nlohmann::json::array();
     for (const auto& c : s.compressions) j["compression"].push_back(c.empty() ? "none" : c);
     for (const auto& [id, c] : s.channels) {
@@ -56,7 +57,9 @@ int summary(const std::string& path, bool json, bool scan) {
   std::printf("%s: %.1f MB, %llu messages in %llu chunks over %.2f s (written by %s; %s)\n", path.c_str(),
               double(reader->fileSize()) * 1e-6, static_cast<unsigned long long>(s.messages),
               static_cast<unsigned long long>(s.chunks), duration_s, s.library.empty() ? "?" : s.library.c_str(),
-              s.from_summary_section ? "from its summary" : "counted by reading it: no summary section");
+              s.from_summary_section ? "from its summary"
+              : s.summary_problem.empty() ? "counted by reading it: no summary section"
+                                          : ("counted by reading it: " + s.summary_problem).c_str());
   std::string compressions;
   for (const auto& c : s.compressions) compressions += (compressions.empty() ? "" : ", ") + (c.empty() ? "none" : c);
   std::printf("chunk compression: %s\n\n", compressions.empty() ? "-" : compressions.c_str());
@@ -74,8 +77,12 @@ int summary(const std::string& path, bool json, bool scan) {
 int check(const std::string& path) {
   std::string error;
   const auto reader = record::McapReader::open(path, &error);
+  if (!reader) {
+    std::cerr << "telesphere-mcap: " << error << '\n';
+    return 2;
+  }
   std::uint64_t messages = 0, bytes = 0;
-  if (!reader || !reader->forEachMessage(
+  if (!reader->forEachMessage(
                      [&](const record::McapMessageView& m) {
                        ++messages;
                        bytes += m.size;
@@ -86,7 +93,8 @@ int check(const std::string& path) {
               << " intact messages; `telesphere-mcap recover` keeps them)\n";
     return 2;
   }
-  std::printf("%s: %llu messages, %.1f MB of payload, every chunk CRC and the data section CRC hold\n", path.c_str(),
+  std::printf("%s: %llu messages, %.1f MB of payload, every CRC the file carries holds (chunks, data section)\n",
+              path.c_str(),
               static_cast<unsigned long long>(messages), double(bytes) * 1e-6);
   return 0;
 }

@@ -50,7 +50,7 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       reply.set_error("this robot cannot record");
     } else if (r.start() ? recording_->startNamed(r.name(), &error) : recording_->stop(&error)) {
       reply.set_ok(true);
-      if (r.start()) trial_recording_ = false;  // the supervisor's: a trial's end does not stop it
+      trial_recording_ = false;  // the supervisor's now (or none): a trial's end does not stop it
     } else {
       reply.set_error(error);
     }

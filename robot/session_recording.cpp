@@ -12,6 +12,7 @@ SessionRecording::SessionRecording(link::LinkServer& server, std::string dir, re
 SessionRecording::~SessionRecording() {
   std::string ignored;
   if (active()) stop(&ignored);
+  waitFinished(&ignored);
 }
 
 bool SessionRecording::startFile(const std::string& path, std::string* error) {
@@ -37,7 +38,11 @@ bool SessionRecording::startNamed(const std::string& name, std::string* error) {
     *error = "this robot records only with a record folder (telesphere-robot --record-dir DIR)";
     return false;
   }
-  const bool plain = !name.empty() && name.size() <= 200 && name.front() != '.' &&
+  if (name.size() > 200) {
+    *error = "recording name of " + std::to_string(name.size()) + " characters: at most 200";
+    return false;
+  }
+  const bool plain = !name.empty() && name.front() != '.' &&
                      name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") ==
                          std::string::npos;
   if (!plain) {
@@ -55,29 +60,40 @@ bool SessionRecording::startNamed(const std::string& name, std::string* error) {
 }
 
 bool SessionRecording::stop(std::string* error) {
-  std::shared_ptr<record::SessionRecorder> recorder;
+  std::lock_guard lock(mutex_);
+  if (!recorder_) {
+    *error = "not recording";
+    return false;
+  }
+  server_.setTap(nullptr);  // under the lock: a start right after cannot lose its tap to this stop
+  finishing_ = std::move(recorder_);
+  finishers_.emplace_back([this, recorder = finishing_] {
+    recorder->stop();
+    const auto stats = recorder->stats();
+    std::lock_guard lock(mutex_);
+    last_.Clear();
+    last_.set_file(recorder->path());
+    last_.set_messages(stats.messages);
+    last_.set_bytes(stats.file_bytes);
+    last_.set_dropped(stats.dropped);
+    last_.set_error(stats.error);
+    if (finishing_ == recorder) finishing_.reset();
+  });
+  return true;
+}
+
+bool SessionRecording::waitFinished(std::string* error) {
+  std::vector<std::thread> finishers;
   {
     std::lock_guard lock(mutex_);
-    if (!recorder_) {
-      *error = "not recording";
-      return false;
-    }
-    recorder = std::move(recorder_);
+    finishers.swap(finishers_);
   }
-  server_.setTap(nullptr);
-  const bool whole = recorder->stop();
-  const auto stats = recorder->stats();
+  for (std::thread& t : finishers) t.join();
   std::lock_guard lock(mutex_);
-  last_.Clear();
-  last_.set_file(recorder->path());
-  last_.set_messages(stats.messages);
-  last_.set_bytes(stats.file_bytes);
-  last_.set_dropped(stats.dropped);
-  last_.set_error(stats.error);
-  if (!whole)
-    *error = recorder->path() + " is not whole: " +
-             (stats.error.empty() ? std::to_string(stats.dropped) + " messages dropped" : stats.error);
-  return whole;
+  if (last_.dropped() == 0 && last_.error().empty()) return true;
+  *error = last_.file() + " is not whole: " +
+           (last_.error().empty() ? std::to_string(last_.dropped()) + " messages dropped" : last_.error());
+  return false;
 }
 
 bool SessionRecording::active() const {
@@ -88,10 +104,11 @@ bool SessionRecording::active() const {
 link::proto::RecordingState SessionRecording::state() const {
   std::lock_guard lock(mutex_);
   link::proto::RecordingState s;
-  if (recorder_) {
-    const auto stats = recorder_->stats();
-    s.set_active(true);
-    s.set_file(recorder_->path());
+  // Recording, or stopped and still being finished: that file's figures as they stand.
+  if (const auto& r = recorder_ ? recorder_ : finishing_) {
+    const auto stats = r->stats();
+    s.set_active(recorder_ != nullptr);
+    s.set_file(r->path());
     s.set_messages(stats.messages);
     s.set_bytes(stats.file_bytes);
     s.set_dropped(stats.dropped);

@@ -8,6 +8,8 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "robot/link/link_server.h"
 #include "robot/record/session_recorder.h"
@@ -27,9 +29,14 @@ class SessionRecording {
   bool startFile(const std::string& path, std::string* error);
   /// Records to dir/NAME.mcap; NAME: letters, digits, '-', '_', '.' (not starting with '.').
   bool startNamed(const std::string& name, std::string* error);
-  /// Stops and finishes the file; false with the reason (nothing recording, or the file is not
-  /// whole: dropped messages or a write error — the file is still finished and readable).
+  /// Stops recording at once (the link is untapped) and finishes the file on a thread of its own
+  /// (what is queued is written, then the summary and an fsync: seconds at worst, which must not
+  /// hold the link's thread that answers this request); false when nothing records. Whether the
+  /// file came out whole shows in state() once it is finished (dropped, error).
   bool stop(std::string* error);
+  /// Waits until a stopped recording's file is finished; false with the reason when it is not
+  /// whole (dropped messages or a write error — the file is still finished and readable).
+  bool waitFinished(std::string* error);
 
   bool active() const;
   bool available() const { return !dir_.empty(); }
@@ -40,7 +47,9 @@ class SessionRecording {
   std::string dir_;
   record::SessionRecorderOptions options_;
   mutable std::mutex mutex_;
-  std::shared_ptr<record::SessionRecorder> recorder_;
+  std::shared_ptr<record::SessionRecorder> recorder_;   ///< recording now
+  std::shared_ptr<record::SessionRecorder> finishing_;  ///< stopped, its file being finished
+  std::vector<std::thread> finishers_;  ///< one per stopped recording, joined by waitFinished
   link::proto::RecordingState last_;  ///< of the last finished recording
 };
 

@@ -210,6 +210,9 @@ bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* 
           } else if (inner_op == McapOp::kChannel) {
             McapChannel c;
             if (!parseChannel(ic, inner_n, &c)) return damaged(pos, "malformed channel record in a chunk");
+            if (c.schema_id != 0 && schemas_.count(c.schema_id) == 0)
+              return damaged(pos, "channel " + c.topic + " names schema " + std::to_string(c.schema_id) +
+                                      " before its record");
             channels_[c.id] = std::move(c);
           } else if (inner_op == McapOp::kMessage) {
             Pending m{};
@@ -342,12 +345,11 @@ bool McapReader::summary(McapSummary* out, std::string* error, bool scan) const 
       *out = std::move(from_section);
       return true;
     }
-    if (!why.empty()) {
-      *error = why;
-      return false;
-    }
+    // A damaged summary (its CRC, the footer) does not make the messages unreadable: count them.
+    out->summary_problem = why;
   }
   // No (usable) summary section: count by reading, and name the chunks' compressions on the way.
+  const std::string summary_problem = out->summary_problem;
   bool first = true;
   const bool ok = forEachMessage(
       [&](const McapMessageView& m) {
@@ -361,6 +363,7 @@ bool McapReader::summary(McapSummary* out, std::string* error, bool scan) const 
       error);
   out->schemas = schemas_;
   out->channels = channels_;
+  out->summary_problem = summary_problem;
   // Chunks and their compressions, from the record headers (cheap: no decompression).
   std::size_t pos = kMcapMagic.size();
   while (size_ - pos >= kRecordHead) {

@@ -50,6 +50,7 @@ struct McapSummary {
   std::map<std::uint16_t, std::uint64_t> channel_messages;
   std::set<std::string> compressions;   ///< as named in the chunks ("" = none)
   bool from_summary_section = false;    ///< false: counted by reading the data section
+  std::string summary_problem;          ///< why a summary section present was not used (its CRC, …)
 };
 
 /// Where and why a read stopped before the end of the data section.
@@ -68,8 +69,9 @@ class McapReader {
   McapReader(const McapReader&) = delete;
   McapReader& operator=(const McapReader&) = delete;
 
-  /// The summary section if the footer points at a valid one; otherwise (or with
-  /// `scan` set) counted by reading every message. False with the reason on damage.
+  /// The summary section if the footer points at a valid one; otherwise (or with `scan` set)
+  /// counted by reading every message (a damaged summary section is named in summary_problem).
+  /// False with the reason on damage to the data section.
   bool summary(McapSummary* out, std::string* error, bool scan = false) const;
 
   using MessageCallback = std::function<bool(const McapMessageView&)>;  ///< false: stop reading

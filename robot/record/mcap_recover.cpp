@@ -2,6 +2,7 @@
 /// @brief recoverMcap (see mcap_recover.h).
 #include "robot/record/mcap_recover.h"
 
+#include <filesystem>
 #include <map>
 
 #include "robot/record/mcap_reader.h"
@@ -11,6 +12,12 @@ namespace telesphere::record {
 bool recoverMcap(const std::string& in, const std::string& out, const McapWriterOptions& options,
                  McapRecoverReport* report, std::string* error) {
   *report = {};
+  // Never over a file (the input above all: it is mapped while the output is written).
+  std::error_code ec;
+  if (std::filesystem::exists(out, ec)) {
+    *error = out + " exists: recover writes a new file";
+    return false;
+  }
   auto reader = McapReader::open(in, error);
   if (!reader) return false;
   report->file_bytes = reader->fileSize();

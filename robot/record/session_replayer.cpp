@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <thread>
 
@@ -34,8 +35,11 @@ void mapRobotClockStamps(google::protobuf::Message* message, std::int64_t first_
   using google::protobuf::FieldDescriptor;
   const google::protobuf::Reflection* r = message->GetReflection();
   const google::protobuf::Descriptor* d = message->GetDescriptor();
+  // In double: the stamps come from a file, their differences must not overflow.
   const auto map = [&](std::int64_t t) {
-    return t == 0 ? t : start_ns + std::llround(double(t - first_ns) / rate);
+    if (t == 0) return t;
+    const double mapped = double(start_ns) + (double(t) - double(first_ns)) / rate;
+    return std::abs(mapped) < 9.2e18 ? static_cast<std::int64_t>(std::llround(mapped)) : t;
   };
   for (int i = 0; i < d->field_count(); ++i) {
     const FieldDescriptor* f = d->field(i);
@@ -94,6 +98,7 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
     const auto wall_start = std::chrono::steady_clock::now();
     const std::int64_t start_ns = link::linkNowNs();
     std::optional<std::int64_t> first_ns;
+    bool bad_time = false;
     // The frame being joined: its StereoFrame, then its two images (same sequence).
     std::optional<link::proto::StereoFrame> frame;
     std::shared_ptr<const std::vector<std::uint8_t>> images[2];
@@ -106,7 +111,9 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
                                                  void (link::LinkServer::*publish)(const Message&),
                                                  std::atomic<std::uint64_t>& count) {
       Message message;
-      if (!message.ParseFromArray(m.data, static_cast<int>(m.size))) return skip();
+      if (m.size > std::size_t(std::numeric_limits<int>::max()) ||
+          !message.ParseFromArray(m.data, static_cast<int>(m.size)))
+        return skip();
       mapRobotClockStamps(&message, *first_ns, start_ns, rate);
       (server.*publish)(message);
       ++count;
@@ -117,8 +124,16 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
           if (stop) return false;
           const auto t = static_cast<std::int64_t>(m.log_time_ns);
           if (!first_ns) first_ns = t;
-          // Due at the recorded pace; wait in slices so that a stop is heard.
-          const auto due = wall_start + std::chrono::nanoseconds(std::llround(double(t - *first_ns) / rate));
+          // Due at the recorded pace; wait in slices so that a stop is heard. In double (times
+          // from a file); a log time before the first is due at once, one absurdly far ahead
+          // (over a day after the first) ends the replay as damaged.
+          const double offset_ns = (double(t) - double(*first_ns)) / rate;
+          if (offset_ns > 86400e9) {
+            *error = "a message logged more than a day after the first (" + m.channel->topic + ")";
+            bad_time = true;
+            return false;
+          }
+          const auto due = wall_start + std::chrono::nanoseconds(std::llround(std::max(0.0, offset_ns)));
           while (!stop && std::chrono::steady_clock::now() < due)
             std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
           if (stop) return false;
@@ -126,6 +141,7 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - due).count();
           if (late_ms > late_ms_max_) late_ms_max_ = late_ms;
           const std::string& topic = m.channel->topic;
+          if (m.size > std::size_t(std::numeric_limits<int>::max())) return skip();  // protobuf's limit
           const int size = static_cast<int>(m.size);
           if (topic == "/stereo/frame") {
             if (frame) ++skipped_;  // the previous one never got both images
@@ -163,7 +179,7 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
           return true;
         },
         error);
-    if (!read) return false;
+    if (!read || bad_time) return false;
     if (!stop) ++loops_;
   } while (options.loop && !stop);
   return true;

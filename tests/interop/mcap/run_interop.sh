@@ -13,9 +13,13 @@ command -v node >/dev/null && command -v npm >/dev/null || { echo "mcap_interop:
 mkdir -p "$work"
 # The MCAP project's packages, installed once per build tree (again when the lockfile changes).
 if ! cmp -s "$here/package-lock.json" "$work/package-lock.json" || [[ ! -d $work/node_modules/@mcap/core ]]; then
-  cp "$here/package.json" "$here/package-lock.json" "$work/"
+  rm -f "$work/package-lock.json"
+  cp "$here/package.json" "$work/"
+  cp "$here/package-lock.json" "$work/package-lock.json.new"
+  mv "$work/package-lock.json.new" "$work/package-lock.json"
+  # The lockfile's copy stays only once the install succeeded (the check above compares it).
   npm ci --no-audit --no-fund --ignore-scripts --prefix "$work" >"$work/npm.log" 2>&1 ||
-    { echo "mcap_interop: npm ci failed:"; cat "$work/npm.log"; exit 1; }
+    { rm -f "$work/package-lock.json"; echo "mcap_interop: npm ci failed:"; cat "$work/npm.log"; exit 1; }
 fi
 cp "$here/check_mcap.mjs" "$here/write_mcap.mjs" "$work/"
 bin=$build/bin

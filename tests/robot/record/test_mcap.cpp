@@ -229,7 +229,7 @@ TEST(Mcap, FlippedBytesAndAbsurdLengthsGiveReasons) {
     bool ok = true;
     const auto got = readAll(*r, &error, false, nullptr, &ok);
     McapSummary s;
-    const bool summary_ok = r->summary(&s, &error);
+    const bool summary_ok = r->summary(&s, &error) && s.summary_problem.empty();
     // Either the damage is found, or it sat where nothing is checked (an index, a time field of
     // a chunk) and every message still came back intact.
     if (!ok || !summary_ok || got != messages)
@@ -258,6 +258,18 @@ TEST(Mcap, FlippedBytesAndAbsurdLengthsGiveReasons) {
   EXPECT_NE(error.find("not an MCAP file"), std::string::npos);
   EXPECT_FALSE(McapReader::open(tempFile("missing.mcap").string(), &error));
   EXPECT_NE(error.find("cannot open"), std::string::npos) << error;
+  std::filesystem::remove(path);
+}
+
+TEST(Mcap, RecoverNeverWritesOverAFileLeastOfAllItsInput) {
+  const std::string path = tempFile("self.mcap").string();
+  ASSERT_TRUE(writeFile(path, randomMessages(20, 1), McapCompression::kNone));
+  const auto size = std::filesystem::file_size(path);
+  McapRecoverReport report;
+  std::string error;
+  EXPECT_FALSE(recoverMcap(path, path, {}, &report, &error));  // would truncate what it maps
+  EXPECT_NE(error.find("exists"), std::string::npos) << error;
+  EXPECT_EQ(std::filesystem::file_size(path), size);
   std::filesystem::remove(path);
 }
 
