@@ -3,7 +3,6 @@
 #include "app/robot_replay.h"
 
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <thread>
 
@@ -23,11 +22,6 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
   const record::McapSummary& s = replayer->summary();
   // Declared before the server: its thread may call the handler until the server is gone.
   const std::string refusal = "this is a replay of " + o.replay_path + ": the robot cannot be controlled";
-  std::error_code ec;
-  if (!o.record_path.empty() && std::filesystem::exists(o.record_path, ec)) {
-    std::cerr << "telesphere-robot: --record: " << o.record_path << " exists: a recording never overwrites a file\n";
-    return 1;
-  }
   link::LinkEndpoints endpoints;
   endpoints.base_port = o.port;
   std::unique_ptr<link::LinkServer> server;

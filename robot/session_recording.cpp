@@ -21,11 +21,6 @@ bool SessionRecording::startFile(const std::string& path, std::string* error) {
     *error = "already recording to " + recorder_->path();
     return false;
   }
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec)) {
-    *error = path + " exists: a recording never overwrites a file";
-    return false;
-  }
   auto recorder = record::SessionRecorder::start(path, options_, error);
   if (!recorder) return false;
   recorder_ = std::move(recorder);

@@ -130,6 +130,37 @@ bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* 
     McapMessageView view;
   };
   std::vector<Pending> pending;
+  // Schema, channel and message records, at the top level or inside a chunk: one set of rules.
+  // A message waits in `pending` until its record (or its whole chunk) has been checked.
+  const auto take = [&](McapOp op, const std::uint8_t* p, std::size_t n, const char* where) -> std::string {
+    if (op == McapOp::kSchema) {
+      McapSchema schema;
+      if (!parseSchema(p, n, &schema)) return std::string("malformed schema record") + where;
+      schemas_[schema.id] = std::move(schema);
+    } else if (op == McapOp::kChannel) {
+      McapChannel c;
+      if (!parseChannel(p, n, &c)) return std::string("malformed channel record") + where;
+      if (c.schema_id != 0 && schemas_.count(c.schema_id) == 0)
+        return "channel " + c.topic + " names schema " + std::to_string(c.schema_id) + " before its record";
+      channels_[c.id] = std::move(c);
+    } else {
+      Pending m{};
+      if (!parseMessage(p, n, &m.channel, &m.view)) return std::string("malformed message record") + where;
+      if (channels_.count(m.channel) == 0)
+        return "a message on channel " + std::to_string(m.channel) + " before its channel record";
+      pending.push_back(m);
+    }
+    return {};
+  };
+  // False when the caller asked to stop.
+  const auto handOut = [&] {
+    for (Pending& m : pending) {
+      m.view.channel = &channels_.at(m.channel);
+      if (!on_message(m.view)) return false;
+    }
+    pending.clear();
+    return true;
+  };
   for (;;) {
     if (pos == size_) return damaged(pos, "the file ends without its data end record (cut off while recording?)");
     if (size_ - pos < kRecordHead) return damaged(pos, "the file ends inside a record");
@@ -144,27 +175,12 @@ bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* 
     if (!header_seen && op != McapOp::kHeader) return damaged(pos, "the first record is not a header");
     switch (op) {
       case McapOp::kHeader: header_seen = true; break;
-      case McapOp::kSchema: {
-        McapSchema s;
-        if (!parseSchema(content, n, &s)) return damaged(pos, "malformed schema record");
-        schemas_[s.id] = std::move(s);
-        break;
-      }
-      case McapOp::kChannel: {
-        McapChannel c;
-        if (!parseChannel(content, n, &c)) return damaged(pos, "malformed channel record");
-        if (c.schema_id != 0 && schemas_.count(c.schema_id) == 0)
-          return damaged(pos, "channel " + c.topic + " names schema " + std::to_string(c.schema_id) + " before its record");
-        channels_[c.id] = std::move(c);
-        break;
-      }
+      case McapOp::kSchema:
+      case McapOp::kChannel:
       case McapOp::kMessage: {
-        Pending m{};
-        if (!parseMessage(content, n, &m.channel, &m.view)) return damaged(pos, "malformed message record");
-        const auto c = channels_.find(m.channel);
-        if (c == channels_.end()) return damaged(pos, "a message on channel " + std::to_string(m.channel) + " before its channel record");
-        m.view.channel = &c->second;
-        if (!on_message(m.view)) return true;
+        pending.clear();
+        if (const std::string why = take(op, content, n, ""); !why.empty()) return damaged(pos, why);
+        if (!handOut()) return true;
         break;
       }
       case McapOp::kChunk: {
@@ -203,32 +219,12 @@ bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* 
           if (inner_length > plain_size - in - kRecordHead) return damaged(pos, "a record in a chunk overruns it");
           const std::uint8_t* ic = plain + in + kRecordHead;
           const auto inner_n = static_cast<std::size_t>(inner_length);
-          if (inner_op == McapOp::kSchema) {
-            McapSchema s;
-            if (!parseSchema(ic, inner_n, &s)) return damaged(pos, "malformed schema record in a chunk");
-            schemas_[s.id] = std::move(s);
-          } else if (inner_op == McapOp::kChannel) {
-            McapChannel c;
-            if (!parseChannel(ic, inner_n, &c)) return damaged(pos, "malformed channel record in a chunk");
-            if (c.schema_id != 0 && schemas_.count(c.schema_id) == 0)
-              return damaged(pos, "channel " + c.topic + " names schema " + std::to_string(c.schema_id) +
-                                      " before its record");
-            channels_[c.id] = std::move(c);
-          } else if (inner_op == McapOp::kMessage) {
-            Pending m{};
-            if (!parseMessage(ic, inner_n, &m.channel, &m.view)) return damaged(pos, "malformed message record in a chunk");
-            if (channels_.count(m.channel) == 0)
-              return damaged(pos, "a message on channel " + std::to_string(m.channel) + " before its channel record");
-            pending.push_back(m);
-          } else {
+          if (inner_op != McapOp::kSchema && inner_op != McapOp::kChannel && inner_op != McapOp::kMessage)
             return damaged(pos, "a chunk holds a record of type " + std::to_string(int(inner_op)));
-          }
+          if (const std::string why = take(inner_op, ic, inner_n, " in a chunk"); !why.empty()) return damaged(pos, why);
           in += kRecordHead + inner_n;
         }
-        for (Pending& m : pending) {
-          m.view.channel = &channels_.at(m.channel);
-          if (!on_message(m.view)) return true;
-        }
+        if (!handOut()) return true;
         break;
       }
       case McapOp::kDataEnd: {

@@ -14,9 +14,11 @@ namespace telesphere::record {
 
 std::unique_ptr<McapWriter> McapWriter::create(const std::string& path, const McapWriterOptions& options,
                                                std::string* error) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // O_EXCL: a recording is never written over a file (nor over the file a caller reads from).
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) {
-    *error = "cannot create " + path + ": " + std::strerror(errno);
+    *error = errno == EEXIST ? path + " exists: a recording never overwrites a file"
+                             : "cannot create " + path + ": " + std::strerror(errno);
     return nullptr;
   }
   std::unique_ptr<McapWriter> w(new McapWriter(fd, options));

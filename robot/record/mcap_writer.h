@@ -37,7 +37,8 @@ struct McapWriterStats {
 
 class McapWriter {
  public:
-  /// Creates (truncates) `path` and writes the magic and header; null with the reason.
+  /// Creates `path`, which must not exist (never overwritten), and writes the magic and header;
+  /// null with the reason.
   static std::unique_ptr<McapWriter> create(const std::string& path, const McapWriterOptions& options,
                                             std::string* error);
   /// Finishes the file (close()) unless that was done.

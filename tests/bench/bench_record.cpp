@@ -142,6 +142,7 @@ Row measure(const Stream& stream, rec::McapCompression compression, double secon
     row.cpu_per_mb_ms = (processCpuS() - cpu0) * 1e3 / input_mb;
     row.file_per_input = double(stats.file_bytes) * 1e-6 / input_mb;
   }
+  std::filesystem::remove(path);  // the writer never overwrites
   // Flat out: every frame queued at once, timed until the file is closed (fsync included).
   {
     options.max_queue_bytes = std::size_t(double(flat_out_frames + 8) * stream.meanPairBytes() * 2);
