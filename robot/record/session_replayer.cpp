@@ -12,7 +12,6 @@
 #include <thread>
 
 #include "robot/link/link_endpoints.h"
-#include "robot/record/foxglove_compressed_image.pb.h"
 
 namespace telesphere::record {
 namespace {
@@ -63,30 +62,19 @@ void mapRobotClockStamps(google::protobuf::Message* message, std::int64_t first_
 }
 
 std::unique_ptr<SessionReplayer> SessionReplayer::open(const std::string& path, std::string* error) {
-  auto reader = McapReader::open(path, error);
-  if (!reader) return nullptr;
-  std::unique_ptr<SessionReplayer> replayer(new SessionReplayer(std::move(reader)));
-  if (!replayer->reader_->summary(&replayer->summary_, error)) {
-    *error = path + ": " + *error;
-    return nullptr;
-  }
-  bool frames = false;
-  for (const auto& [id, c] : replayer->summary_.channels) frames = frames || c.topic == "/stereo/frame";
-  if (!frames) {
-    *error = path + ": not a telesphere session recording (no /stereo/frame channel)";
-    return nullptr;
-  }
-  return replayer;
+  auto session = RecordedSession::open(path, error);
+  if (!session) return nullptr;
+  return std::unique_ptr<SessionReplayer>(new SessionReplayer(std::move(session)));
 }
 
 SessionReplayStats SessionReplayer::stats() const {
   SessionReplayStats s;
-  s.frames = frames_;
+  s.frames = session_->frames();
   s.states = states_;
   s.telemetry = telemetry_;
   s.health = health_;
   s.loops = loops_;
-  s.skipped = skipped_;
+  s.skipped = session_->skipped() + not_replayed_;
   s.late_ms_max = late_ms_max_;
   return s;
 }
@@ -98,88 +86,49 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
     const auto wall_start = std::chrono::steady_clock::now();
     const std::int64_t start_ns = link::linkNowNs();
     std::optional<std::int64_t> first_ns;
-    bool bad_time = false;
-    // The frame being joined: its StereoFrame, then its two images (same sequence).
-    std::optional<link::proto::StereoFrame> frame;
-    std::shared_ptr<const std::vector<std::uint8_t>> images[2];
-    const auto skip = [this] {
-      ++skipped_;
-      return true;  // go on with the next message
-    };
     // A robot message parsed, its stamps moved, sent again with `publish` and counted.
     const auto republish = [&]<typename Message>(const McapMessageView& m,
                                                  void (link::LinkServer::*publish)(const Message&),
                                                  std::atomic<std::uint64_t>& count) {
       Message message;
-      if (m.size > std::size_t(std::numeric_limits<int>::max()) ||
-          !message.ParseFromArray(m.data, static_cast<int>(m.size)))
-        return skip();
+      if (!message.ParseFromArray(m.data, static_cast<int>(m.size))) {
+        ++not_replayed_;
+        return true;
+      }
       mapRobotClockStamps(&message, *first_ns, start_ns, rate);
       (server.*publish)(message);
       ++count;
       return true;
     };
-    const bool read = reader_->forEachMessage(
-        [&](const McapMessageView& m) {
-          if (stop) return false;
-          const auto t = static_cast<std::int64_t>(m.log_time_ns);
-          if (!first_ns) first_ns = t;
-          // Due at the recorded pace; wait in slices so that a stop is heard. In double (times
-          // from a file); a log time before the first is due at once, one absurdly far ahead
-          // (over a day after the first) ends the replay as damaged.
-          const double offset_ns = (double(t) - double(*first_ns)) / rate;
-          if (offset_ns > 86400e9) {
-            *error = "a message logged more than a day after the first (" + m.channel->topic + ")";
-            bad_time = true;
-            return false;
-          }
-          const auto due = wall_start + std::chrono::nanoseconds(std::llround(std::max(0.0, offset_ns)));
-          while (!stop && std::chrono::steady_clock::now() < due)
-            std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
-          if (stop) return false;
-          const double late_ms =
-              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - due).count();
-          if (late_ms > late_ms_max_) late_ms_max_ = late_ms;
-          const std::string& topic = m.channel->topic;
-          if (m.size > std::size_t(std::numeric_limits<int>::max())) return skip();  // protobuf's limit
-          const int size = static_cast<int>(m.size);
-          if (topic == "/stereo/frame") {
-            if (frame) ++skipped_;  // the previous one never got both images
-            frame.emplace();
-            images[0].reset();
-            images[1].reset();
-            if (!frame->ParseFromArray(m.data, size)) {
-              frame.reset();
-              ++skipped_;
-            }
-          } else if (topic == "/stereo/left/compressed" || topic == "/stereo/right/compressed") {
-            const int side = topic == "/stereo/left/compressed" ? 0 : 1;
-            foxglove::CompressedImage image;
-            if (!frame || frame->sequence() % (std::uint64_t(1) << 32) != m.sequence ||
-                !image.ParseFromArray(m.data, size)) {
-              ++skipped_;
-              return true;
-            }
-            images[side] = std::make_shared<const std::vector<std::uint8_t>>(image.data().begin(), image.data().end());
-            if (images[0] && images[1]) {
-              mapRobotClockStamps(&*frame, *first_ns, start_ns, rate);
-              server.publishStereoFrame(std::move(*frame), images[0], images[1]);
-              frame.reset();
-              ++frames_;
-            }
-          } else if (topic == "/robot/state") {
-            return republish(m, &link::LinkServer::publishRobotState, states_);
-          } else if (topic == "/robot/telemetry") {
-            return republish(m, &link::LinkServer::publishTelemetry, telemetry_);
-          } else if (topic == "/robot/health") {
-            return republish(m, &link::LinkServer::publishHealth, health_);
-          } else {
-            ++skipped_;  // what clients sent the robot
-          }
-          return true;
-        },
-        error);
-    if (!read || bad_time) return false;
+    RecordedSessionVisitor visitor;
+    visitor.before = [&](std::int64_t t) {
+      if (stop) return false;
+      if (!first_ns) first_ns = t;
+      // Due at the recorded pace; wait in slices so that a stop is heard. A log time before the
+      // first is due at once.
+      const double offset_ns = (double(t) - double(*first_ns)) / rate;
+      const auto due = wall_start + std::chrono::nanoseconds(std::llround(std::max(0.0, offset_ns)));
+      while (!stop && std::chrono::steady_clock::now() < due)
+        std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+      if (stop) return false;
+      const double late_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - due).count();
+      if (late_ms > late_ms_max_) late_ms_max_ = late_ms;
+      return true;
+    };
+    visitor.frame = [&](RecordedFrame&& frame) {
+      mapRobotClockStamps(&frame.frame, *first_ns, start_ns, rate);
+      server.publishStereoFrame(std::move(frame.frame), std::move(frame.left), std::move(frame.right));
+      return true;
+    };
+    visitor.message = [&](RecordedTopic topic, const McapMessageView& m) {
+      switch (topic) {
+        case RecordedTopic::kRobotState: return republish(m, &link::LinkServer::publishRobotState, states_);
+        case RecordedTopic::kRobotTelemetry: return republish(m, &link::LinkServer::publishTelemetry, telemetry_);
+        case RecordedTopic::kRobotHealth: return republish(m, &link::LinkServer::publishHealth, health_);
+        default: ++not_replayed_; return true;  // what clients sent the robot
+      }
+    };
+    if (!session_->forEach(visitor, error)) return false;
     if (!stop) ++loops_;
   } while (options.loop && !stop);
   return true;

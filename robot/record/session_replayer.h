@@ -19,7 +19,7 @@
 #include <string>
 
 #include "robot/link/link_server.h"
-#include "robot/record/mcap_reader.h"
+#include "robot/record/recorded_session.h"
 
 namespace telesphere::record {
 
@@ -47,13 +47,12 @@ class SessionReplayer {
            std::string* error);
 
   SessionReplayStats stats() const;
-  const McapSummary& summary() const { return summary_; }
+  const McapSummary& summary() const { return session_->summary(); }
 
  private:
-  explicit SessionReplayer(std::unique_ptr<McapReader> reader) : reader_(std::move(reader)) {}
-  std::unique_ptr<McapReader> reader_;
-  McapSummary summary_;
-  std::atomic<std::uint64_t> frames_{0}, states_{0}, telemetry_{0}, health_{0}, loops_{0}, skipped_{0};
+  explicit SessionReplayer(std::unique_ptr<RecordedSession> session) : session_(std::move(session)) {}
+  std::unique_ptr<RecordedSession> session_;
+  std::atomic<std::uint64_t> states_{0}, telemetry_{0}, health_{0}, loops_{0}, not_replayed_{0};
   std::atomic<double> late_ms_max_{0.0};
 };
 
