@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,17 @@ inline bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& lef
     std::copy_n(r.begin() + std::ptrdiff_t(y * w * 4), w * 4, both.begin() + std::ptrdiff_t((y * 2 * w + w) * 4));
   }
   return gl::writePng(path, 2 * left.width(), left.height(), 4, both.data(), error);
+}
+
+/// `dir`/eyes_NNNNN.png (NNNNN = frames) when every > 0 and frames is a multiple of it; true
+/// when nothing was due.
+inline bool writeEveryNthEyesPng(const std::string& dir, std::uint64_t frames, int every,
+                                 const gl::OffscreenTarget& left, const gl::OffscreenTarget& right,
+                                 std::string* error) {
+  if (every <= 0 || dir.empty() || frames % static_cast<std::uint64_t>(every) != 0) return true;
+  char name[64];
+  std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(frames));
+  return writeEyesPng(dir + name, left, right, error);
 }
 
 }  // namespace telesphere::xr

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 
 #include "shaders/egl_context.h"
 #include "xr/operator/eyes_png.h"
@@ -73,12 +72,8 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     if (truth && options.truth_every_frames > 0 && frames % static_cast<std::uint64_t>(options.truth_every_frames) == 0 &&
         !truth->record(operator_view, shown.display_ns, shown.T_vr_hmd, T_hmd_eye, options.display.ipd, shown.views[0], error))
       return std::nullopt;
-    if (options.png_every_frames > 0 && !options.png_dir.empty() &&
-        frames % static_cast<std::uint64_t>(options.png_every_frames) == 0) {
-      char name[64];
-      std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(frames));
-      if (!writeEyesPng(options.png_dir + name, output.left(), output.right(), error)) return std::nullopt;
-    }
+    if (!writeEveryNthEyesPng(options.png_dir, frames, options.png_every_frames, output.left(), output.right(), error))
+      return std::nullopt;
   }
   OffscreenOperatorStats stats;
   const OperatorLoopStats loop_stats = loop.stats();

@@ -12,17 +12,12 @@
 #include "robot/link/link_pose.h"
 #include "robot/link/proto_enums.h"
 #include "robot/link/sphere_radius.h"
+#include "xr/operator/robot_view_state.h"
 #include "xr/video/latency_figure.h"
 #include "xr/operator/trial_indicator.h"
 
 namespace telesphere::xr {
 namespace {
-
-
-bool poseMeasured(const link::proto::StereoFrame& frame) {
-  return frame.left().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER &&
-         frame.right().pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER;
-}
 
 StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
   StereoFrameDecoder::Options options;
@@ -74,9 +69,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   trial_ = state ? state->trial() : link::proto::TrialIndicator();
   if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
   if (state && options_.follow_robot_settings) {
-    RenderSettings settings = renderer_.settings();
-    if (const auto mode = link::fromProto(state->visual_mode())) settings.mode = *mode;
-    if (link::acceptedSphereRadius(state->sphere_radius())) settings.radius = state->sphere_radius();
+    const RenderSettings settings = withRobotSettings(renderer_.settings(), *state);
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
       spdlog::info("operator view: mode {} radius {} m (from the robot; was {} {} m)",
                    link::visualModeName(settings.mode), settings.radius,
@@ -160,7 +153,7 @@ std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
   auto newest = decoder_.newest();
   const auto& current = renderer_.frame();
   if (!newest || newest == current) return newest;
-  if (poseMeasured(newest->frame)) {
+  if (cameraPosesMeasured(newest->frame)) {
     if (unmeasured_since_ns_ >= 0)
       spdlog::info("operator view: camera poses are measured again (joint states from the robot)");
     unmeasured_since_ns_ = -1;
@@ -198,8 +191,7 @@ bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const E
                              GLuint framebuffer, std::string* error) {
   if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
     // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
-    T_robot_vr_stand_in_ = link::fromLinkPose(renderer_.frame()->frame.left().t_robot_cam()) *
-                           Eigen::Isometry3d(kR_optical_view) * T_vr_eye.inverse();
+    T_robot_vr_stand_in_ = standInT_robot_vr(renderer_.frame()->frame, T_vr_eye);
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
   if (eye == 0 && renderer_.frame() && stats_.nominal_from_robot) {

@@ -1,25 +1,19 @@
 // SPDX-License-Identifier: MIT
-/// @brief PacedOutput: steady-clock pacing, head and eye poses, two eye targets.
+/// @brief PacedOutput: pacing by a FrameClock, head and eye poses, two eye targets.
 #include "xr/operator/paced_output.h"
 
 #include <algorithm>
-#include <thread>
+#include <cmath>
 
 namespace telesphere::xr {
-namespace {
 
-std::int64_t steadyNs(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
-}
-
-}  // namespace
-
-PacedOutput::PacedOutput(const PacedOutputOptions& options, HeadAt head)
+PacedOutput::PacedOutput(const PacedOutputOptions& options, HeadAt head, FrameClock* clock)
     : options_(options),
       head_(std::move(head)),
+      clock_(clock != nullptr ? clock : &steady_),
       left_(options.eye_width, options.eye_height),
       right_(options.eye_width, options.eye_height),
-      period_(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / options.rate_hz))) {
+      period_ns_(std::llround(1e9 / options.rate_hz)) {
   for (int eye = 0; eye < 2; ++eye) {
     T_hmd_eye_[std::size_t(eye)] = Eigen::Isometry3d::Identity();
     T_hmd_eye_[std::size_t(eye)].translation().x() = (eye == 0 ? -0.5 : 0.5) * options.ipd;
@@ -28,21 +22,21 @@ PacedOutput::PacedOutput(const PacedOutputOptions& options, HeadAt head)
 
 void PacedOutput::waitUntilDue() {
   if (due_) return;
-  std::this_thread::sleep_until(next_start_);
+  clock_->sleepUntilNs(next_start_ns_);
   due_ = true;
 }
 
 bool PacedOutput::frame(const DrawEye& draw, Shown* shown, std::string* error) {
-  if (!first_start_) first_start_ = next_start_ = Clock::now();
+  if (!first_start_ns_) first_start_ns_ = next_start_ns_ = clock_->nowNs();
   waitUntilDue();
   due_ = false;
-  const Clock::time_point start = next_start_;
-  const Clock::time_point display = start + period_;  // shown at the next refresh
+  const std::int64_t start = next_start_ns_;
+  const std::int64_t display = start + period_ns_;  // shown at the next refresh
   DisplayFrame& f = shown->frame;
   f.index = index_++;
-  f.display_ns = f.refresh_ns = steadyNs(display);
-  f.display_period_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(period_).count();
-  f.T_vr_hmd = head_(std::chrono::duration<double>(display - *first_start_).count());
+  f.display_ns = f.refresh_ns = display;
+  f.display_period_ns = period_ns_;
+  f.T_vr_hmd = head_(double(display - *first_start_ns_) * 1e-9);
   f.head_valid = true;
   for (std::size_t eye = 0; eye < 2; ++eye) {
     f.T_vr_eye[eye] = f.T_vr_hmd * T_hmd_eye_[eye];
@@ -52,12 +46,12 @@ bool PacedOutput::frame(const DrawEye& draw, Shown* shown, std::string* error) {
   }
   shown->began = true;
   if (!draw(f, 0, left_.framebuffer()) || !draw(f, 1, right_.framebuffer()) || !present(error)) return false;
-  const Clock::time_point done = Clock::now();
+  const std::int64_t done = clock_->nowNs();
   shown->drawn = true;
-  shown->shown_ns = steadyNs(std::max(display, done));
+  shown->shown_ns = std::max(display, done);
   // The next frame starts at the refresh after this one; an overrun skips refreshes, never bursts.
-  next_start_ = start + period_;
-  if (done > display) next_start_ += ((done - next_start_) / period_ + 1) * period_;
+  next_start_ns_ = start + period_ns_;
+  if (done > display) next_start_ns_ += ((done - next_start_ns_) / period_ns_ + 1) * period_ns_;
   return true;
 }
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief Outputs without a headset runtime (offscreen and desktop modes): display frames paced
 ///        by the steady clock at rate_hz (an overrun skips refreshes, never bursts), the head
-///        pose from a function of the display time, the eyes ipd apart on the head's x axis, each
+///        pose from a function of the display time (the clock can be a simulated one, FrameClock), the eyes ipd apart on the head's x axis, each
 ///        eye drawn into an offscreen target of its own. What "shown" means is the subclass's:
 ///        OffscreenOutput waits for the GL (glFinish); the desktop window presents both eyes.
 #pragma once
@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "shaders/offscreen_target.h"
+#include "xr/operator/frame_clock.h"
 #include "xr/operator/operator_loop.h"
 
 namespace telesphere::xr {
@@ -27,8 +28,9 @@ class PacedOutput : public OperatorOutput {
   /// The head pose predicted for a display time, in seconds since the first frame began.
   using HeadAt = std::function<Eigen::Isometry3d(double display_s)>;
 
-  /// Makes the eye targets (needs a current GL context); check complete().
-  PacedOutput(const PacedOutputOptions& options, HeadAt head);
+  /// Makes the eye targets (needs a current GL context); check complete(). `clock` (outlives
+  /// this; null: the steady clock) paces the frames and stamps them.
+  PacedOutput(const PacedOutputOptions& options, HeadAt head, FrameClock* clock = nullptr);
 
   /// Sleeps until the next frame is due (frame() does it when this was not called): call it
   /// before reading input that the next frame's head pose should reflect.
@@ -41,20 +43,25 @@ class PacedOutput : public OperatorOutput {
   /// Eye `eye` in the head frame: ∓ipd/2 along x.
   const Eigen::Isometry3d& T_hmd_eye(int eye) const { return T_hmd_eye_[std::size_t(eye)]; }
   const PacedOutputOptions& options() const { return options_; }
+  /// The display period, and when the next frame starts (its head pose is sampled for one
+  /// period later); meaningful once the first frame began.
+  std::int64_t periodNs() const { return period_ns_; }
+  std::int64_t nextStartNs() const { return next_start_ns_; }
 
  protected:
   /// Shows the drawn eyes; false with the reason.
   virtual bool present(std::string* error) = 0;
 
  private:
-  using Clock = std::chrono::steady_clock;
   PacedOutputOptions options_;
   HeadAt head_;
+  SteadyFrameClock steady_;
+  FrameClock* clock_;
   gl::OffscreenTarget left_, right_;
   std::array<Eigen::Isometry3d, 2> T_hmd_eye_;
-  Clock::duration period_;
-  std::optional<Clock::time_point> first_start_;
-  Clock::time_point next_start_;
+  std::int64_t period_ns_;
+  std::optional<std::int64_t> first_start_ns_;
+  std::int64_t next_start_ns_ = 0;
   bool due_ = true;  ///< next_start_ has been waited for (or none yet)
   std::uint64_t index_ = 0;
 };
