@@ -2,6 +2,7 @@
 /// @brief `telesphere-xr offscreen`: options, the run, the statistics table and JSON.
 #include "app/xr_offscreen_command.h"
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
 #include "xr/operator/offscreen_operator.h"
+#include "xr/replay/offline_replay.h"
 
 namespace telesphere::app {
 namespace {
@@ -31,7 +33,8 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--trajectory", o.trajectory, "head poses CSV: t,px,py,pz,qx,qy,qz,qw (default: demo motion)");
   c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
   c->add_option("--rate", o.rate_hz, "display rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
-  c->add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT)")->capture_default_str();
+  c->add_option("--duration", o.duration_s, "seconds to run (0: until SIGINT); with --replay: recording seconds")
+      ->default_str("10; with --replay the whole recording");
   c->add_option("--mode", o.mode, "full6d | orientation3d | fixed")->capture_default_str();
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
@@ -42,17 +45,91 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
                 "folder for the projection maps of every --truth-every-th frame (ground-truth check)");
   c->add_option("--truth-every", o.truth_every, "record every N-th frame's projection maps")
       ->capture_default_str()->check(CLI::Range(1, 1000000));
+  c->add_option("--replay", o.replay,
+                "render this recording (telesphere-robot --record) offline, deterministically, instead of "
+                "connecting to a robot; the head from its recorded head targets, or --trajectory")
+      ->check(CLI::ExistingFile);
   return c;
 }
 
+namespace {
+
+int fail(int code, const std::string& message) {
+  std::cerr << "telesphere-xr offscreen: " << message << '\n';
+  return code;
+}
+
+/// The rows live runs and replays share.
+void printViewTable(const xr::OperatorViewStats& v) {
+  std::printf("| figure | value |\n|---|---:|\n");
+  std::printf("| display frames | %llu |\n| render ms p50 / p99 (both eyes) | %.1f / %.1f |\n",
+              static_cast<unsigned long long>(v.frames), v.render_ms_p50, v.render_ms_p99);
+  std::printf("| camera frames shown | %llu |\n", static_cast<unsigned long long>(v.stereo_frames_shown));
+  std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", v.image_age_p50_ms,
+              v.image_age_p99_ms);
+}
+
+int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& calibration,
+              const xr::PacedOutputOptions& display, const xr::RenderSettings& render) {
+  xr::OfflineReplayOptions options;
+  options.recording = o.replay;
+  options.display = display;
+  options.render = render;
+  options.duration_s = std::max(0.0, o.duration_s);
+  options.png_dir = o.out_dir;
+  options.png_every_frames = o.png_every;
+  std::string error;
+  if (!o.trajectory.empty()) {
+    options.trajectory = xr::HeadTrajectory::load(o.trajectory, &error);
+    if (!options.trajectory) return fail(1, error);
+  }
+  const auto stats = xr::runOfflineReplay(calibration, options, g_offscreen_stop, &error);
+  if (!stats) return fail(error.find("EGL") != std::string::npos ? 2 : 3, error);
+  const xr::OperatorViewStats& v = stats->view;
+  printViewTable(v);
+  std::printf("| recording rendered, s | %.2f |\n| recorded frames read / undecodable | %llu / %llu |\n",
+              stats->recording_s, static_cast<unsigned long long>(stats->recorded_frames),
+              static_cast<unsigned long long>(stats->undecodable));
+  std::printf("| head | %s |\n| nominal pose from the recording | %s |\n",
+              options.trajectory ? o.trajectory.c_str()
+                                 : (std::to_string(stats->head_targets) + " recorded head targets").c_str(),
+              v.nominal_from_robot ? "yes" : "no");
+  if (!o.out_dir.empty()) {
+    nlohmann::json j = operatorStatsJson(v);
+    j.update({{"frames", v.frames},
+              {"frames_with_image", v.frames_with_image},
+              {"recording_s", stats->recording_s},
+              {"recorded_frames", stats->recorded_frames},
+              {"undecodable", stats->undecodable},
+              {"head_targets", stats->head_targets},
+              {"skipped", stats->skipped}});
+    std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
+  }
+  return 0;
+}
+
+}  // namespace
+
 int runOffscreenCommand(const OffscreenCommandOptions& o) {
-  const auto fail = [](int code, const std::string& message) {
-    std::cerr << "telesphere-xr offscreen: " << message << '\n';
-    return code;
-  };
   auto calibration = calib::loadCalibrationFile(o.calib);
   if (!calibration) return fail(1, calibration.error().describe());
   std::string error;
+  xr::PacedOutputOptions display;
+  if (std::sscanf(o.eye_size.c_str(), "%dx%d", &display.eye_width, &display.eye_height) != 2 ||
+      display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
+    return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
+  display.rate_hz = o.rate_hz;
+  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  if (!render) return fail(1, error);
+  if (!o.out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o.out_dir, ec);
+    if (ec) return fail(1, o.out_dir + ": " + ec.message());
+  }
+  std::signal(SIGINT, onOffscreenSignal);
+  std::signal(SIGTERM, onOffscreenSignal);
+  if (!o.replay.empty()) return runReplay(o, *calibration, display, *render);
+
   std::optional<xr::HeadTrajectory> trajectory =
       o.trajectory.empty() ? std::optional<xr::HeadTrajectory>(xr::HeadTrajectory::demo())
                            : xr::HeadTrajectory::load(o.trajectory, &error);
@@ -60,39 +137,21 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   xr::OffscreenOperatorOptions options;
   options.endpoints.host = o.host;
   options.endpoints.base_port = o.port;
-  xr::PacedOutputOptions& display = options.display;
-  if (std::sscanf(o.eye_size.c_str(), "%dx%d", &display.eye_width, &display.eye_height) != 2 ||
-      display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
-    return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
-  display.rate_hz = o.rate_hz;
-  options.duration_s = o.duration_s;
-  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
-  if (!render) return fail(1, error);
+  options.display = display;
+  options.duration_s = o.duration_s < 0 ? 10.0 : o.duration_s;
   options.render = *render;
   options.png_every_frames = o.png_every;
   options.truth_dir = o.truth_dir;
   options.truth_every_frames = o.truth_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
-  if (!o.out_dir.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(o.out_dir, ec);
-    if (ec) return fail(1, o.out_dir + ": " + ec.message());
-    options.png_dir = o.out_dir;
-  }
-  std::signal(SIGINT, onOffscreenSignal);
-  std::signal(SIGTERM, onOffscreenSignal);
+  options.png_dir = o.out_dir;
   const auto stats = xr::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 
   const xr::OperatorViewStats& v = stats->view;
-  std::printf("| figure | value |\n|---|---:|\n");
-  std::printf("| display frames | %llu |\n| fps | %.1f |\n| render ms p50 / p99 (both eyes) | %.1f / %.1f |\n",
-              static_cast<unsigned long long>(v.frames), stats->fps, v.render_ms_p50, v.render_ms_p99);
-  std::printf("| missed frames at %.0f Hz | %llu |\n| camera frames shown | %llu |\n", o.rate_hz,
-              static_cast<unsigned long long>(stats->missed_frames),
-              static_cast<unsigned long long>(v.stereo_frames_shown));
-  std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", v.image_age_p50_ms,
-              v.image_age_p99_ms);
+  printViewTable(v);
+  std::printf("| fps | %.1f |\n| missed frames at %.0f Hz | %llu |\n", stats->fps, o.rate_hz,
+              static_cast<unsigned long long>(stats->missed_frames));
   std::printf("| head targets sent | %llu |\n| nominal pose from the robot | %s |\n",
               static_cast<unsigned long long>(v.head_targets_sent), v.nominal_from_robot ? "yes" : "no");
   if (!o.out_dir.empty()) {

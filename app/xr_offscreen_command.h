@@ -3,6 +3,8 @@
 ///        surfaceless): connects to telesphere-robot, plays a head trajectory (CSV, or the built-in
 ///        demo motion), renders both eyes of the newest stereo frame at the display rate, sends the
 ///        head targets, prints statistics and writes them (JSON) and the last eye images (PNG).
+///        With --replay FILE: a recorded session rendered offline instead, deterministically
+///        (xr/replay/offline_replay.h): no robot, the recorded head targets or --trajectory.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -17,7 +19,7 @@ struct OffscreenCommandOptions {
   std::string trajectory;  ///< CSV; empty: the built-in demo motion
   std::string eye_size = "1440x1600";
   double rate_hz = 90.0;
-  double duration_s = 10.0;
+  double duration_s = -1;  ///< < 0: 10 s live, the whole recording with --replay
   std::string mode = "full6d";
   std::string path = "exact";
   double radius = 1.0;
@@ -26,6 +28,7 @@ struct OffscreenCommandOptions {
   double wait_s = 10.0;
   std::string truth_dir;  ///< projection maps for the ground-truth check
   int truth_every = 10;
+  std::string replay;  ///< a recording (MCAP) to render offline instead of the robot
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+/// @brief runOfflineReplay: the recording walked once, display frames rendered between its messages.
+#include "xr/replay/offline_replay.h"
+
+#include <limits>
+
+#include "robot/link/link_pose.h"
+#include "robot/record/recorded_session.h"
+#include "shaders/egl_context.h"
+#include "xr/operator/eyes_png.h"
+#include "xr/operator/frame_clock.h"
+#include "xr/operator/operator_loop.h"
+#include "xr/replay/recorded_view.h"
+
+namespace telesphere::xr {
+
+std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibration& calibration,
+                                                   const OfflineReplayOptions& options,
+                                                   const std::atomic<bool>& stop, std::string* error) {
+  if (calibration.cameras.size() != 2) {
+    *error = "the calibration needs two cameras";
+    return std::nullopt;
+  }
+  if (!(options.display.rate_hz > 0.0 && options.display.rate_hz <= 1000.0)) {
+    *error = "display rate must be in (0, 1000] Hz";
+    return std::nullopt;
+  }
+  const std::string damaged_hint = " (`telesphere-mcap recover` writes the intact part of a damaged recording to a new file)";
+  const auto session = record::RecordedSession::open(options.recording, error);
+  if (!session) {
+    *error += damaged_hint;
+    return std::nullopt;
+  }
+  const bool recorded_head = !options.trajectory;
+  if (recorded_head) {
+    std::uint64_t head_targets = 0;
+    for (const auto& [id, channel] : session->summary().channels)
+      if (channel.topic == "/xr/head_target") head_targets += session->summary().channel_messages.count(id) ? session->summary().channel_messages.at(id) : 0;
+    if (head_targets == 0) {
+      *error = options.recording + " holds no head targets (no operator app was connected while it was recorded): give a head trajectory";
+      return std::nullopt;
+    }
+  }
+  auto context = gl::EglContext::createSurfaceless(error);
+  if (!context || !context->makeCurrent()) {
+    if (error->empty()) *error = "cannot make the EGL context current";
+    return std::nullopt;
+  }
+
+  SimulatedFrameClock clock(std::numeric_limits<std::int64_t>::min());
+  Eigen::Isometry3d T_vr_hmd_recorded = Eigen::Isometry3d::Identity();
+  OffscreenOutput output(
+      options.display,
+      [&](double display_s) {
+        return recorded_head ? T_vr_hmd_recorded : options.trajectory->sample(display_s, options.loop_trajectory);
+      },
+      &clock);
+  if (!output.complete()) {
+    *error = "cannot create " + std::to_string(options.display.eye_width) + "x" +
+             std::to_string(options.display.eye_height) + " render targets";
+    return std::nullopt;
+  }
+  RecordedView view(calibration, options.render, options.follow_recorded_settings);
+  OperatorLoop loop(view, output);
+  OfflineReplayStats stats;
+
+  // Display frames start at the first frame's log time, one period apart; a frame is drawn once
+  // the first message logged after its start comes up (everything up to its start is in).
+  std::optional<std::int64_t> first_start_ns, next_start_ns;
+  bool taken_since_drawn = false, failed = false, ended = false;
+  const auto draw = [&] {
+    if (!loop.step(error)) return false;
+    if (!writeEveryNthEyesPng(options.png_dir, loop.stats().frames, options.png_every_frames, output.left(),
+                              output.right(), error))
+      return false;
+    next_start_ns = output.nextStartNs();
+    taken_since_drawn = false;
+    return true;
+  };
+  const auto due = [&] {
+    ended = ended || stop ||
+            (options.duration_s > 0 && double(*next_start_ns - *first_start_ns) >= options.duration_s * 1e9);
+    return !ended;
+  };
+  record::RecordedSessionVisitor visitor;
+  visitor.before = [&](std::int64_t log_time_ns) {
+    while (next_start_ns && *next_start_ns < log_time_ns) {
+      if (!due()) return false;
+      if (!draw()) {
+        failed = true;
+        return false;
+      }
+    }
+    return !stop.load();
+  };
+  visitor.frame = [&](record::RecordedFrame&& frame) {
+    if (!next_start_ns) {
+      first_start_ns = next_start_ns = frame.log_time_ns;
+      clock.sleepUntilNs(frame.log_time_ns);
+    }
+    view.takeFrame(std::move(frame));
+    taken_since_drawn = true;
+    return true;
+  };
+  visitor.message = [&](record::RecordedTopic topic, const record::McapMessageView& m) {
+    if (topic == record::RecordedTopic::kRobotState) {
+      link::proto::RobotState state;
+      if (state.ParseFromArray(m.data, static_cast<int>(m.size))) {
+        view.takeState(state);
+        taken_since_drawn = true;
+      }
+    } else if (topic == record::RecordedTopic::kHeadTarget && recorded_head) {
+      link::proto::HeadTarget target;
+      if (target.ParseFromArray(m.data, static_cast<int>(m.size)) && target.valid()) {
+        T_vr_hmd_recorded = link::fromLinkPose(target.t_vr_hmd());
+        ++stats.head_targets;
+        taken_since_drawn = true;
+      }
+    }
+    return true;
+  };
+  if (!session->forEach(visitor, error)) {
+    if (!failed) *error = options.recording + ": " + *error + damaged_hint;
+    return std::nullopt;
+  }
+  if (failed) return std::nullopt;
+  if (!first_start_ns) {
+    *error = options.recording + " holds no complete stereo frame";
+    return std::nullopt;
+  }
+  // What was logged after the last display frame's start.
+  if (taken_since_drawn && due() && !draw()) return std::nullopt;
+
+  stats.view = view.stats();
+  stats.recorded_frames = session->frames();
+  stats.undecodable = view.undecodable();
+  stats.skipped = session->skipped();
+  stats.recording_s = double(*next_start_ns - *first_start_ns) * 1e-9;
+  if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
+    return std::nullopt;
+  return stats;
+}
+
+}  // namespace telesphere::xr

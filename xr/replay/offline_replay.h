@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+/// @brief `telesphere-xr offscreen --replay FILE`: a recorded session (telesphere-robot --record)
+///        rendered offline, deterministically — the same PNGs run after run (issue #18). No link,
+///        no wall time: display frames fall on a simulated clock at exactly first + k · period on
+///        the recording's time line (its log times, the robot's clock), starting at the first
+///        stereo frame; each display frame shows what was logged up to its start — the newest
+///        frame (decoded then, synchronously), the newest robot state (mode, radius, nominal
+///        mapping, trial) and, for the head, the newest recorded head target (what the operator's
+///        headset sent) or a head trajectory given instead. The one operator frame loop
+///        (OperatorLoop, OffscreenOutput) draws it on an EGL surfaceless context.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "calib/system_calibration.h"
+#include "xr/operator/head_trajectory.h"
+#include "xr/operator/operator_view.h"
+#include "xr/operator/paced_output.h"
+
+namespace telesphere::xr {
+
+struct OfflineReplayOptions {
+  std::string recording;       ///< the MCAP file
+  PacedOutputOptions display;  ///< display rate, eye size and field of view, ipd
+  RenderSettings render;       ///< until a recorded state says otherwise
+  bool follow_recorded_settings = true;  ///< the recorded mode and radius (off: `render`'s stay)
+  /// Head poses from this trajectory (time from the first frame) instead of the recorded head targets.
+  std::optional<HeadTrajectory> trajectory;
+  bool loop_trajectory = true;
+  double duration_s = 0;  ///< recording time to render from the first frame; 0: to the end
+  std::string png_dir;    ///< when set: eyes_last.png at the end
+  int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many display frames
+};
+
+struct OfflineReplayStats {
+  OperatorViewStats view;            ///< frames, camera frames shown, render and decode figures
+  std::uint64_t recorded_frames = 0;  ///< stereo frames read from the recording
+  std::uint64_t head_targets = 0;     ///< recorded head targets taken (0 with a trajectory)
+  std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs did not decode
+  std::uint64_t skipped = 0;          ///< messages passed over (RecordedSession::skipped)
+  double recording_s = 0;             ///< recording time rendered, from the first frame
+};
+
+/// Renders the recording; nothing, with the reason in *error, when the file, GL or the
+/// calibration do not allow it, or the recording holds no complete stereo frame (or no head
+/// targets when no trajectory is given).
+std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibration& calibration,
+                                                   const OfflineReplayOptions& options,
+                                                   const std::atomic<bool>& stop, std::string* error);
+
+}  // namespace telesphere::xr

@@ -1,0 +1,124 @@
+// SPDX-License-Identifier: MIT
+/// @brief RecordedView (see recorded_view.h).
+#include "xr/replay/recorded_view.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "robot/link/link_pose.h"
+#include "robot/link/link_schema.h"
+#include "xr/operator/robot_view_state.h"
+#include "xr/operator/trial_indicator.h"
+#include "xr/video/latency_figure.h"
+
+namespace telesphere::xr {
+namespace {
+
+/// Both JPEGs of `recorded` into planes of their own; nothing (the reason in *error) when one fails.
+std::shared_ptr<const DecodedStereoFrame> decodePair(JpegDecoder& decoder, record::RecordedFrame& recorded,
+                                                     std::string* error) {
+  auto decoded = std::make_shared<DecodedStereoFrame>();
+  const link::proto::CameraImage* images[2] = {&recorded.frame.left(), &recorded.frame.right()};
+  const std::vector<std::uint8_t>* jpegs[2] = {recorded.left.get(), recorded.right.get()};
+  for (int side = 0; side < 2; ++side) {
+    auto planes = std::make_shared<YuvPlanes>();
+    const auto result = decoder.decode(*jpegs[side], static_cast<int>(images[side]->width()),
+                                       static_cast<int>(images[side]->height()),
+                                       static_cast<int>(link::kMaxImageSide), *planes, error);
+    if (result != JpegDecodeError::kNone) {
+      *error = std::string(side == 0 ? "left" : "right") + " image of frame " +
+               std::to_string(recorded.frame.sequence()) + ": " + jpegDecodeErrorName(result) + ": " + *error;
+      return nullptr;
+    }
+    (side == 0 ? decoded->left : decoded->right) = std::move(planes);
+  }
+  decoded->frame = std::move(recorded.frame);
+  return decoded;
+}
+
+}  // namespace
+
+RecordedView::RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render,
+                           bool follow_recorded_settings)
+    : renderer_(calibration, render, 0), follow_settings_(follow_recorded_settings) {}
+
+void RecordedView::takeFrame(record::RecordedFrame&& frame) { pending_ = std::move(frame); }
+
+bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std::string* error) {
+  if (state_ && state_->nominal_set()) {
+    T_robot_vr_ = link::fromLinkPose(state_->t_robot_vr());
+    stats_.nominal_from_robot = true;
+  } else if (T_robot_vr_stand_in_) {
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  if (state_ && follow_settings_) {
+    const RenderSettings settings = withRobotSettings(renderer_.settings(), *state_);
+    if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
+      renderer_.setSettings(settings);
+      ++stats_.settings_changes;
+    }
+  }
+  uploaded_this_frame_ = false;
+  if (!pending_) return true;
+  record::RecordedFrame recorded = std::move(*pending_);
+  pending_.reset();
+  const auto decode_start = std::chrono::steady_clock::now();
+  std::string why;
+  const auto decoded = decodePair(decoder_, recorded, &why);
+  if (!decoded) {
+    if (undecodable_++ == 0) spdlog::warn("replay: {} (the previous frame stays on show)", why);
+    return true;
+  }
+  decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+  RenderSettings settings = renderer_.settings();
+  const bool measured = cameraPosesMeasured(decoded->frame);
+  settings.image_gain = measured ? 1.0f : OperatorView::kUnmeasuredGain;
+  renderer_.setSettings(settings);
+  if (!measured) ++stats_.unmeasured_frames_shown;
+  if (!renderer_.setFrame(decoded, error)) return false;
+  uploaded_this_frame_ = true;
+  stats_.images_in_own_memory += 2;
+  return true;
+}
+
+bool RecordedView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view, GLuint framebuffer,
+                             std::string* error) {
+  if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
+    T_robot_vr_stand_in_ = standInT_robot_vr(renderer_.frame()->frame, T_vr_eye);
+    T_robot_vr_ = *T_robot_vr_stand_in_;
+  }
+  if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
+  if (state_ && state_->trial().running())
+    drawTrialIndicator(framebuffer, view.width, view.height, state_->trial().elapsed_s(), state_->trial().time_limit_s());
+  return true;
+}
+
+void RecordedView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t) {
+  ++stats_.frames;
+  render_ms_.push_back(render_ms);
+  if (const auto& frame = renderer_.frame()) {
+    ++stats_.frames_with_image;
+    age_ms_.push_back(double(shown_ns - frame->frame.stamps().capture_ns()) * 1e-6);
+    if (uploaded_this_frame_) {
+      ++stats_.stereo_frames_shown;
+      upload_ms_.push_back(renderer_.lastUploadMs());
+    }
+  }
+}
+
+OperatorViewStats RecordedView::stats() const {
+  OperatorViewStats out = stats_;
+  const LatencyFigure render = latencyFigure(render_ms_), age = latencyFigure(age_ms_);
+  const LatencyFigure upload = latencyFigure(upload_ms_), decode = latencyFigure(decode_ms_);
+  out.render_ms_p50 = render.p50_ms;
+  out.render_ms_p99 = render.p99_ms;
+  out.image_age_p50_ms = age.p50_ms;
+  out.image_age_p99_ms = age.p99_ms;
+  out.upload_ms_render_thread_p50 = upload.p50_ms;
+  out.upload_ms_render_thread_p99 = upload.p99_ms;
+  out.decode_ms_p50 = decode.p50_ms;
+  return out;
+}
+
+}  // namespace telesphere::xr

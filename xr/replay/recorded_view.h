@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator's view of a recorded session (issue #18), an OperatorScene fed from the
+///        recording instead of the link: the frames and robot states logged up to the display
+///        frame's start are handed in (takeFrame, takeState); beginFrame decodes the newest frame
+///        on the render thread (both JPEGs, synchronously) and uploads it; the recorded mode,
+///        sphere radius and nominal mapping are followed as the live view follows the robot's
+///        (xr/operator/robot_view_state.h, the stand-in before a nominal pose included); the
+///        study's trial indicator is drawn. Nothing depends on wall time or on threads, so the same
+///        inputs give the same pixels.
+///
+///        Not replayed: the live view's holding of the last measured frame while unmeasured ones
+///        arrive (frames without measured camera poses are shown dimmed at once), calibrations the
+///        robot applied live (the one given is used throughout).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "calib/system_calibration.h"
+#include "robot/record/recorded_session.h"
+#include "xr/operator/operator_loop.h"
+#include "xr/operator/operator_view.h"
+#include "xr/operator/stereo_view_renderer.h"
+#include "xr/video/jpeg_decoder.h"
+
+namespace telesphere::xr {
+
+class RecordedView final : public OperatorScene {
+ public:
+  /// `render` holds until a recorded state says otherwise (follow_recorded_settings).
+  RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render, bool follow_recorded_settings);
+
+  /// The newest frame logged so far (replaces one not yet shown) / the newest robot state.
+  void takeFrame(record::RecordedFrame&& frame);
+  void takeState(const link::proto::RobotState& state) { state_ = state; }
+
+  bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid, std::string* error) override;
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view, GLuint framebuffer,
+                 std::string* error) override;
+  void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) override;
+  std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const override {
+    return renderer_.cameraFromEye(eye, T_robot_vr_, T_vr_eye);
+  }
+
+  /// The live view's figures where they apply (times on the robot's clock: the recording's).
+  OperatorViewStats stats() const;
+  /// Frames whose JPEGs did not decode (the previous frame stayed on show).
+  std::uint64_t undecodable() const { return undecodable_; }
+
+ private:
+  StereoViewRenderer renderer_;
+  bool follow_settings_;
+  JpegDecoder decoder_;
+  std::optional<record::RecordedFrame> pending_;
+  std::optional<link::proto::RobotState> state_;
+  Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
+  bool uploaded_this_frame_ = false;
+  std::uint64_t undecodable_ = 0;
+  OperatorViewStats stats_;
+  std::vector<double> render_ms_, age_ms_, upload_ms_, decode_ms_;
+};
+
+}  // namespace telesphere::xr
