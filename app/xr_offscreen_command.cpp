@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -78,6 +79,14 @@ int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& 
   options.duration_s = std::max(0.0, o.duration_s);
   options.png_dir = o.out_dir;
   options.png_every_frames = o.png_every;
+  // A progress line on stderr every 5 s of wall time: offline rendering of a long 4K session takes a while.
+  auto last_progress = std::chrono::steady_clock::now();
+  options.progress = [&](double rendered_s, double total_s) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_progress < std::chrono::seconds(5)) return;
+    last_progress = now;
+    std::fprintf(stderr, "telesphere-xr offscreen: replay %.1f / %.1f s of the recording\n", rendered_s, total_s);
+  };
   std::string error;
   if (!o.trajectory.empty()) {
     options.trajectory = xr::HeadTrajectory::load(o.trajectory, &error);

@@ -2,6 +2,7 @@
 /// @brief runOfflineReplay: the recording walked once, display frames rendered between its messages.
 #include "xr/replay/offline_replay.h"
 
+#include <algorithm>
 #include <limits>
 
 #include "robot/link/link_pose.h"
@@ -75,6 +76,11 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
       return false;
     next_start_ns = output.nextStartNs();
     taken_since_drawn = false;
+    if (options.progress) {
+      const double total_s = double(static_cast<std::int64_t>(session->summary().end_ns) - *first_start_ns) * 1e-9;
+      options.progress(double(*next_start_ns - *first_start_ns) * 1e-9,
+                       options.duration_s > 0 ? std::min(options.duration_s, total_s) : total_s);
+    }
     return true;
   };
   const auto due = [&] {

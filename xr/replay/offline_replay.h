@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -33,6 +34,9 @@ struct OfflineReplayOptions {
   double duration_s = 0;  ///< recording time to render from the first frame; 0: to the end
   std::string png_dir;    ///< when set: eyes_last.png at the end
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many display frames
+  /// Called after each display frame with the recording seconds rendered and the recording's
+  /// length (from its first frame to its last message, or to duration_s), for a progress line.
+  std::function<void(double rendered_s, double total_s)> progress;
 };
 
 struct OfflineReplayStats {
