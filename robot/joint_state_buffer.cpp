@@ -33,7 +33,17 @@ bool JointStateBuffer::push(const JointState& state) {
     ring_[(begin_ + size_) % ring_.size()] = state;
     ++size_;
   }
+  lock.unlock();
+  pushed_.notify_all();
   return true;
+}
+
+bool JointStateBuffer::waitForSampleAtOrAfter(std::int64_t t_ns, std::chrono::steady_clock::time_point deadline) const {
+  std::shared_lock lock(mutex_);
+  ++waiting_readers_;
+  const bool reached = pushed_.wait_until(lock, deadline, [&] { return size_ > 0 && at(size_ - 1).t_ns >= t_ns; });
+  --waiting_readers_;
+  return reached;
 }
 
 std::optional<JointVector> JointStateBuffer::jointsAt(std::int64_t t_ns) const {

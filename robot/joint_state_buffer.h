@@ -10,10 +10,13 @@
 /// connection) return nothing. Within the bound after the newest sample the last two samples are
 /// extrapolated linearly (one sample: held).
 ///
-/// Thread safety: one writer (push) and any number of concurrent readers.
+/// Thread safety: one writer (push) and any number of concurrent readers, which may wait for a sample.
 #pragma once
 
 #include <Eigen/Geometry>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -60,6 +63,13 @@ class JointStateBuffer {
   /// when t_ns is outside the window.
   std::optional<std::pair<std::int64_t, std::int64_t>> bracket(std::int64_t t_ns) const;
 
+  /// Waits until the newest sample is at or after t_ns (woken by every push) or until `deadline`;
+  /// true when it is. For readers that must not extrapolate (calibration stills) or that wait for
+  /// a simulation to reach a time.
+  bool waitForSampleAtOrAfter(std::int64_t t_ns, std::chrono::steady_clock::time_point deadline) const;
+  /// Readers inside waitForSampleAtOrAfter now: a test pushes once a reader waits, without sleeping.
+  int waitingReaders() const { return waiting_readers_.load(); }
+
  private:
   const JointState& at(std::size_t i) const;  ///< i-th oldest; caller holds the lock
 
@@ -67,6 +77,8 @@ class JointStateBuffer {
   Eigen::Isometry3d T_flange_cam_l_, T_flange_cam_r_;
   JointStateBufferConfig config_;
   mutable std::shared_mutex mutex_;
+  mutable std::condition_variable_any pushed_;
+  mutable std::atomic<int> waiting_readers_{0};
   std::vector<JointState> ring_;
   std::size_t begin_ = 0, size_ = 0;
 };

@@ -2,7 +2,7 @@
 /// @brief StereoStillTaker (see stereo_still.h).
 #include "robot/stereo_still.h"
 
-#include <thread>
+#include <algorithm>
 #include <vector>
 
 #include "robot/debayer.h"
@@ -60,9 +60,11 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   std::optional<std::pair<StereoFrame, std::uint64_t>> pair;
   {
     std::unique_lock lock(mutex_);
+    ++takers_waiting_;
     const bool got = offered_.wait_until(lock, deadline, [&] {
       return newest_ && std::min(newest_->first.left.capture_ns, newest_->first.right.capture_ns) > requested_ns;
     });
+    --takers_waiting_;
     if (!got) {
       *error = "no stereo frame captured within " + std::to_string(timeout.count()) +
                " ms of the request (are both cameras delivering?)";
@@ -74,23 +76,18 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   const std::int64_t capture_ns = frame.left.capture_ns;
   // Joint states on both sides of the capture time: wait for the one after (the arms report at
   // their own rate), never extrapolate.
+  const std::int64_t first_capture_ns = std::min(capture_ns, frame.right.capture_ns);
+  const std::int64_t last_capture_ns = std::max(capture_ns, frame.right.capture_ns);
   const auto bracketed = [&](const JointStateBuffer& buffer, const char* arm) {
-    for (;;) {
-      const auto window = buffer.window();
-      if (window && window->first <= capture_ns && window->second >= capture_ns &&
-          window->first <= frame.right.capture_ns && window->second >= frame.right.capture_ns)
-        return true;
-      if (window && window->first > capture_ns) {
-        *error = std::string("the ") + arm + "'s joint states of the capture time are no longer kept";
-        return false;
-      }
-      if (std::chrono::steady_clock::now() >= deadline) {
-        *error = window ? std::string("no joint state of the ") + arm + " after the capture time arrived in time (is it reporting?)"
-                        : std::string("no joint states at all from the ") + arm + " (is it connected?)";
-        return false;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
+    buffer.waitForSampleAtOrAfter(last_capture_ns, deadline);  // woken by each state it reports
+    const auto window = buffer.window();
+    if (window && window->first <= first_capture_ns && window->second >= last_capture_ns) return true;
+    if (window && window->first > first_capture_ns)
+      *error = std::string("the ") + arm + "'s joint states of the capture time are no longer kept";
+    else
+      *error = window ? std::string("no joint state of the ") + arm + " after the capture time arrived in time (is it reporting?)"
+                      : std::string("no joint states at all from the ") + arm + " (is it connected?)";
+    return false;
   };
   if (!bracketed(joints_, "head arm")) return false;
   if (manipulator_ != nullptr && !bracketed(*manipulator_, "manipulator")) return false;

@@ -12,6 +12,7 @@
 ///   video path ──offer(pair)──▶ StereoStillTaker ◀──take()── control thread (blocks ≤ timeout)
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -42,6 +43,8 @@ class StereoStillTaker {
 
   /// Stills taken so far.
   std::uint64_t taken() const;
+  /// take() calls waiting for a pair now: a test offers once one waits, without sleeping.
+  int takersWaiting() const { return takers_waiting_.load(); }
 
  private:
   const JointStateBuffer& joints_;
@@ -51,6 +54,7 @@ class StereoStillTaker {
   std::condition_variable offered_;
   std::optional<std::pair<StereoFrame, std::uint64_t>> newest_;
   std::uint64_t taken_ = 0;
+  std::atomic<int> takers_waiting_{0};
 };
 
 /// One camera frame as 8-bit grey rows without padding; false with the reason.

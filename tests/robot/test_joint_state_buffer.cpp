@@ -11,6 +11,7 @@
 #include "robot/joint_state_buffer.h"
 #include "robot/sim_clock.h"
 #include "robot/true_camera_poses.h"
+#include "tests/eventually.h"
 
 namespace telesphere::robot {
 namespace {
@@ -124,6 +125,9 @@ TEST(JointStateBuffer, OneWriterSeveralReaders) {
           ++answered;
           if (!q->isApprox(linearJoints(t), 1e-9)) ++mismatches;
         }
+        // Three readers spinning on two cores starve the writer of the reader-preferring lock
+        // (5–19 s for this test); yielding keeps them overlapping the writes without that.
+        std::this_thread::yield();
       }
     });
   }
@@ -155,6 +159,24 @@ std::array<Eigen::Isometry3d, 2> initialPoses() {
   return {T_l, T_r};
 }
 
+TEST(JointStateBuffer, AWaitingReaderIsWokenByThePushThatReachesItsTimeAndOtherwiseTimesOut) {
+  JointStateBuffer buffer(HeadGeometry::example());
+  ASSERT_TRUE(buffer.push(stateAt(0)));
+  const auto now = [] { return std::chrono::steady_clock::now(); };
+  EXPECT_TRUE(buffer.waitForSampleAtOrAfter(0, now()));  // there already: no wait
+  EXPECT_FALSE(buffer.waitForSampleAtOrAfter(5 * kMs, now() + std::chrono::milliseconds(20)));  // nobody pushes
+  EXPECT_EQ(buffer.waitingReaders(), 0);
+  // States 1..5 ms pushed once the reader waits: it wakes with the one that reaches its time.
+  std::thread writer([&buffer] {
+    EXPECT_TRUE(test::eventually([&] { return buffer.waitingReaders() == 1; }));
+    for (int k = 1; k <= 5; ++k) ASSERT_TRUE(buffer.push(stateAt(k * kMs)));
+  });
+  EXPECT_TRUE(buffer.waitForSampleAtOrAfter(5 * kMs, now() + std::chrono::seconds(30)));
+  writer.join();
+  EXPECT_EQ(buffer.window()->second, 5 * kMs);
+  EXPECT_EQ(buffer.waitingReaders(), 0);
+}
+
 TEST(TrueCameraPoses, BeforeTheArmsFirstStateTheInitialPoseIsTheTruthAndNoFallbackIsCounted) {
   const JointStateBuffer truth(HeadGeometry::example());
   const SimClock clock(100 * kMs);
@@ -178,12 +200,11 @@ TEST(TrueCameraPoses, WaitsForTheSimulationToCatchUpThenFallsBackAndCountsWhenIt
   for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
   const SimClock clock(10 * kMs);
   const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(5000));
-  // A writer at the simulation's pace (1 ms steps) catches up with the capture time while at() waits: the true pose, no fallback.
+  // The simulation catches up with the capture time while at() waits (it pushes once at() waits,
+  // one state after another, each waking the reader): the true pose, no fallback.
   std::thread writer([&truth] {
-    for (int k = 11; k <= 40; ++k) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      truth.push(stateAt(k * kMs));
-    }
+    EXPECT_TRUE(test::eventually([&] { return truth.waitingReaders() > 0; }));
+    for (int k = 11; k <= 40; ++k) truth.push(stateAt(k * kMs));
   });
   const Eigen::Isometry3d T = poses.at(CameraSide::kLeft, 35 * kMs);
   writer.join();

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 /// @brief ReplayCamera: frames on the fixed grid with the grid instant as capture time, frames a
 ///        slow consumer missed counted as lost (never queued), a shared start instant pairs two
-///        cameras exactly, stop() ends waiting at once, bad set-ups refused.
+///        cameras exactly, stop() ends waiting at once, bad set-ups refused. Time is simulated where
+///        the test is about time (a slow consumer, timeouts, stop): no sleeps.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <thread>
 
 #include "robot/replay_camera.h"
+#include "robot/sim_clock.h"
+#include "tests/eventually.h"
 
 namespace telesphere::robot {
 namespace {
@@ -48,21 +52,37 @@ TEST(ReplayCamera, DeliversFramesOnTheGridCyclingTheInput) {
 }
 
 TEST(ReplayCamera, ASlowConsumerGetsTheNewestFrameAndTheRestCountAsLost) {
-  SteadyClock clock;
+  SimClock clock(1'000'000'000);
   ReplayCameraConfig config;
   config.fps = 1000.0;
   ReplayCamera camera(clock, frames(1), config);
   std::string error;
   ASSERT_TRUE(camera.start(&error));
-  ASSERT_TRUE(camera.nextFrame(1000ms));
-  std::this_thread::sleep_for(30ms);  // ~30 frames come due meanwhile
-  const std::int64_t now_ns = clock.nowNs();
+  ASSERT_TRUE(camera.nextFrame(1000ms));  // frame 0, due at the start
+  clock.advance(30'000'000);              // the consumer is busy for 30 ms: frames 1..30 come due
   const auto f = camera.nextFrame(1000ms);
   ASSERT_TRUE(f);
-  EXPECT_GE(f->sequence, 25u);
-  EXPECT_GT(f->capture_ns, now_ns - 2'000'000);  // the newest, not a stale one
-  EXPECT_EQ(camera.stats().lost, f->sequence - 1);
+  EXPECT_EQ(f->sequence, 30u);  // the newest, not a stale one
+  EXPECT_EQ(f->capture_ns, 1'030'000'000);
+  EXPECT_EQ(camera.stats().lost, 29u);
 }
+
+/// A simulated clock that moves 1 ms forward each time it is read: a camera waiting on it sees
+/// time pass as fast as it looks, and how often it looked says that it is waiting.
+class SteppingClock final : public Clock {
+ public:
+  explicit SteppingClock(std::int64_t start_ns) : now_ns_(start_ns) {}
+  std::int64_t nowNs() const override {
+    ++reads_;
+    return now_ns_.fetch_add(1'000'000);
+  }
+  std::int64_t peekNs() const { return now_ns_; }
+  int reads() const { return reads_; }
+
+ private:
+  mutable std::atomic<std::int64_t> now_ns_;
+  mutable std::atomic<int> reads_{0};
+};
 
 TEST(ReplayCamera, TwoCamerasWithOneStartInstantCarryEqualStamps) {
   SteadyClock clock;
@@ -82,22 +102,30 @@ TEST(ReplayCamera, TwoCamerasWithOneStartInstantCarryEqualStamps) {
 }
 
 TEST(ReplayCamera, StopEndsWaitingAndTimeoutsReturnNothing) {
-  SteadyClock clock;
+  SteppingClock clock(1'000'000'000);
   ReplayCameraConfig config;
   config.fps = 0.5;  // next frame only after 2 s
   ReplayCamera camera(clock, frames(1), config);
   std::string error;
   ASSERT_TRUE(camera.start(&error));
-  ASSERT_TRUE(camera.nextFrame(100ms));     // frame 0 is due at once
-  EXPECT_FALSE(camera.nextFrame(20ms));     // frame 1 is not
+  ASSERT_TRUE(camera.nextFrame(100ms));  // frame 0 is due at once
+  const std::int64_t before_timeout = clock.peekNs();
+  EXPECT_FALSE(camera.nextFrame(20ms));  // frame 1 is not: nothing after the timeout, on the camera's clock
+  EXPECT_GE(clock.peekNs() - before_timeout, 20'000'000);
+  EXPECT_LE(clock.peekNs() - before_timeout, 25'000'000);
+  // stop() from another thread once nextFrame waits (it keeps looking at the clock).
+  const int reads_at_call = clock.reads();
+  std::atomic<int> reads_at_stop{0};
   std::thread stopper([&] {
-    std::this_thread::sleep_for(20ms);
+    EXPECT_TRUE(test::eventually([&] { return clock.reads() >= reads_at_call + 3; }));
+    reads_at_stop = clock.reads();
     camera.stop();
   });
-  const auto t0 = std::chrono::steady_clock::now();
   EXPECT_FALSE(camera.nextFrame(10000ms));
   stopper.join();
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, 1500ms);  // returned on stop, not at the due time
+  // Returned within a look or two of the stop (a camera that ignored it would look ~2000 times,
+  // until frame 1 is due).
+  EXPECT_LE(clock.reads() - reads_at_stop, 5);
   EXPECT_FALSE(camera.nextFrame(10ms));
 }
 

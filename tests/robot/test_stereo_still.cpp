@@ -3,6 +3,8 @@
 ///        full resolution, grey (Mono8 rows unpadded, RGB to luma, Bayer demosaiced), the head
 ///        joints interpolated at the capture time only when joint states bracket it — waiting
 ///        for the state after, refusing stale pairs, missing and lost joint states with reasons.
+///        Other threads act on events, never after a sleep: a pair is offered once take() waits
+///        for one, a joint state pushed once take() waits for it (takersWaiting, waitingReaders).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -12,6 +14,7 @@
 #include "robot/link/link_pose.h"
 #include "robot/sim_clock.h"
 #include "robot/stereo_still.h"
+#include "tests/eventually.h"
 
 namespace telesphere::robot {
 namespace {
@@ -42,17 +45,29 @@ JointState state(std::int64_t t_ns, double q0) {
   return s;
 }
 
+using test::eventually;
+
+/// Offers `pair` from another thread once take() waits for one (as the video path would).
+std::thread offerOnceWaiting(StereoStillTaker& taker, StereoFrame pair, std::uint64_t sequence) {
+  return std::thread([&taker, pair, sequence] {
+    EXPECT_TRUE(eventually([&] { return taker.takersWaiting() > 0; }));
+    taker.offer(pair, sequence);
+  });
+}
+
+/// Pushes `state` from another thread once a reader waits for a sample (as the arm's reports would).
+std::thread pushOnceWaited(JointStateBuffer& buffer, JointState state) {
+  return std::thread([&buffer, state] {
+    EXPECT_TRUE(eventually([&] { return buffer.waitingReaders() > 0; }));
+    buffer.push(state);
+  });
+}
+
 struct StillRig {
   SimClock clock{1'000'000'000};
   JointStateBuffer joints{HeadGeometry::example()};
   StereoStillTaker taker{joints, clock};
-  /// Offers `pair` from another thread once take() is waiting (as the video path would).
-  std::thread offerSoon(StereoFrame pair, std::uint64_t sequence) {
-    return std::thread([this, pair, sequence] {
-      std::this_thread::sleep_for(30ms);
-      taker.offer(pair, sequence);
-    });
-  }
+  std::thread offerSoon(StereoFrame pair, std::uint64_t sequence) { return offerOnceWaiting(taker, pair, sequence); }
 };
 
 TEST(StereoStill, ThePairAfterTheRequestAtFullResolutionWithBracketedJoints) {
@@ -103,10 +118,7 @@ TEST(StereoStill, WaitsForTheJointStateAfterTheCaptureButNeverExtrapolates) {
   pair.right = pair.left;
   // The buffer would extrapolate 6 ms; the still waits for the state after, which comes later.
   auto offering = rig.offerSoon(pair, 3);
-  std::thread arm([&] {
-    std::this_thread::sleep_for(80ms);
-    rig.joints.push(state(t0 + 10'000'000, 0.2));
-  });
+  std::thread arm = pushOnceWaited(rig.joints, state(t0 + 10'000'000, 0.2));
   link::proto::CalibrationStill still;
   std::string error;
   ASSERT_TRUE(rig.taker.take(&still, 2000ms, &error)) << error;
@@ -154,16 +166,13 @@ TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
   StereoFrame pair;
   pair.left = frame(PixelFormat::kMono8, 4, 4, 4, t0 + 4'000'000, [](int, int, int) { return 9; });
   pair.right = pair.left;
-  std::thread offer_and_report([&] {
-    std::this_thread::sleep_for(30ms);
-    taker.offer(pair, 5);
-    std::this_thread::sleep_for(50ms);  // the manipulator's next report comes later
-    manipulator.push(state(t0 + 8'000'000, 0.6));
-  });
+  std::thread offering = offerOnceWaiting(taker, pair, 5);
+  std::thread report = pushOnceWaited(manipulator, state(t0 + 8'000'000, 0.6));  // the next report comes later
   link::proto::CalibrationStill still;
   std::string error;
   ASSERT_TRUE(taker.take(&still, 2000ms, &error)) << error;
-  offer_and_report.join();
+  offering.join();
+  report.join();
   ASSERT_EQ(still.manipulator_joints_size(), 6);
   EXPECT_NEAR(still.manipulator_joints(0), 0.5 + 0.1 * 6.0 / 10.0, 1e-12);
   EXPECT_EQ(still.manipulator_before_ns(), t0 - 2'000'000);
@@ -176,12 +185,9 @@ TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
   StereoFrame later = pair;
   later.left.capture_ns = later.right.capture_ns = t0 + 15'000'000;
   ASSERT_TRUE(joints.push(state(t0 + 30'000'000, 0.4)));
-  std::thread offering([&] {
-    std::this_thread::sleep_for(30ms);
-    taker.offer(later, 6);
-  });
+  std::thread offering_later = offerOnceWaiting(taker, later, 6);
   EXPECT_FALSE(taker.take(&still, 200ms, &error));
-  offering.join();
+  offering_later.join();
   EXPECT_NE(error.find("no joint state of the manipulator after the capture time"), std::string::npos) << error;
 }
 
