@@ -219,14 +219,6 @@ nlohmann::json runRender(const BenchContext& ctx) {
 }  // namespace
 }  // namespace telesphere::bench
 
-/// Under LeakSanitizer (TELESPHERE_SANITIZE builds): allocations Mesa's llvmpipe driver keeps until
-/// exit are not ours; the same list as tests/xr/lsan_gl.supp (which the GL tests set through their
-/// environment; the shared bench smoke test has no per-topic environment). Unused otherwise.
-extern "C" const char* __lsan_default_suppressions() {
-  return "leak:swrast_dri.so\nleak:libgallium\nleak:libLLVM\nleak:libEGL_mesa.so\n"
-         "leak:libglapi.so\n";
-}
-
 TELESPHERE_BENCH_TOPIC(render, telesphere::bench::BenchTopic{
                                    "render",
                                    "spherical renderer: ms per stereo frame per path vs a "

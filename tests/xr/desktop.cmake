@@ -7,5 +7,4 @@ telesphere_add_test(test_virtual_head SOURCES test_virtual_head.cpp
 telesphere_add_test(xr_desktop_window_test SOURCES desktop_window_test.cpp
   LIBS telesphere::xr_desktop X11 Xtst LABELS gl)
 set_tests_properties(xr_desktop_window_test PROPERTIES
-  ENVIRONMENT "LSAN_OPTIONS=suppressions=${CMAKE_CURRENT_SOURCE_DIR}/lsan_gl.supp"
   SKIP_REGULAR_EXPRESSION "\\[  SKIPPED \\]")
