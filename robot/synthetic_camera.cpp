@@ -113,6 +113,7 @@ bool SyntheticCamera::render(std::int64_t t_ns, std::vector<std::uint8_t>& rgb,
           out[c] = static_cast<std::uint8_t>(std::clamp(std::lround(sum[c] * scale), 0L, 255L));
       }
     }
+    rows_rendered_.fetch_add(static_cast<std::uint64_t>(v1 - v0), std::memory_order_relaxed);
   });
   return !stop();
 }

@@ -88,6 +88,8 @@ class SyntheticCamera final : public CameraSource {
   std::uint64_t skippedTicks() const { return skipped_ticks_.load(std::memory_order_relaxed); }
   /// Frames rendered by the thread since construction (queued, delivered or lost).
   std::uint64_t framesRendered() const;
+  /// Image rows rendered since construction, of whole and abandoned frames (renderAt's too).
+  std::uint64_t rowsRendered() const { return rows_rendered_.load(std::memory_order_relaxed); }
   int width() const { return width_; }
   int height() const { return height_; }
   const calib::GenericCamera& camera() const { return camera_; }
@@ -115,6 +117,7 @@ class SyntheticCamera final : public CameraSource {
   CameraStats stats_;
   bool running_ = false;
   std::atomic<bool> stop_requested_{false};
+  mutable std::atomic<std::uint64_t> rows_rendered_{0};
   std::atomic<std::uint64_t> skipped_ticks_{0};
   std::uint64_t next_sequence_ = 0;
   std::thread thread_;

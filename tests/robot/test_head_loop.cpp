@@ -76,7 +76,6 @@ struct HeadLoopRig {
     const std::int64_t t = ++operator_t_ns;
     ASSERT_TRUE(eventually([&] {
       sender.sendHeadTarget(target(t, position, angles, t_robot_ns));
-      std::this_thread::sleep_for(1ms);
       const auto latest = server->latestHeadTarget();
       return latest && latest->t_ns() == t && latest->sender_instance() == sender.instance();
     }));
