@@ -26,7 +26,8 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
     *error = "display rate must be in (0, 1000] Hz";
     return std::nullopt;
   }
-  const std::string damaged_hint = " (`telesphere-mcap recover` writes the intact part of a damaged recording to a new file)";
+  const std::string damaged_hint =
+      " (for a damaged recording `telesphere-mcap check` says where, `telesphere-mcap recover` keeps its intact part)";
   const auto session = record::RecordedSession::open(options.recording, error);
   if (!session) {
     *error += damaged_hint;
@@ -34,9 +35,12 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
   }
   const bool recorded_head = !options.trajectory;
   if (recorded_head) {
+    const record::McapSummary& summary = session->summary();
     std::uint64_t head_targets = 0;
-    for (const auto& [id, channel] : session->summary().channels)
-      if (channel.topic == "/xr/head_target") head_targets += session->summary().channel_messages.count(id) ? session->summary().channel_messages.at(id) : 0;
+    for (const auto& [id, channel] : summary.channels) {
+      const auto count = summary.channel_messages.find(id);
+      if (channel.topic == "/xr/head_target" && count != summary.channel_messages.end()) head_targets += count->second;
+    }
     if (head_targets == 0) {
       *error = options.recording + " holds no head targets (no operator app was connected while it was recorded): give a head trajectory";
       return std::nullopt;
