@@ -446,7 +446,19 @@ void StudyPanel::sendIndicator() {
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
     indicator->set_recording_name(name);
   }
-  session_.request(request, running ? "study: trial indicator on" : "study: trial indicator off");
+  if (!running) {
+    session_.request(request, "study: trial indicator off");
+    return;
+  }
+  // The robot answers with its recording state: the trial's file goes into its row.
+  session_.request(request, "study: trial indicator on",
+                   [this, trial_id = runner_->trialId()](const ControlOutcome& outcome) {
+                     const link::proto::RecordingState& r = outcome.reply.recording();
+                     if (!outcome.ok || !r.active() || r.file().empty() || !store_) return;
+                     std::string error;
+                     if (!store_->setRecording(trial_id, r.file(), &error))
+                       setStatus(QString("the trial's recording was not stored: %1").arg(QString::fromStdString(error)), true);
+                   });
 }
 
 void StudyPanel::showQuestionnaire() {

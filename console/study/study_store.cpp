@@ -35,6 +35,8 @@ const std::vector<std::vector<const char*>>& migrations() {
        "CREATE TABLE trial_telemetry(id INTEGER PRIMARY KEY, trial_id INTEGER NOT NULL REFERENCES trials(id),"
        " robot_to_utc_ns INTEGER, envelope BLOB NOT NULL)",
        "CREATE INDEX trial_telemetry_by_trial ON trial_telemetry(trial_id, id)"},
+      {  // v3: the session recording the robot wrote for the trial (robot/record), '' for none
+       "ALTER TABLE trials ADD COLUMN recording TEXT NOT NULL DEFAULT ''"},
   };
   return steps;
 }
@@ -82,12 +84,13 @@ TrialRecord trialOf(const QSqlQuery& q) {
   t.time_limit_s = q.value(10).toDouble();
   t.abort_reason = q.value(11).toString().toStdString();
   t.notes = q.value(12).toString().toStdString();
+  t.recording = q.value(13).toString().toStdString();
   return t;
 }
 
 constexpr const char* kTrialColumns =
     "t.id, t.session_id, s.participant, t.order_index, t.mode, t.started_utc, COALESCE(t.ended_utc, ''),"
-    " COALESCE(t.duration_s, 0), t.outcome, t.attempts, t.time_limit_s, t.abort_reason, t.notes";
+    " COALESCE(t.duration_s, 0), t.outcome, t.attempts, t.time_limit_s, t.abort_reason, t.notes, t.recording";
 
 }  // namespace
 
@@ -322,6 +325,22 @@ bool StudyStore::setNotes(std::int64_t trial_id, const std::string& notes, std::
   });
 }
 
+bool StudyStore::setRecording(std::int64_t trial_id, const std::string& file, std::string* error) {
+  QSqlDatabase db = QSqlDatabase::database(connection_);
+  return inTransaction(db, error, [&](std::string* why) {
+    QSqlQuery q(db);
+    q.prepare("UPDATE trials SET recording=? WHERE id=?");
+    q.addBindValue(text(file));
+    q.addBindValue(QVariant::fromValue<qlonglong>(trial_id));
+    if (!exec(q, why)) return false;
+    if (q.numRowsAffected() != 1) {
+      *why = "no trial " + std::to_string(trial_id);
+      return false;
+    }
+    return event(0, trial_id, "recording", file);
+  });
+}
+
 bool StudyStore::endTrial(std::int64_t trial_id, TrialOutcome outcome, double duration_s,
                           const std::string& abort_reason, std::string* error) {
   if (outcome == TrialOutcome::kRunning) {
@@ -479,11 +498,11 @@ bool StudyStore::importRows(const StudyDefinition& study, const std::vector<Tria
       if (!s) return false;
       QSqlQuery q(db);
       q.prepare("INSERT INTO trials(session_id, order_index, mode, started_utc, ended_utc, duration_s, outcome, attempts,"
-                " time_limit_s, abort_reason, notes) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                " time_limit_s, abort_reason, notes, recording) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
       for (const QVariant& v :
            {QVariant::fromValue<qlonglong>(*s), QVariant(t.order_index), text(t.mode), text(t.started_utc),
             text(t.ended_utc), QVariant(t.duration_s), text(trialOutcomeName(t.outcome)), QVariant(t.attempts),
-            QVariant(t.time_limit_s), text(t.abort_reason), text(t.notes)})
+            QVariant(t.time_limit_s), text(t.abort_reason), text(t.notes), text(t.recording)})
         q.addBindValue(v);
       if (!exec(q, why)) return false;
     }

@@ -47,6 +47,7 @@ struct TrialRecord {
   int attempts = 0;
   double time_limit_s = 0;
   std::string abort_reason, notes;
+  std::string recording;  ///< the session recording the robot wrote for it (robot/record); empty: none
 };
 
 struct AnswerRecord {
@@ -68,7 +69,7 @@ class StudyStore {
  public:
   /// The schema this build writes; older files are migrated on open, newer ones refused.
   /// v1: sessions, trials, answers, events; v2: trial_telemetry.
-  static constexpr int kSchemaVersion = 2;
+  static constexpr int kSchemaVersion = 3;
 
   /// Opens (creating or migrating) the database at `path`, then ends every trial still
   /// "running" as "interrupted". Nothing, with the reason, when it cannot.
@@ -92,6 +93,8 @@ class StudyStore {
                                          double time_limit_s, std::string* error);
   bool addAttempt(std::int64_t trial_id, std::string* error);
   bool setNotes(std::int64_t trial_id, const std::string& notes, std::string* error);
+  /// The recording the robot confirmed for the trial (its file, as the robot names it).
+  bool setRecording(std::int64_t trial_id, const std::string& file, std::string* error);
   /// Ends a running trial; `duration_s` as the trial's own steady timer measured it.
   bool endTrial(std::int64_t trial_id, TrialOutcome outcome, double duration_s, const std::string& abort_reason,
                 std::string* error);

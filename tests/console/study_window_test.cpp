@@ -261,6 +261,11 @@ TEST(StudyWindow, AWholeSessionFromModeSwitchToReport) {
     EXPECT_TRUE(QFileInfo::exists(file)) << file.toStdString();
     EXPECT_GT(QFileInfo(file).size(), 1000) << file.toStdString();
   }
+  // …and the study database names each trial's file, as the robot confirmed it.
+  for (const study::TrialRecord& t : panel->store()->trials())
+    EXPECT_EQ(QFileInfo(QString::fromStdString(t.recording)).fileName(),
+              QString("P05-%1-trial%2.mcap").arg(QString::fromStdString(t.mode)).arg(t.id))
+        << "trial " << t.id << ": '" << t.recording << "'";
 
   // The questionnaire pages, one per mode in the session's order, complete before save.
   for (int page = 0; page < 3; ++page) {

@@ -124,6 +124,8 @@ TEST(StudyStore, EventsAreStoredAndTheirRulesHold) {
   ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
   ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
   ASSERT_TRUE(store->setNotes(*trial, "peg slipped, \"twice\", reset", &error)) << error;
+  ASSERT_TRUE(store->setRecording(*trial, "/data/rec/P01-full6d-trial1.mcap", &error)) << error;
+  EXPECT_FALSE(store->setRecording(*trial + 100, "x.mcap", &error));  // no such trial
   EXPECT_FALSE(store->endTrial(*trial, TrialOutcome::kAbort, 10, "", &error));  // a reason is required
   ASSERT_TRUE(store->endTrial(*trial, TrialOutcome::kSuccess, 71.25, "", &error)) << error;
   EXPECT_FALSE(store->addAttempt(*trial, &error));  // not running any more
@@ -137,6 +139,7 @@ TEST(StudyStore, EventsAreStoredAndTheirRulesHold) {
   EXPECT_EQ(trials[0].outcome, TrialOutcome::kSuccess);
   EXPECT_EQ(trials[0].duration_s, 71.25);
   EXPECT_EQ(trials[0].notes, "peg slipped, \"twice\", reset");
+  EXPECT_EQ(trials[0].recording, "/data/rec/P01-full6d-trial1.mcap");
   const auto answers = store->answers();
   ASSERT_EQ(answers.size(), 1u);
   EXPECT_EQ(answers[0].value, 6.0);
@@ -262,6 +265,9 @@ TEST(StudyStore, ASchemaOneDatabaseIsMigratedWithItsDataKept) {
   ASSERT_EQ(store->telemetry(1).size(), 1u);
   EXPECT_EQ(*store->telemetry(1)[0].robot_to_utc_ns, 5);
   EXPECT_EQ(store->telemetry(1)[0].envelope, "bytes");
+  EXPECT_EQ(trials[0].recording, "");  // v3: the column exists, empty for old trials
+  EXPECT_TRUE(store->setRecording(1, "P01-full6d-trial1.mcap", &error)) << error;
+  EXPECT_EQ(store->trials()[0].recording, "P01-full6d-trial1.mcap");
   store.reset();
   fs::remove_all(dir);
 }
@@ -512,6 +518,7 @@ TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
   ASSERT_TRUE(session);
   const auto trials_before = store->trials();
   ASSERT_TRUE(store->setNotes(trials_before[0].id, "line one,\nline \"two\"", &error)) << error;
+  ASSERT_TRUE(store->setRecording(trials_before[0].id, "recordings/P10-full6d-trial1.mcap", &error)) << error;
   const auto trials = store->trials();
   const auto answers = store->answers();
   ASSERT_TRUE(writeTrialsCsv((dir / "t.csv").string(), trials, &error)) << error;
@@ -522,6 +529,8 @@ TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
   ASSERT_EQ(t->size(), trials.size());
   ASSERT_EQ(a->size(), answers.size());
   EXPECT_EQ((*t)[0].notes, "line one,\nline \"two\"");
+  EXPECT_EQ((*t)[0].recording, "recordings/P10-full6d-trial1.mcap");
+  EXPECT_EQ((*t)[1].recording, "");
   for (std::size_t i = 0; i < trials.size(); ++i) {
     EXPECT_EQ((*t)[i].participant, trials[i].participant);
     EXPECT_EQ((*t)[i].outcome, trials[i].outcome);
