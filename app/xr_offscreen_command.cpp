@@ -110,6 +110,7 @@ int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& 
               {"recording_s", stats->recording_s},
               {"recorded_frames", stats->recorded_frames},
               {"undecodable", stats->undecodable},
+              {"replaced_unshown", stats->replaced_unshown},
               {"head_targets", stats->head_targets},
               {"skipped", stats->skipped}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';

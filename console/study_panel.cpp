@@ -294,6 +294,7 @@ bool StudyPanel::openStudy(const QString& study_file, const QString& database) {
   runner_.reset();
   session_record_.reset();
   store_ = std::move(store);
+  ++store_generation_;
   study_ = definition;
   database_ = database;
   int in_study = 0;
@@ -452,9 +453,11 @@ void StudyPanel::sendIndicator() {
   }
   // The robot answers with its recording state: the trial's file goes into its row.
   session_.request(request, "study: trial indicator on",
-                   [this, trial_id = runner_->trialId()](const ControlOutcome& outcome) {
+                   [this, trial_id = runner_->trialId(), generation = store_generation_](const ControlOutcome& outcome) {
                      const link::proto::RecordingState& r = outcome.reply.recording();
-                     if (!outcome.ok || !r.active() || r.file().empty() || !store_) return;
+                     // Into the database the trial is in, not one opened since.
+                     if (!outcome.ok || !r.active() || r.file().empty() || !store_ || generation != store_generation_)
+                       return;
                      std::string error;
                      if (!store_->setRecording(trial_id, r.file(), &error))
                        setStatus(QString("the trial's recording was not stored: %1").arg(QString::fromStdString(error)), true);

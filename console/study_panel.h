@@ -115,6 +115,7 @@ class StudyPanel : public QWidget {
   ConsoleSession& session_;
   study::StudyDefinition study_;
   std::unique_ptr<study::StudyStore> store_;
+  std::uint64_t store_generation_ = 0;  ///< databases opened so far: a late reply finds its own
   QString database_;
   std::optional<study::SessionRecord> session_record_;
   std::unique_ptr<study::TrialRunner> runner_;

@@ -68,7 +68,7 @@ struct TelemetryBatch {
 class StudyStore {
  public:
   /// The schema this build writes; older files are migrated on open, newer ones refused.
-  /// v1: sessions, trials, answers, events; v2: trial_telemetry.
+  /// v1: sessions, trials, answers, events; v2: trial_telemetry; v3: trials.recording.
   static constexpr int kSchemaVersion = 3;
 
   /// Opens (creating or migrating) the database at `path`, then ends every trial still

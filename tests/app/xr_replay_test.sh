@@ -35,12 +35,12 @@ replay() {  # replay NAME [extra options]: renders the recording into $out/NAME
   local name=$1
   shift
   "$bin/telesphere-xr" offscreen --calib "$calib" --replay "$out/session.mcap" --eye-size 160x176 --rate 30 \
-    --png-every 10 --out "$out/$name" "$@" > "$out/$name.txt" || { cat "$out/$name.txt"; fail "replay $name exited with $?"; }
+    --png-every 10 --out "$out/$name" "$@" > "$out/$name.txt" || { local rc=$?; cat "$out/$name.txt"; fail "replay $name exited with $rc"; }
 }
 replay first
 replay second
 cat "$out/first.txt"
-pngs=$(ls "$out/first" | grep -c '\.png$')
+pngs=$(ls "$out/first" | grep -c '\.png$' || true)
 [ "$pngs" -ge 8 ] || fail "only $pngs PNGs from a 4 s recording at 30 Hz, one every 10 frames"
 for png in "$out"/first/*.png; do
   cmp -s "$png" "$out/second/$(basename "$png")" || fail "$(basename "$png") differs between two replays"
@@ -49,16 +49,20 @@ frames=$(json "$out/first/stats.json" frames)
 with_image=$(json "$out/first/stats.json" frames_with_image)
 shown=$(json "$out/first/stats.json" stereo_frames_shown)
 recorded=$(json "$out/first/stats.json" recorded_frames)
+replaced=$(json "$out/first/stats.json" replaced_unshown)
 heads=$(json "$out/first/stats.json" head_targets)
 [ "$frames" -ge 100 ] || fail "$frames display frames from a 4 s recording at 30 Hz"
 [ "$with_image" -eq "$frames" ] || fail "$with_image of $frames display frames showed a camera image"
-[ "$recorded" -ge 30 ] && [ "$shown" -eq "$recorded" ] || fail "$shown of $recorded recorded frames shown (15 fps into 30 Hz: all)"
+# 15 fps into 30 Hz: every frame shown, but for one logged within a display period of the next
+# (sent late under load), which the newer replaces before it is shown — counted.
+[ "$recorded" -ge 30 ] && [ $((shown + replaced)) -eq "$recorded" ] && [ $((shown * 10)) -ge $((recorded * 9)) ] ||
+  fail "$shown of $recorded recorded frames shown, $replaced replaced unshown"
 [ "$heads" -ge 60 ] || fail "only $heads recorded head targets taken"
 
 # The head matters: the same recording seen from a still head gives other pixels.
 printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n' > "$out/still.csv"
 replay still --trajectory "$out/still.csv"
-cmp -s "$out/first/eyes_00020.png" "$out/still/eyes_00020.png" && fail "a still head rendered what the recorded head did"
+cmp -s "$out/first/eyes_last.png" "$out/still/eyes_last.png" && fail "a still head rendered what the recorded head did"
 
 # A recording cut off part way is refused with the reason, never rendered half silently.
 head -c $(( $(stat -c %s "$out/session.mcap") / 2 )) "$out/session.mcap" > "$out/cut.mcap"

@@ -171,7 +171,9 @@ TEST(JointStateBuffer, AWaitingReaderIsWokenByThePushThatReachesItsTimeAndOtherw
     EXPECT_TRUE(test::eventually([&] { return buffer.waitingReaders() == 1; }));
     for (int k = 1; k <= 5; ++k) ASSERT_TRUE(buffer.push(stateAt(k * kMs)));
   });
-  EXPECT_TRUE(buffer.waitForSampleAtOrAfter(5 * kMs, now() + std::chrono::seconds(30)));
+  // A deadline an hour away: only the push's wake-up ends this wait (without it the test hangs
+  // until ctest's timeout and fails).
+  EXPECT_TRUE(buffer.waitForSampleAtOrAfter(5 * kMs, now() + std::chrono::hours(1)));
   writer.join();
   EXPECT_EQ(buffer.window()->second, 5 * kMs);
   EXPECT_EQ(buffer.waitingReaders(), 0);
@@ -199,7 +201,8 @@ TEST(TrueCameraPoses, WaitsForTheSimulationToCatchUpThenFallsBackAndCountsWhenIt
   JointStateBuffer truth(HeadGeometry::example());
   for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
   const SimClock clock(10 * kMs);
-  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(5000));
+  // An hour's patience: only the pushes' wake-ups end the wait.
+  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::hours(1));
   // The simulation catches up with the capture time while at() waits (it pushes once at() waits,
   // one state after another, each waking the reader): the true pose, no fallback.
   std::thread writer([&truth] {

@@ -118,14 +118,14 @@ TEST(ReplayCamera, StopEndsWaitingAndTimeoutsReturnNothing) {
   std::atomic<int> reads_at_stop{0};
   std::thread stopper([&] {
     EXPECT_TRUE(test::eventually([&] { return clock.reads() >= reads_at_call + 3; }));
-    reads_at_stop = clock.reads();
     camera.stop();
+    reads_at_stop = clock.reads();
   });
   EXPECT_FALSE(camera.nextFrame(10000ms));
   stopper.join();
-  // Returned within a look or two of the stop (a camera that ignored it would look ~2000 times,
+  // Returned at its next look after the stop (a camera that ignored it would look ~2000 times,
   // until frame 1 is due).
-  EXPECT_LE(clock.reads() - reads_at_stop, 5);
+  EXPECT_LE(clock.reads() - reads_at_stop, 2);
   EXPECT_FALSE(camera.nextFrame(10ms));
 }
 

@@ -274,7 +274,9 @@ TEST_F(OperatorViewTest, TakesTheRobotsCalibrationAtTheFirstFrameStampedWithIt) 
     for (const auto& r : requests()) asked = asked || r.get_calibration();
     return asked;
   }));
-  for (int i = 0; i < 3; ++i) {  // the answer is in; new frames of generation 1 keep the old models
+  // The answer is in (fetched, waiting for its first frame); new frames of generation 1 keep the old models.
+  ASSERT_TRUE(::telesphere::test::eventually([&] { return view_->calibrationPending(); }));
+  for (int i = 0; i < 3; ++i) {
     publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
     ASSERT_TRUE(::telesphere::test::eventually([&] {  // until this very frame is on show
       return shownFrame() && view_->frame()->frame.sequence() == sequence_;

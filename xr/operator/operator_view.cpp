@@ -321,6 +321,11 @@ std::string OperatorView::lastControlResult() const {
   return last_control_result_;
 }
 
+bool OperatorView::calibrationPending() const {
+  std::lock_guard lock(control_result_mutex_);
+  return fetched_calibration_.has_value();
+}
+
 void OperatorView::sendControl(link::proto::ControlRequest request, std::string what) {
   control_.send(std::move(request), [this, what](const std::optional<link::proto::ControlReply>& reply) {
     std::string result;

@@ -152,6 +152,8 @@ class OperatorView final : public OperatorScene {
   }
   /// The last control reply's text ("capture_nominal: ok", "set_mode: refused: …"), for a UI.
   std::string lastControlResult() const;
+  /// A calibration fetched from the robot waits for the first frame stamped with it.
+  bool calibrationPending() const;
 
   link::LinkClient& client() { return client_; }
   StereoFrameDecoder& decoder() { return decoder_; }

@@ -3,7 +3,7 @@
 #include "xr/operator/paced_output.h"
 
 #include <algorithm>
-#include <cmath>
+#include <chrono>
 
 namespace telesphere::xr {
 
@@ -13,7 +13,8 @@ PacedOutput::PacedOutput(const PacedOutputOptions& options, HeadAt head, FrameCl
       clock_(clock != nullptr ? clock : &steady_),
       left_(options.eye_width, options.eye_height),
       right_(options.eye_width, options.eye_height),
-      period_ns_(std::llround(1e9 / options.rate_hz)) {
+      period_ns_(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(1.0 / options.rate_hz))
+                     .count()) {
   for (int eye = 0; eye < 2; ++eye) {
     T_hmd_eye_[std::size_t(eye)] = Eigen::Isometry3d::Identity();
     T_hmd_eye_[std::size_t(eye)].translation().x() = (eye == 0 ? -0.5 : 0.5) * options.ipd;

@@ -144,6 +144,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
   stats.view = view.stats();
   stats.recorded_frames = session->frames();
   stats.undecodable = view.undecodable();
+  stats.replaced_unshown = view.replacedUnshown();
   stats.skipped = session->skipped();
   stats.recording_s = double(*next_start_ns - *first_start_ns) * 1e-9;
   if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))

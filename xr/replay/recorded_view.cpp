@@ -43,7 +43,10 @@ RecordedView::RecordedView(const calib::SystemCalibration& calibration, const Re
                            bool follow_recorded_settings)
     : renderer_(calibration, render, 0), follow_settings_(follow_recorded_settings) {}
 
-void RecordedView::takeFrame(record::RecordedFrame&& frame) { pending_ = std::move(frame); }
+void RecordedView::takeFrame(record::RecordedFrame&& frame) {
+  if (pending_) ++replaced_unshown_;
+  pending_ = std::move(frame);
+}
 
 bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std::string* error) {
   if (state_ && state_->nominal_set()) {

@@ -49,6 +49,8 @@ class RecordedView final : public OperatorScene {
   OperatorViewStats stats() const;
   /// Frames whose JPEGs did not decode (the previous frame stayed on show).
   std::uint64_t undecodable() const { return undecodable_; }
+  /// Frames replaced by a newer one before a display frame began (logged within one display period).
+  std::uint64_t replacedUnshown() const { return replaced_unshown_; }
 
  private:
   StereoViewRenderer renderer_;
@@ -59,7 +61,7 @@ class RecordedView final : public OperatorScene {
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
   bool uploaded_this_frame_ = false;
-  std::uint64_t undecodable_ = 0;
+  std::uint64_t undecodable_ = 0, replaced_unshown_ = 0;
   OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, decode_ms_;
 };
