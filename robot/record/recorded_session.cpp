@@ -5,7 +5,6 @@
 #include <limits>
 #include <optional>
 
-#include "robot/record/foxglove_compressed_image.pb.h"
 
 namespace telesphere::record {
 namespace {
@@ -69,12 +68,11 @@ bool RecordedSession::forEach(const RecordedSessionVisitor& visitor, std::string
           return true;
         }
         if (*topic == RecordedTopic::kLeftImage || *topic == RecordedTopic::kRightImage) {
-          foxglove::CompressedImage image;
-          if (!joining || joining->frame.sequence() % (std::uint64_t(1) << 32) != m.sequence ||
-              !image.ParseFromArray(m.data, size))
-            return skip();
+          if (!joining || joining->frame.sequence() % (std::uint64_t(1) << 32) != m.sequence) return skip();
+          const auto jpeg = compressedImageData(m.data, m.size);  // in place: the JPEG is copied once
+          if (!jpeg) return skip();
           auto& side = *topic == RecordedTopic::kLeftImage ? joining->left : joining->right;
-          side = std::make_shared<const std::vector<std::uint8_t>>(image.data().begin(), image.data().end());
+          side = std::make_shared<const std::vector<std::uint8_t>>(jpeg->begin(), jpeg->end());
           if (!joining->left || !joining->right) return true;
           RecordedFrame frame = std::move(*joining);
           joining.reset();

@@ -3,8 +3,11 @@
 #include "robot/record/recording_topics.h"
 
 #include <google/protobuf/descriptor.pb.h>
+#include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/wire_format_lite.h>
 
 #include <functional>
+#include <limits>
 #include <set>
 
 #include "robot/record/foxglove_compressed_image.pb.h"
@@ -96,6 +99,27 @@ std::string compressedImagePrefix(std::int64_t capture_ns, const std::string& fr
   out += "jpeg";
   lengthDelimited(out, 2, jpeg_size);
   return out;
+}
+
+std::optional<std::span<const std::uint8_t>> compressedImageData(const std::uint8_t* message, std::size_t size) {
+  using google::protobuf::internal::WireFormatLite;
+  if (size > static_cast<std::size_t>(std::numeric_limits<int>::max())) return std::nullopt;
+  google::protobuf::io::CodedInputStream in(message, static_cast<int>(size));
+  std::optional<std::span<const std::uint8_t>> data;
+  while (const std::uint32_t tag = in.ReadTag()) {
+    if (WireFormatLite::GetTagFieldNumber(tag) == 2 &&
+        WireFormatLite::GetTagWireType(tag) == WireFormatLite::WIRETYPE_LENGTH_DELIMITED) {
+      std::uint32_t length = 0;
+      if (!in.ReadVarint32(&length)) return std::nullopt;
+      const auto at = static_cast<std::size_t>(in.CurrentPosition());
+      if (length > size - at || !in.Skip(static_cast<int>(length))) return std::nullopt;
+      data = std::span<const std::uint8_t>(message + at, length);
+    } else if (!WireFormatLite::SkipField(&in, tag)) {
+      return std::nullopt;
+    }
+  }
+  if (!in.ConsumedEntireMessage()) return std::nullopt;
+  return data.value_or(std::span<const std::uint8_t>());  // absent: empty, as protobuf has it
 }
 
 }  // namespace telesphere::record

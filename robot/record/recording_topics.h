@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -60,5 +61,10 @@ std::string fileDescriptorSetOf(const google::protobuf::Descriptor* type);
 /// foxglove.CompressedImage in protobuf wire format, without its `data` bytes: the prefix to
 /// which the caller appends exactly `jpeg_size` bytes of JPEG.
 std::string compressedImagePrefix(std::int64_t capture_ns, const std::string& frame_id, std::size_t jpeg_size);
+
+/// The `data` bytes of a serialized foxglove.CompressedImage where they lie in `message` (no copy:
+/// a reader copies a JPEG once, not into a parsed message first); nothing when the bytes are not
+/// such a message (fields in any order; the last `data` wins, an absent one is empty, as protobuf has it).
+std::optional<std::span<const std::uint8_t>> compressedImageData(const std::uint8_t* message, std::size_t size);
 
 }  // namespace telesphere::record

@@ -200,6 +200,33 @@ TEST(SessionRecorder, AFullQueueDropsAndCountsInsteadOfWaiting) {
   std::filesystem::remove(path);
 }
 
+// The reader's side of compressedImagePrefix: the JPEG found in place, in our prefix's field order
+// and in protobuf's own, and nothing from bytes that are not a CompressedImage.
+TEST(RecordingTopics, TheJpegOfACompressedImageIsFoundInPlace) {
+  const std::string jpeg = "\xff\xd8 not really a jpeg \xff\xd9";
+  const std::string ours = compressedImagePrefix(-1'500'000'001, "cam_l", jpeg.size()) + jpeg;
+  foxglove::CompressedImage image;
+  image.set_frame_id("cam_r");
+  image.set_format("jpeg");
+  image.set_data(jpeg);
+  image.mutable_timestamp()->set_seconds(7);
+  const std::string theirs = image.SerializeAsString();
+  for (const std::string& bytes : {ours, theirs}) {
+    const auto* p = reinterpret_cast<const std::uint8_t*>(bytes.data());
+    const auto data = compressedImageData(p, bytes.size());
+    ASSERT_TRUE(data);
+    EXPECT_EQ(std::string(reinterpret_cast<const char*>(data->data()), data->size()), jpeg);
+    EXPECT_GE(data->data(), p);  // a view into the message, not a copy
+    EXPECT_LE(data->data() + data->size(), p + bytes.size());
+    EXPECT_FALSE(compressedImageData(p, bytes.size() - 1));  // cut short
+  }
+  const std::string garbage = "\xff\xff\xff\xff\xff\xff";
+  EXPECT_FALSE(compressedImageData(reinterpret_cast<const std::uint8_t*>(garbage.data()), garbage.size()));
+  const auto none = compressedImageData(reinterpret_cast<const std::uint8_t*>(""), 0);
+  ASSERT_TRUE(none);  // an empty message is a CompressedImage without data
+  EXPECT_TRUE(none->empty());
+}
+
 TEST(SessionRecorder, ABadPathIsRefusedWithTheReason) {
   std::string error;
   EXPECT_FALSE(SessionRecorder::start("/nonexistent-dir/session.mcap", {}, &error));
