@@ -62,28 +62,39 @@ bool SessionRecording::stop(std::string* error) {
   }
   server_.setTap(nullptr);  // under the lock: a start right after cannot lose its tap to this stop
   finishing_ = std::move(recorder_);
-  finishers_.emplace_back([this, recorder = finishing_] {
+  // Threads of earlier stops that have finished are joined here (at once: they only return), so
+  // a robot that records many times does not keep one thread per stop.
+  std::erase_if(finishers_, [](Finisher& f) {
+    if (!f.done->load()) return false;
+    f.thread.join();
+    return true;
+  });
+  Finisher& finisher = finishers_.emplace_back();
+  finisher.thread = std::thread([this, recorder = finishing_, done = finisher.done] {
     recorder->stop();
     const auto stats = recorder->stats();
-    std::lock_guard lock(mutex_);
-    last_.Clear();
-    last_.set_file(recorder->path());
-    last_.set_messages(stats.messages);
-    last_.set_bytes(stats.file_bytes);
-    last_.set_dropped(stats.dropped);
-    last_.set_error(stats.error);
-    if (finishing_ == recorder) finishing_.reset();
+    {
+      std::lock_guard lock(mutex_);
+      last_.Clear();
+      last_.set_file(recorder->path());
+      last_.set_messages(stats.messages);
+      last_.set_bytes(stats.file_bytes);
+      last_.set_dropped(stats.dropped);
+      last_.set_error(stats.error);
+      if (finishing_ == recorder) finishing_.reset();
+    }
+    done->store(true);  // after the lock: a stop joining this thread waits for nothing held
   });
   return true;
 }
 
 bool SessionRecording::waitFinished(std::string* error) {
-  std::vector<std::thread> finishers;
+  std::vector<Finisher> finishers;
   {
     std::lock_guard lock(mutex_);
     finishers.swap(finishers_);
   }
-  for (std::thread& t : finishers) t.join();
+  for (Finisher& f : finishers) f.thread.join();
   std::lock_guard lock(mutex_);
   if (last_.dropped() == 0 && last_.error().empty()) return true;
   *error = last_.file() + " is not whole: " +

@@ -5,6 +5,7 @@
 ///        state for replies and health. Never overwrites a file; a name is a plain file name.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -49,7 +50,13 @@ class SessionRecording {
   mutable std::mutex mutex_;
   std::shared_ptr<record::SessionRecorder> recorder_;   ///< recording now
   std::shared_ptr<record::SessionRecorder> finishing_;  ///< stopped, its file being finished
-  std::vector<std::thread> finishers_;  ///< one per stopped recording, joined by waitFinished
+  struct Finisher {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done = std::make_shared<std::atomic<bool>>(false);
+  };
+  /// One per stopped recording still being finished; the done ones are joined at the next stop,
+  /// the rest by waitFinished (or at destruction).
+  std::vector<Finisher> finishers_;
   link::proto::RecordingState last_;  ///< of the last finished recording
 };
 

@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <thread>
 
+#include "robot/link/link_endpoints.h"
+
 namespace telesphere::xr {
 
 class FrameClock {
@@ -23,9 +25,7 @@ class FrameClock {
 /// std::chrono::steady_clock, ns since its epoch (the link's clock, link::linkNowNs).
 class SteadyFrameClock final : public FrameClock {
  public:
-  std::int64_t nowNs() override {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-  }
+  std::int64_t nowNs() override { return link::linkNowNs(); }
   void sleepUntilNs(std::int64_t t_ns) override {
     std::this_thread::sleep_until(Clock::time_point(std::chrono::duration_cast<Clock::duration>(std::chrono::nanoseconds(t_ns))));
   }
