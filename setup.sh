@@ -4,9 +4,10 @@
 #        telesphere needs, configures and builds, then runs what was asked.
 #
 #   bash setup.sh deps     install the Debian packages only
-#   bash setup.sh          install + build (Release, build/)
+#   bash setup.sh          install + build the programs (Release, build/bin)
 #   bash setup.sh demo     install + build + run the main job on the embedded default
-#   bash setup.sh test     install + build the test tree (ASan+UBSan, build-test/) + ctest
+#   bash setup.sh test     install + build the programs as `build` does, then the test tree
+#                          (ASan+UBSan, build-test/) + ctest (which runs the demo on build/ too)
 #
 # Needs root (or sudo) for apt-get; everything else runs as the calling user.
 set -euo pipefail
@@ -62,21 +63,30 @@ jobs=$(nproc)
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
 
+# The programs in Release, not unity: what README's first command builds and runs. The test command
+# builds the very same tree first, so a translation unit that only compiles inside a unity batch of
+# the test tree (a missing include) turns CI red instead of a newcomer's first step.
+build_programs() {
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
+  cmake --build build -j "$jobs" --target telesphere-programs
+}
+
 case "$what" in
   deps)
     ;;
   build|demo)
-    cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
-    cmake --build build -j "$jobs"
+    build_programs
     if [[ $what == demo ]]; then
       exec bash app/demo.sh build
     fi
     ;;
   test)
+    build_programs
     werror=OFF
     [[ -n ${CI:-} ]] && werror=ON
     cmake -S . -B build-test -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON "${launcher[@]}"
+      -DTELESPHERE_SANITIZE=ON -DTELESPHERE_WERROR="$werror" -DTELESPHERE_UNITY=ON \
+      -DTELESPHERE_DEMO_TREE="$PWD/build" "${launcher[@]}"
     cmake --build build-test -j "$jobs"
     # Monado (Debian trixie) for the OpenXR integration test, built once and cached outside the
     # repo (tests/xr/monado/README.md). Needs root the first time; without it the test is skipped.

@@ -2,11 +2,16 @@
 # SPDX-License-Identifier: MIT
 # @brief The main job on the embedded default (simulated robot, synthetic cameras, no headset):
 #        shows what the landed pipeline can do, leaving its outputs in demo-out/.
-#        Usage: bash app/demo.sh BUILD_DIR   (setup.sh demo calls it)
+#        Usage: bash app/demo.sh [BUILD_DIR [OUT_DIR]]   (setup.sh demo calls it; the readme_demo
+#        test runs it on the same tree). Exit status: 0 when every part ran, else the first failure.
 set -euo pipefail
-build=${1:-build}
+build=$(realpath "${1:-build}")
+out=$(realpath -m "${2:-demo-out}")
+cd "$(dirname "$0")/.."  # the calibration and the programs' data are found from the repository root
 bin=$build/bin
-out=demo-out
+for program in telesphere-calib telesphere-bench telesphere-robot telesphere-xr telesphere-console; do
+  [[ -x $bin/$program ]] || { echo "demo: $bin/$program is missing: build first (bash setup.sh)" >&2; exit 1; }
+done
 mkdir -p "$out"
 calib=calib/data/sim_calibration.yaml
 
@@ -31,7 +36,7 @@ echo
 echo "== The whole loop: telesphere-robot (simulated xArm 6, synthetic 195° cameras, 640x360 at 15 Hz),"
 echo "   telesphere-xr offscreen (scripted head motion, both eyes at 720x800, 30 Hz) and the supervisor's"
 echo "   telesphere-console (headless: live graphs, health, preview; a screenshot at the end) on loopback"
-port=5760
+port=${TELESPHERE_DEMO_PORT:-5760}
 "$bin/telesphere-robot" --sim --size 640x360 --fps 15 --port "$port" --stats-period 2 \
   > "$out/robot.log" 2>&1 &
 robot=$!
@@ -47,7 +52,11 @@ kill -INT "$robot"
 wait "$robot" || true
 trap - EXIT
 tail -n 3 "$out/robot.log"
-[ "$console_rc" -eq 0 ] || { echo "telesphere-console failed ($console_rc):"; cat "$out/console.log"; }
+if [ "$console_rc" -ne 0 ]; then
+  echo "telesphere-console failed ($console_rc):"
+  cat "$out/console.log"
+  exit "$console_rc"
+fi
 
 echo
 echo "demo outputs are in $out/ (head/: the motion trace as CSV and PNG; xr/: the operator's eyes"
