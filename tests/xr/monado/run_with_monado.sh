@@ -2,13 +2,15 @@
 # SPDX-License-Identifier: MIT
 ## @brief Runs a command against a headless Monado OpenXR runtime from a Debian trixie root.
 ##
-## Usage: run_with_monado.sh [--stop-service-after S] [--restart-service-after S] [--timeout S] ROOT -- CMD [ARGS...]
+## Usage: run_with_monado.sh [--stop-service-after S] [--restart-service-after S] [--timeout S] [--preload LIBS] ROOT -- CMD [ARGS...]
 ##   ROOT   a tree made by build_trixie_root.sh (no root privileges needed to run)
 ##   --stop-service-after S   stop monado-service S seconds after CMD started (to test that CMD
 ##                            notices the runtime going away and exits by itself)
 ##   --restart-service-after S  stop monado-service S seconds after CMD started and start it
 ##                            again 2 s later (to test that CMD reconnects to the new runtime)
 ##   --timeout S              seconds to wait for the service's socket (default 30)
+##   --preload LIBS           libraries (colon-separated paths) the loader preloads into CMD only,
+##                            never into the service (the leak test's deliberate leak)
 ## Starts monado-service (null compositor, simulated HMD, no stdin) in a private short
 ## XDG_RUNTIME_DIR, waits for its IPC socket, runs CMD through trixie's dynamic loader with
 ## trixie's library folders first (Monado's client library needs trixie's libc), stops the
@@ -23,11 +25,13 @@ die() { say "error: $*"; exit 125; }
 STOP_AFTER=
 RESTART_AFTER=
 WAIT_S=30
+PRELOAD=
 while [ $# -gt 0 ]; do
   case "$1" in
     --stop-service-after) [ $# -ge 2 ] || die "--stop-service-after needs SECONDS"; STOP_AFTER=$2; shift 2 ;;
     --restart-service-after) [ $# -ge 2 ] || die "--restart-service-after needs SECONDS"; RESTART_AFTER=$2; shift 2 ;;
     --timeout) [ $# -ge 2 ] || die "--timeout needs SECONDS"; WAIT_S=$2; shift 2 ;;
+    --preload) [ $# -ge 2 ] || die "--preload needs LIBS"; PRELOAD=$2; shift 2 ;;
     -h|--help) sed -n 's/^## \{0,1\}//p' "$0"; exit 0 ;;
     --) die "ROOT missing before --" ;;
     -*) die "unknown option '$1' (see --help)" ;;
@@ -108,7 +112,11 @@ start_service() {
 }
 start_service
 
-"$LD" --library-path "$LP" "$@" &
+if [ -n "$PRELOAD" ]; then
+  "$LD" --library-path "$LP" --preload "$PRELOAD" "$@" &
+else
+  "$LD" --library-path "$LP" "$@" &
+fi
 CMD_PID=$!
 if [ -n "$STOP_AFTER" ]; then
   ( sleep "$STOP_AFTER"; stop_service; say "stopped monado-service after ${STOP_AFTER} s" ) &
