@@ -2,6 +2,7 @@
 /// @brief `telesphere-console calibrate …` (see console_calibrate_command.h).
 #include "app/console_calibrate_command.h"
 
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -27,6 +28,23 @@ bool parseRobotEndpoint(std::string text, link::LinkEndpoints* endpoints) {
   endpoints->host = host;
   endpoints->base_port = std::stoi(port);
   return endpoints->base_port >= 1 && endpoints->base_port <= 65532;
+}
+
+namespace {
+std::atomic<bool> g_interrupted{false};
+extern "C" void onCalibrateSignal(int) { g_interrupted = true; }
+}  // namespace
+
+const std::atomic<bool>* installInterruptHandlers() {
+  std::signal(SIGINT, onCalibrateSignal);
+  std::signal(SIGTERM, onCalibrateSignal);
+  return &g_interrupted;
+}
+
+int interruptedOr(int code) {
+  if (!g_interrupted.load()) return code;
+  std::cerr << "telesphere-console calibrate: interrupted: stopped and released the head\n";
+  return 130;
 }
 
 bool robotAnswers(console::calibration::CalibrationRobot& robot, const std::string& endpoint) {
@@ -240,11 +258,13 @@ int runCalibrateCommand(const CLI::App& calibrate, const CalibrateCommandOptions
     options.initial = *initial;
   }
   options.log = [](const std::string& line) { std::cerr << "calibrate: " << line << '\n'; };
+  options.cancel = installInterruptHandlers();
 
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-  console::calibration::CalibrationRobot robot(client);
+  console::calibration::CalibrationRobot robot(client, "intrinsics wizard (headless)");
   if (!robotAnswers(robot, o.robot)) return 3;
   const auto outcome = console::calibration::runIntrinsicsAuto(robot, options);
+  if (options.cancel->load()) return interruptedOr(2);
   nlohmann::ordered_json figures = figuresOf(outcome);
   if (o.compare_models && outcome.collector && !outcome.collector->samples().empty()) {
     std::cerr << "calibrate: comparing the camera models on the same samples…\n";

@@ -10,10 +10,12 @@
 ///        (console/calibration/calibration_change.h). Exit codes: 0 done and written (and
 ///        applied); 1 bad arguments or files; 2 the done rule cannot be met (the reason is
 ///        printed; no file is written); 3 the robot never answered; 4 written, but the robot
-///        refused to apply it (its reason is printed).
+///        refused to apply it (its reason is printed); 130 interrupted (SIGINT or SIGTERM: the
+///        procedure stops and the head is released before the exit).
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -47,6 +49,12 @@ struct CalibrateCommandOptions {
 
 /// "tcp://HOST:PORT" or "HOST:PORT"; false when it is neither.
 bool parseRobotEndpoint(std::string text, link::LinkEndpoints* endpoints);
+
+/// Set by SIGINT and SIGTERM once installInterruptHandlers() ran: the procedures' cancel flag, so
+/// an interrupted wizard releases the head before it exits (the lease would end it within 2 s).
+const std::atomic<bool>* installInterruptHandlers();
+/// Exit code and message for a run that ended: 130 when it was interrupted, else `code`.
+int interruptedOr(int code);
 
 /// Waits up to 10 s for the robot's first state; false (after saying so) when none came.
 bool robotAnswers(console::calibration::CalibrationRobot& robot, const std::string& endpoint);

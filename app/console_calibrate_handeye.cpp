@@ -150,11 +150,13 @@ int runHandEyeCalibrate(const CalibrateCommandOptions& o, const link::LinkEndpoi
   options.max_samples = o.max_samples;
   options.time_limit = std::chrono::seconds(static_cast<long>(o.time_limit_s));
   options.log = [](const std::string& line) { std::cerr << "calibrate: " << line << '\n'; };
+  options.cancel = installInterruptHandlers();
 
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-  console::calibration::CalibrationRobot robot(client);
+  console::calibration::CalibrationRobot robot(client, "hand-eye wizard (headless)");
   if (!robotAnswers(robot, o.robot)) return 3;
   const auto outcome = console::calibration::runHandEyeAuto(robot, options);
+  if (options.cancel->load()) return interruptedOr(2);
   const int code = reportAndSave(o, handEyeFiguresOf(outcome), printHandEyeFigures, outcome.done, outcome.error,
                                  outcome.calibration, *format);
   if (code != 0 || !o.apply) return code;

@@ -309,7 +309,7 @@ void CalibrationPanel::startAuto() {
   launch(
       [o, endpoints] {
         link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-        calibration::CalibrationRobot robot(client);
+        calibration::CalibrationRobot robot(client, "intrinsics wizard (console)");
         return calibration::runIntrinsicsAuto(robot, o);
       },
       "starting: holding the head and looking for the board…");
@@ -383,7 +383,7 @@ void CalibrationPanel::startLive() {
   launch(
       [this, o, endpoints, start] {
         link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-        calibration::CalibrationRobot robot(client);
+        calibration::CalibrationRobot robot(client, "intrinsics wizard, live capture (console)");
         calibration::LiveCapture live(robot, o);
         if (start) live.setCollector(*start);
         std::string last_error;

@@ -10,6 +10,7 @@ namespace telesphere::console {
 QString ControlOutcome::text() const {
   if (!answered) return what + ": no reply from the robot (timed out)";
   if (!ok) return what + ": refused: " + error;
+  if (reply.pending()) return what + ": under way (the robot state shows the outcome)";
   return what + ": ok";
 }
 

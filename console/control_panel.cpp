@@ -152,6 +152,21 @@ ControlPanel::ControlPanel(ConsoleSession& session, QWidget* parent) : QWidget(p
   grid->addWidget(record_now_, row, 1, 1, 2);
   grid->addWidget(record_, row, 3);
   ++row;
+  // A calibration hold on the head: who holds it, and the supervisor's way to end it.
+  release_head_ = new QPushButton("Release head");
+  release_head_->setToolTip("End the calibration hold: the head follows the operator again");
+  connect(release_head_, &QPushButton::clicked, this, [this] {
+    link::proto::ControlRequest r;
+    r.mutable_calibration_head_pose()->set_release(true);
+    r.mutable_calibration_head_pose()->set_holder("the console (supervisor)");
+    send("release head", r);
+  });
+  hold_now_ = new QLabel("-");
+  hold_now_->setWordWrap(true);
+  grid->addWidget(new QLabel("head hold"), row, 0);
+  grid->addWidget(hold_now_, row, 1, 1, 2);
+  grid->addWidget(release_head_, row, 3);
+  ++row;
   grid->addWidget(new QLabel("replies (newest first)"), row++, 0, 1, 4);
   log_ = new QListWidget;
   log_->setMaximumHeight(110);
@@ -168,6 +183,8 @@ QPushButton* ControlPanel::applyButton(const QString& row) const {
 }
 
 QString ControlPanel::recordingText() const { return record_now_->text(); }
+
+QString ControlPanel::holdText() const { return hold_now_->text(); }
 
 QString ControlPanel::lastOutcome() const { return log_->count() > 0 ? log_->item(0)->text() : QString(); }
 
@@ -187,6 +204,20 @@ void ControlPanel::refresh() {
   clear_->setEnabled(connected);
   const auto& health = session_.health();
   record_->setEnabled(connected && health && health->recording().available());
+  const auto& state = session_.robotState();
+  const bool held = state && state->hold().lease() != 0;
+  release_head_->setEnabled(connected && held);
+  if (held) {
+    const auto& h = state->hold();
+    QString text = QString("held by %1 for %2 s").arg(QString::fromStdString(h.holder()))
+                       .arg(double(state->t_ns() - h.since_ns()) * 1e-9, 0, 'f', 0);
+    if (h.pattern_amplitude_deg() > 0) text += QString(" (pattern ±%1°)").arg(h.pattern_amplitude_deg());
+    hold_now_->setText(text);
+  } else if (state) {
+    hold_now_->setText(state->hold().last_release().empty()
+                           ? QString("not held")
+                           : "not held (last: " + QString::fromStdString(state->hold().last_release()) + ")");
+  }
   if (!health) return;
   const auto& rec = health->recording();
   record_->setText(rec.active() ? "Stop recording" : "Record session");

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @brief The knobs the supervisor turns live (DESIGN.md §7: every change is a control request
 ///        with an explicit reply, shown; nothing is assumed to have worked): visual mode, sphere
-///        radius, JPEG quality, filter cut-off, jump threshold, arm stop and clear fault. Each row
-///        shows what the robot has in force now next to the editor.
+///        radius, JPEG quality, filter cut-off, jump threshold, arm stop and clear fault, who holds
+///        the head for calibration and "release head". Each row shows what the robot has in force
+///        now next to the editor.
 #pragma once
 
 #include <QWidget>
@@ -43,6 +44,10 @@ class ControlPanel : public QWidget {
   /// Starts a recording (session-DATE-TIME) in the robot's record folder, or stops the one running.
   QPushButton* recordButton() const { return record_; }
   QString recordingText() const;
+  /// Ends any calibration hold on the head (a wizard that went away, or one to stop).
+  QPushButton* releaseHeadButton() const { return release_head_; }
+  /// "held by hand-eye wizard (headless), pid 4242 on rig-pc for 12 s (pattern ±20°)", or "not held".
+  QString holdText() const;
   /// The newest reply, in words ("set_sphere_radius 2: ok").
   QString lastOutcome() const;
 
@@ -62,6 +67,8 @@ class ControlPanel : public QWidget {
   QPushButton* clear_;
   QPushButton* record_;
   QLabel* record_now_;
+  QPushButton* release_head_;
+  QLabel* hold_now_;
   QListWidget* log_;
   std::map<QString, QPushButton*> apply_;
 };

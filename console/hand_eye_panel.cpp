@@ -253,7 +253,7 @@ void HandEyePanel::start() {
   const link::LinkEndpoints endpoints = endpoints_;
   worker_ = std::thread([this, o, endpoints] {
     link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-    calibration::CalibrationRobot robot(client);
+    calibration::CalibrationRobot robot(client, "hand-eye wizard (console)");
     calibration::HandEyeOutcome result = calibration::runHandEyeAuto(robot, o);
     {
       std::lock_guard lock(result_mutex_);

@@ -40,12 +40,20 @@ class HeadArm {
 
   /// Clears a stop (ArmStatus::kStopped) so that targets are followed again; false if the arm
   /// cannot be re-enabled now (e.g. disconnected). An arm that can reconnect does so here, and
-  /// only here: the supervisor's "clear fault" is the request.
+  /// only here: the supervisor's "clear fault" is the request. It may take seconds (an xArm
+  /// reconnecting): the head loop runs it on a thread of its own (ArmRecovery) and calls nothing
+  /// else on the arm meanwhile. The arm may have moved or braked while it was stopped: whoever
+  /// commands it next starts from a joint state measured after this returned.
   virtual bool clearStop() = 0;
 
   /// Why the arm is not kOk, in words for the console ("xArm controller error 22: self-collision
-  /// detected", "no joint report for 120 ms"); empty when there is nothing to say beyond status().
+  /// detected", "no joint report for 120 ms"); kStoppedOnRequest when stop() is the only reason;
+  /// empty when there is nothing to say beyond status(). A fault of the arm's own that comes
+  /// after a stop on request replaces kStoppedOnRequest.
   virtual std::string faultText() const { return {}; }
+
+  /// faultText() of an arm that is stopped only because stop() asked.
+  static constexpr const char* kStoppedOnRequest = "stopped on request";
 };
 
 }  // namespace telesphere::robot

@@ -57,11 +57,24 @@ ArmStatus SimulatedArm::status() const {
 bool SimulatedArm::clearStop() {
   if (!connected_) return false;
   stopped_ = false;
+  stop_text_.clear();
   return true;
+}
+
+void SimulatedArm::stop() {
+  const bool own_fault = stopped_ && stop_text_ != kStoppedOnRequest;
+  triggerStop();
+  if (!own_fault) stop_text_ = kStoppedOnRequest;
+}
+
+std::string SimulatedArm::faultText() const {
+  if (!connected_) return "the connection to the arm dropped";
+  return stopped_ ? stop_text_ : std::string();
 }
 
 void SimulatedArm::triggerStop() {
   stopped_ = true;
+  stop_text_ = "emergency stop";
   in_flight_.clear();
   // Brake as hard as allowed: the set-point becomes the stopping point of each joint.
   for (int i = 0; i < 6; ++i)

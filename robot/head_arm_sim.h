@@ -16,6 +16,7 @@
 #include <functional>
 #include <optional>
 #include <random>
+#include <string>
 #include <utility>
 
 #include "robot/clock.h"
@@ -64,10 +65,13 @@ class SimulatedArm final : public HeadArm {
   std::optional<JointState> pollState() override;
   ArmStatus status() const override;
   bool clearStop() override;
-  void stop() override { triggerStop(); }
+  /// Brakes as triggerStop() does; faultText() says kStoppedOnRequest (unless the arm had a
+  /// fault of its own already).
+  void stop() override;
+  std::string faultText() const override;
 
   /// Fault injection: an emergency stop. The arm brakes at its acceleration limit and holds;
-  /// targets in flight are lost; sendTarget() fails until clearStop().
+  /// targets in flight are lost; sendTarget() fails until clearStop(). faultText(): "emergency stop".
   void triggerStop();
   /// Fault injection: the connection drops. No states arrive, targets in flight are lost and
   /// sendTarget() fails; the arm finishes the set-point it had. reconnect() restores the link.
@@ -98,6 +102,7 @@ class SimulatedArm final : public HeadArm {
   std::deque<std::pair<std::int64_t, JointVector>> in_flight_;  ///< (t_effective_ns, target)
   std::deque<JointState> states_;
   bool stopped_ = false, connected_ = true;
+  std::string stop_text_;  ///< why stopped_: kStoppedOnRequest or the injected fault
   std::int64_t refused_targets_ = 0;
 };
 

@@ -30,6 +30,7 @@ namespace {
 
 constexpr std::size_t kMaxQueuedStates = 1000;
 constexpr auto kPoll = 20ms;  ///< receive threads wake this often to see whether they should end
+constexpr std::int64_t kErrorPollWhileStoppedNs = 250'000'000;  ///< error codes read while stopped on request
 
 std::string ms(std::int64_t ns) { return std::to_string(ns / 1'000'000) + " ms"; }
 
@@ -93,6 +94,7 @@ struct XArmHeadArm::Impl {
   std::string fault;
   int controller_error = 0, controller_warning = 0;
   bool need_error_query = false;
+  std::int64_t last_error_poll_ns = 0;  ///< while stopped on request (update())
 
   std::optional<JointVector> last_target;
   std::int64_t last_target_ns = 0;
@@ -189,8 +191,10 @@ struct XArmHeadArm::Impl {
     if (frame.reg == std::uint8_t(Register::kGetErrorWarning) && frame.replyParams().size() >= 2) {
       controller_error = frame.replyParams()[0];
       controller_warning = frame.replyParams()[1];
-      // Any reading of the codes while stopped by the controller says why (ours or another's).
-      if (controller_error != 0 && fault_status == ArmStatus::kStopped && fault.rfind("the controller", 0) == 0)
+      // Any reading of the codes while stopped by the controller says why (ours or another's); a
+      // fault of the controller's own that came after our stop replaces "stopped on request".
+      if (controller_error != 0 && fault_status == ArmStatus::kStopped &&
+          (fault.rfind("the controller", 0) == 0 || fault == kStoppedOnRequest))
         fault = "controller error " + xarm::controllerErrorText(controller_error);
     }
     if ((frame.status() & xarm::kStatusError) && streaming) {
@@ -516,6 +520,14 @@ void XArmHeadArm::update() {
                                                    ms(now - m.servo_in_flight.front().second) + " (limit " +
                                                    ms(reply_limit) + ")");
     }
+    // Stopped on request, the controller is still watched: an emergency stop pressed now must not
+    // read "stopped on request" (its reports say "stopped" either way; only the code tells).
+    const std::int64_t now = m.clock.nowNs();
+    if (!m.streaming && m.fault_status == ArmStatus::kStopped && m.fault == kStoppedOnRequest &&
+        now - m.last_error_poll_ns >= kErrorPollWhileStoppedNs) {
+      m.need_error_query = true;
+      m.last_error_poll_ns = now;
+    }
     query = std::exchange(m.need_error_query, false) && m.fault_status != ArmStatus::kDisconnected;
   }
   if (query) m.send(Register::kGetErrorWarning, {}, false);  // the reply names the error (handleReply)
@@ -581,7 +593,7 @@ void XArmHeadArm::stop() {
   {
     std::lock_guard lock(m.mutex);
     if (!m.streaming) return;
-    m.failLocked(ArmStatus::kStopped, "stopped on request");
+    m.failLocked(ArmStatus::kStopped, kStoppedOnRequest);
   }
   m.send(Register::kSetState, std::vector<std::uint8_t>{std::uint8_t(xarm::ControllerState::kStopped)}, false);
 }

@@ -137,6 +137,16 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVe
   return true;
 }
 
+bool HeadController::resumeFrom(const JointVector& q_measured, std::int64_t now_ns) {
+  if (!q_measured.allFinite()) return false;
+  q_last_ = kinematics_.clampToLimits(q_measured);
+  guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+  last_tick_ns_ = now_ns;  // the first step after the pause is one period's, not the pause's
+  approaching_ = true;
+  ++resumes_;
+  return true;
+}
+
 bool HeadController::moveHold(const Eigen::Isometry3d& T_robot_head) {
   if (!holding_ || !T_robot_head.matrix().allFinite() || !isRotation(T_robot_head.linear(), 1e-3)) return false;
   hold_target_ = T_robot_head;

@@ -129,6 +129,14 @@ class HeadController {
   bool moveHold(const Eigen::Isometry3d& T_robot_head);
   bool holding() const { return holding_; }
 
+  /// After the arm stood still for a while (a stop, a fault, a reconnect): the output starts again
+  /// from the measured joints q_measured at now_ns, and whatever the target is by then (the
+  /// operator kept moving, a hold moved on) is approached at approach_speed and
+  /// approach_angular_speed, however small the difference (a jump below the threshold would still
+  /// be a step the arm takes at full speed). False (nothing changes) for non-finite joints.
+  bool resumeFrom(const JointVector& q_measured, std::int64_t now_ns);
+  std::int64_t resumeCount() const { return resumes_; }
+
   /// Restores a mapping T_robot_vr taken from an earlier initialise() (undo); needs one.
   void restoreMapping(const Eigen::Isometry3d& T_robot_vr);
 
@@ -177,7 +185,7 @@ class HeadController {
   std::int64_t last_tick_ns_ = 0;
   JointVector q_last_ = JointVector::Zero();
   std::array<std::int64_t, static_cast<std::size_t>(HeadRejectReason::kCount)> rejections_{};
-  std::int64_t jumps_ = 0, unreachable_ = 0;
+  std::int64_t jumps_ = 0, unreachable_ = 0, resumes_ = 0;
 };
 
 }  // namespace telesphere::robot

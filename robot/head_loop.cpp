@@ -9,8 +9,10 @@
 #include "robot/link/proto_enums.h"
 #include "robot/link/sphere_radius.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <thread>
 
@@ -26,6 +28,7 @@ HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& b
       clock_(clock),
       config_(config),
       T_flange_head_(controller.config().geometry.T_flange_head()),
+      recovery_(arm),
       sphere_radius_(config.sphere_radius) {}
 
 std::optional<JointState> HeadLoop::lastState() const {
@@ -41,11 +44,15 @@ link::proto::NominalStep HeadLoop::nominalStep() const {
 void HeadLoop::tick() {
   const std::int64_t now_ns = clock_.nowNs();
   std::lock_guard lock(mutex_);
-  arm_.update();
-  while (auto state = arm_.pollState()) {
-    buffer_.push(*state);
-    last_state_ = *state;
+  if (!recovery_.running()) {
+    arm_.update();
+    while (auto state = arm_.pollState()) {
+      buffer_.push(*state);
+      last_state_ = *state;
+    }
   }
+  followArmLocked(now_ns);
+  const bool follow = armOkLocked() && !resume_pending_;
   if (config_.calibration) {
     const std::shared_ptr<const AppliedCalibration> in_use = config_.calibration->current();
     if (in_use->generation != calibration_generation_) {
@@ -79,22 +86,29 @@ void HeadLoop::tick() {
     std::cerr << "telesphere-robot: nominal pose captured\n";
   }
 
-  if (calibration_hold_ && pattern_) {
+  expireHoldLocked(now_ns);
+  if (hold_ && pattern_) {
     controller_.moveHold(calibrationPatternPose(pattern_->T_robot_centre, pattern_->amplitude_deg,
                                                 now_ns - pattern_->start_ns));
   }
-  const HeadCommand command = controller_.tick(sample, now_ns);
   // The head's measured pose, once per tick (telemetry and robot state both carry it).
   const std::optional<Eigen::Isometry3d> T_robot_head_measured =
       last_state_ ? std::optional(controller_.kinematics().forward(last_state_->q) * T_flange_head_) : std::nullopt;
-  const bool accepted = command.send && arm_.sendTarget(command.q_target);
+  HeadCommand command;  // while the arm is not ok: nothing sent, the head where it was measured
+  if (follow) {
+    command = controller_.tick(sample, now_ns);
+  } else {
+    command.send = false;
+    if (T_robot_head_measured) command.T_robot_headTarget = *T_robot_head_measured;
+  }
+  const bool accepted = follow && command.send && arm_.sendTarget(command.q_target);
   if (accepted) ++targets_sent_;
 
   if (config_.telemetry) {
     link::proto::HeadTick t;
     t.set_t_ns(now_ns);
-    t.set_outcome(accepted                ? link::proto::HEAD_TICK_SENT
-                  : command.send          ? link::proto::HEAD_TICK_ARM_REFUSED
+    t.set_outcome(accepted                    ? link::proto::HEAD_TICK_SENT
+                  : command.send || !follow   ? link::proto::HEAD_TICK_ARM_REFUSED
                   : command.reason == HeadRejectReason::kNotInitialised ? link::proto::HEAD_TICK_NOT_INITIALISED
                   : command.reason == HeadRejectReason::kMissing        ? link::proto::HEAD_TICK_NO_TARGET
                                                                         : link::proto::HEAD_TICK_REJECTED);
@@ -126,13 +140,14 @@ void HeadLoop::tick() {
     link::toLinkPose(controller_.kinematics().forward(last_state_->q), state.mutable_t_robot_flange());
     state.set_visual_mode(link::toProto(controller_.mode()));
     state.set_nominal_step(step_);
-    state.set_arm_ok(arm_.status() == ArmStatus::kOk);
+    state.set_arm_ok(armOkLocked());
     state.set_fault(faultLocked());
     state.set_sphere_radius(sphere_radius_);
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
     link::toLinkPose(*T_robot_head_measured, state.mutable_t_robot_head());
-    state.set_calibration_hold(calibration_hold_);
+    state.set_calibration_hold(hold_.has_value());
+    *state.mutable_hold() = holdLocked();
     state.set_calibration_generation(calibration_generation_);
     if (trial_.running()) {
       *state.mutable_trial() = trial_;
@@ -153,20 +168,57 @@ void HeadLoop::run(const std::atomic<bool>& stop) {
   }
 }
 
-std::string HeadLoop::faultLocked() const {
-  switch (arm_.status()) {
-    case ArmStatus::kOk: return "";
-    case ArmStatus::kStopped: {
-      if (!stop_reason_.empty()) return stop_reason_;
-      const std::string why = arm_.faultText();
-      return why.empty() ? "arm stopped (fault or emergency stop)" : "arm stopped: " + why;
+bool HeadLoop::armOkLocked() const { return !recovery_.running() && arm_.status() == ArmStatus::kOk; }
+
+void HeadLoop::followArmLocked(std::int64_t now_ns) {
+  if (recovery_.running()) {
+    resume_pending_ = true;
+    arm_ok_since_ns_ = 0;
+    return;
+  }
+  if (const auto outcome = recovery_.takeOutcome()) {
+    if (*outcome) {
+      stopped_by_console_ = false;
+      std::cerr << "telesphere-robot: arm fault cleared\n";
+    } else {
+      std::cerr << "telesphere-robot: the arm's fault was not cleared: " << faultLocked() << '\n';
     }
-    case ArmStatus::kDisconnected: {
-      const std::string why = arm_.faultText();
-      return why.empty() ? "arm disconnected" : "arm disconnected: " + why;
+    if (stop_after_recovery_) {
+      stop_after_recovery_ = false;
+      arm_.stop();
+      stopped_by_console_ = true;
     }
   }
-  return "";
+  if (arm_.status() != ArmStatus::kOk) {
+    resume_pending_ = true;
+    arm_ok_since_ns_ = 0;
+    return;
+  }
+  if (!resume_pending_) return;
+  if (arm_ok_since_ns_ == 0) arm_ok_since_ns_ = now_ns;
+  // The arm may have braked, drifted or been moved while it was stopped: start from where it is
+  // measured after it came back, never from where the controller last aimed.
+  if (last_state_ && last_state_->t_ns >= arm_ok_since_ns_ && controller_.resumeFrom(last_state_->q, now_ns)) {
+    resume_pending_ = false;
+    arm_ok_since_ns_ = 0;
+  }
+}
+
+std::string HeadLoop::faultLocked() const {
+  if (recovery_.running()) return "clearing the fault: re-enabling or reconnecting the arm";
+  const ArmStatus status = arm_.status();
+  if (status == ArmStatus::kOk) return "";
+  // The arm's own cause first, then ours; a stop we asked for is said once, as ours.
+  std::string causes;
+  const std::string why = arm_.faultText();
+  if (!(stopped_by_console_ && why == HeadArm::kStoppedOnRequest)) {
+    if (status == ArmStatus::kDisconnected)
+      causes = why.empty() ? "arm disconnected" : "arm disconnected: " + why;
+    else
+      causes = why.empty() ? "arm stopped (fault or emergency stop)" : "arm stopped: " + why;
+  }
+  if (stopped_by_console_) causes += causes.empty() ? "arm stopped from the console" : "; also stopped from the console";
+  return causes;
 }
 
 void HeadLoop::fillSettings(link::proto::RobotSettings* settings) const {
@@ -191,8 +243,9 @@ void HeadLoop::fillHealth(link::proto::RobotHealth* health) const {
   health->set_unreachable(static_cast<std::uint64_t>(controller_.unreachableCount()));
   health->set_targets_sent(static_cast<std::uint64_t>(targets_sent_.load()));
   health->set_head_target_age_ns(last_target_ ? clock_.nowNs() - last_target_->sample.t_ns : -1);
-  health->set_arm_ok(arm_.status() == ArmStatus::kOk);
+  health->set_arm_ok(armOkLocked());
   health->set_fault(faultLocked());
+  *health->mutable_hold() = holdLocked();
 }
 
 link::proto::NominalMapping HeadLoop::nominalMapping() const {
@@ -249,15 +302,84 @@ bool HeadLoop::captureNominalLocked(std::string* error) {
   return true;
 }
 
+void HeadLoop::controlStarted() { ++controls_in_progress_; }
+
+void HeadLoop::controlFinished() {
+  control_finished_ns_ = clock_.nowNs();
+  --controls_in_progress_;
+}
+
+link::proto::HeadHold HeadLoop::hold() const {
+  std::lock_guard lock(mutex_);
+  return holdLocked();
+}
+
+link::proto::HeadHold HeadLoop::holdLocked() const {
+  link::proto::HeadHold h;
+  h.set_lease_s(double(config_.hold_lease_ns) * 1e-9);
+  h.set_last_release(last_release_);
+  if (!hold_) return h;
+  h.set_lease(hold_->lease);
+  h.set_holder(hold_->holder);
+  h.set_pattern_amplitude_deg(pattern_ ? pattern_->amplitude_deg : 0.0);
+  h.set_since_ns(hold_->since_ns);
+  h.set_renewed_ns(hold_->renewed_ns);
+  return h;
+}
+
+void HeadLoop::releaseHoldLocked(const std::string& how) {
+  if (!hold_) return;
+  controller_.releaseHold();
+  last_release_ = hold_->holder + "'s hold (lease " + std::to_string(hold_->lease) + ") " + how;
+  std::cerr << "telesphere-robot: calibration head hold: " << last_release_ << '\n';
+  hold_.reset();
+  pattern_.reset();
+}
+
+void HeadLoop::expireHoldLocked(std::int64_t now_ns) {
+  if (!hold_ || controls_in_progress_.load() > 0) return;
+  // The robot's own silence (serving a long request) does not count against the holder.
+  const std::int64_t heard_ns = std::max(hold_->renewed_ns, control_finished_ns_.load());
+  if (now_ns - heard_ns <= config_.hold_lease_ns) return;
+  char how[120];
+  std::snprintf(how, sizeof how, "released: not renewed for %.1f s (its holder went silent)",
+                double(now_ns - hold_->renewed_ns) * 1e-9);
+  releaseHoldLocked(how);
+}
+
 bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& request, std::string* error) {
+  const std::int64_t now_ns = clock_.nowNs();
   if (request.release()) {
-    if (calibration_hold_) {
-      controller_.releaseHold();
-      calibration_hold_ = false;
-      pattern_.reset();
-      std::cerr << "telesphere-robot: calibration head hold released\n";
-    }
+    // With a lease: that hold only (a late release of an ended hold changes nothing); without:
+    // any (the supervisor's "release head").
+    if (hold_ && (request.lease() == 0 || request.lease() == hold_->lease))
+      releaseHoldLocked(request.lease() == 0 ? "released by " + (request.holder().empty() ? std::string("the console")
+                                                                                          : request.holder())
+                                             : std::string("released by its holder"));
     return true;
+  }
+  if (request.renew()) {
+    if (!hold_ || hold_->lease != request.lease()) {
+      *error = "no calibration hold with lease " + std::to_string(request.lease()) + " to renew" +
+               (last_release_.empty() ? std::string() : " (last: " + last_release_ + ")");
+      return false;
+    }
+    hold_->renewed_ns = now_ns;
+    return true;
+  }
+  if (hold_ && request.lease() != hold_->lease) {
+    *error = "the head is held for calibration by " + hold_->holder + " (lease " + std::to_string(hold_->lease) +
+             "): wait for it, or release the head from the console";
+    return false;
+  }
+  if (!hold_ && request.lease() != 0) {
+    *error = "no calibration hold with lease " + std::to_string(request.lease()) +
+             (last_release_.empty() ? std::string() : " (last: " + last_release_ + ")");
+    return false;
+  }
+  if (!hold_ && request.holder().empty()) {
+    *error = "a calibration hold needs a holder (who asks, for the supervisor)";
+    return false;
   }
   if (step_ != link::proto::NOMINAL_STEP_FOLLOWING) {
     *error = "the nominal-pose step is running: finish or undo it first";
@@ -267,7 +389,7 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = "no joint state from the arm yet";
     return false;
   }
-  if (arm_.status() != ArmStatus::kOk) {
+  if (!armOkLocked()) {
     *error = "the arm is not ready (" + faultLocked() + "): clear the fault first";
     return false;
   }
@@ -327,7 +449,11 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
   } else {
     pattern_.reset();
   }
-  calibration_hold_ = true;
+  if (!hold_) {
+    hold_ = CalibrationHold{next_lease_++, request.holder(), now_ns, now_ns};
+    std::cerr << "telesphere-robot: calibration head hold by " << hold_->holder << " (lease " << hold_->lease << ")\n";
+  }
+  hold_->renewed_ns = now_ns;
   return true;
 }
 
@@ -335,15 +461,15 @@ bool HeadLoop::nominalStepLocked(link::proto::NominalStepRequest request, std::s
   using link::proto::NominalStep;
   switch (request) {
     case link::proto::NOMINAL_REQUEST_HOLD:
-      if (calibration_hold_) {
-        *error = "the head is held for calibration: release it first";
+      if (hold_) {
+        *error = "the head is held for calibration by " + hold_->holder + ": release it first";
         return false;
       }
       if (!last_state_) {
         *error = "no joint state from the arm yet";
         return false;
       }
-      if (arm_.status() != ArmStatus::kOk) {
+      if (!armOkLocked()) {
         *error = "the arm is not ready (" + faultLocked() + "): clear the fault first";
         return false;
       }
@@ -462,18 +588,20 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
         break;
       }
       case link::proto::ControlRequest::kArmStop:
-        arm_.stop();
-        stop_reason_ = "arm stopped from the console";
-        std::cerr << "telesphere-robot: " << stop_reason_ << '\n';
+        stopped_by_console_ = true;
+        if (recovery_.running())
+          stop_after_recovery_ = true;  // the recovery owns the arm; the stop follows it at once
+        else
+          arm_.stop();
+        std::cerr << "telesphere-robot: arm stopped from the console\n";
         break;
       case link::proto::ControlRequest::kClearFault:
-        if (arm_.status() == ArmStatus::kOk) break;  // nothing to clear
-        if (!arm_.clearStop()) {
-          ok = false;
-          error = "the arm cannot be re-enabled now (" + faultLocked() + ")";
-        } else {
-          stop_reason_.clear();
-          std::cerr << "telesphere-robot: arm fault cleared\n";
+        // Answered at once: the recovery runs on its own thread and the state shows its outcome.
+        followArmLocked(clock_.nowNs());  // the outcome of an earlier recovery, if not taken yet
+        if (armOkLocked()) break;         // nothing to clear
+        if (recovery_.running() || recovery_.start()) {
+          reply.set_pending(true);
+          std::cerr << "telesphere-robot: clearing the arm's fault\n";
         }
         break;
       case link::proto::ControlRequest::kGetSettings:
@@ -492,6 +620,7 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
       }
       case link::proto::ControlRequest::kCalibrationHeadPose:
         ok = calibrationHoldLocked(request.calibration_head_pose(), &error);
+        *reply.mutable_hold() = holdLocked();
         break;
       case link::proto::ControlRequest::kCalibrationCapture:
         ok = false;

@@ -28,9 +28,22 @@
 /// and holds there, the operator ignored, until released; not during the nominal-pose step (and
 /// no HOLD step while held); poses outside the workspace or out of the arm's reach are refused.
 /// With a pattern amplitude the held pose moves every tick along the sinusoidal head pattern of
-/// robot/calibration_head_pattern.h (hand-eye sample collection).
+/// robot/calibration_head_pattern.h (hand-eye sample collection). A hold is a lease its holder
+/// renews (HeadHold in the link schema): not renewed for hold_lease_ns, the tick releases it and
+/// says why. The lease clock stands while the robot itself serves a control request (a still
+/// may take longer than a lease) and for one lease after, so a holder is never blamed for the
+/// robot's own silence (RobotControl marks those with controlStarted/controlFinished).
 ///
 /// A calibration applied live (HeadLoopConfig::calibration) takes effect at the next tick.
+///
+/// Stops, faults and recovery: while the arm is not ok the controller does not run (the operator's
+/// targets are kept, none is sent). "Clear fault" runs the arm's clearStop() on a thread of its own
+/// (ArmRecovery: an xArm may reconnect for seconds) and is answered at once with `pending`; ticks go
+/// on publishing the state ("clearing the fault …"), the link keeps serving, and nothing else
+/// touches the arm until the recovery ends. Once the arm is ok again, the controller resumes from
+/// the first joint state measured after that (HeadController::resumeFrom) and approaches where the
+/// operator looks now at its slow-approach speed. The fault text names every cause, the arm's own
+/// first ("arm stopped: emergency stop; also stopped from the console").
 #pragma once
 
 #include <atomic>
@@ -39,6 +52,7 @@
 #include <optional>
 #include <string>
 
+#include "robot/arm_recovery.h"
 #include "robot/calibration_in_use.h"
 #include "robot/clock.h"
 #include "robot/head_arm.h"
@@ -63,6 +77,8 @@ struct HeadLoopConfig {
   /// joint-state buffer at the next tick, and the robot state names it. Null: the controller's
   /// geometry stays (generation 0 in the state).
   const CalibrationInUse* calibration = nullptr;
+  /// A calibration hold not renewed for this long is released (its holder went silent).
+  std::int64_t hold_lease_ns = 2'000'000'000;
 };
 
 /// The link's visual mode ↔ the controller's head mode; nothing for VISUAL_MODE_UNSPECIFIED.
@@ -87,6 +103,14 @@ class HeadLoop {
   /// The head's and the arm's part of the health report.
   void fillHealth(link::proto::RobotHealth* health) const;
 
+  /// A control request is being served (RobotControl, around every request): the holds' lease
+  /// clock stands meanwhile (see the file comment).
+  void controlStarted();
+  void controlFinished();
+
+  /// The calibration hold now (lease 0: none).
+  link::proto::HeadHold hold() const;
+
   std::int64_t ticks() const { return ticks_; }
   std::int64_t targetsSent() const { return targets_sent_; }
   /// Head targets stamped on arrival because their sender had no clock offset yet.
@@ -109,9 +133,17 @@ class HeadLoop {
   bool applyNominalLocked(const HmdSample& nominal);
   bool nominalStepLocked(link::proto::NominalStepRequest step, std::string* error);
   bool calibrationHoldLocked(const link::proto::CalibrationHeadPose& request, std::string* error);
+  /// Ends the calibration hold (if any) and remembers how, for the next HeadHold.
+  void releaseHoldLocked(const std::string& how);
+  /// Releases a hold whose holder went silent for a lease.
+  void expireHoldLocked(std::int64_t now_ns);
+  link::proto::HeadHold holdLocked() const;
   bool captureNominalLocked(std::string* error);
   std::string faultLocked() const;
-
+  /// The arm is ok and no recovery owns it (calls nothing on the arm while one does).
+  bool armOkLocked() const;
+  /// Takes a finished recovery's outcome; on the ok→not-ok→ok edges, arranges the resume.
+  void followArmLocked(std::int64_t now_ns);
   HeadArm& arm_;
   HeadController& controller_;
   JointStateBuffer& buffer_;
@@ -130,14 +162,27 @@ class HeadLoop {
   link::proto::NominalStep step_ = link::proto::NOMINAL_STEP_FOLLOWING;
   std::optional<ArrivedTarget> captured_;           ///< pending while CAPTURED
   std::optional<Eigen::Isometry3d> previous_mapping_;  ///< T_robot_vr before the last confirm
-  bool calibration_hold_ = false;  ///< held at a calibration head pose (link CalibrationHeadPose)
+  struct CalibrationHold {
+    std::uint64_t lease = 0;
+    std::string holder;
+    std::int64_t since_ns = 0, renewed_ns = 0;
+  };
+  std::optional<CalibrationHold> hold_;  ///< held at a calibration head pose (link CalibrationHeadPose)
+  std::uint64_t next_lease_ = 1;
+  std::string last_release_;             ///< how the last hold ended
+  std::atomic<int> controls_in_progress_{0};
+  std::atomic<std::int64_t> control_finished_ns_{0};  ///< when the last control request was served
   struct HeadPattern {
     Eigen::Isometry3d T_robot_centre;
     double amplitude_deg = 0;
     std::int64_t start_ns = 0;
   };
   std::optional<HeadPattern> pattern_;  ///< while the held pose moves along the pattern
-  std::string stop_reason_;  ///< why the arm was stopped on request (empty: not by us)
+  bool stopped_by_console_ = false;  ///< the arm was stopped on a control request (until cleared)
+  ArmRecovery recovery_;             ///< "clear fault" in progress (the arm is its own meanwhile)
+  bool stop_after_recovery_ = false;  ///< a stop request came during a recovery: applied after it
+  bool resume_pending_ = false;      ///< the arm was not ok: resume from a fresh joint state
+  std::int64_t arm_ok_since_ns_ = 0;  ///< when the arm was seen ok again (0: not yet)
   double sphere_radius_;
   link::proto::TrialIndicator trial_;  ///< the study's trial indicator, as the console sent it
   std::int64_t trial_received_ns_ = 0;  ///< when it arrived (robot clock)

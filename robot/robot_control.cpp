@@ -9,6 +9,13 @@
 namespace telesphere::robot {
 
 link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest& request) {
+  // The head loop's lease clock stands while the robot serves a request (a still may take longer
+  // than a calibration hold's lease, and the holder cannot renew meanwhile).
+  struct Serving {
+    HeadLoop& loop;
+    explicit Serving(HeadLoop& l) : loop(l) { loop.controlStarted(); }
+    ~Serving() { loop.controlFinished(); }
+  } serving(loop_);
   link::proto::ControlReply reply;
   if (request.request_case() == link::proto::ControlRequest::kSetJpegQuality) {
     reply.set_id(request.id());

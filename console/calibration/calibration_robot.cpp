@@ -2,6 +2,8 @@
 /// @brief CalibrationRobot (see calibration_robot.h).
 #include "console/calibration/calibration_robot.h"
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <thread>
@@ -18,11 +20,30 @@ double angleDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
 
 }  // namespace
 
+CalibrationRobot::CalibrationRobot(link::LinkClient& client, const std::string& holder,
+                                   std::chrono::milliseconds request_timeout)
+    : client_(client), request_timeout_(request_timeout) {
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0) std::snprintf(host, sizeof host, "?");
+  holder_ = holder + ", pid " + std::to_string(getpid()) + " on " + host;
+}
+
 CalibrationRobot::~CalibrationRobot() {
-  if (holding_) {
+  bool holding = false;
+  {
+    std::lock_guard lock(mutex_);
+    holding = lease_ != 0;
+  }
+  if (holding) {
     std::string ignored;
     release(&ignored);
   }
+  stopRenewals();
+}
+
+std::string CalibrationRobot::holdLost() const {
+  std::lock_guard lock(mutex_);
+  return lost_;
 }
 
 std::optional<link::proto::ControlReply> CalibrationRobot::request(link::proto::ControlRequest r, std::string* error,
@@ -40,28 +61,82 @@ std::optional<link::proto::ControlReply> CalibrationRobot::request(link::proto::
   return reply;
 }
 
+bool CalibrationRobot::hold(link::proto::ControlRequest r, std::string* error) {
+  {
+    std::lock_guard lock(mutex_);
+    if (!lost_.empty()) {  // the supervisor (or the lease) ended it: never grab the head again unasked
+      *error = "the robot no longer holds the head for this calibration: " + lost_;
+      return false;
+    }
+    r.mutable_calibration_head_pose()->set_lease(lease_);
+    r.mutable_calibration_head_pose()->set_holder(holder_);
+  }
+  const auto reply = request(std::move(r), error);
+  if (!reply) return false;
+  std::lock_guard lock(mutex_);
+  lease_ = reply->hold().lease();
+  stopping_ = false;
+  if (!renewer_.joinable()) renewer_ = std::thread([this] { renewals(); });
+  return true;
+}
+
+void CalibrationRobot::renewals() {
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    wake_.wait_for(lock, kRenewPeriod, [&] { return stopping_; });
+    if (stopping_ || lease_ == 0) continue;
+    link::proto::ControlRequest r;
+    r.mutable_calibration_head_pose()->set_renew(true);
+    r.mutable_calibration_head_pose()->set_lease(lease_);
+    const std::uint64_t lease = lease_;
+    lock.unlock();
+    // No answer: try again (the robot releases the head by itself if it never hears us).
+    const auto reply = client_.request(std::move(r), kRenewPeriod * 2);
+    lock.lock();
+    if (reply && !reply->ok() && lease_ == lease) {
+      lost_ = reply->error();
+      lease_ = 0;
+    }
+  }
+}
+
+void CalibrationRobot::stopRenewals() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (renewer_.joinable()) renewer_.join();
+}
+
 bool CalibrationRobot::holdHeadAt(const Eigen::Isometry3d& T_robot_head, std::string* error) {
   link::proto::ControlRequest r;
   link::toLinkPose(T_robot_head, r.mutable_calibration_head_pose()->mutable_t_robot_head());
-  if (!request(std::move(r), error)) return false;
-  holding_ = true;
-  return true;
+  return hold(std::move(r), error);
 }
 
 bool CalibrationRobot::runHeadPattern(double amplitude_deg, std::string* error) {
   link::proto::ControlRequest r;
   r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(amplitude_deg);
-  if (!request(std::move(r), error)) return false;
-  holding_ = true;
-  return true;
+  return hold(std::move(r), error);
 }
 
 bool CalibrationRobot::release(std::string* error) {
   link::proto::ControlRequest r;
   r.mutable_calibration_head_pose()->set_release(true);
-  if (!request(std::move(r), error)) return false;
-  holding_ = false;
-  return true;
+  r.mutable_calibration_head_pose()->set_holder(holder_);
+  {
+    std::lock_guard lock(mutex_);
+    if (lease_ == 0) return true;  // nothing held (or the robot ended it already)
+    r.mutable_calibration_head_pose()->set_lease(lease_);
+  }
+  const bool ok = request(std::move(r), error).has_value();
+  {
+    std::lock_guard lock(mutex_);
+    if (ok) lease_ = 0;
+  }
+  if (ok) stopRenewals();
+  return ok;
 }
 
 std::optional<link::proto::CalibrationInUse> CalibrationRobot::calibrationRequest(link::proto::ControlRequest r,
@@ -105,6 +180,10 @@ bool CalibrationRobot::waitSettled(const Eigen::Isometry3d& T_robot_head, const 
   while (std::chrono::steady_clock::now() < deadline) {
     if (cancel != nullptr && cancel->load()) {
       *error = "cancelled";
+      return false;
+    }
+    if (const std::string lost = holdLost(); !lost.empty()) {
+      *error = "the robot no longer holds the head for this calibration: " + lost;
       return false;
     }
     const auto state = client_.latestRobotState();

@@ -3,13 +3,22 @@
 ///        head at a pose and wait until it has settled there, take a full-resolution stereo
 ///        still, release the head. Synchronous (call it from a worker thread, never from the
 ///        GUI thread); every failure says why.
+///
+///        A hold is a lease (link HeadHold): while this object holds the head, a thread of its own
+///        renews it every kRenewPeriod; when this object goes away (or its process dies) the
+///        renewals stop and the robot releases the head within its lease (2 s). A hold the robot
+///        ended (the console's "release head", an expired lease, a robot restart) is reported by
+///        holdLost() and fails the next wait.
 #pragma once
 
 #include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "calib/system_calibration.h"
 #include "robot/link/link_client.h"
@@ -27,9 +36,21 @@ struct SettleOptions {
 
 class CalibrationRobot {
  public:
-  explicit CalibrationRobot(link::LinkClient& client, std::chrono::milliseconds request_timeout = std::chrono::seconds(3))
-      : client_(client), request_timeout_(request_timeout) {}
+  static constexpr std::chrono::milliseconds kRenewPeriod{500};
+
+  /// `holder`: who holds the head, as the supervisor reads it in the console ("hand-eye wizard
+  /// (headless)"); the process id and host are added.
+  explicit CalibrationRobot(link::LinkClient& client, const std::string& holder = "telesphere-console",
+                            std::chrono::milliseconds request_timeout = std::chrono::seconds(3));
   ~CalibrationRobot();  ///< releases the head if this object held it
+  CalibrationRobot(const CalibrationRobot&) = delete;
+  CalibrationRobot& operator=(const CalibrationRobot&) = delete;
+
+  /// The name the robot shows for this object's holds ("hand-eye wizard (headless), pid 4242 on rig-pc").
+  const std::string& holder() const { return holder_; }
+  /// Why the robot no longer holds the head for this object (it ended the hold itself); empty
+  /// while the hold stands or none was asked for.
+  std::string holdLost() const;
 
   /// Asks the robot to hold the head at T_robot_head; false with the robot's reason.
   bool holdHeadAt(const Eigen::Isometry3d& T_robot_head, std::string* error);
@@ -65,11 +86,22 @@ class CalibrationRobot {
                                                    std::optional<std::chrono::milliseconds> timeout = std::nullopt);
   /// A get/apply/revert_calibration request: the calibration in use after it.
   std::optional<link::proto::CalibrationInUse> calibrationRequest(link::proto::ControlRequest r, std::string* error);
+  /// A hold request (pose or pattern) under this object's lease; starts the renewals.
+  bool hold(link::proto::ControlRequest r, std::string* error);
+  void renewals();
+  void stopRenewals();
 
   link::LinkClient& client_;
+  std::string holder_;
   std::chrono::milliseconds request_timeout_;
   std::chrono::milliseconds still_timeout_{std::chrono::seconds(65)};  ///< above the robot's largest
-  bool holding_ = false;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::uint64_t lease_ = 0;  ///< the hold this object has (0: none)
+  std::string lost_;         ///< why the robot ended it
+  bool stopping_ = false;
+  std::thread renewer_;
 };
 
 }  // namespace telesphere::console::calibration

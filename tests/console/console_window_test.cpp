@@ -6,7 +6,8 @@
 ///        arm stop and clear with the fault banner; the nominal-pose step end to end (capture,
 ///        confirm, undo; refused without fresh head poses); robot killed and restarted; XR app
 ///        gone; a calibration applied live from the "Calibration in use" panel reaching the robot's
-///        frames and the XR app, and reverted. Writes screenshots of the main window, each plot and each panel (console/README.md
+///        frames and the XR app, and reverted; a calibration hold shown with its holder and ended
+///        by "Release head". Writes screenshots of the main window, each plot and each panel (console/README.md
 ///        shows them) into $TELESPHERE_SCREENSHOT_DIR or build/console-screenshots.
 #include <gtest/gtest.h>
 
@@ -33,6 +34,7 @@
 #include <functional>
 
 #include "calib/calibration_file.h"
+#include "console/calibration/calibration_robot.h"
 #include "console/calibration_in_use_panel.h"
 #include "console/camera_preview_panel.h"
 #include "console/column_decimator.h"
@@ -347,6 +349,45 @@ TEST(ConsoleWindow, NominalPoseStepEndToEnd) {
   ASSERT_TRUE(pumpUntil([&] { return outcome.has_value(); }));
   EXPECT_FALSE(outcome->ok);
   EXPECT_TRUE(outcome->error.contains("no fresh head pose")) << outcome->error.toStdString();
+}
+
+TEST(ConsoleWindow, AHeadHoldShowsItsHolderAndReleaseHeadEndsIt) {
+  Rig rig(28270);
+  rig.startRobot();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robotState() && rig.session->robotState()->arm_ok(); }, 60000))
+      << rig.logs();
+  ControlPanel* control = rig.window->controlPanel();
+  rig.window->dockOf(control)->raise();
+  ASSERT_TRUE(pumpUntil([&] { return control->holdText().startsWith("not held"); })) << control->holdText().toStdString();
+  EXPECT_FALSE(control->releaseHeadButton()->isEnabled());
+
+  // A wizard of its own (its own link client, as a headless wizard would be) holds the head.
+  link::LinkEndpoints endpoints;
+  endpoints.base_port = rig.port;
+  link::LinkClient wizard_link(endpoints, link::LinkClient::Options{.frames = false});
+  calibration::CalibrationRobot wizard(wizard_link, "test wizard");
+  const auto T_head = wizard.headPose(std::chrono::seconds(10));
+  ASSERT_TRUE(T_head);
+  std::string error;
+  ASSERT_TRUE(wizard.holdHeadAt(*T_head, &error)) << error;
+  ASSERT_TRUE(pumpUntil([&] { return control->holdText().startsWith("held by test wizard, pid "); }))
+      << control->holdText().toStdString();
+  // Its renewals keep it held past several leases.
+  pumpFor(4500);
+  EXPECT_TRUE(control->holdText().startsWith("held by test wizard")) << control->holdText().toStdString();
+  EXPECT_TRUE(wizard.holdLost().empty()) << wizard.holdLost();
+  saveShot(rig.window->dockOf(control), "panel_control_head_hold.png");
+
+  // The supervisor ends it: the head is free, the panel says who ended it, the wizard learns it
+  // at its next renewal and never takes the head again by itself.
+  rig.click(control->releaseHeadButton());
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robotState()->hold().lease() == 0; }));
+  ASSERT_TRUE(pumpUntil([&] { return control->holdText().contains("released by the console (supervisor)"); }))
+      << control->holdText().toStdString();
+  ASSERT_TRUE(pumpUntil([&] { return !wizard.holdLost().empty(); }, 3000));
+  EXPECT_FALSE(wizard.holdHeadAt(*T_head, &error));
+  EXPECT_NE(error.find("no longer holds the head"), std::string::npos) << error;
+  EXPECT_FALSE(rig.session->robotState()->calibration_hold());
 }
 
 TEST(ConsoleWindow, PicksUpARestartedRobotAndNoticesTheXrAppGoing) {

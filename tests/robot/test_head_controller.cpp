@@ -115,6 +115,37 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
             config.caught_up_position + 1e-9);
 }
 
+// After a stop or fault (issue #30): the arm stood where it braked while the operator turned
+// 15° (under the 20° jump threshold: without the resume it would be one full-speed step). The
+// output starts again from the measured joints and approaches the operator at the approach's
+// angular speed, however small the difference.
+TEST_F(HeadControllerTest, ResumingStartsFromTheMeasuredJointsAndApproachesSlowly) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  holdFor(level_hmd, 5);
+  const Eigen::Isometry3d turned = level_hmd * Eigen::Isometry3d(Eigen::AngleAxisd(15 * kDeg, Eigen::Vector3d::UnitY()));
+  now += 2000 * kMs;  // two seconds stopped
+  ASSERT_FALSE(controller.resumeFrom(JointVector::Constant(std::nan("")), now));
+  ASSERT_TRUE(controller.resumeFrom(q_nom, now));
+  EXPECT_EQ(controller.resumeCount(), 1);
+  Eigen::Isometry3d previous = headOf(q_nom);
+  int ticks = 0;
+  HeadCommand cmd;
+  do {
+    now += 10 * kMs;
+    cmd = controller.tick(HmdSample{now, turned}, now);
+    const double step_deg =
+        Eigen::AngleAxisd(previous.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
+    EXPECT_LE(step_deg, config.approach_angular_speed * 0.010 / kDeg + 1e-6) << "tick " << ticks;
+    previous = cmd.T_robot_headTarget;
+    ++ticks;
+  } while (cmd.approaching && ticks < 1000);
+  // 15° at 45°/s: about a third of a second; no jump was counted (a resume is not the operator's).
+  EXPECT_NEAR(ticks, 34, 3);
+  EXPECT_EQ(controller.jumpCount(), 0);
+  const Eigen::Isometry3d wanted = holdFor(turned, 20).T_robot_headTarget;
+  EXPECT_LT(Eigen::AngleAxisd(wanted.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg, 0.6);
+}
+
 // A calibration applied live (issue #15): the operator's view stays where it is; the arm moves so
 // that the new head frame is there, a small change at once, a large one through the slow approach.
 TEST_F(HeadControllerTest, ANewCameraMountMovesTheArmNotTheView) {

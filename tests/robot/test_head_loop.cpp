@@ -56,12 +56,14 @@ struct HeadLoopRig {
 
   TelemetryBatcher telemetry;
 
-  explicit HeadLoopRig(int port) {
+  /// `hold_lease_ns`: how long a calibration hold lasts without a renewal.
+  explicit HeadLoopRig(int port, std::int64_t hold_lease_ns = HeadLoopConfig{}.hold_lease_ns) {
     endpoints.base_port = port;
     server = std::make_unique<link::LinkServer>(endpoints);
     client = std::make_unique<link::LinkClient>(endpoints, link::LinkClient::Options{.telemetry = true});
     HeadLoopConfig config;
     config.telemetry = &telemetry;
+    config.hold_lease_ns = hold_lease_ns;
     loop = std::make_unique<HeadLoop>(arm, controller, buffer, *server, clock, config);
     server->setControlHandler([this](const link::proto::ControlRequest& r) { return loop->handleControl(r); });
   }
@@ -273,10 +275,11 @@ TEST(HeadLoop, GuidedNominalStepHoldCaptureConfirmAndUndo) {
 }
 
 TEST(HeadLoop, ACalibrationHeadPoseIsHeldWithTheOperatorIgnoredUntilReleased) {
-  HeadLoopRig rig(27320);
+  HeadLoopRig rig(27320, 600'000'000'000);  // a lease longer than the test (leases: their own test)
   rig.step();
   auto pose = [](const Eigen::Isometry3d& T_robot_head, bool release = false) {
     link::proto::ControlRequest r;
+    r.mutable_calibration_head_pose()->set_holder("test wizard");
     if (release) {
       r.mutable_calibration_head_pose()->set_release(true);
     } else {
@@ -293,7 +296,7 @@ TEST(HeadLoop, ACalibrationHeadPoseIsHeldWithTheOperatorIgnoredUntilReleased) {
 
   // Refused: no pose, a pose outside the workspace, and during the nominal-pose step.
   link::proto::ControlRequest empty;
-  empty.mutable_calibration_head_pose();
+  empty.mutable_calibration_head_pose()->set_holder("test wizard");
   auto reply = rig.request(empty);
   EXPECT_FALSE(reply.ok());
   EXPECT_NE(reply.error().find("no pose"), std::string::npos) << reply.error();
@@ -344,9 +347,10 @@ TEST(HeadLoop, ACalibrationHeadPoseIsHeldWithTheOperatorIgnoredUntilReleased) {
 // Hand-eye sample collection: the head moves along the sinusoidal pattern about the nominal pose,
 // turning about all three axes, and follows the pattern's pose within the arm's lag.
 TEST(HeadLoop, TheCalibrationPatternTurnsTheHeadAboutThreeAxes) {
-  HeadLoopRig rig(27330);
+  HeadLoopRig rig(27330, 600'000'000'000);  // a lease longer than the test (leases: their own test)
   rig.step();
   link::proto::ControlRequest r;
+  r.mutable_calibration_head_pose()->set_holder("test wizard");
   r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(45.0);
   auto reply = rig.request(r);
   EXPECT_FALSE(reply.ok());
@@ -391,6 +395,104 @@ TEST(HeadLoop, TheCalibrationPatternTurnsTheHeadAboutThreeAxes) {
   EXPECT_FALSE(rig.controller.holding());
 }
 
+// A calibration hold is a lease: renewed it stands, silent for a lease it ends by itself (and says
+// why); another holder is refused with the name of the one holding; the console's release ends
+// any hold, a holder's late release only its own. The lease clock stands while the robot serves
+// a control request (and for a lease after it), so the robot's own silence is not the holder's.
+TEST(HeadLoop, ACalibrationHoldIsALeaseThatEndsWhenItsHolderFallsSilent) {
+  HeadLoopRig rig(28290);  // the default lease: 2 s
+  rig.step();
+  const auto holdRequest = [](const std::string& holder, std::uint64_t lease = 0) {
+    link::proto::ControlRequest r;
+    r.mutable_calibration_head_pose()->set_holder(holder);
+    r.mutable_calibration_head_pose()->set_lease(lease);
+    r.mutable_calibration_head_pose()->set_pattern_amplitude_deg(5.0);
+    return r;
+  };
+  const auto renew = [](std::uint64_t lease) {
+    link::proto::ControlRequest r;
+    r.mutable_calibration_head_pose()->set_renew(true);
+    r.mutable_calibration_head_pose()->set_lease(lease);
+    return r;
+  };
+  const auto seconds = [&](double s) {
+    for (int i = 0; i < int(std::lround(s * 100)); ++i) rig.step();
+  };
+
+  link::proto::ControlRequest nameless = holdRequest("");
+  auto reply = rig.request(nameless);
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("needs a holder"), std::string::npos) << reply.error();
+
+  reply = rig.request(holdRequest("wizard A"));
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  const std::uint64_t lease = reply.hold().lease();
+  EXPECT_GT(lease, 0u);
+  EXPECT_EQ(reply.hold().holder(), "wizard A");
+  EXPECT_DOUBLE_EQ(reply.hold().lease_s(), 2.0);
+  // Another holder is refused with the name of the one holding.
+  reply = rig.request(holdRequest("wizard B"));
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("held for calibration by wizard A"), std::string::npos) << reply.error();
+  // Renewed every second, it stands for 6 s; the state names its holder.
+  for (int k = 0; k < 6; ++k) {
+    seconds(1.0);
+    ASSERT_TRUE(rig.request(renew(lease)).ok()) << k;
+  }
+  EXPECT_TRUE(rig.controller.holding());
+  EXPECT_EQ(rig.loop->hold().holder(), "wizard A");
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && s->hold().lease() == lease && s->hold().holder() == "wizard A" && s->calibration_hold();
+  }));
+  // Silent: still held at 1.9 s, released by 2.1 s, and the reason is kept.
+  const std::int64_t silent_from = rig.clock.nowNs();
+  seconds(1.9);
+  EXPECT_TRUE(rig.controller.holding());
+  seconds(0.2);
+  EXPECT_FALSE(rig.controller.holding());
+  EXPECT_EQ(rig.loop->hold().lease(), 0u);
+  EXPECT_NE(rig.loop->hold().last_release().find("wizard A's hold (lease " + std::to_string(lease) +
+                                                 ") released: not renewed for 2.0 s"),
+            std::string::npos)
+      << rig.loop->hold().last_release();
+  EXPECT_LE(rig.clock.nowNs() - silent_from, 2'100'000'000);
+  // Its late renewal is refused with what happened; it never becomes a hold again.
+  reply = rig.request(renew(lease));
+  EXPECT_FALSE(reply.ok());
+  EXPECT_NE(reply.error().find("not renewed"), std::string::npos) << reply.error();
+  reply = rig.request(holdRequest("wizard A", lease));
+  EXPECT_FALSE(reply.ok());
+  EXPECT_FALSE(rig.controller.holding());
+
+  // While the robot serves a request (a long still), the lease clock stands, and a full lease
+  // follows it.
+  reply = rig.request(holdRequest("wizard B"));
+  ASSERT_TRUE(reply.ok()) << reply.error();
+  const std::uint64_t lease_b = reply.hold().lease();
+  EXPECT_NE(lease_b, lease);
+  rig.loop->controlStarted();
+  seconds(5.0);
+  rig.loop->controlFinished();
+  EXPECT_TRUE(rig.controller.holding());
+  seconds(1.9);
+  EXPECT_TRUE(rig.controller.holding());
+  // A stale holder's release does not end B's hold; the console's (no lease) does.
+  link::proto::ControlRequest stale_release;
+  stale_release.mutable_calibration_head_pose()->set_release(true);
+  stale_release.mutable_calibration_head_pose()->set_lease(lease);
+  EXPECT_TRUE(rig.request(stale_release).ok());
+  EXPECT_TRUE(rig.controller.holding());
+  link::proto::ControlRequest console_release;
+  console_release.mutable_calibration_head_pose()->set_release(true);
+  console_release.mutable_calibration_head_pose()->set_holder("the console (supervisor)");
+  EXPECT_TRUE(rig.request(console_release).ok());
+  EXPECT_FALSE(rig.controller.holding());
+  EXPECT_NE(rig.loop->hold().last_release().find("released by the console (supervisor)"), std::string::npos)
+      << rig.loop->hold().last_release();
+}
+
 TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
   HeadLoopRig rig(27280);
   rig.step();
@@ -432,13 +534,32 @@ TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
   link::proto::RobotHealth health;
   rig.loop->fillHealth(&health);
   EXPECT_FALSE(health.arm_ok());
+  // Clear fault is answered at once; the recovery runs on its own thread and the state says how
+  // it went.
   r.set_clear_fault(true);
-  EXPECT_TRUE(rig.request(r).ok());
+  reply = rig.request(r);
+  EXPECT_TRUE(reply.ok());
+  EXPECT_TRUE(reply.pending());
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && s->arm_ok();
+  }));
   EXPECT_EQ(rig.arm.status(), ArmStatus::kOk);
+  EXPECT_EQ(rig.client->latestRobotState()->fault(), "");
+  // Nothing to clear: ok, nothing pending.
+  reply = rig.request(r);
+  EXPECT_TRUE(reply.ok());
+  EXPECT_FALSE(reply.pending());
+  // A simulated arm's dropped connection does not come back on "clear fault": the state says so.
   rig.arm.dropConnection();
   reply = rig.request(r);
-  EXPECT_FALSE(reply.ok());
-  EXPECT_NE(reply.error().find("disconnected"), std::string::npos) << reply.error();
+  EXPECT_TRUE(reply.pending());
+  ASSERT_TRUE(eventually([&] {
+    rig.step();
+    const auto s = rig.client->latestRobotState();
+    return s && !s->arm_ok() && s->fault().find("disconnected") != std::string::npos;
+  })) << (rig.client->latestRobotState() ? rig.client->latestRobotState()->fault() : std::string("no state"));
 }
 
 TEST(HeadLoop, TheStudysTrialIndicatorIsRelayedWithItsElapsedTimeAdvanced) {

@@ -10,12 +10,16 @@
 
 #include <atomic>
 #include <cmath>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 #include "robot/clock.h"
 #include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
+#include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
+#include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
 #include "robot/xarm/controller_simulator.h"
 #include "robot/xarm/tcp_socket.h"
@@ -293,6 +297,234 @@ TEST_F(XArmHeadArmTest, TheControllersFaultReachesTheConsoleOverTheLinkAndItsCle
   stop = true;
   head.join();
   server.setControlHandler(nullptr);
+}
+
+/// The driver under the head loop on a real link: an operator app streaming head targets at
+/// 100 Hz with a yaw the test sets, and a console that sends control requests and records every
+/// robot state it sees.
+class XArmLoop {
+ public:
+  XArmLoop(HeadArm& arm, const Clock& clock, int port) : clock_(clock) {
+    endpoints_.base_port = port;
+    server_ = std::make_unique<link::LinkServer>(endpoints_);
+    console_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
+    operator_app_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
+    HeadLoopConfig config;
+    config.auto_nominal = true;  // the first head target is the nominal pose
+    loop_ = std::make_unique<HeadLoop>(arm, controller_, buffer_, *server_, clock, config);
+    server_->setControlHandler([this](const link::proto::ControlRequest& r) { return loop_->handleControl(r); });
+    head_ = std::thread([this] { loop_->run(stop_); });
+    operator_ = std::thread([this] {
+      std::int64_t t = 0;
+      auto next = std::chrono::steady_clock::now();
+      while (!stop_) {
+        link::proto::HeadTarget target;
+        target.set_t_ns(++t);
+        target.set_t_robot_ns(clock_.nowNs());  // one process: the operator's clock is the robot's
+        target.set_valid(true);
+        Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();
+        T_vr_hmd.linear() = link::headRotationOf({yaw_deg_.load() * M_PI / 180.0, 0.0, 0.0});
+        T_vr_hmd.translation() = Eigen::Vector3d(0.0, 1.6, 0.0);
+        link::toLinkPose(T_vr_hmd, target.mutable_t_vr_hmd());
+        operator_app_->sendHeadTarget(target);
+        next += 10ms;
+        std::this_thread::sleep_until(next);
+      }
+    });
+    watcher_ = std::thread([this] {
+      std::int64_t last = 0;
+      while (!stop_) {
+        if (const auto s = console_->latestRobotState(); s && s->t_ns() != last) {
+          last = s->t_ns();
+          std::lock_guard lock(mutex_);
+          states_.push_back(*s);
+        }
+        std::this_thread::sleep_for(2ms);
+      }
+    });
+  }
+  ~XArmLoop() {
+    stop_ = true;
+    head_.join();
+    operator_.join();
+    watcher_.join();
+    server_->setControlHandler(nullptr);
+  }
+
+  void setYawDeg(double yaw) { yaw_deg_ = yaw; }
+  std::optional<link::proto::ControlReply> request(link::proto::ControlRequest r, std::chrono::milliseconds timeout = 5000ms) {
+    return console_->request(std::move(r), timeout);
+  }
+  /// Waits until the newest robot state satisfies `ok`.
+  bool stateBecomes(const std::function<bool(const link::proto::RobotState&)>& ok, std::chrono::milliseconds limit = 5000ms) {
+    return eventually([&] {
+      const auto s = console_->latestRobotState();
+      return s && ok(*s);
+    }, limit);
+  }
+  std::string fault() const {
+    const auto s = console_->latestRobotState();
+    return s ? s->fault() : std::string("no state");
+  }
+  /// Every robot state seen since `from` (an index into what was recorded).
+  std::vector<link::proto::RobotState> states(std::size_t from = 0) {
+    std::lock_guard lock(mutex_);
+    return std::vector<link::proto::RobotState>(states_.begin() + std::ptrdiff_t(std::min(from, states_.size())), states_.end());
+  }
+  std::size_t stateCount() {
+    std::lock_guard lock(mutex_);
+    return states_.size();
+  }
+  const HeadController& controller() const { return controller_; }
+
+ private:
+  const Clock& clock_;
+  HeadController controller_;
+  JointStateBuffer buffer_{controller_.config().geometry};
+  link::LinkEndpoints endpoints_;
+  std::unique_ptr<link::LinkServer> server_;
+  std::unique_ptr<link::LinkClient> console_, operator_app_;
+  std::unique_ptr<HeadLoop> loop_;
+  std::atomic<bool> stop_{false};
+  std::atomic<double> yaw_deg_{0.0};
+  std::mutex mutex_;
+  std::vector<link::proto::RobotState> states_;
+  std::thread head_, operator_, watcher_;
+};
+
+/// Yaw of the head about the robot's z axis (deg) from a robot state.
+double headYawDeg(const link::proto::RobotState& s) {
+  const Eigen::Isometry3d T = link::fromLinkPose(s.t_robot_head());
+  return std::atan2(T.linear()(1, 0), T.linear()(0, 0)) * 180.0 / M_PI;
+}
+
+TEST_F(XArmHeadArmTest, AfterAFaultTheHeadResumesFromWhereTheArmIsAndApproachesTheOperatorAtBoundedSpeed) {
+  startArm();
+  XArmLoop rig(*arm, clock, 28240);
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.nominal_set() && s.arm_ok(); })) << rig.fault();
+  std::this_thread::sleep_for(500ms);  // following the operator at yaw 0
+  const double yaw_before = headYawDeg(rig.states().back());
+
+  sim->collide();
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return !s.arm_ok(); })) << rig.fault();
+  // The operator turns 40° while the arm stands; the targets keep streaming.
+  for (int k = 1; k <= 50; ++k) {
+    rig.setYawDeg(40.0 * k / 50.0);
+    std::this_thread::sleep_for(20ms);
+  }
+  const std::uint64_t refused_before = arm->stats().refused_jumps;
+  const std::size_t from = rig.stateCount();
+  link::proto::ControlRequest clear;
+  clear.set_clear_fault(true);
+  const auto reply = rig.request(clear);
+  ASSERT_TRUE(reply);
+  EXPECT_TRUE(reply->ok()) << reply->error();
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.arm_ok(); })) << rig.fault();
+  // The head reaches where the operator looks now, approaching it at the controller's speed.
+  const double approach_deg_s = rig.controller().config().approach_angular_speed * 180.0 / M_PI;
+  ASSERT_TRUE(rig.stateBecomes([&](const auto& s) { return std::abs(headYawDeg(s) - yaw_before - 40.0) < 1.0; },
+                               std::chrono::milliseconds(int(1000.0 * 40.0 / approach_deg_s) + 3000)))
+      << "head yaw " << headYawDeg(rig.states().back()) - yaw_before << "°, " << rig.fault();
+  std::this_thread::sleep_for(300ms);
+
+  const auto after = rig.states(from);
+  bool ok_seen = false;
+  int second_faults = 0;
+  double joint_speed_max = 0, head_speed_max = 0;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    ok_seen = ok_seen || after[i].arm_ok();
+    if (ok_seen && !after[i].arm_ok()) ++second_faults;
+    if (i == 0 || !after[i].arm_ok() || !after[i - 1].arm_ok()) continue;
+    const double dt = double(after[i].t_ns() - after[i - 1].t_ns()) * 1e-9;
+    if (dt <= 0) continue;
+    for (int j = 0; j < 6; ++j)
+      joint_speed_max = std::max(joint_speed_max,
+                                 std::abs(after[i].joint_positions(j) - after[i - 1].joint_positions(j)) / dt * 180.0 / M_PI);
+    head_speed_max = std::max(head_speed_max, std::abs(headYawDeg(after[i]) - headYawDeg(after[i - 1])) / dt);
+  }
+  std::printf("resume: head yaw speed max %.1f°/s (approach %.1f°/s), joint speed max %.1f°/s, %zu states\n",
+              head_speed_max, approach_deg_s, joint_speed_max, after.size());
+  EXPECT_EQ(second_faults, 0) << rig.fault();
+  EXPECT_EQ(arm->stats().refused_jumps, refused_before) << "the driver refused targets that jumped";
+  // The slow approach, with the 50 Hz states' sampling and the arm's own lag as margin; a swing
+  // toward the operator at the joints' top speed is 180°/s.
+  EXPECT_LT(head_speed_max, 1.5 * approach_deg_s);
+  EXPECT_LT(joint_speed_max, 90.0);
+}
+
+TEST_F(XArmHeadArmTest, AConsoleStopNeverHidesTheArmsOwnFault) {
+  startArm();
+  XArmLoop rig(*arm, clock, 28250);
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.arm_ok(); })) << rig.fault();
+  link::proto::ControlRequest stop;
+  stop.set_arm_stop(true);
+  // The console stops the arm, then the emergency stop is pressed: the arm's cause comes first.
+  ASSERT_TRUE(rig.request(stop));
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.fault() == "arm stopped from the console"; })) << rig.fault();
+  sim->pressEmergencyStop();
+  EXPECT_TRUE(rig.stateBecomes([](const auto& s) {
+    return s.fault() ==
+           "arm stopped: controller error C1 emergency stop button on the controller pushed in; also stopped from the console";
+  })) << rig.fault();
+  // Cleared only once released; then the console stops it again after an emergency stop.
+  sim->releaseEmergencyStop();
+  link::proto::ControlRequest clear;
+  clear.set_clear_fault(true);
+  ASSERT_TRUE(rig.request(clear));
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.arm_ok(); })) << rig.fault();
+  sim->pressEmergencyStop();
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.fault().find("C1 emergency stop") != std::string::npos; }))
+      << rig.fault();
+  ASSERT_TRUE(rig.request(stop));
+  EXPECT_TRUE(rig.stateBecomes([](const auto& s) {
+    return s.fault().rfind("arm stopped: controller error C1", 0) == 0 &&
+           s.fault().find("; also stopped from the console") != std::string::npos;
+  })) << rig.fault();
+  sim->releaseEmergencyStop();
+}
+
+TEST_F(XArmHeadArmTest, ClearingAFaultOnAnUnansweringControllerNeverFreezesTheRobot) {
+  XArmOptions o = options();
+  o.reply_timeout = 1500ms;
+  std::string error;
+  arm = startArm(o, &error);
+  ASSERT_TRUE(arm) << error;
+  XArmLoop rig(*arm, clock, 28260);
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.arm_ok(); })) << rig.fault();
+  // The controller stops answering and its connections drop: a reconnect connects, then waits
+  // for replies that never come (1.5 s per request).
+  sim->setRepliesPaused(true);
+  sim->dropConnections();
+  ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return !s.arm_ok(); })) << rig.fault();
+  const std::size_t from = rig.stateCount();
+  link::proto::ControlRequest clear;
+  clear.set_clear_fault(true);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto reply = rig.request(clear);
+  const auto reply_ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(reply);
+  EXPECT_TRUE(reply->ok());
+  EXPECT_TRUE(reply->pending());
+  EXPECT_LT(reply_ms, 500) << "the clear request waited for the reconnect";
+  EXPECT_TRUE(rig.stateBecomes([](const auto& s) { return s.fault().rfind("clearing the fault", 0) == 0; })) << rig.fault();
+  // Meanwhile the link serves: another request is answered at once, states keep coming.
+  link::proto::ControlRequest settings;
+  settings.set_get_settings(true);
+  const auto t1 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(rig.request(settings));
+  EXPECT_LT(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t1).count(), 500);
+  // The reconnect fails (no reply to its first request) and says so.
+  EXPECT_TRUE(rig.stateBecomes([](const auto& s) { return s.fault().find("cannot resume") != std::string::npos; }, 8000ms))
+      << rig.fault();
+  const auto during = rig.states(from);
+  ASSERT_GE(during.size(), 2u);
+  std::int64_t gap_max_ns = 0;
+  for (std::size_t i = 1; i < during.size(); ++i) gap_max_ns = std::max(gap_max_ns, during[i].t_ns() - during[i - 1].t_ns());
+  EXPECT_LT(gap_max_ns, 300'000'000) << "robot states stopped during the reconnect";
+  // Replies again: the next clear reconnects.
+  sim->setRepliesPaused(false);
+  ASSERT_TRUE(rig.request(clear));
+  EXPECT_TRUE(rig.stateBecomes([](const auto& s) { return s.arm_ok(); }, 8000ms)) << rig.fault();
 }
 
 TEST_F(XArmHeadArmTest, TheSimulatorDropsAClientThatSendsGarbageAndServesTheNextOne) {
