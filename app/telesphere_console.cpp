@@ -7,6 +7,7 @@
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
 ///   telesphere-console study report|import …            (headless; app/console_study_command.h)
 ///   telesphere-console calibrate intrinsics|handeye --auto …  (headless; app/console_calibrate_command.h)
+///   telesphere-console status|control --robot URL …     (headless; app/console_robot_commands.h)
 ///
 /// Exit codes: 0 ok; 1 bad arguments; 2 no display to open a window on; 3 the robot never
 /// answered within --duration; 4 the screenshot could not be written.
@@ -19,6 +20,7 @@
 #include <iostream>
 
 #include "app/console_calibrate_command.h"
+#include "app/console_robot_commands.h"
 #include "app/console_study_command.h"
 #include "console/console_session.h"
 #include "console/console_window.h"
@@ -43,7 +45,12 @@ int main(int argc, char** argv) {
   CLI::App* study = telesphere::app::addStudyCommand(cli, study_options);
   telesphere::app::CalibrateCommandOptions calibrate_options;
   CLI::App* calibrate = telesphere::app::addCalibrateCommand(cli, calibrate_options);
+  telesphere::app::RobotCommandOptions robot_options;
+  CLI::App* status = telesphere::app::addStatusCommand(cli, robot_options);
+  CLI::App* control = telesphere::app::addControlCommand(cli, robot_options);
   CLI11_PARSE(cli, argc, argv);
+  if (status->parsed()) return telesphere::app::runStatusCommand(robot_options);
+  if (control->parsed()) return telesphere::app::runControlCommand(robot_options);
   if (calibrate->parsed()) return telesphere::app::runCalibrateCommand(*calibrate, calibrate_options);
   if (study->parsed()) return telesphere::app::runStudyCommand(*study, study_options, argc, argv);
   if (!screenshot.empty() && duration_s <= 0) {
