@@ -36,17 +36,24 @@ int runStudyCommand(const CLI::App& study, const StudyCommandOptions& o, int arg
   if (!std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);  // plots, no window
   QApplication app(argc, argv);
   std::string error;
+  if (study.got_subcommand("report")) {
+    // A report reads a snapshot and changes nothing: a console may be running a trial in it now.
+    auto snapshot = console::study::StudyStore::openSnapshot(o.db, &error);
+    if (!snapshot) return fail(error);
+    for (const auto& t : snapshot->trials())
+      if (t.outcome == console::study::TrialOutcome::kRunning)
+        std::cerr << "telesphere-console study: trial " << t.id << " (" << t.participant << ", " << t.mode
+                  << ") is running: listed as running, not counted\n";
+    const auto written = console::study::writeStudyReport(*snapshot, o.out, &error);
+    if (!written) return fail(error);
+    for (const std::string& path : *written) std::cout << path << '\n';
+    return 0;
+  }
   auto store = console::study::StudyStore::open(o.db, &error);
   if (!store) return fail(error);
   for (const auto& t : store->interruptedOnOpen())
     std::cerr << "telesphere-console study: trial " << t.id << " (" << t.participant << ", " << t.mode
               << ") was still running: marked interrupted\n";
-  if (study.got_subcommand("report")) {
-    const auto written = console::study::writeStudyReport(*store, o.out, &error);
-    if (!written) return fail(error);
-    for (const std::string& path : *written) std::cout << path << '\n';
-    return 0;
-  }
   console::study::StudyDefinition definition;
   if (!o.study.empty()) {
     std::ifstream in(o.study);

@@ -40,11 +40,6 @@ QString modeLabel(const std::string& mode) {
   return QString::fromStdString(mode);
 }
 
-std::optional<link::proto::VisualMode> visualModeOf(const std::string& mode) {
-  const auto m = link::parseVisualMode(mode);
-  return m ? std::optional(link::toProto(*m)) : std::nullopt;
-}
-
 QString clock(double s) {
   const int tenths = int(s * 10.0 + 0.5);
   return QString("%1:%2.%3").arg(tenths / 600, 2, 10, QChar('0')).arg(tenths / 10 % 60, 2, 10, QChar('0')).arg(tenths % 10);
@@ -58,7 +53,7 @@ QPushButton* button(const QString& text, const QString& name) {
 
 }  // namespace
 
-StudyPanel::StudyPanel(ConsoleSession& session, QWidget* parent) : QWidget(parent), session_(session) {
+StudyPanel::StudyPanel(ConsoleSession& session, QWidget* parent) : QWidget(parent), session_(session), robot_(session) {
   setObjectName("studyPanel");
   auto* layout = new QVBoxLayout(this);
   study_line_ = new QLabel("no study open");
@@ -82,7 +77,7 @@ StudyPanel::StudyPanel(ConsoleSession& session, QWidget* parent) : QWidget(paren
   showPage(Page::kOpen);
 
   session_.setTelemetryTap([this](const link::proto::Envelope& envelope, std::optional<std::int64_t> robot_to_console) {
-    if (!runner_ || runner_->state() != study::TrialRunner::State::kRunning) return;
+    if (!workflow_ || workflow_->runner().state() != study::TrialRunner::State::kRunning) return;
     study::TelemetryBatch batch;
     if (robot_to_console) {  // console steady clock → UTC, now
       const std::int64_t steady_to_utc = QDateTime::currentMSecsSinceEpoch() * 1'000'000 - link::linkNowNs();
@@ -210,34 +205,36 @@ void StudyPanel::buildTrialsPage() {
   layout->addWidget(change_participant_, 0, Qt::AlignRight);
 
   connect(prepare_, &QPushButton::clicked, this, [this] {
-    if (!runner_) return;
-    if (!runner_->prepareNext()) setStatus(QString::fromStdString(runner_->lastError()), true);
+    if (!workflow_) return;
+    if (!workflow_->prepareNext()) setStatus(QString::fromStdString(workflow_->lastError()), true);
+    afterWorkflow();
     refresh();
   });
   connect(start_, &QPushButton::clicked, this, [this] {
-    if (!runner_) return;
-    if (!runner_->start(link::linkNowNs())) {
-      setStatus(QString::fromStdString(runner_->lastError()), true);
+    if (!workflow_) return;
+    if (!workflow_->start(link::linkNowNs())) {
+      setStatus(QString::fromStdString(workflow_->lastError()), true);
     } else {
-      notes_trial_id_ = runner_->trialId();
+      notes_trial_id_ = workflow_->runner().trialId();
       const QSignalBlocker block(notes_);
       notes_->clear();
       telemetry_.clear();
+      telemetry_trial_id_ = workflow_->runner().trialId();
       last_flush_ms_ = QDateTime::currentMSecsSinceEpoch();
-      setStatus("trial running: " + modeLabel(runner_->mode()));
+      afterWorkflow();
     }
     refresh();
   });
   connect(attempt_, &QPushButton::clicked, this, [this] {
-    if (runner_ && !runner_->attempt()) setStatus(QString::fromStdString(runner_->lastError()), true);
+    if (workflow_ && !workflow_->attempt()) setStatus(QString::fromStdString(workflow_->lastError()), true);
     refresh();
   });
-  connect(success_, &QPushButton::clicked, this, [this] { endTrial([this](std::int64_t t) { return runner_->succeed(t); }); });
-  connect(fail_, &QPushButton::clicked, this, [this] { endTrial([this](std::int64_t t) { return runner_->fail(t); }); });
+  connect(success_, &QPushButton::clicked, this, [this] { endTrial([this](std::int64_t t) { return workflow_->succeed(t); }); });
+  connect(fail_, &QPushButton::clicked, this, [this] { endTrial([this](std::int64_t t) { return workflow_->fail(t); }); });
   connect(abort_, &QPushButton::clicked, this, [this] {
     const std::string reason = abort_reason_->text().trimmed().toStdString();
-    endTrial([this, reason](std::int64_t t) { return runner_->abort(t, reason); });
-    if (!runner_ || runner_->state() != study::TrialRunner::State::kRunning) abort_reason_->clear();
+    endTrial([this, reason](std::int64_t t) { return workflow_->abort(t, reason); });
+    if (!workflow_ || workflow_->runner().state() != study::TrialRunner::State::kRunning) abort_reason_->clear();
   });
   connect(abort_reason_, &QLineEdit::textChanged, this, [this] { refresh(); });
   connect(notes_, &QPlainTextEdit::textChanged, this, [this] {
@@ -291,10 +288,9 @@ bool StudyPanel::openStudy(const QString& study_file, const QString& database) {
     return false;
   }
   shutdown("another study was opened during the trial");
-  runner_.reset();
+  workflow_.reset();  // before the store it writes into; its late replies then find nothing
   session_record_.reset();
   store_ = std::move(store);
-  ++store_generation_;
   study_ = definition;
   database_ = database;
   int in_study = 0;
@@ -334,11 +330,9 @@ void StudyPanel::startOrResume() {
     what = "started";
   }
   session_record_ = record;
-  runner_ = std::make_unique<study::TrialRunner>(
-      *store_, *record, study_,
-      [this](const std::string& mode, std::function<void(bool, const std::string&)> done) {
-        requestMode(mode, std::move(done));
-      });
+  workflow_.reset();
+  workflow_ = std::make_unique<study::TrialWorkflow>(*store_, *record, study_, robot_);
+  workflow_->setBeforeTrialEnds([this] { flushTelemetry(); });
   QStringList order;
   for (const std::string& m : record->order) order << modeLabel(m);
   order_line_->setText(QString("Order: %1 (%2, participant index %3, seed %4)")
@@ -347,7 +341,7 @@ void StudyPanel::startOrResume() {
                            .arg(record->seed));
   notes_trial_id_ = 0;
   setStatus(QString("session %1 for participant %2").arg(what, QString::fromStdString(participant)));
-  if (runner_->state() == study::TrialRunner::State::kDone) {
+  if (workflow_->runner().state() == study::TrialRunner::State::kDone) {
     showQuestionnaire();
   } else {
     showPage(Page::kTrials);
@@ -355,113 +349,41 @@ void StudyPanel::startOrResume() {
   }
 }
 
-void StudyPanel::requestMode(const std::string& mode, std::function<void(bool, const std::string&)> done) {
-  const auto visual = visualModeOf(mode);
-  if (!visual) {
-    done(false, "unknown mode " + mode);
-    return;
-  }
-  link::proto::ControlRequest request;
-  request.set_set_visual_mode(*visual);
-  setStatus("switching the robot and the XR app to " + modeLabel(mode) + " …");
-  session_.request(request, "study: set_visual_mode " + QString::fromStdString(mode),
-                   [this, mode, done](const ControlOutcome& outcome) {
-                     if (!outcome.answered) return done(false, "the robot did not answer");
-                     if (!outcome.ok) return done(false, outcome.error.toStdString());
-                     // The robot switched; the trial may start once the XR app renders in it too.
-                     pending_mode_ = PendingMode{mode, session_.now() + kModeSwitchTimeoutS, done};
-                     tick();
-                   });
-}
-
 void StudyPanel::endTrial(const std::function<bool(std::int64_t now_ns)>& end) {
-  if (!runner_) return;
-  flushTelemetry();
+  if (!workflow_) return;
   if (!end(link::linkNowNs())) {
-    setStatus(QString::fromStdString(runner_->lastError()), true);
+    setStatus(QString::fromStdString(workflow_->lastError()), true);
   } else {
     setStatus("trial ended");
-    if (runner_->state() == study::TrialRunner::State::kDone) showQuestionnaire();
+    afterWorkflow();
   }
   refresh();
 }
 
 void StudyPanel::flushTelemetry() {
-  if (telemetry_.empty() || !store_ || !runner_ || runner_->trialId() == 0) return;
+  if (telemetry_.empty() || !store_ || telemetry_trial_id_ == 0) return;
   std::string why;
-  if (!store_->addTelemetry(runner_->trialId(), telemetry_, &why))
+  if (!store_->addTelemetry(telemetry_trial_id_, telemetry_, &why))
     setStatus("telemetry not stored: " + QString::fromStdString(why), true);
   telemetry_.clear();
   last_flush_ms_ = QDateTime::currentMSecsSinceEpoch();
 }
 
-void StudyPanel::tick() {
-  if (pending_mode_) {
-    const auto wanted = visualModeOf(pending_mode_->mode);
-    const bool xr_there = session_.xr().state() == PeerState::kConnected;
-    if (xr_there && session_.telemetry().xrVisualMode() == wanted) {
-      auto done = std::move(pending_mode_->done);
-      const std::string mode = pending_mode_->mode;
-      pending_mode_.reset();
-      done(true, "");
-      setStatus(modeLabel(mode) + ": the robot and the XR app confirmed the mode; start the timer when the "
-                                  "participant is ready");
-    } else if (session_.now() > pending_mode_->deadline_s) {
-      auto done = std::move(pending_mode_->done);
-      pending_mode_.reset();
-      done(false, xr_there ? "the XR app did not confirm the mode within 5 s"
-                           : "the XR app is not connected (the participant would not see the mode)");
-      setStatus(QString::fromStdString(runner_ ? runner_->lastError() : ""), true);
-    }
-  }
-  if (runner_ && runner_->state() == study::TrialRunner::State::kRunning) {
-    const std::int64_t now = link::linkNowNs();
-    if (runner_->elapsedS(now) >= study_.time_limit_s) {
-      flushTelemetry();
-      if (runner_->tick(now)) {
-        setStatus(QString("time limit (%1 s) reached: the trial failed").arg(study_.time_limit_s), true);
-        if (runner_->state() == study::TrialRunner::State::kDone) showQuestionnaire();
-      }
-    } else if (QDateTime::currentMSecsSinceEpoch() - last_flush_ms_ >= kTelemetryFlushMs) {
-      flushTelemetry();
-    }
-  }
-  sendIndicator();
-  refresh();
+void StudyPanel::afterWorkflow() {
+  if (!workflow_) return;
+  for (const auto& m : workflow_->takeMessages()) setStatus(QString::fromStdString(m.text), m.error);
+  if (workflow_->runner().state() == study::TrialRunner::State::kDone && page() == Page::kTrials) showQuestionnaire();
 }
 
-void StudyPanel::sendIndicator() {
-  const bool running = runner_ && runner_->state() == study::TrialRunner::State::kRunning;
-  if (running == indicator_running_) return;
-  indicator_running_ = running;
-  link::proto::ControlRequest request;
-  auto* indicator = request.mutable_set_trial_indicator();
-  indicator->set_running(running);
-  if (running) {
-    indicator->set_elapsed_s(runner_->elapsedS(link::linkNowNs()));
-    indicator->set_time_limit_s(study_.time_limit_s);
-    // The robot records the trial under this name when it has a record folder (--record-dir).
-    std::string name = (session_record_ ? session_record_->participant : std::string("participant")) + "-" +
-                       runner_->mode() + "-trial" + std::to_string(runner_->trialId());
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_') c = '_';
-    indicator->set_recording_name(name);
+void StudyPanel::tick() {
+  if (workflow_) {
+    if (workflow_->runner().state() == study::TrialRunner::State::kRunning &&
+        QDateTime::currentMSecsSinceEpoch() - last_flush_ms_ >= kTelemetryFlushMs)
+      flushTelemetry();
+    workflow_->tick(link::linkNowNs());
+    afterWorkflow();
   }
-  if (!running) {
-    session_.request(request, "study: trial indicator off");
-    return;
-  }
-  // The robot answers with its recording state: the trial's file goes into its row.
-  session_.request(request, "study: trial indicator on",
-                   [this, trial_id = runner_->trialId(), generation = store_generation_](const ControlOutcome& outcome) {
-                     const link::proto::RecordingState& r = outcome.reply.recording();
-                     // Into the database the trial is in, not one opened since.
-                     if (!outcome.ok || !r.active() || r.file().empty() || !store_ || generation != store_generation_)
-                       return;
-                     std::string error;
-                     if (!store_->setRecording(trial_id, r.file(), &error))
-                       setStatus(QString("the trial's recording was not stored: %1").arg(QString::fromStdString(error)), true);
-                   });
+  refresh();
 }
 
 void StudyPanel::showQuestionnaire() {
@@ -523,22 +445,16 @@ void StudyPanel::writeReport() {
 }
 
 void StudyPanel::shutdown(const QString& why) {
-  if (!runner_ || runner_->state() != study::TrialRunner::State::kRunning || !store_) return;
-  flushTelemetry();
-  std::string error;
-  const std::int64_t id = runner_->trialId();
-  store_->endTrial(id, study::TrialOutcome::kInterrupted, runner_->elapsedS(link::linkNowNs()), why.toStdString(),
-                   &error);
-  runner_.reset();
-  sendIndicator();
+  if (!workflow_ || workflow_->runner().state() != study::TrialRunner::State::kRunning || !store_) return;
+  workflow_->interrupt(link::linkNowNs(), why.toStdString());
+  workflow_.reset();
   toParticipantPage();  // the session resumes from there, the interrupted trial run again
 }
 
 void StudyPanel::toParticipantPage() {
-  if (runner_ && runner_->state() == study::TrialRunner::State::kRunning) return;
-  runner_.reset();
+  if (workflow_ && workflow_->runner().state() == study::TrialRunner::State::kRunning) return;
+  workflow_.reset();  // a mode switch still pending answers into nothing
   session_record_.reset();
-  pending_mode_.reset();
   notes_trial_id_ = 0;
   participant_->clear();
   int in_study = 0;
@@ -595,9 +511,10 @@ void StudyPanel::setStatus(const QString& text, bool error) {
 }
 
 void StudyPanel::refresh() {
-  if (!runner_ || !session_record_) return;
+  if (!workflow_ || !session_record_) return;
+  const study::TrialRunner& runner = workflow_->runner();
   using State = study::TrialRunner::State;
-  const State state = runner_->state();
+  const State state = runner.state();
   const int n = static_cast<int>(session_record_->order.size());
   const QString who = QString::fromStdString(session_record_->participant);
   if (state == State::kDone)
@@ -605,10 +522,10 @@ void StudyPanel::refresh() {
   else
     trial_title_->setText(QString("<b>%1</b>: trial %2 of %3 — <b>%4</b>")
                               .arg(who)
-                              .arg(runner_->orderIndex() + 1)
+                              .arg(runner.orderIndex() + 1)
                               .arg(n)
-                              .arg(modeLabel(runner_->mode())));
-  const double elapsed = runner_->elapsedS(link::linkNowNs());
+                              .arg(modeLabel(runner.mode())));
+  const double elapsed = runner.elapsedS(link::linkNowNs());
   timer_->setText(clock(elapsed) + " / " + clock(study_.time_limit_s) +
                   (state == State::kSwitchingMode ? "   switching mode…"
                    : state == State::kReady       ? "   ready"

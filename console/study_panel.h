@@ -5,7 +5,9 @@
 ///        acknowledging it before the timer can start; attempts, success, fail, abort with a
 ///        reason; the time limit fails the trial by itself; notes stored on every keystroke),
 ///        keeps each trial's telemetry with it, shows the operator in the headset that a trial
-///        runs, then the questionnaire pages (one per mode) and the report. Every event is
+///        runs, then the questionnaire pages (one per mode) and the report. The trials' workflow
+///        (mode gate, indicator, recordings, time limit) is study::TrialWorkflow, Qt-free; this
+///        panel shows it and forwards the administrator's clicks. Every event is
 ///        committed as it happens (StudyStore): Esc does nothing here, closing the window ends a
 ///        running trial as interrupted, and after a crash the session resumes where it was.
 ///
@@ -24,6 +26,8 @@
 #include "console/study/study_definition.h"
 #include "console/study/study_store.h"
 #include "console/study/trial_runner.h"
+#include "console/study/trial_workflow.h"
+#include "console/study_robot_session.h"
 
 class QLabel;
 class QLineEdit;
@@ -44,7 +48,7 @@ class StudyPanel : public QWidget {
  public:
   enum class Page { kOpen, kParticipant, kTrials, kQuestionnaire, kDone };
   /// How long the robot and the XR app get to confirm a mode switch.
-  static constexpr double kModeSwitchTimeoutS = 5.0;
+  static constexpr double kModeSwitchTimeoutS = study::TrialWorkflow::kModeSwitchTimeoutS;
   /// Telemetry of a running trial is committed this often.
   static constexpr int kTelemetryFlushMs = 1000;
 
@@ -61,7 +65,7 @@ class StudyPanel : public QWidget {
   Page page() const;
   study::StudyStore* store() const { return store_.get(); }
   const study::StudyDefinition& study() const { return study_; }
-  const study::TrialRunner* runner() const { return runner_.get(); }
+  const study::TrialRunner* runner() const { return workflow_ ? &workflow_->runner() : nullptr; }
   std::optional<study::SessionRecord> sessionRecord() const { return session_record_; }
   /// Trials that opening the database found running and marked interrupted.
   const std::vector<study::TrialRecord>& interruptedOnOpen() const;
@@ -101,10 +105,10 @@ class StudyPanel : public QWidget {
   void buildDonePage();
   void startOrResume();
   void showPage(Page page);
-  void requestMode(const std::string& mode, std::function<void(bool, const std::string&)> done);
   void endTrial(const std::function<bool(std::int64_t now_ns)>& end);
   void flushTelemetry();
-  void sendIndicator();
+  /// The workflow's news into the status line; the questionnaire once all trials are done.
+  void afterWorkflow();
   void showQuestionnaire();
   void refresh();
   void setStatus(const QString& text, bool error = false);
@@ -115,21 +119,15 @@ class StudyPanel : public QWidget {
   ConsoleSession& session_;
   study::StudyDefinition study_;
   std::unique_ptr<study::StudyStore> store_;
-  std::uint64_t store_generation_ = 0;  ///< databases opened so far: a late reply finds its own
   QString database_;
   std::optional<study::SessionRecord> session_record_;
-  std::unique_ptr<study::TrialRunner> runner_;
+  StudyRobotSession robot_;
+  std::unique_ptr<study::TrialWorkflow> workflow_;  ///< the participant's trials (after store_: freed first)
   std::int64_t notes_trial_id_ = 0;  ///< the trial the notes box writes to
   int questionnaire_position_ = 0;   ///< index into the session's order
   std::vector<study::TelemetryBatch> telemetry_;
+  std::int64_t telemetry_trial_id_ = 0;  ///< the trial the buffered telemetry belongs to
   qint64 last_flush_ms_ = 0;
-  struct PendingMode {
-    std::string mode;
-    double deadline_s = 0;
-    std::function<void(bool, const std::string&)> done;
-  };
-  std::optional<PendingMode> pending_mode_;
-  bool indicator_running_ = false;
 
   QStackedWidget* pages_;
   QLabel* open_hint_;

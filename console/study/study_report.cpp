@@ -213,6 +213,14 @@ std::optional<std::vector<std::string>> writeStudyReport(const StudyStore& store
       csv << m.mode << ',' << m.successes << ',' << m.trials << ',' << m.mean_completion_s << ',' << m.sd_completion_s
           << '\n';
     }
+    int interrupted = 0;
+    for (const ModeSummary& m : summary.table) interrupted += m.interrupted;
+    if (interrupted > 0) {
+      md << "\nn counts each participant's trial once, by how it finally ended; interrupted runs (the console "
+            "went away), run again or not:";
+      for (const ModeSummary& m : summary.table) md << ' ' << modeLabel(m.mode) << ' ' << m.interrupted << ';';
+      md << " every run is in the trials CSV.\n";
+    }
     written.push_back(stem + "_table-i.md");
     written.push_back(stem + "_table-i.csv");
     std::ofstream json(stem + "_summary.json");

@@ -2,12 +2,19 @@
 /// @brief StudyStore: schema, migrations and one transaction per event (see study_store.h).
 #include "console/study/study_store.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <QDateTime>
+#include <QDir>
 #include <QFile>
 #include <QSqlError>
 #include <QSqlQuery>
 #include <QVariant>
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -37,6 +44,10 @@ const std::vector<std::vector<const char*>>& migrations() {
        "CREATE INDEX trial_telemetry_by_trial ON trial_telemetry(trial_id, id)"},
       {  // v3: the session recording the robot wrote for the trial (robot/record), '' for none
        "ALTER TABLE trials ADD COLUMN recording TEXT NOT NULL DEFAULT ''"},
+      {  // v4: the database's own id (recording names unique across databases), why a trial is not recorded
+       "CREATE TABLE meta(key TEXT PRIMARY KEY, value TEXT NOT NULL)",
+       "INSERT INTO meta(key, value) VALUES('uid', lower(hex(randomblob(4))))",
+       "ALTER TABLE trials ADD COLUMN recording_note TEXT NOT NULL DEFAULT ''"},
   };
   return steps;
 }
@@ -85,12 +96,47 @@ TrialRecord trialOf(const QSqlQuery& q) {
   t.abort_reason = q.value(11).toString().toStdString();
   t.notes = q.value(12).toString().toStdString();
   t.recording = q.value(13).toString().toStdString();
+  t.recording_note = q.value(14).toString().toStdString();
   return t;
 }
 
 constexpr const char* kTrialColumns =
     "t.id, t.session_id, s.participant, t.order_index, t.mode, t.started_utc, COALESCE(t.ended_utc, ''),"
-    " COALESCE(t.duration_s, 0), t.outcome, t.attempts, t.time_limit_s, t.abort_reason, t.notes, t.recording";
+    " COALESCE(t.duration_s, 0), t.outcome, t.attempts, t.time_limit_s, t.abort_reason, t.notes, t.recording,"
+    " t.recording_note";
+
+/// Who this process is, for the writer lock: "telesphere-console (pid 4242 on rig-pc) since …".
+std::string writerIdentity() {
+  std::string program = "a process";
+  if (QFile comm("/proc/self/comm"); comm.open(QIODevice::ReadOnly)) program = comm.readAll().trimmed().toStdString();
+  char host[256] = {};
+  if (gethostname(host, sizeof host - 1) != 0) host[0] = '?';
+  return program + " (pid " + std::to_string(getpid()) + " on " + host + ") since " + utcNow();
+}
+
+/// Takes `<path>.writer` (flock, not blocking) and writes who holds it; the fd, or -1 with the reason.
+int takeWriterLock(const std::string& path, std::string* error) {
+  const std::string lock_path = path + ".writer";
+  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    *error = "cannot create the writer lock " + lock_path + ": " + std::strerror(errno);
+    return -1;
+  }
+  if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    char holder[512] = {};
+    const ssize_t n = pread(fd, holder, sizeof holder - 1, 0);
+    ::close(fd);
+    std::string who = n > 0 ? std::string(holder, std::size_t(n)) : std::string("another process");
+    while (!who.empty() && (who.back() == '\n' || who.back() == ' ')) who.pop_back();
+    *error = path + " is open in " + who + ": close it there first (one console writes a study at a time)";
+    return -1;
+  }
+  const std::string me = writerIdentity() + "\n";
+  if (ftruncate(fd, 0) != 0 || pwrite(fd, me.data(), me.size(), 0) != ssize_t(me.size())) {
+    // The lock holds without the text; a second opener then reads "another process".
+  }
+  return fd;
+}
 
 }  // namespace
 
@@ -125,9 +171,13 @@ StudyStore::~StudyStore() {
     if (db.isOpen()) db.close();
   }
   QSqlDatabase::removeDatabase(connection_);
+  if (writer_lock_fd_ >= 0) ::close(writer_lock_fd_);  // the lock file stays: unlinking it would race a next opener
+  if (!snapshot_path_.empty()) {
+    for (const char* suffix : {"", "-wal", "-shm"}) QFile::remove(QString::fromStdString(snapshot_path_ + suffix));
+  }
 }
 
-std::unique_ptr<StudyStore> StudyStore::open(const std::string& path, std::string* error) {
+std::unique_ptr<StudyStore> StudyStore::openConnection(const std::string& path, bool read_only, std::string* error) {
   static std::atomic<int> counter{0};
   const QString connection = QString("telesphere_study_%1").arg(counter.fetch_add(1));
   if (!QSqlDatabase::isDriverAvailable("QSQLITE")) {
@@ -135,13 +185,54 @@ std::unique_ptr<StudyStore> StudyStore::open(const std::string& path, std::strin
     return nullptr;
   }
   std::unique_ptr<StudyStore> store(new StudyStore(connection));
+  QSqlDatabase db = QSqlDatabase::addDatabase("QSQLITE", connection);
+  db.setDatabaseName(QString::fromStdString(path));
+  if (read_only) db.setConnectOptions("QSQLITE_OPEN_READONLY");
+  if (!db.open()) {
+    *error = "cannot open " + path + ": " + db.lastError().text().toStdString();
+    return nullptr;
+  }
+  return store;
+}
+
+std::unique_ptr<StudyStore> StudyStore::openSnapshot(const std::string& path, std::string* error) {
+  if (!QFile::exists(QString::fromStdString(path))) {
+    *error = "no study database at " + path;
+    return nullptr;
+  }
+  auto source = openConnection(path, true, error);
+  if (!source) return nullptr;
+  static std::atomic<int> counter{0};
+  const std::string copy = QDir::temp().filePath(QString("telesphere-study-snapshot-%1-%2.sqlite")
+                                                     .arg(getpid())
+                                                     .arg(counter.fetch_add(1)))
+                               .toStdString();
+  if (!source->copyTo(copy, error)) return nullptr;
+  source.reset();
+  auto store = openConnection(copy, false, error);
+  if (!store) {
+    QFile::remove(QString::fromStdString(copy));
+    return nullptr;
+  }
+  store->snapshot_path_ = copy;
+  if (!store->migrate(error)) {
+    *error = path + " (snapshot): " + *error;
+    return nullptr;
+  }
+  return store;
+}
+
+std::unique_ptr<StudyStore> StudyStore::open(const std::string& path, std::string* error) {
+  const int lock = takeWriterLock(path, error);
+  if (lock < 0) return nullptr;
+  auto store = openConnection(path, false, error);
+  if (!store) {
+    ::close(lock);
+    return nullptr;
+  }
+  store->writer_lock_fd_ = lock;
   {
-    QSqlDatabase db = QSqlDatabase::addDatabase("QSQLITE", connection);
-    db.setDatabaseName(QString::fromStdString(path));
-    if (!db.open()) {
-      *error = "cannot open " + path + ": " + db.lastError().text().toStdString();
-      return nullptr;
-    }
+    QSqlDatabase db = QSqlDatabase::database(store->connection_);
     QSqlQuery q(db);
     for (const char* pragma : {"PRAGMA journal_mode=WAL", "PRAGMA synchronous=NORMAL", "PRAGMA foreign_keys=ON",
                                "PRAGMA busy_timeout=5000"})
@@ -325,20 +416,36 @@ bool StudyStore::setNotes(std::int64_t trial_id, const std::string& notes, std::
   });
 }
 
-bool StudyStore::setRecording(std::int64_t trial_id, const std::string& file, std::string* error) {
+bool StudyStore::appendToTrial(std::int64_t trial_id, const char* column, const std::string& value,
+                               const std::string& event_kind, std::string* error) {
   QSqlDatabase db = QSqlDatabase::database(connection_);
   return inTransaction(db, error, [&](std::string* why) {
     QSqlQuery q(db);
-    q.prepare("UPDATE trials SET recording=? WHERE id=?");
-    q.addBindValue(text(file));
+    q.prepare(QString("UPDATE trials SET %1 = CASE WHEN %1 = '' THEN ? ELSE %1 || '; ' || ? END WHERE id=?").arg(column));
+    q.addBindValue(text(value));
+    q.addBindValue(text(value));
     q.addBindValue(QVariant::fromValue<qlonglong>(trial_id));
     if (!exec(q, why)) return false;
     if (q.numRowsAffected() != 1) {
       *why = "no trial " + std::to_string(trial_id);
       return false;
     }
-    return event(0, trial_id, "recording", file);
+    return event(0, trial_id, event_kind, value);
   });
+}
+
+bool StudyStore::addRecording(std::int64_t trial_id, const std::string& file, std::string* error) {
+  return appendToTrial(trial_id, "recording", file, "recording", error);
+}
+
+bool StudyStore::addRecordingNote(std::int64_t trial_id, const std::string& note, std::string* error) {
+  return appendToTrial(trial_id, "recording_note", note, "recording_note", error);
+}
+
+std::string StudyStore::uid() const {
+  QSqlQuery q(QSqlDatabase::database(connection_));
+  if (q.exec("SELECT value FROM meta WHERE key='uid'") && q.next()) return q.value(0).toString().toStdString();
+  return "";
 }
 
 bool StudyStore::endTrial(std::int64_t trial_id, TrialOutcome outcome, double duration_s,
@@ -498,11 +605,11 @@ bool StudyStore::importRows(const StudyDefinition& study, const std::vector<Tria
       if (!s) return false;
       QSqlQuery q(db);
       q.prepare("INSERT INTO trials(session_id, order_index, mode, started_utc, ended_utc, duration_s, outcome, attempts,"
-                " time_limit_s, abort_reason, notes, recording) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                " time_limit_s, abort_reason, notes, recording, recording_note) VALUES(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
       for (const QVariant& v :
            {QVariant::fromValue<qlonglong>(*s), QVariant(t.order_index), text(t.mode), text(t.started_utc),
             text(t.ended_utc), QVariant(t.duration_s), text(trialOutcomeName(t.outcome)), QVariant(t.attempts),
-            QVariant(t.time_limit_s), text(t.abort_reason), text(t.notes), text(t.recording)})
+            QVariant(t.time_limit_s), text(t.abort_reason), text(t.notes), text(t.recording), text(t.recording_note)})
         q.addBindValue(v);
       if (!exec(q, why)) return false;
     }

@@ -6,6 +6,12 @@
 ///        closed window, Esc, a crash or kill -9 keep every committed event, and on the next open
 ///        every trial that was still running is ended as "interrupted" (an event says when).
 ///        One owner thread (QtSql connections belong to the thread that opened them).
+///
+///        One writer: open() holds an advisory lock on `<database>.writer` (flock: the kernel
+///        drops it when the process dies, however it dies) and writes who holds it there; a second
+///        opener is refused with that text. Only the writer marks running trials interrupted, so a
+///        trial that runs in another console is never touched. openSnapshot() reads a consistent
+///        copy (VACUUM INTO through a read-only connection) and changes nothing in the file.
 #pragma once
 
 #include <QSqlDatabase>
@@ -47,7 +53,10 @@ struct TrialRecord {
   int attempts = 0;
   double time_limit_s = 0;
   std::string abort_reason, notes;
-  std::string recording;  ///< the session recording the robot wrote for it (robot/record); empty: none
+  std::string recording;  ///< the session recordings the robot wrote for it (robot/record), "; "-separated; empty: none
+  /// Why the trial is not (wholly) recorded, each cause as it happened ("the robot has no record
+  /// folder", "the robot restarted at 12.3 s: recording part 2"), "; "-separated; empty: none.
+  std::string recording_note;
 };
 
 struct AnswerRecord {
@@ -68,12 +77,18 @@ struct TelemetryBatch {
 class StudyStore {
  public:
   /// The schema this build writes; older files are migrated on open, newer ones refused.
-  /// v1: sessions, trials, answers, events; v2: trial_telemetry; v3: trials.recording.
-  static constexpr int kSchemaVersion = 3;
+  /// v1: sessions, trials, answers, events; v2: trial_telemetry; v3: trials.recording; v4: meta
+  /// (the database's uid), trials.recording_note.
+  static constexpr int kSchemaVersion = 4;
 
-  /// Opens (creating or migrating) the database at `path`, then ends every trial still
-  /// "running" as "interrupted". Nothing, with the reason, when it cannot.
+  /// Opens (creating or migrating) the database at `path` as its one writer, then ends every
+  /// trial still "running" as "interrupted". Nothing, with the reason, when it cannot (another
+  /// writer holds it: "… is open in telesphere-console (pid 4242 on rig-pc) since …").
   static std::unique_ptr<StudyStore> open(const std::string& path, std::string* error);
+  /// A consistent snapshot of the database at `path` for reading (reports), as of now, while a
+  /// writer may go on writing; nothing in `path` changes (the snapshot is a private temporary
+  /// copy, migrated if older, removed with the store). Running trials stay "running" in it.
+  static std::unique_ptr<StudyStore> openSnapshot(const std::string& path, std::string* error);
   ~StudyStore();
   StudyStore(const StudyStore&) = delete;
   StudyStore& operator=(const StudyStore&) = delete;
@@ -93,8 +108,14 @@ class StudyStore {
                                          double time_limit_s, std::string* error);
   bool addAttempt(std::int64_t trial_id, std::string* error);
   bool setNotes(std::int64_t trial_id, const std::string& notes, std::string* error);
-  /// The recording the robot confirmed for the trial (its file, as the robot names it).
-  bool setRecording(std::int64_t trial_id, const std::string& file, std::string* error);
+  /// A recording the robot confirmed for the trial (its file, as the robot names it), added to
+  /// the ones it has (a robot restarted mid-trial records a second part).
+  bool addRecording(std::int64_t trial_id, const std::string& file, std::string* error);
+  /// Why the trial is not (wholly) recorded, added to what its row says already.
+  bool addRecordingNote(std::int64_t trial_id, const std::string& note, std::string* error);
+  /// This database's random id (8 hex digits, made when it was created or migrated to v4): with
+  /// the trial's id it names the trial's recordings uniquely across databases.
+  std::string uid() const;
   /// Ends a running trial; `duration_s` as the trial's own steady timer measured it.
   bool endTrial(std::int64_t trial_id, TrialOutcome outcome, double duration_s, const std::string& abort_reason,
                 std::string* error);
@@ -121,12 +142,18 @@ class StudyStore {
 
  private:
   explicit StudyStore(QString connection);
+  static std::unique_ptr<StudyStore> openConnection(const std::string& path, bool read_only, std::string* error);
   bool migrate(std::string* error);
+  /// Appends `value` to a "; "-separated text column of a trial.
+  bool appendToTrial(std::int64_t trial_id, const char* column, const std::string& value, const std::string& event_kind,
+                     std::string* error);
   bool markInterrupted(std::string* error);
   bool event(std::int64_t session_id, std::int64_t trial_id, const std::string& kind, const std::string& detail);
 
   QString connection_;
   std::vector<TrialRecord> interrupted_;
+  int writer_lock_fd_ = -1;     ///< open() holds `<database>.writer` locked while the store lives
+  std::string snapshot_path_;   ///< openSnapshot(): the private copy, removed with the store
 };
 
 /// Now, UTC, ISO 8601 with milliseconds.

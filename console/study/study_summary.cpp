@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
 
 namespace telesphere::console::study {
 namespace {
@@ -52,15 +54,24 @@ StudySummary summarise(const std::vector<std::string>& modes, const std::vector<
     ModeSummary m;
     m.mode = mode;
     std::vector<double> times;
+    // Each (session, order position) once: its last ended run, an interruption only when nothing
+    // ended after it (trials() comes by session, position, then id: later runs come later).
+    std::map<std::pair<std::int64_t, int>, const TrialRecord*> position;
     for (const TrialRecord& t : trials) {
       if (t.mode != mode || t.outcome == TrialOutcome::kRunning) continue;
+      if (t.outcome == TrialOutcome::kInterrupted) ++m.interrupted;
+      const TrialRecord*& counted = position[{t.session_id, t.order_index}];
+      if (counted == nullptr || counted->outcome == TrialOutcome::kInterrupted || t.outcome != TrialOutcome::kInterrupted)
+        counted = &t;
+    }
+    for (const auto& [key, t] : position) {
       ++m.trials;
-      switch (t.outcome) {
-        case TrialOutcome::kSuccess: ++m.successes, times.push_back(t.duration_s); break;
+      switch (t->outcome) {
+        case TrialOutcome::kSuccess: ++m.successes, times.push_back(t->duration_s); break;
         case TrialOutcome::kTimeout: ++m.timeouts; break;
         case TrialOutcome::kFail: ++m.fails; break;
         case TrialOutcome::kAbort: ++m.aborts; break;
-        case TrialOutcome::kInterrupted: ++m.interrupted; break;
+        case TrialOutcome::kInterrupted:
         case TrialOutcome::kRunning: break;
       }
     }

@@ -4,8 +4,11 @@
 ///        and the box-plot statistics of every questionnaire item per mode: median and quartiles
 ///        (linear interpolation between order statistics, R type 7), whiskers to the most extreme
 ///        answers within the fences Q1 − 1.5·IQR and Q3 + 1.5·IQR, the answers beyond them as
-///        outliers, and the mean. Interrupted and aborted trials count in n (they did not
-///        succeed) and are listed apart.
+///        outliers, and the mean. n counts each participant's trial position once, by how it
+///        finally ended: a trial interrupted (the console went away) and run again counts as the
+///        run that ended; one interrupted and never run again counts as interrupted (it did not
+///        succeed), as aborted trials do; trials still running are not counted. `interrupted`
+///        says how many interrupted runs there were (re-run or not).
 #pragma once
 
 #include <map>

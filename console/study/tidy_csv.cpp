@@ -111,12 +111,13 @@ bool writeTrialsCsv(const std::string& path, const std::vector<TrialRecord>& tri
   std::ofstream out(path, std::ios::trunc);
   out.precision(10);
   out << "participant,session,order_index,mode,start_utc,end_utc,duration_s,success,outcome,attempts,time_limit_s,"
-         "abort_reason,notes,recording\n";
+         "abort_reason,notes,recording,recording_note\n";
   for (const TrialRecord& t : trials)
     out << quoted(t.participant) << ',' << t.session_id << ',' << t.order_index << ',' << t.mode << ','
         << t.started_utc << ',' << t.ended_utc << ',' << t.duration_s << ','
         << (t.outcome == TrialOutcome::kSuccess ? 1 : 0) << ',' << trialOutcomeName(t.outcome) << ',' << t.attempts
-        << ',' << t.time_limit_s << ',' << quoted(t.abort_reason) << ',' << quoted(t.notes) << ',' << quoted(t.recording) << '\n';
+        << ',' << t.time_limit_s << ',' << quoted(t.abort_reason) << ',' << quoted(t.notes) << ',' << quoted(t.recording)
+        << ',' << quoted(t.recording_note) << '\n';
   if (!out) {
     *error = "cannot write " + path;
     return false;
@@ -149,6 +150,7 @@ std::optional<std::vector<TrialRecord>> readTrialsCsv(const std::string& path, s
         t->abort_reason = get("abort_reason");
         t->notes = get("notes");
         t->recording = get("recording");  // absent in files from before recordings
+        t->recording_note = get("recording_note");  // absent in files from before v4
         double order = 0, attempts = 0;
         const auto outcome = parseTrialOutcome(get("outcome"));
         if (t->participant.empty()) return *why = "empty participant", false;

@@ -2,7 +2,8 @@
 /// @brief The study's tidy CSV, written for analysts and read back by `study import`:
 ///        `study-<name>_trials.csv`, one row per trial — participant, session, order_index, mode,
 ///        start_utc, end_utc, duration_s, success (0/1), outcome, attempts, time_limit_s,
-///        abort_reason, notes, recording (the trial's session recording; absent in older files) —
+///        abort_reason, notes, recording (the trial's session recordings; absent in older files),
+///        recording_note (why it is not wholly recorded; absent in older files) —
 ///        and `study-<name>_answers.csv`, one row per answer — participant, mode, instrument,
 ///        item, value. RFC 4180 quoting.
 #pragma once

@@ -50,6 +50,9 @@ class TrialRunner {
   bool succeed(std::int64_t now_ns) { return end(TrialOutcome::kSuccess, now_ns, ""); }
   bool fail(std::int64_t now_ns) { return end(TrialOutcome::kFail, now_ns, ""); }
   bool abort(std::int64_t now_ns, const std::string& reason) { return end(TrialOutcome::kAbort, now_ns, reason); }
+  /// Ends a running trial as interrupted (the console closes, another study opens): it is run
+  /// again when the session resumes.
+  bool interrupt(std::int64_t now_ns, const std::string& why) { return end(TrialOutcome::kInterrupted, now_ns, why); }
   /// Ends a running trial as a timeout once the time limit has passed; true if it did.
   bool tick(std::int64_t now_ns);
   /// Seconds since start() (0 unless running).

@@ -363,5 +363,69 @@ TEST(StudyWindow, KilledDuringATrialOrAQuestionnaireThenReopenedLosesNothing) {
   EXPECT_EQ(p2_timeouts, 3u);
 }
 
+// Issue #30: the administrator changes the participant, or opens another study, while a mode
+// switch is pending; the robot's reply and the XR app's timeout come afterwards. They must touch
+// nothing of the trial workflow that is gone (under ASan, a write into it stops the test).
+TEST(StudyWindow, ChangingTheParticipantOrTheStudyWhileAModeSwitchIsPendingIsSafe) {
+  Rig rig(28310);
+  rig.startRobot();  // no XR app: the switch waits for its confirmation, then times out
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; }, 60000)) << rig.logs();
+  StudyPanel* panel = rig.window->studyPanel();
+  ASSERT_TRUE(panel->openStudy(writeStudy(rig.dir, 300), rig.dir.filePath("a.sqlite")));
+  panel->participantEdit()->setText("P01");
+  panel->startSessionButton()->click();
+  ASSERT_EQ(panel->page(), StudyPanel::Page::kTrials);
+  rig.click(panel->prepareButton());  // the request is out; its reply is handled on a later poll
+  rig.click(panel->changeParticipantButton());
+  EXPECT_EQ(panel->page(), StudyPanel::Page::kParticipant);
+  pumpFor(int(StudyPanel::kModeSwitchTimeoutS * 1000) + 1500);  // the reply, then the timeout
+  EXPECT_EQ(panel->page(), StudyPanel::Page::kParticipant);
+  EXPECT_EQ(panel->runner(), nullptr);
+
+  panel->participantEdit()->setText("P02");
+  panel->startSessionButton()->click();
+  ASSERT_EQ(panel->page(), StudyPanel::Page::kTrials);
+  rig.click(panel->prepareButton());
+  ASSERT_TRUE(panel->openStudy(writeStudy(rig.dir, 300), rig.dir.filePath("b.sqlite")));
+  pumpFor(int(StudyPanel::kModeSwitchTimeoutS * 1000) + 1500);
+  EXPECT_EQ(panel->page(), StudyPanel::Page::kParticipant);
+  EXPECT_TRUE(panel->store()->trials().empty());
+}
+
+// Issue #30: the robot restarts during a trial. The new robot gets the trial indicator again and
+// records a second part; the trial's row names both files and says what happened.
+TEST(StudyWindow, ARobotRestartedMidTrialGetsTheIndicatorAndRecordsAgain) {
+  Rig rig(28320);
+  rig.startRobot();
+  rig.startXr(true);
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected(); }, 60000)) << rig.logs();
+  StudyPanel* panel = rig.window->studyPanel();
+  ASSERT_TRUE(panel->openStudy(writeStudy(rig.dir, 300), rig.dir.filePath("restart.sqlite")));
+  panel->participantEdit()->setText("P03");
+  panel->startSessionButton()->click();
+  rig.click(panel->prepareButton());
+  ASSERT_TRUE(pumpUntil([&] { return panel->startButton()->isEnabled(); })) << panel->statusText().toStdString();
+  rig.click(panel->startButton());
+  const auto row = [&] { return panel->store()->trials().back(); };
+  ASSERT_TRUE(pumpUntil([&] { return !row().recording.empty(); })) << panel->statusText().toStdString();
+  const std::string first = row().recording;
+  EXPECT_NE(first.find("P03-"), std::string::npos) << first;
+  EXPECT_NE(first.find("-db" + panel->store()->uid() + "-t"), std::string::npos) << first;
+
+  rig.robot->stop();
+  rig.startRobot();  // a new process on the same port and record folder
+  ASSERT_TRUE(pumpUntil([&] { return row().recording.find("-part2") != std::string::npos; }, 60000))
+      << row().recording << "\n" << row().recording_note << "\n" << rig.logs();
+  EXPECT_NE(row().recording_note.find("the robot restarted"), std::string::npos) << row().recording_note;
+  EXPECT_TRUE(panel->statusText().contains("recording part 2")) << panel->statusText().toStdString();
+  rig.click(panel->successButton());
+  const study::TrialRecord done = row();
+  EXPECT_EQ(done.outcome, TrialOutcome::kSuccess);
+  // Both parts are on disk (the robot names them with its record folder).
+  const QString files = QString::fromStdString(done.recording);
+  for (const QString& file : files.split("; ")) EXPECT_TRUE(QFileInfo::exists(file)) << file.toStdString();
+  shootStudy(rig, "study_robot_restarted.png");
+}
+
 }  // namespace
 }  // namespace telesphere::console

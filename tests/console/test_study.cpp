@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -27,7 +29,10 @@
 #include "console/study/trial_order.h"
 #include "console/study/trial_runner.h"
 #include "console/study/trial_telemetry.h"
+#include "console/study/trial_workflow.h"
+#include "robot/link/proto_enums.h"
 #include "robot/link/telesphere_link.pb.h"
+#include "robot/link/visual_mode.h"
 
 namespace telesphere::console::study {
 namespace {
@@ -124,8 +129,8 @@ TEST(StudyStore, EventsAreStoredAndTheirRulesHold) {
   ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
   ASSERT_TRUE(store->addAttempt(*trial, &error)) << error;
   ASSERT_TRUE(store->setNotes(*trial, "peg slipped, \"twice\", reset", &error)) << error;
-  ASSERT_TRUE(store->setRecording(*trial, "/data/rec/P01-full6d-trial1.mcap", &error)) << error;
-  EXPECT_FALSE(store->setRecording(*trial + 100, "x.mcap", &error));  // no such trial
+  ASSERT_TRUE(store->addRecording(*trial, "/data/rec/P01-full6d-trial1.mcap", &error)) << error;
+  EXPECT_FALSE(store->addRecording(*trial + 100, "x.mcap", &error));  // no such trial
   EXPECT_FALSE(store->endTrial(*trial, TrialOutcome::kAbort, 10, "", &error));  // a reason is required
   ASSERT_TRUE(store->endTrial(*trial, TrialOutcome::kSuccess, 71.25, "", &error)) << error;
   EXPECT_FALSE(store->addAttempt(*trial, &error));  // not running any more
@@ -266,9 +271,93 @@ TEST(StudyStore, ASchemaOneDatabaseIsMigratedWithItsDataKept) {
   EXPECT_EQ(*store->telemetry(1)[0].robot_to_utc_ns, 5);
   EXPECT_EQ(store->telemetry(1)[0].envelope, "bytes");
   EXPECT_EQ(trials[0].recording, "");  // v3: the column exists, empty for old trials
-  EXPECT_TRUE(store->setRecording(1, "P01-full6d-trial1.mcap", &error)) << error;
+  EXPECT_TRUE(store->addRecording(1, "P01-full6d-trial1.mcap", &error)) << error;
   EXPECT_EQ(store->trials()[0].recording, "P01-full6d-trial1.mcap");
+  // v4: the database has an id of its own, and a trial says why it is not wholly recorded.
+  EXPECT_EQ(store->uid().size(), 8u);
+  EXPECT_TRUE(store->addRecording(1, "P01-full6d-trial1-part2.mcap", &error)) << error;
+  EXPECT_TRUE(store->addRecordingNote(1, "the robot restarted at 12.3 s", &error)) << error;
+  EXPECT_EQ(store->trials()[0].recording, "P01-full6d-trial1.mcap; P01-full6d-trial1-part2.mcap");
+  EXPECT_EQ(store->trials()[0].recording_note, "the robot restarted at 12.3 s");
   store.reset();
+  fs::remove_all(dir);
+}
+
+// One writer per study database (issue #30): a second opener is refused with who holds it, and
+// never touches the trial that runs there; a report reads a snapshot and changes nothing; once
+// the writer is gone (killed), the next writer takes over and ends its trial as interrupted.
+TEST(StudyStore, OneWriterAtATimeAndReportsReadASnapshotThatChangesNothing) {
+  const fs::path dir = freshDir("writer");
+  const fs::path db = dir / "s.sqlite";
+  std::string error;
+  auto writer = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(writer) << error;
+  const StudyDefinition d = paperStudy();
+  const auto session = writer->startSession("P01", 0, d, trialOrder(d, 0), &error);
+  ASSERT_TRUE(session) << error;
+  const auto done = writer->startTrial(*session, 0, "full6d", 300, &error);
+  ASSERT_TRUE(done && writer->endTrial(*done, TrialOutcome::kSuccess, 30, "", &error)) << error;
+  const auto running = writer->startTrial(*session, 1, "fixed", 300, &error);
+  ASSERT_TRUE(running) << error;
+
+  // A second writer in this process, and one in another process: refused, naming the holder.
+  EXPECT_FALSE(StudyStore::open(db.string(), &error));
+  EXPECT_NE(error.find("is open in "), std::string::npos) << error;
+  EXPECT_NE(error.find("(pid " + std::to_string(getpid()) + " on "), std::string::npos) << error;
+  const std::string console = std::string(TELESPHERE_BINARY_DIR) + "/bin/telesphere-console";
+  {
+    std::ofstream trials(dir / "more.csv");
+    trials << "participant,order_index,mode,duration_s,outcome,attempts,time_limit_s\nP09,0,full6d,50,success,1,300\n";
+  }
+  const std::string import_out = (dir / "import.txt").string();
+  const int import_rc = std::system((console + " study import --db " + db.string() + " --trials " +
+                                     (dir / "more.csv").string() + " > " + import_out + " 2>&1").c_str());
+  std::ifstream import_log(import_out);
+  const std::string import_text((std::istreambuf_iterator<char>(import_log)), std::istreambuf_iterator<char>());
+  EXPECT_NE(import_rc, 0) << import_text;
+  EXPECT_NE(import_text.find("is open in "), std::string::npos) << import_text;
+
+  // A report in another process meanwhile: the running trial listed as running, not counted,
+  // and nothing in the database changed.
+  const auto events_before = writer->trials();
+  const std::string report_out = (dir / "report.txt").string();
+  const int report_rc = std::system((console + " study report --db " + db.string() + " --out " +
+                                     (dir / "report").string() + " > " + report_out + " 2>&1").c_str());
+  std::ifstream report_log(report_out);
+  const std::string report_text((std::istreambuf_iterator<char>(report_log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(report_rc, 0) << report_text;
+  EXPECT_NE(report_text.find("is running: listed as running, not counted"), std::string::npos) << report_text;
+  const auto after = writer->trials();
+  ASSERT_EQ(after.size(), 2u);
+  EXPECT_EQ(after[1].outcome, TrialOutcome::kRunning);
+  EXPECT_TRUE(writer->addAttempt(*running, &error)) << "the trial still runs: " << error;
+  // The snapshot in this process too.
+  {
+    auto snapshot = StudyStore::openSnapshot(db.string(), &error);
+    ASSERT_TRUE(snapshot) << error;
+    ASSERT_EQ(snapshot->trials().size(), 2u);
+    EXPECT_EQ(snapshot->trials()[1].outcome, TrialOutcome::kRunning);
+    EXPECT_EQ(snapshot->trials()[1].attempts, 1);
+    EXPECT_EQ(snapshot->uid(), writer->uid());
+  }
+  EXPECT_TRUE(writer->endTrial(*running, TrialOutcome::kFail, 200, "", &error)) << error;
+  writer.reset();
+
+  // A writer killed while a trial runs: the next one takes over and ends it as interrupted.
+  ASSERT_TRUE(runCrashWriter(db, "P02", 2, 0));
+  auto next = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(next) << error;
+  ASSERT_EQ(next->interruptedOnOpen().size(), 1u);
+  EXPECT_EQ(next->interruptedOnOpen()[0].participant, "P02");
+  next.reset();
+  // Two databases: two ids (recording names stay unique across them).
+  auto other = StudyStore::open((dir / "other.sqlite").string(), &error);
+  ASSERT_TRUE(other) << error;
+  auto again = StudyStore::open(db.string(), &error);
+  ASSERT_TRUE(again) << error;
+  EXPECT_NE(other->uid(), again->uid());
+  other.reset();
+  again.reset();
   fs::remove_all(dir);
 }
 
@@ -419,8 +508,192 @@ TEST(TrialRunner, AResumedSessionRunsTheInterruptedTrialAgain) {
   fs::remove_all(dir);
 }
 
-/// Seeded trials and answers for 12 participants.
-void seededStudy(StudyStore& store, const StudyDefinition& d) {
+/// A robot for the workflow that answers only when the test says so (as the link's replies come
+/// later, on the GUI thread, or never), and an XR app that renders in whatever mode it is given.
+class ScriptedStudyRobot final : public StudyRobot {
+ public:
+  void requestMode(link::proto::VisualMode mode, std::function<void(const Reply&)> done) override {
+    modes.push_back(mode);
+    pending.push_back(std::move(done));
+  }
+  void sendTrialIndicator(const link::proto::TrialIndicator& indicator, std::function<void(const Reply&)> done) override {
+    indicators.push_back(indicator);
+    pending.push_back(std::move(done));
+  }
+  std::optional<link::proto::VisualMode> xrVisualMode() const override { return xr_mode; }
+  std::uint64_t robotInstance() const override { return instance; }
+  /// Answers the oldest request; false when none waits.
+  bool answer(const Reply& reply) {
+    if (pending.empty()) return false;
+    auto done = std::move(pending.front());
+    pending.erase(pending.begin());
+    done(reply);
+    return true;
+  }
+  static Reply ok(const std::string& file = "", bool available = true, const std::string& remark = "") {
+    Reply r;
+    r.answered = r.ok = true;
+    r.error = remark;
+    r.recording.set_available(available);
+    r.recording.set_active(!file.empty());
+    r.recording.set_file(file);
+    return r;
+  }
+
+  std::vector<link::proto::VisualMode> modes;
+  std::vector<link::proto::TrialIndicator> indicators;
+  std::vector<std::function<void(const Reply&)>> pending;
+  std::optional<link::proto::VisualMode> xr_mode;
+  std::uint64_t instance = 0;
+};
+
+constexpr std::int64_t kSecond = 1'000'000'000;
+
+// Issue #30: a reply that comes after the workflow is gone (the administrator changed the
+// participant or opened another study while the mode switch was pending) touches nothing. Under
+// ASan a write into the freed runner would stop the test.
+TEST(TrialWorkflow, RepliesAfterTheWorkflowIsGoneTouchNothing) {
+  const fs::path dir = freshDir("workflow_gone");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  ASSERT_TRUE(store->startSession("P01", 0, d, trialOrder(d, 0), &error)) << error;
+  const auto session = store->findSession("P01", d.name);
+  ScriptedStudyRobot robot;
+  {
+    TrialWorkflow workflow(*store, *session, d, robot);
+    ASSERT_TRUE(workflow.prepareNext());
+    EXPECT_EQ(workflow.runner().state(), TrialRunner::State::kSwitchingMode);
+  }  // gone while the robot has not answered
+  ASSERT_EQ(robot.pending.size(), 1u);
+  EXPECT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+  // A running trial's indicator reply after the workflow went, too.
+  {
+    TrialWorkflow workflow(*store, *session, d, robot);
+    robot.xr_mode = link::toProto(*link::parseVisualMode(workflow.runner().mode()));
+    ASSERT_TRUE(workflow.prepareNext());
+    ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+    workflow.tick(0);
+    ASSERT_EQ(workflow.runner().state(), TrialRunner::State::kReady);
+    ASSERT_TRUE(workflow.start(0));
+    workflow.interrupt(kSecond, "another participant");
+  }
+  ASSERT_EQ(robot.pending.size(), 2u);  // indicator on and off, unanswered
+  EXPECT_TRUE(robot.answer(ScriptedStudyRobot::ok("P01-full6d-db-t1.mcap")));
+  EXPECT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 1u);
+  EXPECT_EQ(trials[0].outcome, TrialOutcome::kInterrupted);
+  EXPECT_EQ(trials[0].recording, "");  // the late reply wrote nothing
+  store.reset();
+  fs::remove_all(dir);
+}
+
+// The mode gate, the indicator and every refusal of the robot about the recording, shown and
+// stored with the trial; a robot restarted mid-trial gets the indicator again and records part 2;
+// names are unique across databases.
+TEST(TrialWorkflow, ModeGateIndicatorAndRecordingRefusalsStoredWithTheTrial) {
+  const fs::path dir = freshDir("workflow");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  StudyDefinition d = paperStudy();
+  d.time_limit_s = 60;
+  ASSERT_TRUE(store->startSession("P07", 6, d, trialOrder(d, 6), &error)) << error;
+  const auto session = store->findSession("P07", d.name);
+  ScriptedStudyRobot robot;
+  robot.instance = 11;
+  TrialWorkflow workflow(*store, *session, d, robot);
+  const auto messages = [&] {
+    std::string all;
+    for (const auto& m : workflow.takeMessages()) all += (m.error ? "! " : "") + m.text + "\n";
+    return all;
+  };
+
+  // The XR app never confirms: refused after the timeout, with the reason.
+  ASSERT_TRUE(workflow.prepareNext());
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+  robot.xr_mode = link::proto::VISUAL_MODE_UNSPECIFIED;
+  workflow.tick(0);
+  workflow.tick(4 * kSecond);
+  EXPECT_EQ(workflow.runner().state(), TrialRunner::State::kSwitchingMode);
+  workflow.tick(6 * kSecond);
+  EXPECT_EQ(workflow.runner().state(), TrialRunner::State::kIdle);
+  EXPECT_NE(workflow.runner().lastError().find("did not confirm the mode"), std::string::npos) << workflow.runner().lastError();
+  // Confirmed: ready.
+  ASSERT_TRUE(workflow.prepareNext());
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+  const std::string mode = workflow.runner().mode();
+  robot.xr_mode = link::toProto(*link::parseVisualMode(mode));
+  workflow.tick(7 * kSecond);
+  ASSERT_EQ(workflow.runner().state(), TrialRunner::State::kReady);
+  messages();
+
+  // Started: the indicator carries the recording name; the robot has no record folder.
+  ASSERT_TRUE(workflow.start(10 * kSecond));
+  const std::int64_t trial = workflow.runner().trialId();
+  ASSERT_FALSE(robot.indicators.empty());
+  const std::string name = robot.indicators.back().recording_name();
+  EXPECT_EQ(name, TrialWorkflow::recordingName("P07", mode, store->uid(), trial, 1));
+  EXPECT_NE(name.find("-db" + store->uid() + "-t" + std::to_string(trial)), std::string::npos) << name;
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok("", false)));
+  EXPECT_NE(messages().find("! trial recording: not recorded: the robot has no record folder"), std::string::npos);
+  // The robot restarts 12.5 s in: the indicator again (elapsed advanced), part 2; it refuses to record.
+  robot.instance = 12;
+  workflow.tick(22'500'000'000);
+  ASSERT_EQ(robot.indicators.size(), 2u);
+  EXPECT_TRUE(robot.indicators.back().running());
+  EXPECT_NEAR(robot.indicators.back().elapsed_s(), 12.5, 1e-9);
+  EXPECT_EQ(robot.indicators.back().recording_name(), TrialWorkflow::recordingName("P07", mode, store->uid(), trial, 2));
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok("", true, "the trial runs, but is not recorded: the disk is full")));
+  // Once more (it restarted again), and this time it records.
+  robot.instance = 13;
+  workflow.tick(30 * kSecond);
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok("/rec/" + robot.indicators.back().recording_name() + ".mcap")));
+  ASSERT_TRUE(workflow.succeed(40 * kSecond));
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok()));  // the indicator off
+  EXPECT_FALSE(robot.indicators.back().running());
+  const auto trials = store->trials();
+  ASSERT_EQ(trials.size(), 1u);
+  EXPECT_EQ(trials[0].recording, "/rec/" + TrialWorkflow::recordingName("P07", mode, store->uid(), trial, 3) + ".mcap");
+  EXPECT_EQ(trials[0].recording_note,
+            "not recorded: the robot has no record folder (start it with --record-dir DIR); the robot restarted 12.5 s "
+            "into the trial: recording part 2 from then on; the trial runs, but is not recorded: the disk is full; the "
+            "robot restarted 20.0 s into the trial: recording part 3 from then on");
+
+  // Another database, the same participant and trial id: another name.
+  auto other = StudyStore::open((dir / "other.sqlite").string(), &error);
+  ASSERT_TRUE(other) << error;
+  EXPECT_NE(TrialWorkflow::recordingName("P07", mode, other->uid(), trial, 1),
+            TrialWorkflow::recordingName("P07", mode, store->uid(), trial, 1));
+  // The time limit ends a trial by itself (and the indicator goes off).
+  ASSERT_TRUE(workflow.prepareNext());
+  ASSERT_TRUE(robot.answer(ScriptedStudyRobot::ok()));
+  robot.xr_mode = link::toProto(*link::parseVisualMode(workflow.runner().mode()));
+  workflow.tick(41 * kSecond);
+  ASSERT_TRUE(workflow.start(42 * kSecond));
+  EXPECT_FALSE(workflow.tick(101 * kSecond));
+  EXPECT_TRUE(workflow.tick(102 * kSecond));
+  EXPECT_NE(messages().find("time limit (60 s) reached"), std::string::npos);
+  EXPECT_FALSE(robot.indicators.back().running());
+  EXPECT_EQ(store->trials().back().outcome, TrialOutcome::kTimeout);
+  other.reset();
+  store.reset();
+  fs::remove_all(dir);
+}
+
+/// What seededStudy planned per mode: each position's final outcome, the successes' times, and how
+/// many runs were interrupted before it (the console went away and the trial was run again).
+struct PlannedMode {
+  int positions = 0, successes = 0, interrupted_runs = 0, never_rerun = 0;
+  std::vector<double> success_times;
+};
+
+/// Seeded trials and answers for 12 participants; a few positions are interrupted once or twice
+/// before their run ends, and one is interrupted and never run again (the participant left).
+std::map<std::string, PlannedMode> seededStudy(StudyStore& store, const StudyDefinition& d) {
+  std::map<std::string, PlannedMode> plan;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> time(20, 300);
   std::uniform_int_distribution<int> likert(1, 7), coin(0, 9);
@@ -429,20 +702,44 @@ void seededStudy(StudyStore& store, const StudyDefinition& d) {
     const std::string id = "P" + std::to_string(10 + p);
     const auto order = trialOrder(d, static_cast<std::uint64_t>(p));
     const auto session = store.startSession(id, p, d, order, &error);
-    ASSERT_TRUE(session) << error;
+    EXPECT_TRUE(session) << error;
+    if (!session) return plan;
     for (int i = 0; i < 3; ++i) {
-      const auto trial = store.startTrial(*session, i, order[static_cast<std::size_t>(i)], 300, &error);
-      ASSERT_TRUE(trial) << error;
+      const std::string& mode = order[static_cast<std::size_t>(i)];
+      PlannedMode& planned = plan[mode];
+      ++planned.positions;
+      // Participants 3 and 8 see their second trial interrupted once, participant 5 its first twice.
+      const int interruptions = (p == 3 || p == 8) && i == 1 ? 1 : p == 5 && i == 0 ? 2 : 0;
+      for (int k = 0; k < interruptions; ++k) {
+        const auto run = store.startTrial(*session, i, mode, 300, &error);
+        EXPECT_TRUE(run && store.endTrial(*run, TrialOutcome::kInterrupted, 12.5, "", &error)) << error;
+        ++planned.interrupted_runs;
+      }
+      // Participant 11 left during its last trial: interrupted, never run again.
+      if (p == 11 && i == 2) {
+        const auto run = store.startTrial(*session, i, mode, 300, &error);
+        EXPECT_TRUE(run && store.endTrial(*run, TrialOutcome::kInterrupted, 40.0, "", &error)) << error;
+        ++planned.interrupted_runs;
+        ++planned.never_rerun;
+        continue;
+      }
+      const auto trial = store.startTrial(*session, i, mode, 300, &error);
+      EXPECT_TRUE(trial) << error;
       const int c = coin(rng);
       const TrialOutcome outcome = c < 7 ? TrialOutcome::kSuccess : c < 9 ? TrialOutcome::kTimeout : TrialOutcome::kAbort;
-      ASSERT_TRUE(store.endTrial(*trial, outcome, outcome == TrialOutcome::kTimeout ? 300 : time(rng),
-                                 outcome == TrialOutcome::kAbort ? "robot reset" : "", &error))
+      const double duration = outcome == TrialOutcome::kTimeout ? 300 : time(rng);
+      EXPECT_TRUE(store.endTrial(*trial, outcome, duration, outcome == TrialOutcome::kAbort ? "robot reset" : "", &error))
           << error;
+      if (outcome == TrialOutcome::kSuccess) {
+        ++planned.successes;
+        planned.success_times.push_back(duration);
+      }
     }
     for (const auto& mode : d.modes)
       for (const auto& item : paperLikert().items)
-        ASSERT_TRUE(store.saveAnswer(*session, mode, "paper_likert", item.key, likert(rng), &error)) << error;
+        EXPECT_TRUE(store.saveAnswer(*session, mode, "paper_likert", item.key, likert(rng), &error)) << error;
   }
+  return plan;
 }
 
 TEST(StudySummary, TableIAndBoxStatsEqualAnIndependentComputation) {
@@ -451,30 +748,32 @@ TEST(StudySummary, TableIAndBoxStatsEqualAnIndependentComputation) {
   auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
   ASSERT_TRUE(store) << error;
   const StudyDefinition d = paperStudy();
-  seededStudy(*store, d);
+  const auto plan = seededStudy(*store, d);
   const auto trials = store->trials();
   const auto answers = store->answers();
   const StudySummary s = summarise(d.modes, trials, answers);
   ASSERT_EQ(s.table.size(), 3u);
+  int interrupted_runs = 0;
   for (const ModeSummary& m : s.table) {
-    // Independently: successes, mean and sample SD by the two-pass textbook formulas.
-    int k = 0, n = 0;
-    std::vector<double> t;
-    for (const auto& r : trials)
-      if (r.mode == m.mode) {
-        ++n;
-        if (r.outcome == TrialOutcome::kSuccess) ++k, t.push_back(r.duration_s);
-      }
+    // Against what the data was made to be: n is the positions the participants had (12 per
+    // mode), each once, however often it was interrupted; k, the mean and the sample SD (two-pass
+    // textbook formulas) come from the planned successes.
+    const PlannedMode& planned = plan.at(m.mode);
+    interrupted_runs += planned.interrupted_runs;
+    const std::vector<double>& t = planned.success_times;
     double mean = 0;
     for (double v : t) mean += v / double(t.size());
     double var = 0;
     for (double v : t) var += (v - mean) * (v - mean) / double(t.size() - 1);
-    EXPECT_EQ(m.successes, k);
-    EXPECT_EQ(m.trials, n);
-    EXPECT_EQ(n, 12);
+    EXPECT_EQ(m.trials, 12) << m.mode;
+    EXPECT_EQ(m.trials, planned.positions) << m.mode;
+    EXPECT_EQ(m.successes, planned.successes) << m.mode;
+    EXPECT_EQ(m.interrupted, planned.interrupted_runs) << m.mode;
+    EXPECT_EQ(m.successes + m.timeouts + m.fails + m.aborts + planned.never_rerun, m.trials) << m.mode;
     EXPECT_NEAR(m.mean_completion_s, mean, 1e-9);
     EXPECT_NEAR(m.sd_completion_s, std::sqrt(var), 1e-9);
   }
+  EXPECT_EQ(interrupted_runs, 5);  // the data has interruptions: the rule above is exercised
   // Box statistics: R type 7 quartiles, 1-based h = (n − 1)·p + 1, against the definition.
   for (const auto& [key, by_mode] : s.items)
     for (const auto& [mode, b] : by_mode) {
@@ -518,7 +817,9 @@ TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
   ASSERT_TRUE(session);
   const auto trials_before = store->trials();
   ASSERT_TRUE(store->setNotes(trials_before[0].id, "line one,\nline \"two\"", &error)) << error;
-  ASSERT_TRUE(store->setRecording(trials_before[0].id, "recordings/P10-full6d-trial1.mcap", &error)) << error;
+  ASSERT_TRUE(store->addRecording(trials_before[0].id, "recordings/P10-full6d-trial1.mcap", &error)) << error;
+  ASSERT_TRUE(store->addRecording(trials_before[0].id, "recordings/P10-full6d-trial1-part2.mcap", &error)) << error;
+  ASSERT_TRUE(store->addRecordingNote(trials_before[0].id, "the robot restarted at 3.2 s, \"part 2\"", &error)) << error;
   const auto trials = store->trials();
   const auto answers = store->answers();
   ASSERT_TRUE(writeTrialsCsv((dir / "t.csv").string(), trials, &error)) << error;
@@ -529,7 +830,8 @@ TEST(TidyCsv, RoundTripsAndBadRowsNameTheirLine) {
   ASSERT_EQ(t->size(), trials.size());
   ASSERT_EQ(a->size(), answers.size());
   EXPECT_EQ((*t)[0].notes, "line one,\nline \"two\"");
-  EXPECT_EQ((*t)[0].recording, "recordings/P10-full6d-trial1.mcap");
+  EXPECT_EQ((*t)[0].recording, "recordings/P10-full6d-trial1.mcap; recordings/P10-full6d-trial1-part2.mcap");
+  EXPECT_EQ((*t)[0].recording_note, "the robot restarted at 3.2 s, \"part 2\"");
   EXPECT_EQ((*t)[1].recording, "");
   for (std::size_t i = 0; i < trials.size(); ++i) {
     EXPECT_EQ((*t)[i].participant, trials[i].participant);
