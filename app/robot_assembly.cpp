@@ -128,6 +128,11 @@ bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
     xarm.address = o.arm_address;
     xarm.command_port = o.arm_command_port;
     xarm.report_port = o.arm_report_port;
+    xarm.normal_report_port = o.arm_normal_report_port;
+    if (o.arm_payload_kg >= 0) xarm.payload_kg = o.arm_payload_kg;
+    if (o.arm_payload_com_mm.size() == 3)
+      xarm.payload_com_mm = {o.arm_payload_com_mm[0], o.arm_payload_com_mm[1], o.arm_payload_com_mm[2]};
+    if (o.arm_collision_sensitivity >= 0) xarm.collision_sensitivity = o.arm_collision_sensitivity;
     xarm.clear_errors = o.arm_clear_errors;
     xarm.nominal_q = p.q_initial;
     auto arm = robot::XArmHeadArm::start(xarm, p.clock, error, [](const std::string& step) {
@@ -296,6 +301,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   health_sources.telemetry = &p->telemetry;
   health_sources.recording = p->recording.get();
   health_sources.arm = p->arm_description;
+  health_sources.xarm = dynamic_cast<const robot::XArmHeadArm*>(p->arm.get());
   health_sources.cameras_kind = o.syntheticCameras() ? "synthetic" : "aravis";
   p->health = std::make_unique<robot::RobotHealthReporter>(health_sources, p->clock);
   *exit_code = 0;

@@ -57,6 +57,19 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
       ->capture_default_str()->check(CLI::Range(1, 65535));
   app.add_option("--arm-report-port", o.arm_report_port, "--arm xarm: the controller's real-time report port")
       ->capture_default_str()->check(CLI::Range(1, 65535));
+  app.add_option("--arm-normal-report-port", o.arm_normal_report_port,
+                 "--arm xarm: the controller's normal report port (the payload and sensitivity it uses)")
+      ->capture_default_str()->check(CLI::Range(1, 65535));
+  app.add_option("--arm-payload-kg", o.arm_payload_kg,
+                 "--arm xarm: the head's mass on the flange, kg (cameras, lenses, mount); set at start-up and "
+                 "read back: a wrong mass shows as collision faults (C31) later")
+      ->check(CLI::Range(0.0, 5.0));
+  app.add_option("--arm-payload-com-mm", o.arm_payload_com_mm,
+                 "--arm xarm: the head's centre of mass in the tool frame, three numbers x y z, mm")
+      ->expected(3);
+  app.add_option("--arm-collision-sensitivity", o.arm_collision_sensitivity,
+                 "--arm xarm: collision sensitivity 0 (off) … 5 (most sensitive), set and read back")
+      ->check(CLI::Range(0, 5));
   app.add_flag("--arm-clear-errors", o.arm_clear_errors,
                "--arm xarm: clear the controller's errors and warnings at start-up (check the arm first); "
                "without it, a controller error stops the start with its code and meaning");
@@ -96,8 +109,10 @@ bool checkRobotOptions(RobotOptions& o, std::string* error) {
       *error = "--sim-truth, --truth-out and --sim-manipulator need the simulated arm (--arm sim)";
       return false;
     }
-  } else if (!o.arm_address.empty() || o.arm_clear_errors) {
-    *error = "--arm-address and --arm-clear-errors are for --arm xarm";
+  } else if (!o.arm_address.empty() || o.arm_clear_errors || o.arm_payload_kg >= 0 || o.arm_collision_sensitivity >= 0 ||
+             !o.arm_payload_com_mm.empty()) {
+    *error = "--arm-address, --arm-clear-errors, --arm-payload-kg, --arm-payload-com-mm and "
+             "--arm-collision-sensitivity are for --arm xarm";
     return false;
   }
   if (!o.camera_left.empty() && (!o.true_calib_path.empty() || !o.truth_path.empty() || o.sim_manipulator)) {

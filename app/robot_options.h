@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 namespace telesphere::app {
 
@@ -35,6 +36,10 @@ struct RobotOptions {
   std::string arm_address;       ///< the xArm controller's IPv4 address
   int arm_command_port = 502;    ///< its command port (the protocol simulator's may differ)
   int arm_report_port = 30003;   ///< its real-time report port
+  int arm_normal_report_port = 30001;  ///< its normal report port (payload, sensitivities read back)
+  double arm_payload_kg = -1;    ///< the head's mass on the flange (< 0: not set, the controller keeps its own)
+  std::vector<double> arm_payload_com_mm;  ///< its centre of mass in the tool frame, x y z (mm)
+  int arm_collision_sensitivity = -1;  ///< 0..5 (< 0: not set)
   bool arm_clear_errors = false; ///< clear the controller's errors at start-up (the supervisor asks)
   std::string record_path;       ///< record the session (everything on the link) to this MCAP file
   std::string record_dir;        ///< where the console's and the study's recordings go (empty: none)

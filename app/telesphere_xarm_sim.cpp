@@ -5,7 +5,7 @@
 ///          telesphere-xarm-sim --command-port 5020 &
 ///          telesphere-robot --arm xarm --arm-address 127.0.0.1 --arm-command-port 5020
 ///        Faults are typed on stdin, one per line: estop, release, collide, mute-reports,
-///        unmute-reports, mute-replies, unmute-replies, drop. A status line every --status-period s.
+///        unmute-reports, mute-replies, unmute-replies, drop, ignore-payload. A status line every --status-period s.
 ///        Exit codes: 0 ok, 1 bad arguments, 2 the ports could not be opened.
 #include <CLI/CLI.hpp>
 #include <atomic>
@@ -33,11 +33,14 @@ int main(int argc, char** argv) {
   xarm::ControllerSimulatorOptions options;
   options.command_port = 5020;  // 502 needs root; the driver takes --arm-command-port
   options.report_port = xarm::kRealtimeReportPort;
+  options.normal_report_port = xarm::kNormalReportPort;
   double latency_ms = double(options.arm.command_latency_ns) / 1e6;
   double duration_s = 0, status_period_s = 2.0;
   app.add_option("--address", options.address, "address to listen on")->capture_default_str();
   app.add_option("--command-port", options.command_port, "command port")->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--report-port", options.report_port, "real-time report port")->capture_default_str()->check(CLI::Range(0, 65535));
+  app.add_option("--normal-report-port", options.normal_report_port, "normal report port (payload, sensitivities)")
+      ->capture_default_str()->check(CLI::Range(0, 65535));
   app.add_option("--latency-ms", latency_ms, "command-to-motion dead time of the simulated arm, ms")
       ->capture_default_str()->check(CLI::Range(0.0, 2000.0));
   app.add_option("--duration", duration_s, "stop after this many seconds (0: until SIGINT)")->capture_default_str();
@@ -54,8 +57,8 @@ int main(int argc, char** argv) {
   std::signal(SIGINT, onSignal);
   std::signal(SIGTERM, onSignal);
   std::cerr << "telesphere-xarm-sim: command port " << sim->commandPort() << ", report port " << sim->reportPort()
-            << " on " << options.address << "; faults on stdin: estop, release, collide, mute-reports, "
-            << "unmute-reports, mute-replies, unmute-replies, drop\n";
+            << ", normal report port " << sim->normalReportPort() << " on " << options.address << "; faults on stdin: estop, release, collide, mute-reports, "
+            << "unmute-reports, mute-replies, unmute-replies, drop, ignore-payload\n";
   std::thread faults([&] {
     std::string line;
     while (!g_stop && std::getline(std::cin, line)) {
@@ -67,6 +70,7 @@ int main(int argc, char** argv) {
       else if (line == "mute-replies") sim->setRepliesPaused(true);
       else if (line == "unmute-replies") sim->setRepliesPaused(false);
       else if (line == "drop") sim->dropConnections();
+      else if (line == "ignore-payload") sim->setPayloadWritesIgnored(true);
       else if (!line.empty()) std::cerr << "telesphere-xarm-sim: unknown fault '" << line << "'\n";
     }
   });

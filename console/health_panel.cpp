@@ -140,6 +140,28 @@ void HealthPanel::refresh() {
     setRow("Arm and head", "targets",
            QString("%1 sent · %2 jumps · %3 unreachable").arg(health->targets_sent()).arg(health->jumps()).arg(health->unreachable()));
     setRow("Arm and head", "rejected", rejects.isEmpty() ? QString("none") : rejects.join(" · "), !rejects.isEmpty());
+    if (health->has_xarm()) {
+      const auto& x = health->xarm();
+      setRow("Arm and head", "xArm controller",
+             QString("%1 · SN %2 · protocol id %3")
+                 .arg(QString::fromStdString(x.firmware()), x.serial().empty() ? QString("?") : QString::fromStdString(x.serial()))
+                 .arg(x.protocol()));
+      setRow("Arm and head", "xArm link",
+             QString("delay %1 ms · report jitter p99 %2 ms · %3 ppm · %4 reconnects")
+                 .arg(number(x.link_delay_ms(), 2), number(x.report_jitter_ms_p99(), 2), number(x.report_drift_ppm()))
+                 .arg(x.reconnects()),
+             x.report_jitter_ms_p99() > 5.0);
+      setRow("Arm and head", "xArm refused",
+             QString("%1 jumps · %2 beyond limits (of %3 targets)").arg(x.refused_jumps()).arg(x.refused_limits()).arg(x.targets_sent()),
+             x.refused_jumps() + x.refused_limits() > 0);
+      setRow("Arm and head", "xArm payload",
+             x.payload_read() ? QString("%1 kg at (%2, %3, %4) mm · collision sensitivity %5")
+                                    .arg(number(x.payload_kg(), 3), number(x.payload_com_x_mm()), number(x.payload_com_y_mm()),
+                                         number(x.payload_com_z_mm()))
+                                    .arg(x.collision_sensitivity())
+                              : "not read back: " + QString::fromStdString(x.readback_error()),
+             !x.payload_read());
+    }
   }
   if (const auto& state = s.robotState())
     setRow("Arm and head", "nominal pose",

@@ -18,6 +18,7 @@
 #include "robot/xarm/xarm_codes.h"
 #include "robot/xarm/xarm_protocol.h"
 #include "robot/xarm/xarm_report.h"
+#include <cstdio>
 #include "robot/xarm6_kinematics.h"
 
 namespace telesphere::robot {
@@ -73,6 +74,7 @@ struct XArmHeadArm::Impl {
   mutable std::mutex mutex;
   std::condition_variable changed;  ///< a reply or report arrived, or the connection failed
   std::map<std::uint16_t, std::optional<Frame>> waiting;  ///< synchronous requests by transaction
+  std::uint16_t protocol = xarm::kPrivateProtocol;  ///< the identifier requests carry (the firmware's)
   std::deque<std::pair<std::uint16_t, std::int64_t>> servo_in_flight;  ///< (transaction, sent ns)
   std::uint16_t next_transaction = 1;
 
@@ -122,6 +124,7 @@ struct XArmHeadArm::Impl {
       std::lock_guard lock(mutex);
       waiting.clear();
       servo_in_flight.clear();
+      protocol = xarm::kPrivateProtocol;  // until the version says which the firmware speaks
       report_clock.reset();
       report_index = 0;
       report_jitter_ms.clear();
@@ -180,6 +183,11 @@ struct XArmHeadArm::Impl {
 
   void handleReply(const Frame& frame) {
     std::lock_guard lock(mutex);
+    if (frame.protocol != protocol) {  // a controller answers with its request's identifier
+      failLocked(ArmStatus::kDisconnected, "the controller answered with protocol id " + std::to_string(frame.protocol) +
+                                               " to requests with " + std::to_string(protocol));
+      return;
+    }
     ++stats.replies;
     if (auto it = waiting.find(frame.transaction); it != waiting.end()) {
       it->second = frame;
@@ -267,15 +275,17 @@ struct XArmHeadArm::Impl {
   /// Sends without waiting; the transaction, or nothing (fault recorded) when the send failed.
   std::optional<std::uint16_t> send(Register reg, std::span<const std::uint8_t> params, bool wait_for_reply) {
     std::uint16_t transaction = 0;
+    std::uint16_t identifier = xarm::kPrivateProtocol;
     {
       std::lock_guard lock(mutex);
       if (!connection) return std::nullopt;
+      identifier = protocol;
       transaction = next_transaction;
       next_transaction = static_cast<std::uint16_t>(next_transaction % 65535 + 1);
       if (wait_for_reply) waiting[transaction] = std::nullopt;
       if (reg == Register::kMoveServoJoint) servo_in_flight.emplace_back(transaction, clock.nowNs());
     }
-    const auto bytes = xarm::encodeRequest(transaction, reg, params);
+    const auto bytes = xarm::encodeRequest(transaction, reg, params, identifier);
     std::string error;
     bool sent = false;
     {
@@ -336,9 +346,19 @@ struct XArmHeadArm::Impl {
                      const std::string& what, std::string* error) {
     std::unique_lock lock(mutex);
     const std::uint64_t after = report_index;
-    const bool done = changed.wait_for(lock, timeout, [&] {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    const auto satisfied = [&] {
       return (report_index > after && last_report && ok(*last_report)) || fault_status == ArmStatus::kDisconnected;
-    });
+    };
+    bool done = false;
+    while (!(done = satisfied()) && std::chrono::steady_clock::now() < deadline) {
+      // Waited a keepalive without a request: one that needs no answer keeps the connection in use.
+      if (!changed.wait_until(lock, std::min(deadline, std::chrono::steady_clock::now() + options.keepalive), satisfied)) {
+        lock.unlock();
+        send(Register::kGetState, {}, false);
+        lock.lock();
+      }
+    }
     if (done && fault_status != ArmStatus::kDisconnected) return true;
     *error = fault_status == ArmStatus::kDisconnected
                  ? fault
@@ -460,7 +480,84 @@ struct XArmHeadArm::Impl {
     return true;
   }
 
-  /// Connect → version → link delay → errors → first report (start-up and reconnect share it).
+  /// The payload and collision sensitivity as configured, then what the controller reports it
+  /// uses (its normal report); false with both values when they differ or cannot be read.
+  bool configureHead(const std::function<void(const std::string&)>& progress, std::string* error) {
+    const bool configured = options.payload_kg || options.collision_sensitivity;
+    if (options.payload_kg) {
+      if (progress) progress("payload " + std::to_string(*options.payload_kg) + " kg");
+      if (!command(Register::kSetTcpLoad, xarm::tcpLoadParams(*options.payload_kg, options.payload_com_mm), error))
+        return false;
+    }
+    if (options.collision_sensitivity) {
+      if (!command(Register::kSetCollisionSensitivity, {std::uint8_t(*options.collision_sensitivity)}, error))
+        return false;
+    }
+    std::string why;
+    const auto report = readNormalReport(&why);
+    std::lock_guard lock(mutex);
+    stats.readback_error = why;
+    stats.payload_read = report.has_value();
+    if (!report) {
+      if (!configured) return true;  // nothing to check; the health view says it is unknown
+      *error = "cannot read back the payload and collision sensitivity (normal report port " +
+               std::to_string(options.normal_report_port) + "): " + why;
+      return false;
+    }
+    stats.payload_kg = report->payload_kg;
+    stats.payload_com_mm = report->payload_com_mm;
+    stats.collision_sensitivity = report->collision_sensitivity;
+    char text[320];
+    if (options.payload_kg &&
+        (std::abs(report->payload_kg - *options.payload_kg) > 0.005 ||
+         std::abs(report->payload_com_mm[0] - options.payload_com_mm[0]) > 0.5 ||
+         std::abs(report->payload_com_mm[1] - options.payload_com_mm[1]) > 0.5 ||
+         std::abs(report->payload_com_mm[2] - options.payload_com_mm[2]) > 0.5)) {
+      std::snprintf(text, sizeof text,
+                    "the controller reports a payload of %.3f kg at (%.1f, %.1f, %.1f) mm, configured %.3f kg at "
+                    "(%.1f, %.1f, %.1f) mm: it did not take the head's payload (check it in UFACTORY Studio)",
+                    report->payload_kg, report->payload_com_mm[0], report->payload_com_mm[1], report->payload_com_mm[2],
+                    *options.payload_kg, options.payload_com_mm[0], options.payload_com_mm[1], options.payload_com_mm[2]);
+      *error = text;
+      return false;
+    }
+    if (options.collision_sensitivity && report->collision_sensitivity != *options.collision_sensitivity) {
+      std::snprintf(text, sizeof text, "the controller reports collision sensitivity %d, configured %d",
+                    int(report->collision_sensitivity), *options.collision_sensitivity);
+      *error = text;
+      return false;
+    }
+    return true;
+  }
+
+  /// One report from the normal report port (a connection of its own, closed after it).
+  std::optional<xarm::NormalReport> readNormalReport(std::string* error) {
+    auto socket = xarm::TcpSocket::connect(options.address, options.normal_report_port, options.connect_timeout, error);
+    if (!socket) return std::nullopt;
+    xarm::NormalReportReader reader;
+    std::vector<std::uint8_t> buffer(1024);
+    const auto deadline = std::chrono::steady_clock::now() + 1500ms;  // the port reports at 5 Hz
+    while (std::chrono::steady_clock::now() < deadline) {
+      std::size_t n = 0;
+      const auto got = socket->receive(buffer, kPoll, &n, error);
+      if (got == xarm::TcpSocket::Received::kTimeout) continue;
+      if (got != xarm::TcpSocket::Received::kData) {
+        if (got == xarm::TcpSocket::Received::kClosed) *error = "the controller closed the normal report connection";
+        return std::nullopt;
+      }
+      reader.feed(std::span<const std::uint8_t>(buffer.data(), n));
+      if (auto report = reader.next()) return report;
+      if (reader.failed()) {
+        *error = "malformed normal report: " + reader.error();
+        return std::nullopt;
+      }
+    }
+    *error = "no normal report within 1.5 s";
+    return std::nullopt;
+  }
+
+  /// Connect → version (and the identifier it speaks) → serial → link delay → errors → payload and
+  /// sensitivity → first report (start-up and reconnect share it).
   bool prepare(bool clear_errors, const std::function<void(const std::string&)>& progress, std::string* error) {
     if (progress) progress("connecting to the xArm controller at " + options.address);
     if (!connect(error)) return false;
@@ -468,12 +565,21 @@ struct XArmHeadArm::Impl {
     if (!version) return false;
     const auto text = version->replyParams();
     std::string firmware(text.begin(), std::find(text.begin(), text.end(), std::uint8_t(0)));
+    const auto parsed = xarm::parseFirmwareVersion(text);
     {
       std::lock_guard lock(mutex);
       stats.firmware = firmware;
+      protocol = parsed ? parsed->protocol() : xarm::kPrivateProtocol;
+      stats.protocol = protocol;
     }
-    if (progress) progress("controller firmware: " + firmware);
-    if (!measureLinkDelay(error) || !checkErrors(clear_errors, error)) return false;
+    if (progress)
+      progress("controller firmware: " + firmware + " (protocol identifier " + std::to_string(stats.protocol) + ")");
+    std::string serial_error;
+    if (const auto sn = request(Register::kGetRobotSn, {}, &serial_error); sn && !(sn->status() & xarm::kStatusFailed)) {
+      std::lock_guard lock(mutex);
+      stats.serial = xarm::armSerialOfReply(sn->replyParams());
+    }
+    if (!measureLinkDelay(error) || !checkErrors(clear_errors, error) || !configureHead(progress, error)) return false;
     return waitForReport([](const xarm::RealtimeReport&) { return true; }, 1000ms,
                          "a report on port " + std::to_string(options.report_port), error);
   }

@@ -4,12 +4,20 @@
 ///        30003). `telesphere-robot --arm xarm --arm-address IP` drives it; robot/xarm/README.md
 ///        is the lab's step-by-step guide.
 ///
-/// Start-up (start()): connect both ports; read the firmware version; time round trips of
+/// Start-up (start()): connect both ports; read the firmware version and from then on speak the
+/// protocol identifier that firmware expects (3 from 1.8.6 on, else 2; a reply must carry its
+/// request's); read the serial number; time round trips of
 /// "get state" (the one-way link delay is half the fastest); read the error and warning codes and
 /// refuse to go on while the controller has an error, unless the supervisor asked to clear them
-/// (options.clear_errors, `--arm-clear-errors`); enable the motors; in position mode, move to the
+/// (options.clear_errors, `--arm-clear-errors`); set the head's payload and the collision
+/// sensitivity when configured and read back what the controller uses from its normal report
+/// (port 30001): a payload or sensitivity other than the configured one stops the start-up with
+/// both values (a wrong head mass would otherwise surface as a "mystery" C31 collision later);
+/// enable the motors; in position mode, move to the
 /// nominal joints at a limited speed and wait until the reports show them; switch to servo mode
 /// and wait until the reports show it. Then update() and sendTarget() stream servo joint targets.
+/// While it waits (the nominal move takes up to 30 s), a "get state" every keepalive keeps the
+/// command connection in use, as a controller speaking identifier 3 expects.
 ///
 /// Joint states: every report (100 Hz) becomes a JointState stamped on our steady clock. The
 /// report has no time stamp, so the stamp is its arrival time, fitted to the report's own period
@@ -32,6 +40,7 @@
 /// replies and the reports.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -47,6 +56,14 @@ struct XArmOptions {
   std::string address;  ///< the controller's IPv4 address
   int command_port = 502;
   int report_port = 30003;
+  int normal_report_port = 30001;  ///< 5 Hz reports with the payload and sensitivities (read back at start-up)
+  /// The head's payload: mass (kg) and centre of mass in the tool frame (mm); nothing: the
+  /// controller keeps what it has (read back and reported anyway).
+  std::optional<double> payload_kg;
+  std::array<double, 3> payload_com_mm{0.0, 0.0, 0.0};
+  /// 0 (off) … 5 (most sensitive); nothing: the controller keeps its own.
+  std::optional<int> collision_sensitivity;
+  std::chrono::milliseconds keepalive{1000};              ///< a request at least this often while waiting
   std::chrono::milliseconds connect_timeout{3000};
   std::chrono::milliseconds reply_timeout{2000};          ///< a start-up request without its reply fails
   std::chrono::milliseconds report_silence_limit{100};    ///< 10 report periods
@@ -84,6 +101,8 @@ class XArmHeadArm final : public HeadArm {
 
   struct Stats {
     std::string firmware;            ///< as register 1 answered
+    std::string serial;              ///< the arm's (register 2), empty if it did not answer
+    std::uint16_t protocol = 2;      ///< the identifier spoken (3 from firmware 1.8.6 on)
     double link_delay_ms = 0;        ///< one way, from the fastest start-up round trip
     std::uint64_t reports = 0;
     std::uint64_t targets_sent = 0;
@@ -95,6 +114,12 @@ class XArmHeadArm final : public HeadArm {
     /// Arrival jitter of the reports: the 99th percentile of |interval − period| over the last
     /// 1000 intervals, ms.
     double report_jitter_ms_p99 = 0;
+    /// What the controller reported it uses (normal report, read at start-up and reconnect).
+    bool payload_read = false;
+    double payload_kg = 0;
+    std::array<double, 3> payload_com_mm{};
+    int collision_sensitivity = -1;
+    std::string readback_error;      ///< why nothing was read back (empty: it was)
   };
   Stats stats() const;
 

@@ -57,6 +57,28 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   h.set_encode_failures(video.encode_failures);
   h.set_encode_ms_last(video.encode_ms_last);
   if (sources_.loop) sources_.loop->fillHealth(&h);
+  if (sources_.xarm) {
+    const XArmHeadArm::Stats x = sources_.xarm->stats();
+    auto* out = h.mutable_xarm();
+    out->set_firmware(x.firmware);
+    out->set_serial(x.serial);
+    out->set_protocol(x.protocol);
+    out->set_link_delay_ms(x.link_delay_ms);
+    out->set_report_jitter_ms_p99(x.report_jitter_ms_p99);
+    out->set_report_drift_ppm(x.report_drift_ppm);
+    out->set_reports(x.reports);
+    out->set_targets_sent(x.targets_sent);
+    out->set_refused_jumps(x.refused_jumps);
+    out->set_refused_limits(x.refused_limits);
+    out->set_reconnects(x.reconnects);
+    out->set_payload_read(x.payload_read);
+    out->set_payload_kg(x.payload_kg);
+    out->set_payload_com_x_mm(x.payload_com_mm[0]);
+    out->set_payload_com_y_mm(x.payload_com_mm[1]);
+    out->set_payload_com_z_mm(x.payload_com_mm[2]);
+    out->set_collision_sensitivity(x.collision_sensitivity);
+    out->set_readback_error(x.readback_error);
+  }
   if (sources_.control) sources_.control->fillSettings(h.mutable_settings());
   if (sources_.telemetry) {
     h.set_telemetry_batches(sources_.telemetry->batches());

@@ -2,7 +2,8 @@
 /// @brief The robot's health summary for the console (link RobotHealth, a few times a second):
 ///        cameras (fps over the last period, frames, drops by reason, exposure, reconnects, last
 ///        error), stereo pairing and encoding, the link's drops by reason, the head loop's and the
-///        arm's state, the settings in force, and this process's identity. Built from the
+///        arm's state (with the real xArm's link figures, refusals and payload), the settings in
+///        force, and this process's identity. Built from the
 ///        counters each part already keeps; nothing is counted twice.
 #pragma once
 
@@ -12,6 +13,7 @@
 
 #include "robot/camera_source.h"
 #include "robot/clock.h"
+#include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
 #include "robot/link/link_server.h"
 #include "robot/robot_control.h"
@@ -32,6 +34,7 @@ struct RobotHealthSources {
   const link::LinkServer* server = nullptr;
   const TelemetryBatcher* telemetry = nullptr;
   const SessionRecording* recording = nullptr;
+  const XArmHeadArm* xarm = nullptr;  ///< the real xArm's driver, when it is the arm (its figures)
   std::string arm;           ///< "simulated xArm 6", …
   std::string cameras_kind;  ///< "synthetic", "aravis", …
 };

@@ -38,7 +38,7 @@ struct JointMove {
 struct ControllerSimulator::Impl {
   ControllerSimulatorOptions options;
   robot::SteadyClock clock;
-  TcpListener command_listener, report_listener;
+  TcpListener command_listener, report_listener, normal_listener;
 
   mutable std::mutex mutex;  ///< everything below
   robot::SimulatedArm arm;
@@ -50,20 +50,27 @@ struct ControllerSimulator::Impl {
   std::optional<JointMove> move;
   JointVector q_reported = JointVector::Zero();
   bool reports_paused = false, replies_paused = false;
-  std::uint64_t servo_commands = 0, reports_sent = 0;
+  std::uint64_t servo_commands = 0, reports_sent = 0, heartbeats = 0;
+  std::uint16_t last_protocol = 0;
+  double payload_kg = 0;
+  std::array<double, 3> payload_com_mm{};
+  int collision_sensitivity = 3;
+  bool payload_writes_ignored = false;
+  std::int64_t next_normal_ns = 0;
 
   struct Client {
     TcpSocket socket;
     std::thread thread;  ///< command clients only
     std::atomic<bool> done{false};
   };
-  std::list<std::unique_ptr<Client>> command_clients, report_clients;
+  std::list<std::unique_ptr<Client>> command_clients, report_clients, normal_clients;
   std::mutex report_send_mutex;  ///< report clients' sockets (physics thread and sendRawReport)
 
   std::atomic<bool> stopping{false};
   std::thread accept_thread, physics_thread;
 
-  explicit Impl(const ControllerSimulatorOptions& o) : options(o), arm(clock, o.arm) {
+  explicit Impl(const ControllerSimulatorOptions& o)
+      : options(o), arm(clock, o.arm), payload_kg(o.payload_kg), collision_sensitivity(o.collision_sensitivity) {
     q_reported = arm.trueJoints();
   }
 
@@ -103,6 +110,11 @@ struct ControllerSimulator::Impl {
   /// The reply to one request (nothing: no reply, e.g. while replies are paused).
   std::vector<std::uint8_t> answer(const Frame& f) {
     std::lock_guard lock(mutex);
+    if (f.protocol == kHeartbeatProtocol) {  // the old heartbeat frame: no reply
+      ++heartbeats;
+      return {};
+    }
+    last_protocol = f.protocol;
     std::vector<std::uint8_t> params;
     const auto in = std::span<const std::uint8_t>(f.body);
     std::uint8_t extra = 0;  // status bits beyond the controller's own
@@ -112,6 +124,34 @@ struct ControllerSimulator::Impl {
         std::copy_n(options.firmware.begin(), std::min<std::size_t>(39, options.firmware.size()), params.begin());
         break;
       }
+      case Register::kGetRobotSn: {
+        params.assign(40, 0);
+        const std::string sn = options.robot_sn + std::string(1, '\0') + options.box_sn;
+        std::copy_n(sn.begin(), std::min<std::size_t>(39, sn.size()), params.begin());
+        break;
+      }
+      case Register::kSetTcpLoad:
+        if (in.size() < 16) {
+          warning = kWarningParameter;
+          extra = kStatusFailed;
+          break;
+        }
+        if (!payload_writes_ignored) {
+          payload_kg = readF32(in, 0);
+          for (std::size_t i = 0; i < 3; ++i) payload_com_mm[i] = readF32(in, 4 + 4 * i);
+        }
+        break;
+      case Register::kSetCollisionSensitivity:
+        if (in.empty() || in[0] > 5) {
+          warning = kWarningParameter;
+          extra = kStatusFailed;
+          break;
+        }
+        collision_sensitivity = in[0];
+        // A "system reset": motion stops, the command cache is cleared; set state 0 to move again.
+        move.reset();
+        state = std::uint8_t(ControllerState::kStopped);
+        break;
       case Register::kMotionEnable:
         if (in.size() < 2) {
           warning = kWarningParameter;
@@ -215,20 +255,28 @@ struct ControllerSimulator::Impl {
         break;
     }
     if (replies_paused) return {};
-    return encodeResponse(f.transaction, f.reg, std::uint8_t(statusLocked() | extra), params);
+    return encodeResponse(f.transaction, f.reg, std::uint8_t(statusLocked() | extra), params, f.protocol);
   }
 
   void serveCommands(Client& c) {
     FrameReader reader;
     std::vector<std::uint8_t> buffer(2048);
+    bool speaks_id3 = false;
+    auto last_heard = std::chrono::steady_clock::now();
     while (!stopping && !c.done) {
       std::size_t n = 0;
       std::string error_text;
       const auto got = c.socket.receive(buffer, 20ms, &n, &error_text);
-      if (got == TcpSocket::Received::kTimeout) continue;
+      if (got == TcpSocket::Received::kTimeout) {
+        // An identifier-3 client that fell silent is dropped (the heartbeat it promised is missing).
+        if (speaks_id3 && std::chrono::steady_clock::now() - last_heard > options.id3_silence_limit) break;
+        continue;
+      }
       if (got != TcpSocket::Received::kData) break;
+      last_heard = std::chrono::steady_clock::now();
       reader.feed(std::span<const std::uint8_t>(buffer.data(), n));
       while (auto frame = reader.next()) {
+        speaks_id3 = speaks_id3 || frame->protocol == kPrivateProtocolWithHeartbeat;
         const auto reply = answer(*frame);
         if (reply.empty()) continue;
         if (options.reply_delay.count() > 0) std::this_thread::sleep_for(options.reply_delay);
@@ -278,7 +326,40 @@ struct ControllerSimulator::Impl {
         }
       }
       for (const auto& report : reports) sendToReportClients(report);
+      sendNormalReport();
       reapClients();
+    }
+  }
+
+  /// Port 30001 at 5 Hz: the state, the codes, the payload and the sensitivities.
+  void sendNormalReport() {
+    std::vector<std::uint8_t> bytes;
+    {
+      std::lock_guard lock(mutex);
+      const std::int64_t now = clock.nowNs();
+      if (now < next_normal_ns) return;
+      next_normal_ns = now + 200'000'000;
+      NormalReport r;
+      r.realtime.state = state;
+      r.realtime.mode = mode;
+      for (int i = 0; i < 6; ++i) r.realtime.q[std::size_t(i)] = q_reported[i];
+      r.enabled = enabled ? 0xff : 0;
+      r.error = std::uint8_t(error);
+      r.warning = std::uint8_t(warning);
+      r.payload_kg = payload_kg;
+      r.payload_com_mm = payload_com_mm;
+      r.collision_sensitivity = std::uint8_t(collision_sensitivity);
+      r.teach_sensitivity = 3;
+      r.gravity = {0.0, 0.0, -1.0};
+      bytes = encodeNormalReport(r);
+    }
+    std::lock_guard send_lock(report_send_mutex);
+    for (auto& c : normal_clients) {
+      std::string error_text;
+      if (!c->done && !c->socket.sendAll(bytes, 20ms, &error_text)) {
+        c->socket.shutdown();
+        c->done = true;
+      }
     }
   }
 
@@ -305,6 +386,7 @@ struct ControllerSimulator::Impl {
       if (c->thread.joinable()) c->thread.join();
     std::lock_guard send_lock(report_send_mutex);
     report_clients.remove_if([](const auto& c) { return c->done.load(); });
+    normal_clients.remove_if([](const auto& c) { return c->done.load(); });
   }
 
   void acceptClients() {
@@ -324,6 +406,12 @@ struct ControllerSimulator::Impl {
         std::lock_guard send_lock(report_send_mutex);
         report_clients.push_back(std::move(client));
       }
+      if (auto s = normal_listener.accept(5ms, &error_text)) {
+        auto client = std::make_unique<Client>();
+        client->socket = std::move(*s);
+        std::lock_guard send_lock(report_send_mutex);
+        normal_clients.push_back(std::move(client));
+      }
     }
   }
 };
@@ -338,8 +426,11 @@ std::unique_ptr<ControllerSimulator> ControllerSimulator::start(const Controller
   if (!command) return nullptr;
   auto report = TcpListener::listen(options.address, options.report_port, error);
   if (!report) return nullptr;
+  auto normal = TcpListener::listen(options.address, options.normal_report_port, error);
+  if (!normal) return nullptr;
   impl->command_listener = std::move(*command);
   impl->report_listener = std::move(*report);
+  impl->normal_listener = std::move(*normal);
   Impl* raw = impl.get();
   impl->physics_thread = std::thread([raw] { raw->physics(); });
   impl->accept_thread = std::thread([raw] { raw->acceptClients(); });
@@ -348,6 +439,12 @@ std::unique_ptr<ControllerSimulator> ControllerSimulator::start(const Controller
 
 int ControllerSimulator::commandPort() const { return impl_->command_listener.port(); }
 int ControllerSimulator::reportPort() const { return impl_->report_listener.port(); }
+int ControllerSimulator::normalReportPort() const { return impl_->normal_listener.port(); }
+
+void ControllerSimulator::setPayloadWritesIgnored(bool ignored) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->payload_writes_ignored = ignored;
+}
 
 void ControllerSimulator::pressEmergencyStop() {
   std::lock_guard lock(impl_->mutex);
@@ -385,10 +482,11 @@ void ControllerSimulator::dropConnections() {
     }
   }
   std::lock_guard send_lock(impl_->report_send_mutex);
-  for (auto& c : impl_->report_clients) {
-    c->done = true;
-    c->socket.shutdown();
-  }
+  for (auto* clients : {&impl_->report_clients, &impl_->normal_clients})
+    for (auto& c : *clients) {
+      c->done = true;
+      c->socket.shutdown();
+    }
 }
 
 void ControllerSimulator::sendRawReport(std::span<const std::uint8_t> bytes) { impl_->sendToReportClients(bytes); }
@@ -413,12 +511,19 @@ ControllerSimulator::Snapshot ControllerSimulator::snapshot() const {
   s.set_point = impl_->arm.setPoint();
   s.servo_commands = impl_->servo_commands;
   s.reports_sent = impl_->reports_sent;
+  s.last_protocol = impl_->last_protocol;
+  s.heartbeats = impl_->heartbeats;
+  s.payload_kg = impl_->payload_kg;
+  s.payload_com_mm = impl_->payload_com_mm;
+  s.collision_sensitivity = impl_->collision_sensitivity;
   s.command_clients = int(std::count_if(impl_->command_clients.begin(), impl_->command_clients.end(),
                                         [](const auto& c) { return !c->done; }));
   {
     std::lock_guard send_lock(impl_->report_send_mutex);
     s.report_clients = int(std::count_if(impl_->report_clients.begin(), impl_->report_clients.end(),
                                          [](const auto& c) { return !c->done; }));
+    s.normal_report_clients = int(std::count_if(impl_->normal_clients.begin(), impl_->normal_clients.end(),
+                                                [](const auto& c) { return !c->done; }));
   }
   return s;
 }

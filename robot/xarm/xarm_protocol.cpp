@@ -1,16 +1,21 @@
 // SPDX-License-Identifier: MIT
 #include "robot/xarm/xarm_protocol.h"
 
+#include <algorithm>
 #include <bit>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 namespace telesphere::xarm {
 
-std::vector<std::uint8_t> encodeRequest(std::uint16_t transaction, Register reg, std::span<const std::uint8_t> params) {
+std::vector<std::uint8_t> encodeRequest(std::uint16_t transaction, Register reg, std::span<const std::uint8_t> params,
+                                        std::uint16_t protocol) {
   std::vector<std::uint8_t> out;
   out.reserve(7 + params.size());
   appendU16(out, transaction);
-  appendU16(out, kPrivateProtocol);
+  appendU16(out, protocol);
   appendU16(out, static_cast<std::uint16_t>(1 + params.size()));
   out.push_back(static_cast<std::uint8_t>(reg));
   out.insert(out.end(), params.begin(), params.end());
@@ -18,11 +23,11 @@ std::vector<std::uint8_t> encodeRequest(std::uint16_t transaction, Register reg,
 }
 
 std::vector<std::uint8_t> encodeResponse(std::uint16_t transaction, std::uint8_t reg, std::uint8_t status,
-                                         std::span<const std::uint8_t> params) {
+                                         std::span<const std::uint8_t> params, std::uint16_t protocol) {
   std::vector<std::uint8_t> out;
   out.reserve(8 + params.size());
   appendU16(out, transaction);
-  appendU16(out, kPrivateProtocol);
+  appendU16(out, protocol);
   appendU16(out, static_cast<std::uint16_t>(2 + params.size()));
   out.push_back(reg);
   out.push_back(status);
@@ -39,7 +44,7 @@ std::optional<Frame> FrameReader::next() {
   if (failed() || buffer_.size() < 6) return std::nullopt;
   const std::uint16_t protocol = readU16(buffer_, 2);
   const std::uint16_t length = readU16(buffer_, 4);
-  if (protocol != 0 && protocol != 2 && protocol != 3) {
+  if (protocol > kPrivateProtocolWithHeartbeat) {
     error_ = "protocol id " + std::to_string(protocol) + " (not an xArm frame)";
     return std::nullopt;
   }
@@ -101,6 +106,47 @@ std::vector<std::uint8_t> jointParams(const std::array<double, 6>& q, double a, 
 
 }  // namespace
 
+bool FirmwareVersion::atLeast(int ma, int mi, int pa) const {
+  if (major != ma) return major > ma;
+  if (minor != mi) return minor > mi;
+  return patch >= pa;
+}
+
+std::optional<FirmwareVersion> parseFirmwareVersion(std::span<const std::uint8_t> reply) {
+  const std::string text(reply.begin(), std::find(reply.begin(), reply.end(), std::uint8_t(0)));
+  FirmwareVersion v;
+  // "axis,type,armSN,boxSN,vX.Y.Z": the fields before the version when there are four commas.
+  std::vector<std::string> fields;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = text.find(',', start)) != std::string::npos; start = comma + 1)
+    fields.push_back(text.substr(start, comma - start));
+  fields.push_back(text.substr(start));
+  if (fields.size() >= 5) {
+    v.axis = std::atoi(fields[0].c_str());
+    v.type = std::atoi(fields[1].c_str());
+    v.arm_sn = fields[2];
+    v.box_sn = fields[3];
+  }
+  // The version: the last "v" (or "V") followed by a digit.
+  std::size_t at = std::string::npos;
+  for (std::size_t i = 0; i + 1 < text.size(); ++i)
+    if ((text[i] == 'v' || text[i] == 'V') && std::isdigit(static_cast<unsigned char>(text[i + 1]))) at = i;
+  if (at == std::string::npos || std::sscanf(text.c_str() + at + 1, "%d.%d.%d", &v.major, &v.minor, &v.patch) != 3)
+    return std::nullopt;
+  return v;
+}
+
+std::string armSerialOfReply(std::span<const std::uint8_t> reply) {
+  return std::string(reply.begin(), std::find(reply.begin(), reply.end(), std::uint8_t(0)));
+}
+
+std::vector<std::uint8_t> tcpLoadParams(double mass_kg, const std::array<double, 3>& com_mm) {
+  std::vector<std::uint8_t> out;
+  appendF32(out, static_cast<float>(mass_kg));
+  for (double v : com_mm) appendF32(out, static_cast<float>(v));
+  return out;
+}
+
 std::vector<std::uint8_t> servoJointParams(const std::array<double, 6>& q) { return jointParams(q, 0.0, 0.0); }
 
 std::vector<std::uint8_t> moveJointParams(const std::array<double, 6>& q, double speed, double acceleration) {
@@ -117,6 +163,9 @@ std::optional<std::array<double, 6>> jointsOfMoveParams(std::span<const std::uin
 std::string registerName(std::uint8_t reg) {
   switch (static_cast<Register>(reg)) {
     case Register::kGetVersion: return "get version (1)";
+    case Register::kGetRobotSn: return "get serial number (2)";
+    case Register::kSetTcpLoad: return "set payload (36)";
+    case Register::kSetCollisionSensitivity: return "set collision sensitivity (37)";
     case Register::kMotionEnable: return "motion enable (11)";
     case Register::kSetState: return "set state (12)";
     case Register::kGetState: return "get state (13)";

@@ -2,12 +2,18 @@
 /// @brief The xArm controller's private TCP protocol on its command port (UFACTORY's developer
 ///        manual, "communication format"; written from the public description, robot/xarm/README.md):
 ///        Modbus-TCP-style frames
-///          request:  [transaction U16 BE][protocol U16 BE = 2][length U16 BE][register U8][params]
+///          request:  [transaction U16 BE][protocol U16 BE][length U16 BE][register U8][params]
 ///          response: [transaction U16 BE][protocol U16 BE][length U16 BE][register U8][status U8][params]
 ///        where length counts the bytes after the length field. FP32 parameters are little endian,
 ///        U16 data big endian. The response status byte says whether the controller has an error
 ///        (bit 6), a warning (bit 5), is not ready to move (bit 4) or did not carry the command out
 ///        (bit 3). The registers this project uses, the controller's states and modes.
+///
+///        Protocol identifier: 2, the private protocol; firmware 1.8.6 and later also speaks 3, the
+///        private protocol "with heartbeat", which UFACTORY's own clients switch to after reading
+///        the version (register 1). A reply carries the identifier of its request, as it carries
+///        its transaction and register. Identifier 1 is the old 8-byte heartbeat frame some
+///        clients send every second; it has no reply. robot/xarm/README.md has the sources.
 #pragma once
 
 #include <array>
@@ -21,13 +27,17 @@ namespace telesphere::xarm {
 
 constexpr int kCommandPort = 502;
 constexpr int kRealtimeReportPort = 30003;  ///< 100 Hz joint positions (87-byte reports)
+constexpr int kNormalReportPort = 30001;    ///< 5 Hz, 145 bytes: with error, payload and sensitivities
+constexpr std::uint16_t kHeartbeatProtocol = 1;              ///< the old heartbeat frame (no reply)
 constexpr std::uint16_t kPrivateProtocol = 2;
+constexpr std::uint16_t kPrivateProtocolWithHeartbeat = 3;   ///< firmware ≥ 1.8.6
 /// Longest frame either side sends here (get version: 6 + 2 + 40 bytes); longer ones are refused as
 /// malformed before anything is allocated.
 constexpr std::size_t kMaxFrameBytes = 512;
 
 enum class Register : std::uint8_t {
-  kGetVersion = 1,
+  kGetVersion = 1,     ///< reply: 40 bytes ASCII "axis,type,armSN,boxSN,vX.Y.Z", NUL-padded
+  kGetRobotSn = 2,     ///< reply: 40 bytes: the arm's serial, NUL, the control box's serial, padding
   kMotionEnable = 11,  ///< params: joint (8 = all), enable (1/0)
   kSetState = 12,      ///< params: ControllerState (0 = start motion, 3 pause, 4 stop)
   kGetState = 13,      ///< reply: ControllerState
@@ -38,6 +48,8 @@ enum class Register : std::uint8_t {
   kSetMode = 19,        ///< params: ControllerMode
   kMoveJoint = 23,      ///< params: 7 joints, speed, acc, mvtime (FP32 LE; rad, rad/s, rad/s², s)
   kMoveServoJoint = 29, ///< params: 7 joints + 3 ignored (FP32 LE, rad)
+  kSetTcpLoad = 36,     ///< params: mass (kg), centre of mass x, y, z (mm, tool frame), FP32 LE
+  kSetCollisionSensitivity = 37,  ///< params: U8 0..5 (0: off); a "system reset": stopped, set state 0 after
   kGetJointPositions = 42,  ///< reply: 7 × FP32 LE, rad
 };
 
@@ -79,13 +91,16 @@ struct Frame {
   }
 };
 
-std::vector<std::uint8_t> encodeRequest(std::uint16_t transaction, Register reg, std::span<const std::uint8_t> params);
+std::vector<std::uint8_t> encodeRequest(std::uint16_t transaction, Register reg, std::span<const std::uint8_t> params,
+                                        std::uint16_t protocol = kPrivateProtocol);
+/// `protocol`: the request's (the controller echoes it).
 std::vector<std::uint8_t> encodeResponse(std::uint16_t transaction, std::uint8_t reg, std::uint8_t status,
-                                         std::span<const std::uint8_t> params);
+                                         std::span<const std::uint8_t> params, std::uint16_t protocol = kPrivateProtocol);
 
 /// Reassembles frames from a TCP byte stream, either direction. Once it has seen a malformed header
-/// (a protocol id other than 0, 2 or 3, a length of 0 or beyond kMaxFrameBytes) the stream cannot
-/// be resynchronised: failed() stays true and error() says why.
+/// (a protocol id other than 0..3, a length of 0 or beyond kMaxFrameBytes) the stream cannot
+/// be resynchronised: failed() stays true and error() says why. An identifier-1 heartbeat frame
+/// comes out as a frame with protocol 1 (its "register" byte is 0).
 class FrameReader {
  public:
   void feed(std::span<const std::uint8_t> bytes);
@@ -107,6 +122,23 @@ void appendU16(std::vector<std::uint8_t>& out, std::uint16_t value);
 std::uint16_t readU16(std::span<const std::uint8_t> in, std::size_t offset);
 void appendU32(std::vector<std::uint8_t>& out, std::uint32_t value);
 std::uint32_t readU32(std::span<const std::uint8_t> in, std::size_t offset);
+
+/// Register 1's text, parsed as UFACTORY's clients parse it: "axis,type,armSN,boxSN,vX.Y.Z"
+/// (older firmware may say less; then only the version is known, or nothing).
+struct FirmwareVersion {
+  int axis = 0, type = 0;
+  std::string arm_sn, box_sn;  ///< 6 characters each ("XI1202", "AC1302")
+  int major = 0, minor = 0, patch = 0;
+  bool atLeast(int ma, int mi, int pa) const;
+  /// The identifier UFACTORY's clients use with this firmware: 3 from 1.8.6 on, else 2.
+  std::uint16_t protocol() const { return atLeast(1, 8, 6) ? kPrivateProtocolWithHeartbeat : kPrivateProtocol; }
+};
+std::optional<FirmwareVersion> parseFirmwareVersion(std::span<const std::uint8_t> register1_reply);
+/// Register 2's reply: the arm's serial number (14 characters, "XI120204201B02"), empty if none.
+std::string armSerialOfReply(std::span<const std::uint8_t> register2_reply);
+
+/// Register 36's parameters: payload mass (kg) and centre of mass (mm, tool frame).
+std::vector<std::uint8_t> tcpLoadParams(double mass_kg, const std::array<double, 3>& com_mm);
 
 /// Register 29's parameters: the six joints (rad), J7 = 0, and the three ignored values (0).
 std::vector<std::uint8_t> servoJointParams(const std::array<double, 6>& q);

@@ -31,6 +31,43 @@ struct RealtimeReport {
 /// The 87-byte report (what the protocol simulator sends).
 std::vector<std::uint8_t> encodeRealtimeReport(const RealtimeReport& report);
 
+/// The "normal" report on port 30001 (5 Hz, 145 bytes; some firmware writes 133 in its length
+/// field while sending 145): the real-time report's 87 bytes, then (0-based offsets)
+///   87 brake bits U8, 88 enable bits U8, 89 error code U8, 90 warning code U8,
+///   91 TCP offset 6 × FP32 (mm, rad), 115 payload mass FP32 (kg), 119 its centre of mass
+///   3 × FP32 (mm), 131 collision sensitivity U8 (0..5), 132 teach sensitivity U8,
+///   133 gravity direction 3 × FP32.
+/// The one place the controller says which payload and collision sensitivity it uses.
+constexpr std::size_t kNormalReportBytes = 145;
+constexpr std::size_t kNormalReportLegacyLength = 133;
+
+struct NormalReport {
+  RealtimeReport realtime;
+  std::uint8_t brakes = 0, enabled = 0, error = 0, warning = 0;
+  std::array<double, 6> tcp_offset{};
+  double payload_kg = 0;
+  std::array<double, 3> payload_com_mm{};
+  std::uint8_t collision_sensitivity = 0, teach_sensitivity = 0;
+  std::array<double, 3> gravity{};
+};
+
+std::vector<std::uint8_t> encodeNormalReport(const NormalReport& report);
+
+/// Reassembles normal reports from port 30001's stream; a length field other than 145 (or 133),
+/// a change of it, a sensitivity outside 0..5, a state or mode the protocol lacks, fail it.
+class NormalReportReader {
+ public:
+  void feed(std::span<const std::uint8_t> bytes);
+  std::optional<NormalReport> next();
+  bool failed() const { return !error_.empty(); }
+  const std::string& error() const { return error_; }
+
+ private:
+  std::vector<std::uint8_t> buffer_;
+  std::uint32_t length_field_ = 0;  ///< of the first report
+  std::string error_;
+};
+
 /// Reassembles reports from the report port's byte stream: each starts with its own length,
 /// which must be 87 or 135 and stay the same across the stream (the SDK checks this too); a
 /// report that breaks either rule fails the stream (it cannot be resynchronised). A report with

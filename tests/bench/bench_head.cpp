@@ -180,6 +180,7 @@ XArmSimReplay replayThroughXArmSim(double cutoff_hz, std::int64_t latency_ns) {
   options.address = "127.0.0.1";
   options.command_port = sim->commandPort();
   options.report_port = sim->reportPort();
+  options.normal_report_port = sim->normalReportPort();
   const auto arm = robot::XArmHeadArm::start(options, clock, &error);
   if (!arm) throw std::runtime_error("xArm driver against the simulator: " + error);
   robot::JointStateBuffer buffer(config.geometry);

@@ -17,6 +17,7 @@
 #include "robot/clock.h"
 #include "robot/head_arm_xarm.h"
 #include "robot/head_loop.h"
+#include "robot/robot_health_reporter.h"
 #include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
@@ -51,6 +52,7 @@ class XArmHeadArmTest : public ::testing::Test {
     o.address = "127.0.0.1";
     o.command_port = sim->commandPort();
     o.report_port = sim->reportPort();
+    o.normal_report_port = sim->normalReportPort();
     o.nominal_q = nominal();
     o.nominal_speed = 2.0;  // rad/s: a short test; a lab uses the 20°/s default
     o.nominal_acceleration = 10.0;
@@ -547,6 +549,122 @@ TEST_F(XArmHeadArmTest, TheSimulatorDropsAClientThatSendsGarbageAndServesTheNext
   // The next client is served as usual.
   startArm();
   EXPECT_EQ(arm->status(), ArmStatus::kOk);
+}
+
+// Issue #30: the simulator answers as a controller does, and the driver speaks what the firmware
+// it finds expects.
+TEST_F(XArmHeadArmTest, SpeaksTheIdentifierItsFirmwareExpectsAndTheSimulatorEchoesIt) {
+  startArm();  // the simulator's firmware is v2.3.0: identifier 3
+  EXPECT_EQ(arm->stats().protocol, xarm::kPrivateProtocolWithHeartbeat);
+  EXPECT_EQ(sim->snapshot().last_protocol, xarm::kPrivateProtocolWithHeartbeat);
+  EXPECT_EQ(arm->stats().serial, "XI120204201B02");
+  EXPECT_EQ(arm->stats().firmware, "6,6,XI1202,AC1302,v2.3.0");
+  stream(20, 0.002);
+  EXPECT_EQ(arm->status(), ArmStatus::kOk) << arm->faultText();
+  arm.reset();
+
+  // Older firmware: identifier 2 throughout.
+  xarm::ControllerSimulatorOptions old_options;
+  old_options.firmware = "6,6,XI1202,AC1302,v1.8.5";
+  std::string error;
+  auto old_sim = xarm::ControllerSimulator::start(old_options, &error);
+  ASSERT_TRUE(old_sim) << error;
+  XArmOptions o = options();
+  o.command_port = old_sim->commandPort();
+  o.report_port = old_sim->reportPort();
+  o.normal_report_port = old_sim->normalReportPort();
+  arm = startArm(o, &error);
+  ASSERT_TRUE(arm) << error;
+  EXPECT_EQ(arm->stats().protocol, xarm::kPrivateProtocol);
+  EXPECT_EQ(old_sim->snapshot().last_protocol, xarm::kPrivateProtocol);
+  arm.reset();
+
+  // Raw bytes: a request with identifier 3 is answered with 3, one with 2 with 2; the old
+  // heartbeat frame is taken without a reply.
+  auto raw = xarm::TcpSocket::connect("127.0.0.1", sim->commandPort(), 1000ms, &error);
+  ASSERT_TRUE(raw) << error;
+  for (std::uint16_t id : {xarm::kPrivateProtocolWithHeartbeat, xarm::kPrivateProtocol}) {
+    const std::vector<std::uint8_t> heartbeat{0x00, 0x00, 0x00, 0x01, 0x00, 0x02, 0x00, 0x00};
+    ASSERT_TRUE(raw->sendAll(heartbeat, 1000ms, &error));
+    ASSERT_TRUE(raw->sendAll(xarm::encodeRequest(42, xarm::Register::kGetState, {}, id), 1000ms, &error));
+    xarm::FrameReader reader;
+    std::vector<std::uint8_t> buffer(64);
+    std::optional<xarm::Frame> reply;
+    for (int i = 0; i < 100 && !reply; ++i) {
+      std::size_t n = 0;
+      if (raw->receive(buffer, 20ms, &n, &error) == xarm::TcpSocket::Received::kData)
+        reader.feed(std::span<const std::uint8_t>(buffer.data(), n));
+      reply = reader.next();
+    }
+    ASSERT_TRUE(reply);
+    EXPECT_EQ(reply->transaction, 42);  // the heartbeat had no reply: this is the first frame
+    EXPECT_EQ(reply->protocol, id);
+    EXPECT_EQ(reply->reg, std::uint8_t(xarm::Register::kGetState));
+  }
+  EXPECT_EQ(sim->snapshot().heartbeats, 2u);
+}
+
+TEST_F(XArmHeadArmTest, AnIdentifier3ConnectionIsKeptInUseWhileTheDriverWaits) {
+  // A controller that drops an identifier-3 client silent for 300 ms, and a nominal move that
+  // takes about 1.5 s: the driver's keepalive requests carry it through; without them it fails.
+  sim.reset();
+  xarm::ControllerSimulatorOptions strict;
+  strict.id3_silence_limit = 300ms;
+  std::string error;
+  sim = xarm::ControllerSimulator::start(strict, &error);
+  ASSERT_TRUE(sim) << error;
+  XArmOptions o = options();
+  o.nominal_speed = 0.3;  // rad/s: J3's 0.4 rad take about 1.3 s
+  o.keepalive = 100ms;
+  arm = startArm(o, &error);
+  ASSERT_TRUE(arm) << error;
+  arm.reset();
+  o.keepalive = 10000ms;
+  o.nominal_q = JointVector::Zero();  // back again: another 1.3 s move, silent this time
+  EXPECT_FALSE(startArm(o, &error));
+  EXPECT_NE(error.find("closed the command connection"), std::string::npos) << error;
+}
+
+TEST_F(XArmHeadArmTest, SetsThePayloadAndSensitivityReadsThemBackAndReportsThemInHealth) {
+  XArmOptions o = options();
+  o.payload_kg = 1.25;
+  o.payload_com_mm = {0.0, 5.0, 62.0};
+  o.collision_sensitivity = 2;
+  std::string error;
+  arm = startArm(o, &error);
+  ASSERT_TRUE(arm) << error;
+  const auto snap = sim->snapshot();
+  EXPECT_NEAR(snap.payload_kg, 1.25, 1e-6);
+  EXPECT_NEAR(snap.payload_com_mm[2], 62.0, 1e-4);
+  EXPECT_EQ(snap.collision_sensitivity, 2);
+  const auto stats = arm->stats();
+  EXPECT_TRUE(stats.payload_read) << stats.readback_error;
+  EXPECT_NEAR(stats.payload_kg, 1.25, 1e-6);
+  EXPECT_EQ(stats.collision_sensitivity, 2);
+  // The console's health view gets the driver's figures.
+  RobotHealthSources sources;
+  sources.xarm = arm.get();
+  sources.arm = "xArm 6";
+  RobotHealthReporter reporter(sources, clock);
+  stream(10, 0.002);
+  const link::proto::RobotHealth health = reporter.make();
+  ASSERT_TRUE(health.has_xarm());
+  EXPECT_EQ(health.xarm().serial(), "XI120204201B02");
+  EXPECT_EQ(health.xarm().protocol(), 3u);
+  EXPECT_GT(health.xarm().link_delay_ms(), 0.0);
+  EXPECT_GE(health.xarm().reports(), 10u);
+  EXPECT_EQ(health.xarm().targets_sent(), 10u);
+  EXPECT_NEAR(health.xarm().payload_kg(), 1.25, 1e-6);
+  EXPECT_NEAR(health.xarm().payload_com_z_mm(), 62.0, 1e-4);
+  EXPECT_EQ(health.xarm().collision_sensitivity(), 2);
+  arm.reset();
+
+  // A controller that does not take the payload: the start-up stops and says both values.
+  sim->setPayloadWritesIgnored(true);
+  o.payload_kg = 0.8;
+  EXPECT_FALSE(startArm(o, &error));
+  EXPECT_NE(error.find("reports a payload of 1.250 kg"), std::string::npos) << error;
+  EXPECT_NE(error.find("configured 0.800 kg"), std::string::npos) << error;
 }
 
 TEST(XArmHeadArmStart, NobodyListeningFailsWithTheAddressAndAHint) {

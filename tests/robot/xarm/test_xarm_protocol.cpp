@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -22,6 +23,146 @@ TEST(XArmFrame, EncodesTheManualsEnableAllJointsExample) {
   EXPECT_EQ(encodeRequest(1, Register::kMotionEnable, Bytes{8, 1}), (Bytes{0x00, 0x01, 0x00, 0x02, 0x00, 0x03, 0x0B, 0x08, 0x01}));
   // ... and its reply "00 01 00 02 00 02 0B 10": status 0x10 (not ready), no parameters.
   EXPECT_EQ(encodeResponse(1, 0x0B, 0x10, {}), (Bytes{0x00, 0x01, 0x00, 0x02, 0x00, 0x02, 0x0B, 0x10}));
+}
+
+// Byte sequences written from UFACTORY's developer documentation and its clients' sources (read,
+// not copied; robot/xarm/README.md names them), not from our own encoder.
+TEST(XArmFrame, TheVendorsExamplesForPayloadSensitivityStateAndErrorCodes) {
+  // Register 36, 1 kg at (400, 0, 200) mm, transaction 1 (the documentation's own example) …
+  EXPECT_EQ(encodeRequest(1, Register::kSetTcpLoad, tcpLoadParams(1.0, {400.0, 0.0, 200.0})),
+            (Bytes{0x00, 0x01, 0x00, 0x02, 0x00, 0x11, 0x24, 0x00, 0x00, 0x80, 0x3F, 0x00, 0x00, 0xC8, 0x43, 0x00, 0x00,
+                   0x00, 0x00, 0x00, 0x00, 0x48, 0x43}));
+  // … and its reply, status 0x20 (a warning), no parameters.
+  FrameReader reader;
+  reader.feed(Bytes{0x00, 0x01, 0x00, 0x02, 0x00, 0x02, 0x24, 0x20});
+  auto reply = reader.next();
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->reg, 0x24);
+  EXPECT_EQ(reply->status(), kStatusWarning);
+  EXPECT_TRUE(reply->replyParams().empty());
+  // Register 37, sensitivity 3.
+  EXPECT_EQ(encodeRequest(10, Register::kSetCollisionSensitivity, Bytes{3}),
+            (Bytes{0x00, 0x0A, 0x00, 0x02, 0x00, 0x02, 0x25, 0x03}));
+  // Get state with identifier 3 (firmware ≥ 1.8.6), and the controller's reply echoing it: state 2.
+  EXPECT_EQ(encodeRequest(7, Register::kGetState, {}, kPrivateProtocolWithHeartbeat),
+            (Bytes{0x00, 0x07, 0x00, 0x03, 0x00, 0x01, 0x0D}));
+  EXPECT_EQ(encodeResponse(7, 0x0D, 0x00, Bytes{2}, kPrivateProtocolWithHeartbeat),
+            (Bytes{0x00, 0x07, 0x00, 0x03, 0x00, 0x03, 0x0D, 0x00, 0x02}));
+  // Error and warning codes: status bit 6 (error), C31, no warning.
+  reader.feed(Bytes{0x00, 0x0B, 0x00, 0x02, 0x00, 0x04, 0x0F, 0x40, 0x1F, 0x00});
+  reply = reader.next();
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->status(), kStatusError);
+  ASSERT_EQ(reply->replyParams().size(), 2u);
+  EXPECT_EQ(reply->replyParams()[0], 31);
+  // The old heartbeat frame some clients send every second: identifier 1, taken as a frame.
+  reader.feed(Bytes{0x00, 0x00, 0x00, 0x01, 0x00, 0x02, 0x00, 0x00});
+  reply = reader.next();
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->protocol, kHeartbeatProtocol);
+  EXPECT_FALSE(reader.failed());
+}
+
+TEST(XArmFirmware, VersionSerialAndIdentifierAsTheVendorsClientsReadThem) {
+  const auto reply = [](const std::string& text) {
+    Bytes b(40, 0);
+    std::copy(text.begin(), text.end(), b.begin());
+    return b;
+  };
+  // The documentation's example of register 1.
+  auto v = parseFirmwareVersion(reply("6,6,XI1202,AC1302,v1.12.10"));
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->axis, 6);
+  EXPECT_EQ(v->type, 6);
+  EXPECT_EQ(v->arm_sn, "XI1202");
+  EXPECT_EQ(v->box_sn, "AC1302");
+  EXPECT_EQ(v->major, 1);
+  EXPECT_EQ(v->minor, 12);
+  EXPECT_EQ(v->patch, 10);
+  EXPECT_EQ(v->protocol(), kPrivateProtocolWithHeartbeat);
+  // The switch to identifier 3 comes with 1.8.6, not before.
+  EXPECT_EQ(parseFirmwareVersion(reply("6,6,XI1202,AC1302,v1.8.5"))->protocol(), kPrivateProtocol);
+  EXPECT_EQ(parseFirmwareVersion(reply("6,6,XI1202,AC1302,v1.8.6"))->protocol(), kPrivateProtocolWithHeartbeat);
+  EXPECT_EQ(parseFirmwareVersion(reply("7,7,XS1304,AC1303,v2.5.5"))->axis, 7);
+  // A bare version (old firmware) and nonsense.
+  EXPECT_EQ(parseFirmwareVersion(reply("v1.2.3"))->minor, 2);
+  EXPECT_FALSE(parseFirmwareVersion(reply("no version here")));
+  EXPECT_FALSE(parseFirmwareVersion(Bytes{}));
+  // Register 2: the arm's serial, NUL, the control box's (the documentation's example).
+  Bytes sn(40, 0);
+  const std::string text = std::string("XI120204201B02") + '\0' + "AC130202B02L02\n";
+  std::copy(text.begin(), text.end(), sn.begin());
+  EXPECT_EQ(armSerialOfReply(sn), "XI120204201B02");
+  // Characters 2–5 are the digits the vendor's joint-range check reads.
+  EXPECT_EQ(std::stoi(armSerialOfReply(sn).substr(2, 4)), 1202);
+}
+
+TEST(XArmReport, TheNormalReportsPayloadAndSensitivitiesAtTheDocumentedOffsets) {
+  // 145 bytes built by hand at the documented offsets (not by our encoder).
+  Bytes frame(145, 0);
+  frame[3] = 145;
+  frame[4] = 0x12;  // mode 1 (servo), state 2 (ready)
+  const auto put = [&](std::size_t at, float v) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    for (int i = 0; i < 4; ++i) frame[at + std::size_t(i)] = std::uint8_t(bits >> (8 * i));
+  };
+  put(7, 0.25f);  // J1
+  frame[89] = 31;  // error code
+  put(115, 1.2f);
+  put(119, 0.0f);
+  put(123, -5.0f);
+  put(127, 60.0f);
+  frame[131] = 2;
+  frame[132] = 3;
+  for (std::size_t cut : {std::size_t(0), std::size_t(3), std::size_t(100), std::size_t(145)}) {
+    NormalReportReader reader;
+    reader.feed(std::span(frame).first(cut));
+    auto r = reader.next();
+    if (cut < 145) {
+      EXPECT_FALSE(r);
+      reader.feed(std::span(frame).subspan(cut));
+      r = reader.next();
+    }
+    ASSERT_TRUE(r) << reader.error();
+    EXPECT_EQ(r->realtime.state, 2);
+    EXPECT_EQ(r->realtime.mode, 1);
+    EXPECT_FLOAT_EQ(float(r->realtime.q[0]), 0.25f);
+    EXPECT_EQ(r->error, 31);
+    EXPECT_FLOAT_EQ(float(r->payload_kg), 1.2f);
+    EXPECT_FLOAT_EQ(float(r->payload_com_mm[1]), -5.0f);
+    EXPECT_FLOAT_EQ(float(r->payload_com_mm[2]), 60.0f);
+    EXPECT_EQ(r->collision_sensitivity, 2);
+    EXPECT_EQ(r->teach_sensitivity, 3);
+  }
+  // Our encoder writes the same bytes where they matter; the legacy length field 133 is taken.
+  NormalReport report;
+  report.realtime.state = 2;
+  report.realtime.mode = 1;
+  report.realtime.q[0] = 0.25;
+  report.error = 31;
+  report.payload_kg = 1.2;
+  report.payload_com_mm = {0.0, -5.0, 60.0};
+  report.collision_sensitivity = 2;
+  report.teach_sensitivity = 3;
+  Bytes encoded = encodeNormalReport(report);
+  ASSERT_EQ(encoded.size(), 145u);
+  for (std::size_t i : {std::size_t(3), std::size_t(4), std::size_t(89), std::size_t(115), std::size_t(118), std::size_t(131)})
+    EXPECT_EQ(encoded[i], frame[i]) << i;
+  encoded[3] = 133;
+  NormalReportReader legacy;
+  legacy.feed(encoded);
+  EXPECT_TRUE(legacy.next());
+  // A sensitivity of 9 or another length: not a normal report stream.
+  frame[131] = 9;
+  NormalReportReader bad;
+  bad.feed(frame);
+  EXPECT_FALSE(bad.next());
+  EXPECT_TRUE(bad.failed());
+  NormalReportReader wrong_port;
+  wrong_port.feed(encodeRealtimeReport({}));
+  EXPECT_FALSE(wrong_port.next());
+  EXPECT_NE(wrong_port.error().find("port 30001"), std::string::npos) << wrong_port.error();
 }
 
 TEST(XArmFrame, ReassemblesFramesFromEverySplitOfTheStream) {
