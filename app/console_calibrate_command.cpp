@@ -98,6 +98,12 @@ int applyToRobot(console::calibration::CalibrationRobot& robot, const calib::Sys
   }
   std::cerr << "telesphere-console calibrate: applied: the robot uses calibration generation " << applied->generation()
             << " (was " << in_use->generation() << ")\n";
+  if (!applied->saved_to().empty())
+    std::cerr << "telesphere-console calibrate: saved on the robot to " << applied->saved_to() << '\n';
+  else
+    std::cerr << "telesphere-console calibrate: warning: not saved on the robot"
+              << (applied->save_error().empty() ? " (start it with --calib-save FILE)" : ": " + applied->save_error())
+              << ": a restart goes back to its --calib file (keep the file written here)\n";
   return 0;
 }
 

@@ -240,15 +240,23 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     *exit_code = 2;
     return nullptr;
   }
+  // The calibration in use, applied and reverted live by the console (link apply_calibration).
+  p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
+  if (!o.calib_save.empty()) p->calibration_in_use->setSavePath(o.calib_save);
   record::SessionRecorderOptions recording;
   recording.mcap.compression = *record::parseCompression(o.record_compression);
+  recording.metadata = {{"arm", p->arm_description}, {"cameras", o.syntheticCameras() ? "synthetic" : "aravis"},
+                        {"calibration_file", o.calib_path}};
   p->recording = std::make_unique<robot::SessionRecording>(*p->server, o.record_dir, recording);
+  p->recording->setCalibrationSource([in_use = p->calibration_in_use.get()] {
+    link::proto::CalibrationInUse c;
+    in_use->fill(&c);
+    return std::optional(c);
+  });
   if (!o.record_path.empty() && !p->recording->startFile(o.record_path, error)) {
     *error = "--record: " + *error;
     return nullptr;
   }
-  // The calibration in use, applied and reverted live by the console (link apply_calibration).
-  p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
   robot::HeadLoopConfig loop_config;
   loop_config.calibration = p->calibration_in_use.get();
   loop_config.auto_nominal = o.auto_nominal;

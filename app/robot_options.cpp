@@ -7,6 +7,9 @@ namespace telesphere::app {
 
 void addRobotOptions(CLI::App& app, RobotOptions& o) {
   app.add_flag("--sim", o.sim, "simulated arm and synthetic cameras (the default)");
+  app.add_option("--calib-save", o.calib_save,
+                 "save every calibration the console applies or reverts to live here (our YAML), so that a restart "
+                 "with --calib FILE keeps it (default: not saved; the console warns)");
   app.add_option("--calib", o.calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
       ->capture_default_str();
   app.add_option("--port", o.port, "link base port (frames, state, uplink, control: port..port+3)")

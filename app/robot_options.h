@@ -11,6 +11,7 @@ namespace telesphere::app {
 
 struct RobotOptions {
   std::string calib_path = TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml";
+  std::string calib_save;  ///< where every calibration applied live is saved (empty: not saved)
   int port = 5760;
   std::string size = "640x360";  ///< the synthetic cameras render in real time at this size
   int width = 640, height = 360;  ///< parsed from size by checkRobotOptions

@@ -32,8 +32,20 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
               << '\n';
     return 2;
   }
-  server->setControlHandler([&refusal](const link::proto::ControlRequest&) {
+  // The calibration in use where the replay is: an XR app asks for it as of a live robot. The
+  // rest is refused.
+  server->setControlHandler([&refusal, &replayer](const link::proto::ControlRequest& request) {
     link::proto::ControlReply reply;
+    reply.set_id(request.id());
+    if (request.get_calibration()) {
+      if (const auto calibration = replayer->calibrationNow()) {
+        reply.set_ok(true);
+        *reply.mutable_calibration() = *calibration;
+        return reply;
+      }
+      reply.set_error(refusal + " (and it holds no calibration: recorded before calibrations were attached)");
+      return reply;
+    }
     reply.set_ok(false);
     reply.set_error(refusal);
     return reply;

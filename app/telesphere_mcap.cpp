@@ -34,6 +34,8 @@ int summary(const std::string& path, bool json, bool scan) {
     j["library"] = s.library;
     j["messages"] = s.messages;
     j["chunks"] = s.chunks;
+    j["attachments"] = s.attachments;
+    j["metadata"] = s.metadata;
     j["start_ns"] = s.start_ns;
     j["end_ns"] = s.end_ns;
     j["duration_s"] = duration_s;
@@ -62,7 +64,9 @@ int summary(const std::string& path, bool json, bool scan) {
                                           : ("counted by reading it: " + s.summary_problem).c_str());
   std::string compressions;
   for (const auto& c : s.compressions) compressions += (compressions.empty() ? "" : ", ") + (c.empty() ? "none" : c);
-  std::printf("chunk compression: %s\n\n", compressions.empty() ? "-" : compressions.c_str());
+  std::printf("chunk compression: %s\n", compressions.empty() ? "-" : compressions.c_str());
+  std::printf("attachments: %llu, metadata records: %llu\n\n", static_cast<unsigned long long>(s.attachments),
+              static_cast<unsigned long long>(s.metadata));
   std::printf("%-26s %-40s %10s %10s\n", "topic", "schema", "messages", "rate Hz");
   for (const auto& [id, c] : s.channels) {
     const std::uint64_t n = s.channel_messages.count(id) ? s.channel_messages.at(id) : 0;
@@ -81,21 +85,45 @@ int check(const std::string& path) {
     std::cerr << "telesphere-mcap: " << error << '\n';
     return 2;
   }
-  std::uint64_t messages = 0, bytes = 0;
-  if (!reader->forEachMessage(
-                     [&](const record::McapMessageView& m) {
-                       ++messages;
-                       bytes += m.size;
-                       return true;
-                     },
-                     &error)) {
+  std::uint64_t messages = 0, bytes = 0, attachments = 0, metadata = 0;
+  record::McapReader::Extras extras;
+  extras.on_attachment = [&](const record::McapAttachmentView&) { return ++attachments, true; };
+  extras.on_metadata = [&](const record::McapMetadata&) { return ++metadata, true; };
+  if (!reader->forEachRecord(
+          [&](const record::McapMessageView& m) {
+            ++messages;
+            bytes += m.size;
+            return true;
+          },
+          extras, &error)) {
     std::cerr << "telesphere-mcap: " << path << ": " << error << " (after " << messages
               << " intact messages; `telesphere-mcap recover` keeps them)\n";
     return 2;
   }
-  std::printf("%s: %llu messages, %.1f MB of payload, every CRC the file carries holds (chunks, data section)\n",
-              path.c_str(),
-              static_cast<unsigned long long>(messages), double(bytes) * 1e-6);
+  // The summary section carries a CRC of its own: a file whose summary is damaged reads, but a
+  // tool that trusts the summary (Foxglove's, MCAP's) would be misled, so check says so.
+  record::McapSummary summary;
+  if (!reader->summary(&summary, &error)) {
+    std::cerr << "telesphere-mcap: " << path << ": " << error << '\n';
+    return 2;
+  }
+  if (!summary.summary_problem.empty()) {
+    std::cerr << "telesphere-mcap: " << path << ": the summary section is damaged (" << summary.summary_problem
+              << "): the messages read, `telesphere-mcap recover` writes a whole file\n";
+    return 2;
+  }
+  if (summary.from_summary_section &&
+      (summary.messages != messages || summary.attachments != attachments || summary.metadata != metadata)) {
+    std::cerr << "telesphere-mcap: " << path << ": the summary counts " << summary.messages << " messages, "
+              << summary.attachments << " attachments, " << summary.metadata << " metadata; the file holds " << messages
+              << ", " << attachments << ", " << metadata << '\n';
+    return 2;
+  }
+  std::printf("%s: %llu messages, %.1f MB of payload, %llu attachments, %llu metadata; every CRC the file carries "
+              "holds (chunks, attachments, data section%s)\n",
+              path.c_str(), static_cast<unsigned long long>(messages), double(bytes) * 1e-6,
+              static_cast<unsigned long long>(attachments), static_cast<unsigned long long>(metadata),
+              summary.from_summary_section ? ", summary" : "; no summary section");
   return 0;
 }
 

@@ -28,7 +28,8 @@ extern "C" void onOffscreenSignal(int) { g_offscreen_stop = true; }
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   CLI::App* c = app.add_subcommand(
       "offscreen", "operator loop without a headset: trajectory-driven head, EGL offscreen, stats");
-  c->add_option("--calib", o.calib, "system calibration (two cameras)")->required();
+  c->add_option("--calib", o.calib,
+                 "system calibration (two cameras); with --replay it overrides the calibrations the recording holds");
   c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
   c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
   c->add_option("--trajectory", o.trajectory, "head poses CSV: t,px,py,pz,qx,qy,qz,qw (default: demo motion)");
@@ -70,7 +71,7 @@ void printViewTable(const xr::OperatorViewStats& v) {
               v.image_age_p99_ms);
 }
 
-int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& calibration,
+int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::SystemCalibration>& calibration,
               const xr::PacedOutputOptions& display, const xr::RenderSettings& render) {
   xr::OfflineReplayOptions options;
   options.recording = o.replay;
@@ -99,6 +100,11 @@ int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& 
   std::printf("| recording rendered, s | %.2f |\n| recorded frames read / undecodable | %llu / %llu |\n",
               stats->recording_s, static_cast<unsigned long long>(stats->recorded_frames),
               static_cast<unsigned long long>(stats->undecodable));
+  std::printf("| calibration | %s%s |\n",
+              calibration ? ("--calib " + o.calib + ", " + stats->calibration).c_str() : stats->calibration.c_str(),
+              v.calibration_changes > 0 ? (", " + std::to_string(v.calibration_changes) + " change(s) replayed to generation " +
+                                           std::to_string(v.calibration_generation)).c_str()
+                                        : "");
   std::printf("| head | %s |\n| nominal pose from the recording | %s |\n",
               options.trajectory ? o.trajectory.c_str()
                                  : (std::to_string(stats->head_targets) + " recorded head targets").c_str(),
@@ -112,7 +118,10 @@ int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& 
               {"undecodable", stats->undecodable},
               {"replaced_unshown", stats->replaced_unshown},
               {"head_targets", stats->head_targets},
-              {"skipped", stats->skipped}});
+              {"skipped", stats->skipped},
+              {"calibration", calibration ? "--calib " + o.calib : stats->calibration},
+              {"calibration_generation", v.calibration_generation},
+              {"calibration_changes", v.calibration_changes}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
   }
   return 0;
@@ -121,8 +130,14 @@ int runReplay(const OffscreenCommandOptions& o, const calib::SystemCalibration& 
 }  // namespace
 
 int runOffscreenCommand(const OffscreenCommandOptions& o) {
-  auto calibration = calib::loadCalibrationFile(o.calib);
-  if (!calibration) return fail(1, calibration.error().describe());
+  std::optional<calib::SystemCalibration> calibration;
+  if (!o.calib.empty()) {
+    auto loaded = calib::loadCalibrationFile(o.calib);
+    if (!loaded) return fail(1, loaded.error().describe());
+    calibration = std::move(*loaded);
+  } else if (o.replay.empty()) {
+    return fail(1, "--calib FILE is needed (a replay takes the recording's own)");
+  }
   std::string error;
   xr::PacedOutputOptions display;
   if (std::sscanf(o.eye_size.c_str(), "%dx%d", &display.eye_width, &display.eye_height) != 2 ||
@@ -138,7 +153,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   }
   std::signal(SIGINT, onOffscreenSignal);
   std::signal(SIGTERM, onOffscreenSignal);
-  if (!o.replay.empty()) return runReplay(o, *calibration, display, *render);
+  if (!o.replay.empty()) return runReplay(o, calibration, display, *render);
 
   std::optional<xr::HeadTrajectory> trajectory =
       o.trajectory.empty() ? std::optional<xr::HeadTrajectory>(xr::HeadTrajectory::demo())

@@ -102,7 +102,16 @@ void CalibrationInUsePanel::refresh() {
                                  ? QString(" · revert goes back to: %1 (%2 kept)")
                                        .arg(QString::fromStdString(in_use_->previous_source()).toHtmlEscaped())
                                        .arg(in_use_->previous())
-                                 : QString(" · nothing earlier to revert to")));
+                                 : QString(" · nothing earlier to revert to")) +
+                        (in_use_->generation() <= 1 ? QString()
+                         : !in_use_->saved_to().empty()
+                             ? "<br>saved on the robot to " + QString::fromStdString(in_use_->saved_to()).toHtmlEscaped() +
+                                   " (a restart with --calib that file keeps it)"
+                             : "<br><b style='color:#b3261e'>not saved on the robot" +
+                                   (in_use_->save_error().empty()
+                                        ? QString(" (start it with --calib-save FILE)")
+                                        : ": " + QString::fromStdString(in_use_->save_error()).toHtmlEscaped()) +
+                                   ": a restart goes back to its --calib file</b>"));
   }
   const auto xr = xrGeneration();
   const bool xr_here = session_.xr().state() == PeerState::kConnected;

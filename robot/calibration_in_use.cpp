@@ -2,6 +2,12 @@
 /// @brief CalibrationInUse: merge, checks, generations, revert, the link's requests.
 #include "robot/calibration_in_use.h"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+
 #include <cmath>
 #include <stdexcept>
 #include <utility>
@@ -104,10 +110,36 @@ bool CalibrationInUse::revert(std::string* error) {
   return true;
 }
 
+void CalibrationInUse::setSavePath(std::string path) {
+  std::lock_guard lock(mutex_);
+  save_path_ = std::move(path);
+}
+
 void CalibrationInUse::install(AppliedCalibration next) {
   next.generation = next_generation_++;
   next.applied_ns = clock_.nowNs();
   current_ = std::make_shared<const AppliedCalibration>(std::move(next));
+  saved_to_.clear();
+  save_error_.clear();
+  if (save_path_.empty()) return;
+  // Whole or not at all: a temporary file beside it, renamed over it.
+  const std::string temporary = save_path_ + ".saving";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << "# saved by telesphere-robot: calibration generation " << current_->generation << " (" << current_->source
+        << ")\n"
+        << calib::toSystemCalibrationYaml(current_->calibration);
+    out.flush();
+    if (!out) save_error_ = "cannot write " + temporary;
+  }
+  if (save_error_.empty() && std::rename(temporary.c_str(), save_path_.c_str()) != 0)
+    save_error_ = "cannot rename " + temporary + " to " + save_path_ + ": " + std::strerror(errno);
+  if (save_error_.empty()) {
+    saved_to_ = save_path_;
+  } else {
+    std::remove(temporary.c_str());
+    std::cerr << "telesphere-robot: the calibration in use was not saved: " << save_error_ << '\n';
+  }
 }
 
 void CalibrationInUse::fill(link::proto::CalibrationInUse* out) const {
@@ -126,6 +158,9 @@ void CalibrationInUse::fill(link::proto::CalibrationInUse* out) const {
   out->set_applied_ns(now->applied_ns);
   out->set_previous(static_cast<std::uint32_t>(count));
   out->set_previous_source(before ? before->source : std::string());
+  std::lock_guard lock(mutex_);
+  out->set_saved_to(saved_to_);
+  out->set_save_error(save_error_);
 }
 
 link::proto::ControlReply CalibrationInUse::handleControl(const link::proto::ControlRequest& request) {

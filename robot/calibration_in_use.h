@@ -73,7 +73,12 @@ class CalibrationInUse {
   /// Back to the calibration before the last apply (as a new generation). False when there is none.
   bool revert(std::string* error);
 
-  /// The link's view of the calibration in use (the YAML text in our format).
+  /// Where every calibration applied or reverted to is saved (our YAML, written to a temporary
+  /// file and renamed over `path`), so that `telesphere-robot --calib path` after a restart keeps
+  /// it (`--calib-save`); empty: nothing is saved, and the link's view says so.
+  void setSavePath(std::string path);
+
+  /// The link's view of the calibration in use (the YAML text in our format; where it was saved).
   void fill(link::proto::CalibrationInUse* out) const;
   /// Answers apply_calibration, revert_calibration and get_calibration (others: refused).
   link::proto::ControlReply handleControl(const link::proto::ControlRequest& request);
@@ -92,6 +97,8 @@ class CalibrationInUse {
   std::shared_ptr<const AppliedCalibration> current_;
   std::vector<std::shared_ptr<const AppliedCalibration>> previous_;  ///< oldest first
   std::uint64_t next_generation_ = 2;
+  std::string save_path_;
+  std::string saved_to_, save_error_;  ///< of the current generation
 };
 
 }  // namespace telesphere::robot

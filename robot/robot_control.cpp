@@ -4,6 +4,7 @@
 
 #include "robot/link/proto_enums.h"
 
+#include <map>
 #include <string>
 
 namespace telesphere::robot {
@@ -82,7 +83,14 @@ void RobotControl::followTrial(const link::proto::TrialIndicator& trial, link::p
       trial_recording_ = false;
     }
     if (!recording_->active()) {
-      if (recording_->startNamed(trial.recording_name(), &error))
+      // The file says which trial it holds, without the study database.
+      std::map<std::string, std::string> metadata{{"study", trial.study()},
+                                                  {"participant", trial.participant()},
+                                                  {"trial_id", std::to_string(trial.trial_id())},
+                                                  {"mode", trial.mode()},
+                                                  {"study_database", trial.study_database()}};
+      std::erase_if(metadata, [](const auto& kv) { return kv.second.empty() || kv.second == "0"; });
+      if (recording_->startNamed(trial.recording_name(), &error, metadata))
         trial_recording_ = true;
       else
         reply->set_error("the trial runs, but is not recorded: " + error);  // ok stays: the trial is on

@@ -4,6 +4,8 @@
 
 #include <filesystem>
 
+#include "robot/link/link_endpoints.h"
+
 namespace telesphere::robot {
 
 SessionRecording::SessionRecording(link::LinkServer& server, std::string dir, record::SessionRecorderOptions options)
@@ -15,20 +17,32 @@ SessionRecording::~SessionRecording() {
   waitFinished(&ignored);
 }
 
-bool SessionRecording::startFile(const std::string& path, std::string* error) {
+void SessionRecording::setCalibrationSource(std::function<std::optional<link::proto::CalibrationInUse>()> source) {
+  std::lock_guard lock(mutex_);
+  calibration_source_ = std::move(source);
+}
+
+bool SessionRecording::startFile(const std::string& path, std::string* error,
+                                 const std::map<std::string, std::string>& metadata) {
   std::lock_guard lock(mutex_);
   if (recorder_) {
     *error = "already recording to " + recorder_->path();
     return false;
   }
-  auto recorder = record::SessionRecorder::start(path, options_, error);
+  record::SessionRecorderOptions options = options_;
+  for (const auto& [key, value] : metadata) options.metadata[key] = value;
+  auto recorder = record::SessionRecorder::start(path, options, error);
   if (!recorder) return false;
   recorder_ = std::move(recorder);
+  // The calibration in use from the first moment: a replay renders each frame with its own.
+  if (calibration_source_)
+    if (const auto calibration = calibration_source_()) recorder_->attachCalibration(*calibration, link::linkNowNs());
   server_.setTap(recorder_);
   return true;
 }
 
-bool SessionRecording::startNamed(const std::string& name, std::string* error) {
+bool SessionRecording::startNamed(const std::string& name, std::string* error,
+                                  const std::map<std::string, std::string>& metadata) {
   if (dir_.empty()) {
     *error = "this robot records only with a record folder (telesphere-robot --record-dir DIR)";
     return false;
@@ -51,7 +65,7 @@ bool SessionRecording::startNamed(const std::string& name, std::string* error) {
     return false;
   }
   const bool has_suffix = name.size() > 5 && name.compare(name.size() - 5, 5, ".mcap") == 0;
-  return startFile((std::filesystem::path(dir_) / (has_suffix ? name : name + ".mcap")).string(), error);
+  return startFile((std::filesystem::path(dir_) / (has_suffix ? name : name + ".mcap")).string(), error, metadata);
 }
 
 bool SessionRecording::stop(std::string* error) {

@@ -6,7 +6,10 @@
 #pragma once
 
 #include <atomic>
+#include <functional>
+#include <map>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -26,10 +29,15 @@ class SessionRecording {
   SessionRecording(const SessionRecording&) = delete;
   SessionRecording& operator=(const SessionRecording&) = delete;
 
+  /// Where each recording gets the calibration in use when it starts (attached to the file; later
+  /// changes are attached as the control replies that make them pass). Empty: none attached.
+  void setCalibrationSource(std::function<std::optional<link::proto::CalibrationInUse>()> source);
+
   /// Records to `path` (a new file). False with the reason (recording already, file exists, …).
-  bool startFile(const std::string& path, std::string* error);
+  /// `metadata` joins the options' in the file's "telesphere" metadata record (a study trial's).
+  bool startFile(const std::string& path, std::string* error, const std::map<std::string, std::string>& metadata = {});
   /// Records to dir/NAME.mcap; NAME: letters, digits, '-', '_', '.' (not starting with '.').
-  bool startNamed(const std::string& name, std::string* error);
+  bool startNamed(const std::string& name, std::string* error, const std::map<std::string, std::string>& metadata = {});
   /// Stops recording at once (the link is untapped) and finishes the file on a thread of its own
   /// (what is queued is written, then the summary and an fsync: seconds at worst, which must not
   /// hold the link's thread that answers this request); false when nothing records. Whether the
@@ -47,6 +55,7 @@ class SessionRecording {
   link::LinkServer& server_;
   std::string dir_;
   record::SessionRecorderOptions options_;
+  std::function<std::optional<link::proto::CalibrationInUse>()> calibration_source_;
   mutable std::mutex mutex_;
   std::shared_ptr<record::SessionRecorder> recorder_;   ///< recording now
   std::shared_ptr<record::SessionRecorder> finishing_;  ///< stopped, its file being finished

@@ -188,6 +188,11 @@ void TrialWorkflow::sendIndicator(bool running, std::int64_t now_ns) {
   indicator.set_time_limit_s(study_.time_limit_s);
   // The robot records the trial under this name when it has a record folder (--record-dir).
   indicator.set_recording_name(recordingName(session_.participant, runner_->mode(), db_uid_, trial_id, recording_part_));
+  indicator.set_study(study_.name);
+  indicator.set_participant(session_.participant);
+  indicator.set_trial_id(trial_id);
+  indicator.set_mode(runner_->mode());
+  indicator.set_study_database(db_uid_);
   robot_.sendTrialIndicator(indicator, [this, alive = std::weak_ptr<int>(alive_), trial_id](const StudyRobot::Reply& r) {
     if (alive.expired()) return;  // the workflow (and perhaps its database) is gone
     if (!r.answered) return noteRecording(trial_id, "the robot did not answer the trial indicator: not recorded");

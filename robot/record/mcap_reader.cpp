@@ -111,6 +111,11 @@ std::unique_ptr<McapReader> McapReader::open(const std::string& path, std::strin
 
 bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* error, bool stop_at_damage,
                                 McapDamage* damage) const {
+  return forEachRecord(on_message, {}, error, stop_at_damage, damage);
+}
+
+bool McapReader::forEachRecord(const MessageCallback& on_message, const Extras& extras, std::string* error,
+                               bool stop_at_damage, McapDamage* damage) const {
   schemas_.clear();
   channels_.clear();
   McapDamage where;
@@ -237,7 +242,42 @@ bool McapReader::forEachMessage(const MessageCallback& on_message, std::string* 
       }
       case McapOp::kFooter:
         return damaged(pos, "a footer before the data end record");
-      default: break;  // indexes, attachments, metadata, and opcodes of later versions: skipped
+      case McapOp::kAttachment: {
+        McapDecoder d(content, n);
+        McapAttachmentView a;
+        a.log_time_ns = d.u64();
+        a.create_time_ns = d.u64();
+        a.name = d.str();
+        a.media_type = d.str();
+        const std::uint64_t data_size = d.u64();
+        a.data = d.bytes(data_size);
+        const std::size_t crc_at = n >= 4 ? n - 4 : 0;
+        const std::uint32_t want = d.u32();
+        if (!d.ok() || a.data == nullptr || d.remaining() != 0) return damaged(pos, "malformed attachment record");
+        if (want != 0 && mcapCrc32(content, crc_at) != want)
+          return damaged(pos, "attachment CRC mismatch (" + a.name + ")");
+        a.size = static_cast<std::size_t>(data_size);
+        if (extras.on_attachment && !extras.on_attachment(a)) return true;
+        break;
+      }
+      case McapOp::kMetadata: {
+        McapDecoder d(content, n);
+        McapMetadata m;
+        m.name = d.str();
+        const std::uint32_t bytes = d.u32();
+        const std::uint8_t* map = d.bytes(bytes);
+        if (!d.ok() || map == nullptr) return damaged(pos, "malformed metadata record");
+        McapDecoder md(map, bytes);
+        while (md.ok() && md.remaining() > 0) {
+          std::string key = md.str();
+          std::string value = md.str();
+          if (md.ok()) m.metadata[std::move(key)] = std::move(value);
+        }
+        if (!md.ok()) return damaged(pos, "malformed metadata record (" + m.name + ")");
+        if (extras.on_metadata && !extras.on_metadata(m)) return true;
+        break;
+      }
+      default: break;  // indexes and opcodes of later versions: skipped
     }
     crc = mcapCrc32(data_ + pos, kRecordHead + n, crc);
     pos += kRecordHead + n;
@@ -290,8 +330,8 @@ bool McapReader::readSummarySection(McapSummary* out, std::string* error) const 
       out->messages = d.u64();
       d.u16();
       d.u32();
-      d.u32();
-      d.u32();
+      out->attachments = d.u32();
+      out->metadata = d.u32();
       out->chunks = d.u32();
       out->start_ns = d.u64();
       out->end_ns = d.u64();
@@ -347,7 +387,10 @@ bool McapReader::summary(McapSummary* out, std::string* error, bool scan) const 
   // No (usable) summary section: count by reading, and name the chunks' compressions on the way.
   const std::string summary_problem = out->summary_problem;
   bool first = true;
-  const bool ok = forEachMessage(
+  Extras extras;
+  extras.on_attachment = [&](const McapAttachmentView&) { return ++out->attachments, true; };
+  extras.on_metadata = [&](const McapMetadata&) { return ++out->metadata, true; };
+  const bool ok = forEachRecord(
       [&](const McapMessageView& m) {
         if (first || m.log_time_ns < out->start_ns) out->start_ns = m.log_time_ns;
         if (first || m.log_time_ns > out->end_ns) out->end_ns = m.log_time_ns;
@@ -356,7 +399,7 @@ bool McapReader::summary(McapSummary* out, std::string* error, bool scan) const 
         ++out->channel_messages[m.channel->id];
         return true;
       },
-      error);
+      extras, error);
   out->schemas = schemas_;
   out->channels = channels_;
   out->summary_problem = summary_problem;

@@ -41,11 +41,24 @@ struct McapMessageView {
   std::size_t size = 0;
 };
 
+/// An attachment in place (data valid during the callback); its CRC was checked.
+struct McapAttachmentView {
+  std::uint64_t log_time_ns = 0, create_time_ns = 0;
+  std::string name, media_type;
+  const std::uint8_t* data = nullptr;
+  std::size_t size = 0;
+};
+
+struct McapMetadata {
+  std::string name;
+  std::map<std::string, std::string> metadata;
+};
+
 struct McapSummary {
   std::string profile, library;
   std::map<std::uint16_t, McapSchema> schemas;
   std::map<std::uint16_t, McapChannel> channels;
-  std::uint64_t messages = 0, chunks = 0;
+  std::uint64_t messages = 0, chunks = 0, attachments = 0, metadata = 0;
   std::uint64_t start_ns = 0, end_ns = 0;
   std::map<std::uint16_t, std::uint64_t> channel_messages;
   std::set<std::string> compressions;   ///< as named in the chunks ("" = none)
@@ -80,6 +93,15 @@ class McapReader {
   /// *damage (if given) says where the intact part ends (offset 0: the file is whole).
   bool forEachMessage(const MessageCallback& on_message, std::string* error, bool stop_at_damage = false,
                       McapDamage* damage = nullptr) const;
+
+  /// What the data section holds besides messages, in file order, handed out as forEachMessage
+  /// meets them (an attachment whose CRC does not hold is damage, like a chunk's).
+  struct Extras {
+    std::function<bool(const McapAttachmentView&)> on_attachment;  ///< false: stop reading
+    std::function<bool(const McapMetadata&)> on_metadata;
+  };
+  bool forEachRecord(const MessageCallback& on_message, const Extras& extras, std::string* error,
+                     bool stop_at_damage = false, McapDamage* damage = nullptr) const;
 
   const std::map<std::uint16_t, McapSchema>& schemasSeen() const { return schemas_; }
   const std::map<std::uint16_t, McapChannel>& channelsSeen() const { return channels_; }

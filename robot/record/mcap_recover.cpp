@@ -22,7 +22,17 @@ bool recoverMcap(const std::string& in, const std::string& out, const McapWriter
   std::string read_error;
   McapDamage damage;
   bool write_failed = false;
-  const bool read = reader->forEachMessage(
+  // Metadata and attachments (which robot, the calibration in use) are kept too, in their place.
+  McapReader::Extras extras;
+  extras.on_attachment = [&](const McapAttachmentView& a) {
+    write_failed = write_failed || !writer->writeAttachment(a.log_time_ns, a.create_time_ns, a.name, a.media_type, a.data, a.size);
+    return !write_failed;
+  };
+  extras.on_metadata = [&](const McapMetadata& m) {
+    write_failed = write_failed || !writer->writeMetadata(m.name, m.metadata);
+    return !write_failed;
+  };
+  const bool read = reader->forEachRecord(
       [&](const McapMessageView& m) {
         auto channel = channel_ids.find(m.channel->id);
         if (channel == channel_ids.end()) {
@@ -47,7 +57,7 @@ bool recoverMcap(const std::string& in, const std::string& out, const McapWriter
         ++report->messages;
         return true;
       },
-      &read_error, true, &damage);
+      extras, &read_error, true, &damage);
   if (write_failed || !writer->close()) {
     *error = out + ": " + writer->error();
     return false;

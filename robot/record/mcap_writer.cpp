@@ -149,6 +149,49 @@ bool McapWriter::writeParts(std::uint16_t channel_id, std::uint32_t sequence, st
   return chunk_.size() >= options_.chunk_size ? flush() : true;
 }
 
+bool McapWriter::writeMetadata(const std::string& name, const std::map<std::string, std::string>& metadata) {
+  if (closed_) return fail("metadata after close");
+  if (!flush()) return false;
+  scratch_.clear();
+  McapEncoder e(scratch_);
+  const std::size_t at = e.beginRecord(McapOp::kMetadata);
+  e.str(name);
+  const std::size_t map_at = e.size();
+  e.u32(0);
+  for (const auto& [k, v] : metadata) {  // std::map: keys sorted, as the spec asks of maps
+    e.str(k);
+    e.str(v);
+  }
+  e.patchU32Length(map_at);
+  e.endRecord(at);
+  const MetadataIndex index{offset_, scratch_.size(), name};
+  if (!writeOut(scratch_)) return false;
+  metadata_indexes_.push_back(index);
+  return true;
+}
+
+bool McapWriter::writeAttachment(std::uint64_t log_time_ns, std::uint64_t create_time_ns, const std::string& name,
+                                 const std::string& media_type, const void* data, std::size_t size) {
+  if (closed_) return fail("attachment after close");
+  if (!flush()) return false;
+  scratch_.clear();
+  McapEncoder e(scratch_);
+  const std::size_t at = e.beginRecord(McapOp::kAttachment);
+  const std::size_t fields = e.size();
+  e.u64(log_time_ns);
+  e.u64(create_time_ns);
+  e.str(name);
+  e.str(media_type);
+  e.u64(size);
+  e.raw(data, size);
+  e.u32(mcapCrc32(scratch_.data() + fields, scratch_.size() - fields));  // the fields before it
+  e.endRecord(at);
+  const AttachmentIndex index{offset_, scratch_.size(), log_time_ns, create_time_ns, size, name, media_type};
+  if (!writeOut(scratch_)) return false;
+  attachment_indexes_.push_back(index);
+  return true;
+}
+
 bool McapWriter::flush() {
   if (!error_.empty()) return false;
   if (chunk_.empty()) return true;
@@ -231,8 +274,8 @@ bool McapWriter::close() {
     e.u64(stats_.messages);
     e.u16(static_cast<std::uint16_t>(schemas_.size()));
     e.u32(static_cast<std::uint32_t>(channels_.size()));
-    e.u32(0);  // attachments
-    e.u32(0);  // metadata
+    e.u32(static_cast<std::uint32_t>(attachment_indexes_.size()));
+    e.u32(static_cast<std::uint32_t>(metadata_indexes_.size()));
     e.u32(static_cast<std::uint32_t>(chunk_indexes_.size()));
     e.u64(start_ns_);
     e.u64(end_ns_);
@@ -263,6 +306,28 @@ bool McapWriter::close() {
       e.str(compressionName(options_.compression));
       e.u64(c.compressed_size);
       e.u64(c.uncompressed_size);
+      e.endRecord(s);
+    }
+  });
+  group(McapOp::kAttachmentIndex, [&] {
+    for (const AttachmentIndex& a : attachment_indexes_) {
+      const std::size_t s = e.beginRecord(McapOp::kAttachmentIndex);
+      e.u64(a.offset);
+      e.u64(a.length);
+      e.u64(a.log_time_ns);
+      e.u64(a.create_time_ns);
+      e.u64(a.data_size);
+      e.str(a.name);
+      e.str(a.media_type);
+      e.endRecord(s);
+    }
+  });
+  group(McapOp::kMetadataIndex, [&] {
+    for (const MetadataIndex& m : metadata_indexes_) {
+      const std::size_t s = e.beginRecord(McapOp::kMetadataIndex);
+      e.u64(m.offset);
+      e.u64(m.length);
+      e.str(m.name);
       e.endRecord(s);
     }
   });

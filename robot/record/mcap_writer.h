@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @brief Writes an MCAP file (mcap.dev/spec): schemas and channels as they are added, messages
-///        in chunks (optionally compressed) each followed by its message indexes, then at close()
-///        the data-end record, a summary (schemas, channels, statistics, chunk indexes) with
-///        summary offsets, and the footer; every CRC the format has is filled in.
+///        in chunks (optionally compressed) each followed by its message indexes, metadata and
+///        attachments between chunks, then at close() the data-end record, a summary (schemas,
+///        channels, statistics, chunk, attachment and metadata indexes) with summary offsets, and
+///        the footer; every CRC the format has is filled in.
 ///
 /// A chunk is written whole with one write() once it holds `chunk_size` bytes (or flush() is
 /// called), so a process that dies loses at most the chunk being filled; the file up to there
@@ -65,6 +66,15 @@ class McapWriter {
   };
   bool writeParts(std::uint16_t channel_id, std::uint32_t sequence, std::uint64_t log_time_ns,
                   std::uint64_t publish_time_ns, const Part* parts, std::size_t count);
+  /// A Metadata record (a name and a string map), e.g. which robot and software made the file.
+  /// Written in the data section after the chunk being filled (flushed first, so the file stays
+  /// in time order); indexed in the summary.
+  bool writeMetadata(const std::string& name, const std::map<std::string, std::string>& metadata);
+  /// An Attachment record: a file's bytes with its name and media type, at `log_time_ns` (e.g.
+  /// the calibration in use, at the start and at each change); its CRC filled in; indexed.
+  bool writeAttachment(std::uint64_t log_time_ns, std::uint64_t create_time_ns, const std::string& name,
+                       const std::string& media_type, const void* data, std::size_t size);
+
   /// Writes the chunk being filled now (a message written before flush() survives a crash after it).
   bool flush();
   /// Last chunk, data end, summary, footer, magic; closes the file. Idempotent.
@@ -107,6 +117,16 @@ class McapWriter {
   std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> chunk_index_;  ///< (log time, offset)
   std::uint64_t chunk_start_ns_ = 0, chunk_end_ns_ = 0;
   std::vector<ChunkIndex> chunk_indexes_;
+  struct AttachmentIndex {
+    std::uint64_t offset, length, log_time_ns, create_time_ns, data_size;
+    std::string name, media_type;
+  };
+  struct MetadataIndex {
+    std::uint64_t offset, length;
+    std::string name;
+  };
+  std::vector<AttachmentIndex> attachment_indexes_;
+  std::vector<MetadataIndex> metadata_indexes_;
   std::map<std::uint16_t, std::uint64_t> channel_counts_;
   std::uint64_t start_ns_ = 0, end_ns_ = 0;
   McapWriterStats stats_;

@@ -31,7 +31,37 @@ std::unique_ptr<RecordedSession> RecordedSession::open(const std::string& path, 
     *error = path + ": not a telesphere session recording (no /stereo/frame channel)";
     return nullptr;
   }
+  // The clock offset (written before the first message): the summary's times onto the steady
+  // clock, as every time this class hands on.
+  std::int64_t offset_ns = 0;
+  McapReader::Extras extras;
+  extras.on_metadata = [&](const McapMetadata& m) {
+    if (const auto it = m.metadata.find(kSteadyToUtcKey); m.name == kRecordingMetadataName && it != m.metadata.end()) {
+      try {
+        offset_ns = std::stoll(it->second);
+      } catch (...) {
+      }
+    }
+    return true;
+  };
+  std::string ignored;
+  session->reader_->forEachRecord([](const McapMessageView&) { return false; }, extras, &ignored);
+  session->summary_.start_ns = static_cast<std::uint64_t>(static_cast<std::int64_t>(session->summary_.start_ns) - offset_ns);
+  session->summary_.end_ns = static_cast<std::uint64_t>(static_cast<std::int64_t>(session->summary_.end_ns) - offset_ns);
   return session;
+}
+
+std::optional<RecordedCalibration> RecordedSession::firstCalibration() const {
+  std::optional<RecordedCalibration> first;
+  RecordedSessionVisitor visitor;
+  visitor.calibration = [&](const RecordedCalibration& c) {
+    first = c;
+    return false;
+  };
+  visitor.before = [](std::int64_t) { return false; };  // a message came first: none at the start
+  std::string ignored;
+  forEach(visitor, &ignored);
+  return first;
 }
 
 bool RecordedSession::forEach(const RecordedSessionVisitor& visitor, std::string* error) const {
@@ -43,9 +73,32 @@ bool RecordedSession::forEach(const RecordedSessionVisitor& visitor, std::string
     ++skipped_;
     return true;  // go on with the next message
   };
-  const bool read = reader_->forEachMessage(
+  // Log times on UTC come back onto the steady clock through the offset the metadata names.
+  std::int64_t utc_offset_ns = 0;
+  McapReader::Extras extras;
+  extras.on_metadata = [&](const McapMetadata& m) {
+    if (m.name != kRecordingMetadataName) return true;
+    if (const auto it = m.metadata.find(kSteadyToUtcKey); it != m.metadata.end()) {
+      try {
+        utc_offset_ns = std::stoll(it->second);
+      } catch (...) {
+        ++skipped_;
+      }
+    }
+    return true;
+  };
+  extras.on_attachment = [&](const McapAttachmentView& a) {
+    const auto generation = calibrationGenerationOf(a.name);
+    if (!generation || !visitor.calibration) return true;
+    RecordedCalibration c;
+    c.generation = *generation;
+    c.log_time_ns = static_cast<std::int64_t>(a.log_time_ns) - utc_offset_ns;
+    c.yaml.assign(reinterpret_cast<const char*>(a.data), a.size);
+    return visitor.calibration(c);
+  };
+  const bool read = reader_->forEachRecord(
       [&](const McapMessageView& m) {
-        const auto t = static_cast<std::int64_t>(m.log_time_ns);
+        const auto t = static_cast<std::int64_t>(m.log_time_ns) - utc_offset_ns;
         if (!first_ns) first_ns = t;
         // In double (times from a file): a message over a day after the first ends the walk.
         if ((double(t) - double(*first_ns)) > 86400e9) {
@@ -81,7 +134,7 @@ bool RecordedSession::forEach(const RecordedSessionVisitor& visitor, std::string
         }
         return !visitor.message || visitor.message(*topic, m);
       },
-      error);
+      extras, error);
   return read && !bad_time;
 }
 

@@ -3,13 +3,16 @@
 ///        order: a stereo frame's three messages (its StereoFrame and the left and right JPEG,
 ///        joined by their shared sequence) handed on as one frame, every other message with its
 ///        topic. What SessionReplayer serves on the link (`telesphere-robot --replay`) and what
-///        the operator app renders offline (`telesphere-xr offscreen --replay`).
+///        the operator app renders offline (`telesphere-xr offscreen --replay`). Times are handed
+///        on in the robot's steady clock: a recording logged on UTC names its offset in its
+///        "telesphere" metadata, which is taken off again (older recordings logged steady times).
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +21,13 @@
 #include "robot/record/recording_topics.h"
 
 namespace telesphere::record {
+
+/// A calibration the robot used, as the recording attached it (at the start and at each change).
+struct RecordedCalibration {
+  std::uint64_t generation = 0;
+  std::int64_t log_time_ns = 0;  ///< the robot's steady clock
+  std::string yaml;              ///< our format (a comment line first says its source)
+};
 
 /// One stereo frame as sent: its message and both JPEGs.
 struct RecordedFrame {
@@ -34,6 +44,8 @@ struct RecordedSessionVisitor {
   std::function<bool(RecordedFrame&& frame)> frame;
   /// Every other message of a recorded topic (data valid during the call); may be empty.
   std::function<bool(RecordedTopic topic, const McapMessageView& message)> message;
+  /// A calibration attachment, in file order (before the frames that use it); may be empty.
+  std::function<bool(const RecordedCalibration& calibration)> calibration;
 };
 
 class RecordedSession {
@@ -46,6 +58,10 @@ class RecordedSession {
   /// part way (what came before was handed on) or a message is logged over a day after the
   /// first (a corrupt time that would stall a paced replay).
   bool forEach(const RecordedSessionVisitor& visitor, std::string* error) const;
+
+  /// The calibration attached before the first message (the one in use when recording began),
+  /// or nothing (a recording from before calibrations were attached).
+  std::optional<RecordedCalibration> firstCalibration() const;
 
   const McapSummary& summary() const { return summary_; }
   /// Over all passes so far: frames handed on; messages passed over (unknown topics, images

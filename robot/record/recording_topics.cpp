@@ -11,6 +11,7 @@
 #include <set>
 
 #include "robot/record/foxglove_compressed_image.pb.h"
+#include "robot/record/foxglove_frame_transform.pb.h"
 
 namespace telesphere::record {
 
@@ -28,6 +29,7 @@ const std::vector<RecordedTopicInfo>& recordedTopics() {
       {RecordedTopic::kHeadTarget, "/xr/head_target", p::HeadTarget::descriptor()},
       {RecordedTopic::kXrStats, "/xr/stats", p::XrStats::descriptor()},
       {RecordedTopic::kXrTelemetry, "/xr/telemetry", p::XrTelemetry::descriptor()},
+      {RecordedTopic::kTransforms, "/tf", foxglove::FrameTransform::descriptor()},
   };
   return topics;
 }
@@ -120,6 +122,38 @@ std::optional<std::span<const std::uint8_t>> compressedImageData(const std::uint
   }
   if (!in.ConsumedEntireMessage()) return std::nullopt;
   return data.value_or(std::span<const std::uint8_t>());  // absent: empty, as protobuf has it
+}
+
+std::string frameTransform(std::int64_t t_ns, const std::string& parent, const std::string& child,
+                           const link::proto::Pose& T_parent_child) {
+  foxglove::FrameTransform t;
+  t.mutable_timestamp()->set_seconds(t_ns / 1'000'000'000);
+  t.mutable_timestamp()->set_nanos(static_cast<int>(t_ns % 1'000'000'000));
+  t.set_parent_frame_id(parent);
+  t.set_child_frame_id(child);
+  t.mutable_translation()->set_x(T_parent_child.tx());
+  t.mutable_translation()->set_y(T_parent_child.ty());
+  t.mutable_translation()->set_z(T_parent_child.tz());
+  t.mutable_rotation()->set_x(T_parent_child.qx());
+  t.mutable_rotation()->set_y(T_parent_child.qy());
+  t.mutable_rotation()->set_z(T_parent_child.qz());
+  t.mutable_rotation()->set_w(T_parent_child.qw());
+  return t.SerializeAsString();
+}
+
+std::string calibrationAttachmentName(std::uint64_t generation) {
+  return "calibration-generation-" + std::to_string(generation) + ".yaml";
+}
+
+std::optional<std::uint64_t> calibrationGenerationOf(const std::string& name) {
+  const std::string prefix = "calibration-generation-", suffix = ".yaml";
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return std::nullopt;
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos || digits.size() > 19)
+    return std::nullopt;
+  return std::stoull(digits);
 }
 
 }  // namespace telesphere::record

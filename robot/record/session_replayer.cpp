@@ -29,42 +29,47 @@ bool endsWithNs(const std::string& name) { return name.size() > 3 && name.compar
 
 }  // namespace
 
-void mapRobotClockStamps(google::protobuf::Message* message, std::int64_t first_ns, std::int64_t start_ns,
-                         double rate) {
+void shiftRobotClockStamps(google::protobuf::Message* message, std::int64_t shift_ns) {
   using google::protobuf::FieldDescriptor;
   const google::protobuf::Reflection* r = message->GetReflection();
   const google::protobuf::Descriptor* d = message->GetDescriptor();
-  // In double: the stamps come from a file, their differences must not overflow.
-  const auto map = [&](std::int64_t t) {
+  // In double: the stamps come from a file, their sums must not overflow.
+  const auto shift = [&](std::int64_t t) {
     if (t == 0) return t;
-    const double mapped = double(start_ns) + (double(t) - double(first_ns)) / rate;
-    return std::abs(mapped) < 9.2e18 ? static_cast<std::int64_t>(std::llround(mapped)) : t;
+    const double moved = double(t) + double(shift_ns);
+    return std::abs(moved) < 9.2e18 ? static_cast<std::int64_t>(std::llround(moved)) : t;
   };
   for (int i = 0; i < d->field_count(); ++i) {
     const FieldDescriptor* f = d->field(i);
     if (f->cpp_type() == FieldDescriptor::CPPTYPE_MESSAGE) {
       if (f->is_repeated()) {
-        for (int k = 0; k < r->FieldSize(*message, f); ++k)
-          mapRobotClockStamps(r->MutableRepeatedMessage(message, f, k), first_ns, start_ns, rate);
+        for (int k = 0; k < r->FieldSize(*message, f); ++k) shiftRobotClockStamps(r->MutableRepeatedMessage(message, f, k), shift_ns);
       } else if (r->HasField(*message, f)) {
-        mapRobotClockStamps(r->MutableMessage(message, f), first_ns, start_ns, rate);
+        shiftRobotClockStamps(r->MutableMessage(message, f), shift_ns);
       }
     } else if (f->cpp_type() == FieldDescriptor::CPPTYPE_INT64 && endsWithNs(f->name()) &&
                notRobotClock().count(f->name()) == 0) {
       if (f->is_repeated()) {
         for (int k = 0; k < r->FieldSize(*message, f); ++k)
-          r->SetRepeatedInt64(message, f, k, map(r->GetRepeatedInt64(*message, f, k)));
+          r->SetRepeatedInt64(message, f, k, shift(r->GetRepeatedInt64(*message, f, k)));
       } else {
-        r->SetInt64(message, f, map(r->GetInt64(*message, f)));
+        r->SetInt64(message, f, shift(r->GetInt64(*message, f)));
       }
     }
   }
 }
 
+std::optional<link::proto::CalibrationInUse> SessionReplayer::calibrationNow() const {
+  std::lock_guard lock(calibration_mutex_);
+  return calibration_;
+}
+
 std::unique_ptr<SessionReplayer> SessionReplayer::open(const std::string& path, std::string* error) {
   auto session = RecordedSession::open(path, error);
   if (!session) return nullptr;
-  return std::unique_ptr<SessionReplayer>(new SessionReplayer(std::move(session)));
+  std::unique_ptr<SessionReplayer> replayer(new SessionReplayer(std::move(session)));
+  replayer->path_ = path;
+  return replayer;
 }
 
 SessionReplayStats SessionReplayer::stats() const {
@@ -86,6 +91,7 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
     const auto wall_start = std::chrono::steady_clock::now();
     const std::int64_t start_ns = link::linkNowNs();
     std::optional<std::int64_t> first_ns;
+    std::int64_t shift_ns = 0;  ///< of the message being replayed: its mapped log time minus its log time
     // A robot message parsed, its stamps moved, sent again with `publish` and counted.
     const auto republish = [&]<typename Message>(const McapMessageView& m,
                                                  void (link::LinkServer::*publish)(const Message&),
@@ -95,7 +101,7 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
         ++not_replayed_;
         return true;
       }
-      mapRobotClockStamps(&message, *first_ns, start_ns, rate);
+      shiftRobotClockStamps(&message, shift_ns);
       (server.*publish)(message);
       ++count;
       return true;
@@ -107,6 +113,8 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
       // Due at the recorded pace; wait in slices so that a stop is heard. A log time before the
       // first is due at once.
       const double offset_ns = (double(t) - double(*first_ns)) / rate;
+      const double shift = double(start_ns) + offset_ns - double(t);
+      shift_ns = std::abs(shift) < 9.2e18 ? static_cast<std::int64_t>(std::llround(shift)) : 0;
       const auto due = wall_start + std::chrono::nanoseconds(std::llround(std::max(0.0, offset_ns)));
       while (!stop && std::chrono::steady_clock::now() < due)
         std::this_thread::sleep_until(std::min(due, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
@@ -115,8 +123,17 @@ bool SessionReplayer::run(link::LinkServer& server, const SessionReplayOptions& 
       if (late_ms > late_ms_max_) late_ms_max_ = late_ms;
       return true;
     };
+    visitor.calibration = [&](const RecordedCalibration& c) {
+      link::proto::CalibrationInUse in_use;
+      in_use.set_generation(c.generation);
+      in_use.set_yaml(c.yaml);
+      in_use.set_source("recording " + path_ + ", generation " + std::to_string(c.generation));
+      std::lock_guard lock(calibration_mutex_);
+      calibration_ = std::move(in_use);
+      return true;
+    };
     visitor.frame = [&](RecordedFrame&& frame) {
-      mapRobotClockStamps(&frame.frame, *first_ns, start_ns, rate);
+      shiftRobotClockStamps(&frame.frame, shift_ns);
       server.publishStereoFrame(std::move(frame.frame), std::move(frame.left), std::move(frame.right));
       return true;
     };

@@ -6,7 +6,9 @@
 #        whole MCAP file; `telesphere-xr offscreen --replay` renders it twice from its recorded head
 #        targets and every PNG of the two runs is byte-equal, every display frame showed a camera
 #        image, every recorded frame was shown; the head matters (a still head gives other
-#        pixels); a cut-off recording is refused with the reason.
+#        pixels); a cut-off recording is refused with the reason. The recording carries its own
+#        calibration (issue #30): replayed without --calib it renders the same PNGs, and says whose
+#        calibration it used; its log times are on UTC (the metadata names the offset).
 # Usage: xr_replay_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -31,10 +33,12 @@ robot=
 [ "$rc" -eq 0 ] || fail "telesphere-robot exited with $rc after SIGINT"
 "$bin/telesphere-mcap" check "$out/session.mcap" || fail "the recording is not a whole MCAP file"
 
-replay() {  # replay NAME [extra options]: renders the recording into $out/NAME
+replay() {  # replay NAME [extra options]: renders the recording into $out/NAME (with --calib unless NAME is "own")
   local name=$1
   shift
-  "$bin/telesphere-xr" offscreen --calib "$calib" --replay "$out/session.mcap" --eye-size 160x176 --rate 30 \
+  local calib_option=(--calib "$calib")
+  [ "$name" = own ] && calib_option=()
+  "$bin/telesphere-xr" offscreen "${calib_option[@]}" --replay "$out/session.mcap" --eye-size 160x176 --rate 30 \
     --png-every 10 --out "$out/$name" "$@" > "$out/$name.txt" || { local rc=$?; cat "$out/$name.txt"; fail "replay $name exited with $rc"; }
 }
 replay first
@@ -58,6 +62,19 @@ heads=$(json "$out/first/stats.json" head_targets)
 [ "$recorded" -ge 30 ] && [ $((shown + replaced)) -eq "$recorded" ] && [ $((shown * 10)) -ge $((recorded * 9)) ] ||
   fail "$shown of $recorded recorded frames shown, $replaced replaced unshown"
 [ "$heads" -ge 60 ] || fail "only $heads recorded head targets taken"
+
+# Its own calibration (attached when it began): the same pictures without --calib, and it says so.
+replay own
+grep -q "| calibration | the recording's, generation 1 |" "$out/own.txt" || { cat "$out/own.txt"; fail "the replay did not say it used the recording's calibration"; }
+grep -q "| calibration | --calib .*given (overrides the recording's) |" "$out/first.txt" || fail "the replay did not name its --calib"
+for png in "$out"/first/*.png; do
+  cmp -s "$png" "$out/own/$(basename "$png")" || fail "$(basename "$png") differs with the recording's own calibration"
+done
+"$bin/telesphere-mcap" summary "$out/session.mcap" > "$out/summary.txt"
+grep -q "attachments: 1, metadata records: 1" "$out/summary.txt" || { cat "$out/summary.txt"; fail "no calibration attachment or metadata"; }
+# Log times on UTC: the recording's start is this year, not the machine's uptime.
+start_ns=$("$bin/telesphere-mcap" summary --json "$out/session.mcap" | sed -n 's/^ *"start_ns": \([0-9]*\),$/\1/p')
+[ "$start_ns" -gt 1700000000000000000 ] || fail "log times are not on UTC (start_ns $start_ns)"
 
 # The head matters: the same recording seen from a still head gives other pixels.
 printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n' > "$out/still.csv"

@@ -5,6 +5,9 @@
 ///        requests, and camera poses at capture times through the calibration in use (exactly
 ///        FK · T_flange_cam, the fallback pose before any joint state).
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
 
 #include "calib/calibration_file.h"
 #include "calib/system_calibration_yaml.h"
@@ -80,6 +83,45 @@ TEST(CalibrationInUse, AppliesMergesAndRevertsThroughTheHistory) {
   EXPECT_FALSE(in_use.revert(&error));
   EXPECT_NE(error.find("no earlier calibration"), std::string::npos) << error;
   EXPECT_EQ(in_use.current()->generation, 5u);
+}
+
+// Issue #30: a calibration applied live is saved where the robot was told (--calib-save), so a
+// restart with --calib that file keeps it; without a path, or when it cannot be written, the
+// link's view says so (the console warns).
+TEST(CalibrationInUse, SavesEveryAppliedCalibrationWhereItWasToldAndSaysWhenItCannot) {
+  SimClock clock(1'000);
+  const auto start = simCalibration();
+  CalibrationInUse in_use(start, "start", clock);
+  std::string error;
+  calib::SystemCalibration hand_eye = start;
+  hand_eye.T_flange_cam_l = shifted(*start.T_flange_cam_l, 0.012, 1.5);
+  ASSERT_TRUE(in_use.apply(hand_eye, "hand-eye", &error)) << error;
+  link::proto::CalibrationInUse view;
+  in_use.fill(&view);
+  EXPECT_EQ(view.saved_to(), "");  // no path: not saved
+
+  const std::string path = ::testing::TempDir() + "/telesphere-calib-save-" + std::to_string(getpid()) + ".yaml";
+  in_use.setSavePath(path);
+  hand_eye.T_flange_cam_l = shifted(*start.T_flange_cam_l, 0.020, -2.0);
+  ASSERT_TRUE(in_use.apply(hand_eye, "hand-eye again", &error)) << error;
+  in_use.fill(&view);
+  EXPECT_EQ(view.saved_to(), path);
+  EXPECT_EQ(view.save_error(), "");
+  const auto saved = calib::loadCalibrationFile(path);
+  ASSERT_TRUE(saved) << saved.error().describe();
+  EXPECT_TRUE(saved->T_flange_cam_l->isApprox(*hand_eye.T_flange_cam_l, 1e-9));
+  // A revert is saved too.
+  ASSERT_TRUE(in_use.revert(&error)) << error;
+  const auto reverted = calib::loadCalibrationFile(path);
+  ASSERT_TRUE(reverted);
+  EXPECT_FALSE(reverted->T_flange_cam_l->isApprox(*hand_eye.T_flange_cam_l, 1e-6));
+  std::remove(path.c_str());
+
+  in_use.setSavePath("/nonexistent-folder-telesphere/calib.yaml");
+  ASSERT_TRUE(in_use.apply(hand_eye, "unsaveable", &error)) << error;  // in use all the same
+  in_use.fill(&view);
+  EXPECT_EQ(view.saved_to(), "");
+  EXPECT_NE(view.save_error().find("cannot write"), std::string::npos) << view.save_error();
 }
 
 TEST(CalibrationInUse, RefusesWhatDoesNotFitTheseCamerasAndKeepsOnlyTheNewestHistory) {

@@ -50,6 +50,11 @@ class OperatorViewTest : public ::testing::Test {
       requests_.push_back(r);
       link::proto::ControlReply reply;
       reply.set_ok(true);
+      if (r.get_calibration() && calibration_unanswered_) {  // a robot that does not answer it (yet)
+        reply.set_ok(false);
+        reply.set_error("busy");
+        return reply;
+      }
       if (r.get_calibration()) {  // the robot's calibration in use (here: generation 2)
         reply.mutable_calibration()->set_generation(2);
         reply.mutable_calibration()->set_yaml(calib::toSystemCalibrationYaml(robot_calibration_));
@@ -125,6 +130,7 @@ class OperatorViewTest : public ::testing::Test {
   std::mutex mutex_;
   std::vector<link::proto::ControlRequest> requests_;
   calib::SystemCalibration robot_calibration_;  ///< what get_calibration answers (under mutex_)
+  bool calibration_unanswered_ = false;          ///< get_calibration refused (under mutex_)
 };
 
 TEST_F(OperatorViewTest, ShowsTheBorderColourUntilTheFirstFrameThenTheCameraImage) {
@@ -298,6 +304,52 @@ TEST_F(OperatorViewTest, TakesTheRobotsCalibrationAtTheFirstFrameStampedWithIt) 
   std::size_t asks = 0;
   for (const auto& r : requests()) asks += r.get_calibration();
   EXPECT_LE(asks, 2u) << "asked once (again only after 3 s without an answer)";
+}
+
+// Issue #30: frames stamped with a new calibration arrive before its models do (the robot did not
+// answer get_calibration yet). They are not drawn with the old models: the last frame of the old
+// calibration stays until the new one is in.
+TEST_F(OperatorViewTest, FramesOfANewCalibrationWaitForItsModels) {
+  {
+    std::lock_guard lock(mutex_);
+    calibration_unanswered_ = true;
+    for (auto& camera : robot_calibration_.cameras) {
+      Eigen::VectorXd p = camera.camera.params();
+      p[0] *= 1.4;
+      p[1] *= 1.4;
+      camera.camera = *calib::GenericCamera::create(camera.camera.modelName(), p);
+    }
+  }
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
+    return shownFrame() && view_->hasImage();
+  }));
+  const std::uint64_t last_old = view_->frame()->frame.sequence();
+  const auto before = renderLeft();
+  link::proto::RobotState state;
+  state.set_calibration_generation(2);
+  // Generation 2's frames come; its calibration does not: they are held back, the old frame stays.
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 2);
+    shownFrame();
+    return view_->stats().frames_held_for_calibration >= 3;
+  }));
+  EXPECT_EQ(view_->frame()->frame.sequence(), last_old);
+  EXPECT_EQ(view_->stats().calibration_generation, 0u);
+  EXPECT_EQ(renderLeft(), before);
+  // The robot answers: the next frame of generation 2 is shown with its own models.
+  {
+    std::lock_guard lock(mutex_);
+    calibration_unanswered_ = false;
+  }
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 2);
+    return shownFrame() && view_->stats().calibration_generation == 2u;
+  }, 10000ms));
+  EXPECT_EQ(view_->frame()->frame.calibration_generation(), 2u);
+  EXPECT_NE(renderLeft(), before);
 }
 
 TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {

@@ -80,8 +80,18 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
 
   const auto before = renderer_.frame();
-  const auto show = frameToShow();
+  auto show = frameToShow();
   if (!takeFetchedCalibration(show.get(), error)) return false;
+  if (options_.follow_robot_calibration && show && show != before) {
+    // Poses of a calibration whose camera models have not arrived: never drawn with the old
+    // models; the last frame stays until they come.
+    const std::uint64_t g = show->frame.calibration_generation(), m = stats_.calibration_generation;
+    if (g != 0 && g != m && !(m == 0 && g == 1)) {
+      if (show->frame.sequence() != last_held_for_calibration_) ++stats_.frames_held_for_calibration;
+      last_held_for_calibration_ = show->frame.sequence();
+      show = before;
+    }
+  }
   if (!renderer_.setFrame(show, error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
   if (uploaded_this_frame_ns_ >= 0) {
@@ -104,18 +114,25 @@ void OperatorView::followRobotCalibration(const link::proto::RobotState& state) 
     std::lock_guard lock(control_result_mutex_);
     if (fetched_calibration_ && fetched_calibration_->generation == generation) return;
   }
-  // One request at a time; asked again when no answer came (the reply's handler clears it).
-  if (calibration_requested_ == generation && frame_begin_ns_ - calibration_requested_ns_ < 3'000'000'000) return;
+  // One request at a time; asked again when no answer came (the reply's handler clears it), after
+  // 3 s, and after a refusal later each time (up to a minute: a replaying robot that holds no
+  // calibration refuses for good, and asking every 3 s would only fill the log).
+  if (calibration_requested_ == generation && frame_begin_ns_ - calibration_requested_ns_ < calibration_retry_ns_.load())
+    return;
   calibration_requested_ = generation;
   calibration_requested_ns_ = frame_begin_ns_;
   link::proto::ControlRequest request;
   request.set_get_calibration(true);
   control_.send(std::move(request), [this](const std::optional<link::proto::ControlReply>& reply) {
     if (!reply || !reply->ok() || !reply->has_calibration()) {
-      spdlog::warn("operator view: the robot's calibration: {}",
-                   !reply ? std::string("no reply within 2 s") : reply->ok() ? "no calibration in the reply" : reply->error());
+      const std::int64_t retry = calibration_retry_ns_.load();
+      if (reply && !reply->ok()) calibration_retry_ns_ = std::min<std::int64_t>(2 * retry, 60'000'000'000);
+      spdlog::warn("operator view: the robot's calibration: {} (asking again in {:.0f} s)",
+                   !reply ? std::string("no reply within 2 s") : reply->ok() ? "no calibration in the reply" : reply->error(),
+                   double(calibration_retry_ns_.load()) * 1e-9);
       return;
     }
+    calibration_retry_ns_ = kCalibrationRetryNs;
     auto parsed = calib::parseCalibration(reply->calibration().yaml(), "robot calibration");
     if (!parsed || parsed->cameras.size() != 2) {
       spdlog::warn("operator view: the robot's calibration generation {} is unusable: {}",

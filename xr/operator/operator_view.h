@@ -26,14 +26,18 @@
 ///        state (a generation: the console applies and reverts calibrations live, DESIGN.md §6);
 ///        a new one is fetched (get_calibration, off the frame loop) and its camera models are
 ///        taken at the first frame the robot stamped with it (StereoFrame.calibration_generation),
-///        so poses and intrinsics of one frame always belong together. Until the robot has
-///        answered, the calibration given at start-up is used.
+///        so poses and intrinsics of one frame always belong together: a frame stamped with a
+///        generation whose models have not arrived yet is not shown (the last frame stays on show,
+///        counted in frames_held_for_calibration) until they have. The calibration given at
+///        start-up stands for the robot's first generation (1); a robot already past it is
+///        shown only once its calibration is fetched.
 ///
 ///        Frame protocol, on the thread whose GL context is current:
 ///          beginFrame(T_vr_hmd, display) → renderEye(0, …) → renderEye(1, …) → endFrame(…).
 #pragma once
 
 #include <Eigen/Geometry>
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -87,6 +91,8 @@ struct OperatorViewStats {
   bool nominal_from_robot = false;        ///< T_robot_vr came from the robot (else the stand-in)
   std::uint64_t unmeasured_frames_shown = 0;  ///< distinct frames shown dimmed (pose not measured)
   std::uint64_t unmeasured_frames_held_back = 0;  ///< passed over while a measured one was held
+  /// Frames not shown because their calibration's models had not arrived (the last one stayed).
+  std::uint64_t frames_held_for_calibration = 0;
   std::uint64_t calibration_generation = 0;  ///< the robot's calibration rendered with (0: start-up one)
   std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
 };
@@ -183,6 +189,9 @@ class OperatorView final : public OperatorScene {
   bool holding_measured_ = false;       ///< a newer unmeasured frame is passed over
   std::int64_t unmeasured_since_ns_ = -1;  ///< first unmeasured frame of the streak (-1: none)
   std::uint64_t last_unmeasured_sequence_ = 0;
+  std::uint64_t last_held_for_calibration_ = 0;  ///< the last frame held back for its calibration
+  static constexpr std::int64_t kCalibrationRetryNs = 3'000'000'000;
+  std::atomic<std::int64_t> calibration_retry_ns_{kCalibrationRetryNs};  ///< doubles after each refusal
   OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
   std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
 #include "robot/record/recorded_session.h"
 #include "shaders/egl_context.h"
@@ -15,10 +16,10 @@
 
 namespace telesphere::xr {
 
-std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibration& calibration,
+std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::SystemCalibration>& given,
                                                    const OfflineReplayOptions& options,
                                                    const std::atomic<bool>& stop, std::string* error) {
-  if (calibration.cameras.size() != 2) {
+  if (given && given->cameras.size() != 2) {
     *error = "the calibration needs two cameras";
     return std::nullopt;
   }
@@ -46,6 +47,29 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
       return std::nullopt;
     }
   }
+  // The calibration to start with: the one given, or the one the recording began with.
+  calib::SystemCalibration calibration;
+  std::uint64_t first_generation = 0;
+  std::string calibration_source;
+  if (given) {
+    calibration = *given;
+    calibration_source = "given (overrides the recording's)";
+  } else {
+    const auto first = session->firstCalibration();
+    if (!first) {
+      *error = options.recording + " holds no calibration (recorded before calibrations were attached): give --calib FILE";
+      return std::nullopt;
+    }
+    auto parsed = calib::parseCalibration(first->yaml, options.recording + " (calibration generation " +
+                                                           std::to_string(first->generation) + ")");
+    if (!parsed || parsed->cameras.size() != 2) {
+      *error = parsed ? options.recording + ": its calibration does not have two cameras" : parsed.error().describe();
+      return std::nullopt;
+    }
+    calibration = std::move(*parsed);
+    first_generation = first->generation;
+    calibration_source = "the recording's, generation " + std::to_string(first_generation);
+  }
   auto context = gl::EglContext::createSurfaceless(error);
   if (!context || !context->makeCurrent()) {
     if (error->empty()) *error = "cannot make the EGL context current";
@@ -65,7 +89,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
              std::to_string(options.display.eye_height) + " render targets";
     return std::nullopt;
   }
-  RecordedView view(calibration, options.render, options.follow_recorded_settings);
+  RecordedView view(calibration, options.render, options.follow_recorded_settings, !given, first_generation);
   OperatorLoop loop(view, output);
   OfflineReplayStats stats;
 
@@ -112,6 +136,12 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
     taken_since_drawn = true;
     return true;
   };
+  visitor.calibration = [&](const record::RecordedCalibration& c) {
+    if (given) return true;
+    std::string why;
+    if (!view.takeCalibration(c, &why)) ++stats.skipped;  // frames stamped with it keep the one before
+    return true;
+  };
   visitor.message = [&](record::RecordedTopic topic, const record::McapMessageView& m) {
     if (topic == record::RecordedTopic::kRobotState) {
       link::proto::RobotState state;
@@ -147,6 +177,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibratio
   stats.replaced_unshown = view.replacedUnshown();
   stats.skipped = session->skipped();
   stats.recording_s = double(*next_start_ns - *first_start_ns) * 1e-9;
+  stats.calibration = calibration_source;
   if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
     return std::nullopt;
   return stats;

@@ -6,8 +6,10 @@
 ///        stereo frame; each display frame shows what was logged up to its start — the newest
 ///        frame (decoded then, synchronously), the newest robot state (mode, radius, nominal
 ///        mapping, trial) and, for the head, the newest recorded head target (what the operator's
-///        headset sent) or a head trajectory given instead. The one operator frame loop
-///        (OperatorLoop, OffscreenOutput) draws it on an EGL surfaceless context.
+///        headset sent) or a head trajectory given instead. Each frame is rendered with the
+///        calibration the robot used for it, as the recording attached it, unless one is given
+///        to override them. The one operator frame loop (OperatorLoop, OffscreenOutput) draws it
+///        on an EGL surfaceless context.
 #pragma once
 
 #include <atomic>
@@ -47,12 +49,16 @@ struct OfflineReplayStats {
   std::uint64_t replaced_unshown = 0;  ///< recorded frames a newer one replaced within a display period
   std::uint64_t skipped = 0;          ///< messages passed over (RecordedSession::skipped)
   double recording_s = 0;             ///< recording time rendered, from the first frame
+  /// Whose calibration was used: "the recording's, generation 1" (and its changes in
+  /// view.calibration_changes), or "given (overrides the recording's)".
+  std::string calibration;
 };
 
-/// Renders the recording; nothing, with the reason in *error, when the file, GL or the
-/// calibration do not allow it, or the recording holds no complete stereo frame (or no head
-/// targets when no trajectory is given).
-std::optional<OfflineReplayStats> runOfflineReplay(const calib::SystemCalibration& calibration,
+/// Renders the recording with `given` for every frame, or (nothing given) with the calibrations
+/// the recording holds; nothing, with the reason in *error, when the file, GL or the calibration
+/// do not allow it (a recording without calibrations needs one given), or the recording holds no
+/// complete stereo frame (or no head targets when no trajectory is given).
+std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::SystemCalibration>& given,
                                                    const OfflineReplayOptions& options,
                                                    const std::atomic<bool>& stop, std::string* error);
 

@@ -8,6 +8,7 @@
 
 #include "robot/link/link_pose.h"
 #include "robot/link/link_schema.h"
+#include "calib/calibration_file.h"
 #include "xr/operator/robot_view_state.h"
 #include "xr/operator/trial_indicator.h"
 #include "xr/video/latency_figure.h"
@@ -40,8 +41,26 @@ std::shared_ptr<const DecodedStereoFrame> decodePair(JpegDecoder& decoder, recor
 }  // namespace
 
 RecordedView::RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render,
-                           bool follow_recorded_settings)
-    : renderer_(calibration, render, 0), follow_settings_(follow_recorded_settings) {}
+                           bool follow_recorded_settings, bool follow_recorded_calibrations,
+                           std::uint64_t calibration_generation)
+    : renderer_(calibration, render, 0),
+      follow_settings_(follow_recorded_settings),
+      follow_calibrations_(follow_recorded_calibrations) {
+  stats_.calibration_generation = calibration_generation;
+}
+
+bool RecordedView::takeCalibration(const record::RecordedCalibration& recorded, std::string* error) {
+  auto parsed = calib::parseCalibration(recorded.yaml, "the recording's calibration generation " +
+                                                           std::to_string(recorded.generation));
+  if (!parsed || parsed->cameras.size() != 2) {
+    *error = parsed ? "the recording's calibration generation " + std::to_string(recorded.generation) +
+                          " does not have two cameras"
+                    : parsed.error().describe();
+    return false;
+  }
+  calibrations_[recorded.generation] = std::move(*parsed);
+  return true;
+}
 
 void RecordedView::takeFrame(record::RecordedFrame&& frame) {
   if (pending_) ++replaced_unshown_;
@@ -74,6 +93,16 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
     return true;
   }
   decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+  // The frame's own calibration: poses and camera models of one frame belong together.
+  const std::uint64_t generation = decoded->frame.calibration_generation();
+  if (follow_calibrations_ && generation != 0 && generation != stats_.calibration_generation) {
+    const auto it = calibrations_.find(generation);
+    if (it != calibrations_.end()) {
+      if (!renderer_.setCalibration(it->second, error)) return false;
+      if (stats_.calibration_generation != 0) ++stats_.calibration_changes;
+      stats_.calibration_generation = generation;
+    }
+  }
   RenderSettings settings = renderer_.settings();
   const bool measured = cameraPosesMeasured(decoded->frame);
   settings.image_gain = measured ? 1.0f : OperatorView::kUnmeasuredGain;

@@ -8,12 +8,18 @@
 ///        study's trial indicator is drawn. Nothing depends on wall time or on threads, so the same
 ///        inputs give the same pixels.
 ///
+///        Calibration: each frame is rendered with the calibration the robot stamped it with
+///        (StereoFrame.calibration_generation), as the recording attached it (takeCalibration),
+///        so a calibration applied live mid-session is replayed as it was shown; with
+///        follow_recorded_calibrations off (a --calib given to override it) the one given
+///        is used throughout.
+///
 ///        Not replayed: the live view's holding of the last measured frame while unmeasured ones
-///        arrive (frames without measured camera poses are shown dimmed at once), calibrations the
-///        robot applied live (the one given is used throughout).
+///        arrive (frames without measured camera poses are shown dimmed at once).
 #pragma once
 
 #include <Eigen/Geometry>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,7 +37,12 @@ namespace telesphere::xr {
 class RecordedView final : public OperatorScene {
  public:
   /// `render` holds until a recorded state says otherwise (follow_recorded_settings).
-  RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render, bool follow_recorded_settings);
+  RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render, bool follow_recorded_settings,
+               bool follow_recorded_calibrations = false, std::uint64_t calibration_generation = 0);
+
+  /// A calibration the recording attached (kept by generation for the frames stamped with it).
+  /// False with the reason when its text is not a two-camera calibration.
+  bool takeCalibration(const record::RecordedCalibration& calibration, std::string* error);
 
   /// The newest frame logged so far (replaces one not yet shown) / the newest robot state.
   void takeFrame(record::RecordedFrame&& frame);
@@ -55,6 +66,8 @@ class RecordedView final : public OperatorScene {
  private:
   StereoViewRenderer renderer_;
   bool follow_settings_;
+  bool follow_calibrations_;
+  std::map<std::uint64_t, calib::SystemCalibration> calibrations_;  ///< by generation
   JpegDecoder decoder_;
   std::optional<record::RecordedFrame> pending_;
   std::optional<link::proto::RobotState> state_;

@@ -20,6 +20,9 @@
 //    only its opcode, the Footer's summary_offset_start at the first Summary Offset record.
 // 8. Cross-checks: both readers see the same messages per channel; the Statistics message, channel,
 //    schema and chunk counts, channel_message_counts and start/end times match what was read.
+// 9. Attachments and metadata: read linearly (every attachment's CRC validated) and through their
+//    Attachment and Metadata Index records (again with CRCs); the same ones both ways, as many as
+//    Statistics says.
 // Prints one JSON object on stdout; exits 1 with one line on stderr on any error.
 import { open, readFile } from "node:fs/promises";
 import { crc32 } from "node:zlib";
@@ -225,6 +228,7 @@ async function main() {
   stream.append(bytes);
   const streamPerChannel = new Map();
   let streamMessages = 0, streamChunks = 0, chunksWithCrc = 0, dataEndSeen = false;
+  const streamAttachments = [], streamMetadata = [];
   for (let record; (record = stream.nextRecord()); ) {
     if (record.type === "Message") {
       ++streamMessages;
@@ -234,6 +238,11 @@ async function main() {
       if (record.uncompressedCrc !== 0) ++chunksWithCrc;
     } else if (record.type === "DataEnd") {
       dataEndSeen = true;
+    } else if (record.type === "Attachment") {
+      streamAttachments.push({ name: record.name, media_type: record.mediaType, log_time: String(record.logTime),
+                               size: record.data.byteLength });
+    } else if (record.type === "Metadata") {
+      streamMetadata.push({ name: record.name, metadata: Object.fromEntries(record.metadata) });
     }
   }
   check(stream.done(), `the file ends before the Footer and trailing magic (${stream.bytesRemaining()} bytes unparsed): truncated?`);
@@ -262,6 +271,23 @@ async function main() {
           `Statistics times [${stats.messageStartTime}, ${stats.messageEndTime}], messages span [${start}, ${end}]`);
   }
 
+  // --- 9. attachments and metadata, through their indexes too ---
+  check(stats.attachmentCount === streamAttachments.length && reader.attachmentIndexes.length === streamAttachments.length,
+        `Statistics attachment_count ${stats.attachmentCount}, ${reader.attachmentIndexes.length} Attachment Index records, ${streamAttachments.length} attachments`);
+  check(stats.metadataCount === streamMetadata.length && reader.metadataIndexes.length === streamMetadata.length,
+        `Statistics metadata_count ${stats.metadataCount}, ${reader.metadataIndexes.length} Metadata Index records, ${streamMetadata.length} metadata records`);
+  const fh2 = await open(file, "r");
+  const indexed = await McapIndexedReader.Initialize({ readable: new FileHandleReadable(fh2), decompressHandlers });
+  const viaIndex = [];
+  for await (const a of indexed.readAttachments({ validateCrcs: true })) viaIndex.push(a.name);
+  const metadataViaIndex = [];
+  for await (const m of indexed.readMetadata()) metadataViaIndex.push(m.name);
+  await fh2.close();
+  check(JSON.stringify(viaIndex) === JSON.stringify(streamAttachments.map((a) => a.name)),
+        `attachments through the index ${JSON.stringify(viaIndex)}, linearly ${JSON.stringify(streamAttachments.map((a) => a.name))}`);
+  check(JSON.stringify(metadataViaIndex) === JSON.stringify(streamMetadata.map((m) => m.name)),
+        `metadata through the index ${JSON.stringify(metadataViaIndex)}, linearly ${JSON.stringify(streamMetadata.map((m) => m.name))}`);
+
   const compression = [...new Set(reader.chunkIndexes.map((c) => c.compression || "none"))].sort();
   process.stdout.write(JSON.stringify({
     messages, decoded, chunks: reader.chunkIndexes.length, compression,
@@ -269,6 +295,7 @@ async function main() {
     statistics: { message_count: Number(stats.messageCount), channel_count: stats.channelCount,
                   schema_count: stats.schemaCount, chunk_count: stats.chunkCount },
     stream_reader_messages: streamMessages,
+    attachments: streamAttachments, metadata: streamMetadata,
     crc_checked: { data_section: reader.dataSectionCrc !== undefined, summary: reader.footer.summaryCrc !== 0,
                    chunks: chunksWithCrc },
     library: reader.header.library, profile: reader.header.profile,

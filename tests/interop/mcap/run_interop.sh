@@ -49,6 +49,19 @@ for (const [topic, least] of Object.entries(want)) {
 }
 if (theirs.topics["/stereo/left/compressed"].schema !== "foxglove.CompressedImage") fail("images are not foxglove.CompressedImage");
 if (theirs.topics["/stereo/left/compressed"].first.format !== "jpeg") fail("image format is not jpeg");
+// What Foxglove needs beyond the images: poses on /tf, the date (log times on UTC), which robot,
+// the calibration the frames were taken with.
+const tf = theirs.topics["/tf"];
+if (!tf || tf.count < 100 || tf.schema !== "foxglove.FrameTransform") fail(`/tf: ${JSON.stringify(tf && { count: tf.count, schema: tf.schema })}`);
+const parent = tf.first.parent_frame_id ?? tf.first.parentFrameId;
+if (parent !== "robot") fail(`/tf parent ${parent}`);
+if (!(BigInt(theirs.start_ns) > 1700000000000000000n)) fail(`log times are not on UTC: start ${theirs.start_ns}`);
+const meta = theirs.metadata.find((m) => m.name === "telesphere");
+if (!meta || !meta.metadata.steady_to_utc_offset_ns || !meta.metadata.software || meta.metadata.arm !== "simulated xArm 6")
+  fail(`metadata ${JSON.stringify(theirs.metadata)}`);
+const calibration = theirs.attachments.find((a) => a.name === "calibration-generation-1.yaml");
+if (!calibration || calibration.media_type !== "application/yaml" || calibration.size < 200) fail(`attachments ${JSON.stringify(theirs.attachments)}`);
+if (ours.attachments !== theirs.attachments.length || ours.metadata !== theirs.metadata.length) fail(`attachments/metadata ${ours.attachments}/${ours.metadata} vs theirs ${theirs.attachments.length}/${theirs.metadata.length}`);
 const crc = theirs.crc_checked || {};
 if (!crc.data_section || !crc.summary || !(crc.chunks > 0)) fail(`not every CRC was there to check: ${JSON.stringify(crc)}`);
 const c = compression === "none" ? "" : compression;

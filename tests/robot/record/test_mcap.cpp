@@ -7,6 +7,7 @@
 ///        tests/interop/mcap.)
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -150,6 +151,91 @@ TEST(Mcap, AFileWithoutMessagesIsValid) {
   EXPECT_EQ(s.chunks, 0u);
   EXPECT_EQ(s.channels.size(), 3u);
   std::filesystem::remove(path);
+}
+
+// Metadata and attachments (issue #30): in their place in the data section, indexed and counted
+// in the summary, an attachment's CRC checked (a flipped byte in it is damage), kept by recover.
+TEST(Mcap, MetadataAndAttachmentsRoundTripAreIndexedCheckedAndRecovered) {
+  const std::string path = tempFile("attached.mcap").string();
+  std::string error;
+  {
+    auto w = McapWriter::create(path, {}, &error);
+    ASSERT_TRUE(w) << error;
+    const auto schema = w->addSchema("s", "protobuf", "x");
+    const auto channel = w->addChannel("/a", schema, "protobuf");
+    ASSERT_TRUE(w->writeMetadata("telesphere", {{"steady_to_utc_offset_ns", "42"}, {"arm", "xArm 6"}}));
+    const std::string yaml = "cameras: []\n";
+    ASSERT_TRUE(w->writeAttachment(100, 100, "calibration-generation-1.yaml", "application/yaml", yaml.data(), yaml.size()));
+    for (std::uint32_t i = 0; i < 10; ++i) ASSERT_TRUE(w->write(channel, i, 200 + i, 200 + i, "m", 1));
+    ASSERT_TRUE(w->writeAttachment(300, 301, "calibration-generation-2.yaml", "application/yaml", yaml.data(), yaml.size()));
+    ASSERT_TRUE(w->write(channel, 10, 400, 400, "m", 1));
+    ASSERT_TRUE(w->close());
+  }
+  const auto read = [&](const std::string& file, std::vector<std::string>* names, std::vector<McapMetadata>* meta,
+                        std::uint64_t* messages) {
+    const auto r = McapReader::open(file, &error);
+    EXPECT_TRUE(r) << error;
+    if (!r) return false;
+    McapReader::Extras extras;
+    extras.on_attachment = [&](const McapAttachmentView& a) {
+      names->push_back(a.name + "@" + std::to_string(a.log_time_ns) + ":" + std::string(reinterpret_cast<const char*>(a.data), a.size));
+      return true;
+    };
+    extras.on_metadata = [&](const McapMetadata& m) {
+      meta->push_back(m);
+      return true;
+    };
+    return r->forEachRecord([&](const McapMessageView&) { return ++*messages, true; }, extras, &error);
+  };
+  std::vector<std::string> names;
+  std::vector<McapMetadata> meta;
+  std::uint64_t messages = 0;
+  ASSERT_TRUE(read(path, &names, &meta, &messages)) << error;
+  EXPECT_EQ(messages, 11u);
+  EXPECT_EQ(names, (std::vector<std::string>{"calibration-generation-1.yaml@100:cameras: []\n",
+                                             "calibration-generation-2.yaml@300:cameras: []\n"}));
+  ASSERT_EQ(meta.size(), 1u);
+  EXPECT_EQ(meta[0].name, "telesphere");
+  EXPECT_EQ(meta[0].metadata.at("steady_to_utc_offset_ns"), "42");
+  {
+    const auto r = McapReader::open(path, &error);
+    McapSummary s;
+    ASSERT_TRUE(r->summary(&s, &error)) << error;
+    EXPECT_TRUE(s.from_summary_section);
+    EXPECT_EQ(s.attachments, 2u);
+    EXPECT_EQ(s.metadata, 1u);
+    McapSummary scanned;
+    ASSERT_TRUE(r->summary(&scanned, &error, true)) << error;
+    EXPECT_EQ(scanned.attachments, 2u);
+    EXPECT_EQ(scanned.metadata, 1u);
+  }
+  // A flipped byte inside the first attachment's data: its CRC says so.
+  auto bytes = fileBytes(path);
+  const std::string needle = "cameras: []";
+  const auto at = std::search(bytes.begin(), bytes.end(), needle.begin(), needle.end());
+  ASSERT_NE(at, bytes.end());
+  *at ^= 0x01;
+  {
+    const auto r = McapReader::fromBytes(bytes.data(), bytes.size(), &error);
+    ASSERT_TRUE(r) << error;
+    std::string why;
+    EXPECT_FALSE(r->forEachRecord([](const McapMessageView&) { return true; }, {}, &why));
+    EXPECT_NE(why.find("attachment CRC mismatch"), std::string::npos) << why;
+  }
+  // recover keeps them.
+  const std::string fixed = tempFile("attached-fixed.mcap").string();
+  McapRecoverReport report;
+  ASSERT_TRUE(recoverMcap(path, fixed, {}, &report, &error)) << error;
+  std::vector<std::string> fixed_names;
+  std::vector<McapMetadata> fixed_meta;
+  messages = 0;
+  ASSERT_TRUE(read(fixed, &fixed_names, &fixed_meta, &messages)) << error;
+  EXPECT_EQ(fixed_names, names);
+  ASSERT_EQ(fixed_meta.size(), 1u);
+  EXPECT_EQ(fixed_meta[0].metadata, meta[0].metadata);
+  EXPECT_EQ(messages, 11u);
+  std::filesystem::remove(path);
+  std::filesystem::remove(fixed);
 }
 
 TEST(Mcap, ACutFileReadsToItsLastWholeChunkAndRecoversExactlyThat) {

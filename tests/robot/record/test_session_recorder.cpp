@@ -4,7 +4,10 @@
 ///        stats all land in the file on their topics; every message decodes through the schema
 ///        embedded in the file alone (a DescriptorPool built from its FileDescriptorSet, dynamic
 ///        messages: no generated code); the images are foxglove.CompressedImage holding the JPEG
-///        bytes as sent. A full queue drops and counts instead of waiting; a bad path is refused.
+///        bytes as sent; log times and image stamps on UTC through the offset the metadata names;
+///        camera and head poses on /tf as foxglove.FrameTransform; the calibration in use attached
+///        at the start and when a reply names a new one. A full queue drops and counts instead of
+///        waiting; a bad path is refused.
 #include <gtest/gtest.h>
 
 #include <google/protobuf/descriptor.pb.h>
@@ -16,6 +19,7 @@
 #include "robot/link/link_client.h"
 #include "robot/link/link_server.h"
 #include "robot/record/foxglove_compressed_image.pb.h"
+#include "robot/record/foxglove_frame_transform.pb.h"
 #include "robot/record/mcap_reader.h"
 #include "robot/record/session_recorder.h"
 
@@ -60,14 +64,25 @@ TEST(SessionRecorder, EverythingOnTheLinkLandsOnItsTopicAndDecodesFromTheFileAlo
   server.setControlHandler([](const proto::ControlRequest&) {
     proto::ControlReply reply;
     reply.set_ok(true);
+    reply.mutable_calibration()->set_generation(3);  // as after an apply_calibration
+    reply.mutable_calibration()->set_yaml("cameras: []\n");
+    reply.mutable_calibration()->set_source("a test apply");
     return reply;
   });
   std::string error;
   SessionRecorderOptions options;
   options.mcap.compression = McapCompression::kLz4;
   options.mcap.chunk_size = 64 * 1024;
+  options.metadata = {{"arm", "test arm"}};
   auto recorder = SessionRecorder::start(path, options, &error);
   ASSERT_TRUE(recorder) << error;
+  const std::int64_t utc = recorder->steadyToUtcOffsetNs();
+  proto::CalibrationInUse startup;
+  startup.set_generation(1);
+  startup.set_yaml("cameras: []\n");
+  startup.set_source("--calib test.yaml");
+  recorder->attachCalibration(startup, link::linkNowNs());
+  recorder->attachCalibration(startup, link::linkNowNs());  // once per generation
   server.setTap(recorder);
   link::LinkClient client(endpoints);
 
@@ -78,11 +93,21 @@ TEST(SessionRecorder, EverythingOnTheLinkLandsOnItsTopicAndDecodesFromTheFileAlo
     frame.mutable_left()->set_capture_ns(5'000'000'000LL + i * 22'222'222LL);
     frame.mutable_right()->set_capture_ns(5'000'000'000LL + i * 22'222'222LL + 17);
     frame.mutable_left()->set_width(64);
+    if (i % 2 == 0) {  // every other frame with measured camera poses: two transforms each
+      for (auto* image : {frame.mutable_left(), frame.mutable_right()}) {
+        image->set_pose_source(proto::POSE_SOURCE_JOINT_BUFFER);
+        image->mutable_t_robot_cam()->set_tx(image == frame.mutable_left() ? -0.03 : 0.03);
+        image->mutable_t_robot_cam()->set_qw(1.0);
+      }
+    }
     lefts.push_back(bytesOf(30000 + std::size_t(i), std::uint8_t(i)));
     rights.push_back(bytesOf(31000 + std::size_t(i), std::uint8_t(i + 1)));
     server.publishStereoFrame(frame, lefts.back(), rights.back());
     proto::RobotState state;
     state.set_t_ns(i);
+    state.mutable_t_robot_head()->set_tz(0.45);  // head and flange: two transforms per state
+    state.mutable_t_robot_head()->set_qw(1.0);
+    state.mutable_t_robot_flange()->set_qw(1.0);
     server.publishRobotState(state);
   }
   proto::RobotTelemetry telemetry;
@@ -119,8 +144,22 @@ TEST(SessionRecorder, EverythingOnTheLinkLandsOnItsTopicAndDecodesFromTheFileAlo
   const auto reader = McapReader::open(path, &error);
   ASSERT_TRUE(reader) << error;
   std::map<std::string, int> counts;
-  int decoded = 0, images = 0;
-  bool ok = reader->forEachMessage(
+  int decoded = 0, images = 0, transforms_with_cam = 0;
+  std::vector<std::string> attachments;
+  std::map<std::string, std::string> metadata;
+  McapReader::Extras extras;
+  extras.on_attachment = [&](const McapAttachmentView& a) {
+    attachments.push_back(a.name);
+    EXPECT_EQ(a.media_type, "application/yaml");
+    EXPECT_NE(std::string(reinterpret_cast<const char*>(a.data), a.size).find("cameras: []"), std::string::npos);
+    return true;
+  };
+  extras.on_metadata = [&](const McapMetadata& m) {
+    EXPECT_EQ(m.name, "telesphere");
+    metadata = m.metadata;
+    return true;
+  };
+  bool ok = reader->forEachRecord(
       [&](const McapMessageView& m) {
         ++counts[m.channel->topic];
         std::string text;
@@ -141,19 +180,34 @@ TEST(SessionRecorder, EverythingOnTheLinkLandsOnItsTopicAndDecodesFromTheFileAlo
           EXPECT_EQ(image.format(), "jpeg");
           EXPECT_EQ(image.frame_id(), left ? "cam_l" : "cam_r");
           const std::int64_t capture = 5'000'000'000LL + i * 22'222'222LL + (left ? 0 : 17);
-          EXPECT_EQ(image.timestamp().seconds() * 1'000'000'000LL + image.timestamp().nanos(), capture);
+          EXPECT_EQ(image.timestamp().seconds() * 1'000'000'000LL + image.timestamp().nanos(), capture + utc);
           ++images;
         }
         if (m.channel->topic == "/stereo/frame") {
           proto::StereoFrame f;
           EXPECT_TRUE(f.ParseFromArray(m.data, static_cast<int>(m.size)));
           EXPECT_EQ(f.sequence(), m.sequence);
-          EXPECT_EQ(f.stamps().sent_ns(), static_cast<std::int64_t>(m.log_time_ns));  // log time = sent
+          EXPECT_EQ(f.stamps().sent_ns() + utc, static_cast<std::int64_t>(m.log_time_ns));  // log time = sent, on UTC
           EXPECT_EQ(f.left().jpeg_bytes(), lefts[f.sequence() - 100]->size());
+        }
+        if (m.channel->topic == "/tf") {
+          foxglove::FrameTransform t;
+          EXPECT_TRUE(t.ParseFromArray(m.data, static_cast<int>(m.size)));
+          EXPECT_EQ(t.parent_frame_id(), "robot");
+          if (t.child_frame_id() == "cam_l") {
+            ++transforms_with_cam;
+            EXPECT_DOUBLE_EQ(t.translation().x(), -0.03);
+            const int i = static_cast<int>(m.sequence) - 100;
+            EXPECT_EQ(t.timestamp().seconds() * 1'000'000'000LL + t.timestamp().nanos(),
+                      5'000'000'000LL + i * 22'222'222LL + utc);  // at the capture, on UTC
+          }
+          if (t.child_frame_id() == "head") {
+            EXPECT_DOUBLE_EQ(t.translation().z(), 0.45);
+          }
         }
         return true;
       },
-      &error);
+      extras, &error);
   EXPECT_TRUE(ok) << error;
   EXPECT_EQ(counts["/stereo/frame"], 20);
   EXPECT_EQ(counts["/stereo/left/compressed"], 20);
@@ -165,11 +219,22 @@ TEST(SessionRecorder, EverythingOnTheLinkLandsOnItsTopicAndDecodesFromTheFileAlo
   EXPECT_EQ(counts["/control/reply"], 1);
   EXPECT_EQ(counts["/xr/head_target"], 3);
   EXPECT_EQ(counts["/xr/stats"], 1);
+  EXPECT_EQ(counts["/tf"], 10 * 2 + 20 * 2);
+  EXPECT_EQ(transforms_with_cam, 10);
+  EXPECT_EQ(attachments, (std::vector<std::string>{"calibration-generation-1.yaml", "calibration-generation-3.yaml"}));
+  EXPECT_EQ(stats.attachments, 2u);
+  EXPECT_EQ(metadata["steady_to_utc_offset_ns"], std::to_string(utc));
+  EXPECT_EQ(metadata["arm"], "test arm");
+  EXPECT_EQ(metadata["software"].rfind("telesphere ", 0), 0u);
+  EXPECT_GT(utc, 1'700'000'000'000'000'000LL - 100'000'000'000'000LL) << "UTC minus an uptime";
   EXPECT_EQ(images, 40);
   EXPECT_EQ(decoded, static_cast<int>(stats.messages));
   McapSummary summary;
   ASSERT_TRUE(reader->summary(&summary, &error)) << error;
   EXPECT_EQ(summary.messages, stats.messages);
+  EXPECT_EQ(summary.attachments, 2u);
+  EXPECT_EQ(summary.metadata, 1u);
+  EXPECT_GT(summary.start_ns, 1'700'000'000'000'000'000ULL) << "log times on UTC";
   EXPECT_EQ(summary.compressions, std::set<std::string>{"lz4"});
   std::filesystem::remove(path);
 }

@@ -2,7 +2,7 @@
 /// @brief Replaying a recorded session onto a real LinkServer: the replay, itself recorded by a
 ///        second SessionRecorder, holds the same frames (JPEG bytes, sequences), states and
 ///        telemetry in order, with robot-clock stamps moved to the replay's start and their
-///        spacing divided by the rate; a LinkClient on loopback receives the frames. The stamp
+///        spacing of their messages divided by the rate, what each measures inside itself kept; a LinkClient on loopback receives the frames. The stamp
 ///        mapping on its own: robot-clock fields moved, operator-clock fields and durations not,
 ///        unset (0) stays unset.
 #include <gtest/gtest.h>
@@ -26,7 +26,9 @@ std::filesystem::path tempFile(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("telesphere-replay-" + std::to_string(getpid()) + "-" + name);
 }
 
-TEST(SessionReplay, RobotClockStampsMoveOperatorClockAndDurationsStay) {
+// A message logged at 1.0 s replayed first, at 2×, from 50 s on: its robot-clock stamps move by
+// the one shift of its log time (49 s), so what it measures inside itself stays as recorded.
+TEST(SessionReplay, RobotClockStampsMoveWithTheirMessageOperatorClockAndDurationsStay) {
   proto::RobotTelemetry t;
   auto* tick = t.add_ticks();
   tick->set_t_ns(1'000'000'000);
@@ -37,24 +39,26 @@ TEST(SessionReplay, RobotClockStampsMoveOperatorClockAndDurationsStay) {
   proto::StereoFrame f;
   f.mutable_left()->set_capture_ns(1'100'000'000);
   f.mutable_stamps()->set_received_ns(777);  // operator clock: not the robot's
-  mapRobotClockStamps(&t, 1'000'000'000, 50'000'000'000, 2.0);
-  mapRobotClockStamps(&f, 1'000'000'000, 50'000'000'000, 2.0);
+  const std::int64_t shift = 49'000'000'000;
+  shiftRobotClockStamps(&t, shift);
+  shiftRobotClockStamps(&f, shift);
   EXPECT_EQ(t.ticks(0).t_ns(), 50'000'000'000);
-  EXPECT_EQ(t.ticks(0).target_t_ns(), 50'005'000'000);
+  EXPECT_EQ(t.ticks(0).target_t_ns(), 50'010'000'000);  // 10 ms after the tick, as recorded
   EXPECT_EQ(t.ticks(0).joint_state_ns(), 0);
-  EXPECT_EQ(t.frames(0).capture_ns(), 50'100'000'000);
-  EXPECT_EQ(f.left().capture_ns(), 50'050'000'000);
+  EXPECT_EQ(t.frames(0).capture_ns(), 50'200'000'000);
+  EXPECT_EQ(f.left().capture_ns(), 50'100'000'000);
   EXPECT_EQ(f.stamps().received_ns(), 777);
   proto::RobotHealth health;
   health.set_head_target_age_ns(12'345);  // a duration
   health.set_t_ns(1'000'000'000);
-  mapRobotClockStamps(&health, 1'000'000'000, 50'000'000'000, 2.0);
+  shiftRobotClockStamps(&health, shift);
   EXPECT_EQ(health.head_target_age_ns(), 12'345);
   EXPECT_EQ(health.t_ns(), 50'000'000'000);
 }
 
 struct Recorded {
   std::vector<proto::StereoFrame> frames;
+  std::vector<std::int64_t> frame_log_ns;  ///< each frame's log time (UTC; differences are the robot's)
   std::vector<std::string> left_jpegs;
   std::vector<proto::RobotState> states;
   std::vector<proto::RobotTelemetry> telemetry;
@@ -69,7 +73,10 @@ Recorded readRecording(const std::string& path) {
   EXPECT_TRUE(reader->forEachMessage(
       [&](const McapMessageView& m) {
         const int n = static_cast<int>(m.size);
-        if (m.channel->topic == "/stereo/frame") r.frames.emplace_back().ParseFromArray(m.data, n);
+        if (m.channel->topic == "/stereo/frame") {
+          r.frames.emplace_back().ParseFromArray(m.data, n);
+          r.frame_log_ns.push_back(static_cast<std::int64_t>(m.log_time_ns));
+        }
         if (m.channel->topic == "/stereo/left/compressed") {
           foxglove::CompressedImage image;
           image.ParseFromArray(m.data, n);
@@ -178,9 +185,11 @@ TEST(SessionReplay, TheReplayIsTheRecordingAgainMovedToNow) {
   for (std::size_t i = 0; i < 30; ++i) {
     EXPECT_EQ(again.frames[i].sequence(), original.frames[i].sequence());
     EXPECT_EQ(again.left_jpegs[i], original.left_jpegs[i]) << "frame " << i;
-    // Moved to the replay's start, spacing halved (±1 ns of rounding).
+    // Moved to the replay's start with its message: the log times' spacing halved, each frame's
+    // capture → send latency as recorded (±2 ns of rounding).
     const std::int64_t spacing = again.frames[i].left().capture_ns() - again.frames[0].left().capture_ns();
-    EXPECT_NEAR(double(spacing), double(original.frames[i].left().capture_ns() - first) / 2.0, 2.0);
+    const double log_spacing = double(original.frame_log_ns[i] - original.frame_log_ns[0]);
+    EXPECT_NEAR(double(spacing), double(original.frames[i].left().capture_ns() - first) - log_spacing / 2.0, 2.0);
     EXPECT_GE(again.frames[i].left().capture_ns(), replay_start - 1'000'000'000);
   }
   EXPECT_EQ(again.telemetry.size(), 1u);
