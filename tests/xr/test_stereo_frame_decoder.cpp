@@ -223,7 +223,7 @@ TEST(StereoFrameDecoder, StatsCoverEveryStage) {
   const double half_rtt_ms = 0.5e-6 * static_cast<double>(rig.client.clock().estimate()->round_trip_ns);
   EXPECT_GE(s.sent_to_received.p50_ms, -half_rtt_ms - 2.0);  // 2 ms: the estimate may have moved
   EXPECT_GE(s.received_to_decoded.n, 6u);
-  EXPECT_GE(s.received_to_decoded.p50_ms, 0.0);
+  EXPECT_GT(s.received_to_decoded.p50_ms, 0.0);  // one clock: decoding after receiving takes time
   EXPECT_GE(s.capture_to_decoded.n, 5u);
   EXPECT_GE(s.capture_to_decoded.p50_ms, 7.0 - half_rtt_ms - 2.0);
   for (int r = 0; r < static_cast<int>(FrameDropReason::kCount); ++r) {
