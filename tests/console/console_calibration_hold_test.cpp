@@ -47,7 +47,7 @@ class CalibrationHold : public ::testing::Test {
     const pid_t pid = telesphere::test::spawnRobot(
         {kBin + "telesphere-console", "calibrate", "handeye", "--auto", "--robot",
          "tcp://127.0.0.1:" + std::to_string(kPort), "--calib", kSrc + "calib/data/sim_calibration.yaml", "--out",
-         (dir_ / "unused.yaml").string(), "--time-limit-s", "120"},
+         (dir_ / "unused.yaml").string(), "--time-limit", "120"},
         log, &error);
     EXPECT_GT(pid, 0) << error;
     EXPECT_TRUE(telesphere::test::eventually([&] {

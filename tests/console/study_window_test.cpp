@@ -253,19 +253,22 @@ TEST(StudyWindow, AWholeSessionFromModeSwitchToReport) {
   }
   // After the trials, the headset shows no indicator any more.
   EXPECT_TRUE(pumpUntil([&] { return rig.session->robotState() && !rig.session->robotState()->trial().running(); }));
-  // The robot (--record-dir) recorded each trial under the participant, mode and trial id.
+  // The robot (--record-dir) recorded each trial under the participant, mode, the database's uid
+  // (two studies' trial 1 never share a file) and the trial id.
+  const QString uid = QString::fromStdString(panel->store()->uid());
+  ASSERT_FALSE(uid.isEmpty());
+  const auto fileOf = [&](const study::TrialRecord& t) {
+    return QString("P05-%1-db%2-t%3.mcap").arg(QString::fromStdString(t.mode), uid).arg(t.id);
+  };
   for (const study::TrialRecord& t : trials) {
-    const QString file = rig.dir.filePath(QString("recordings/P05-%1-trial%2.mcap")
-                                              .arg(QString::fromStdString(t.mode))
-                                              .arg(t.id));
+    const QString file = rig.dir.filePath("recordings/" + fileOf(t));
     EXPECT_TRUE(QFileInfo::exists(file)) << file.toStdString();
     EXPECT_GT(QFileInfo(file).size(), 1000) << file.toStdString();
   }
   // …and the study database names each trial's file, as the robot confirmed it.
   for (const study::TrialRecord& t : panel->store()->trials())
-    EXPECT_EQ(QFileInfo(QString::fromStdString(t.recording)).fileName(),
-              QString("P05-%1-trial%2.mcap").arg(QString::fromStdString(t.mode)).arg(t.id))
-        << "trial " << t.id << ": '" << t.recording << "'";
+    EXPECT_EQ(QFileInfo(QString::fromStdString(t.recording)).fileName().toStdString(), fileOf(t).toStdString())
+        << "trial " << t.id;
 
   // The questionnaire pages, one per mode in the session's order, complete before save.
   for (int page = 0; page < 3; ++page) {

@@ -324,6 +324,8 @@ TEST_F(OperatorViewTest, FramesOfANewCalibrationWaitForItsModels) {
     publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 1);
     return shownFrame() && view_->hasImage();
   }));
+  // Frames of generation 1 still on their way are shown too: the last one sent is the last old one.
+  ASSERT_TRUE(::telesphere::test::eventually([&] { return shownFrame() && view_->frame()->frame.sequence() == sequence_; }));
   const std::uint64_t last_old = view_->frame()->frame.sequence();
   const auto before = renderLeft();
   link::proto::RobotState state;

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "tests/xr/monado/leak_report.h"
 
+#include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <map>
-#include <regex>
+#include <optional>
 #include <sstream>
 
 namespace telesphere::test {
@@ -105,8 +107,40 @@ bool isSanitizerRuntimeFrame(const std::string& frame) {
   return false;
 }
 
+/// Parses "Direct leak of 2352 byte(s) in 49 object(s) allocated from:" (or Indirect), as
+/// LeakSanitizer prints it; nullopt for any other line. (Not std::regex: GCC 12 warns inside it.)
+static std::optional<LeakBlock> parseLeakHeader(const std::string& line) {
+  const std::string trimmed = leakTrim(line);
+  LeakBlock block;
+  std::size_t pos = std::string::npos;
+  for (const bool direct : {true, false}) {
+    const char* const phrase = direct ? "Direct leak of " : "Indirect leak of ";
+    const std::size_t at = trimmed.find(phrase);
+    if (at == std::string::npos) continue;
+    block.direct = direct;
+    pos = at + std::strlen(phrase);
+    break;
+  }
+  if (pos == std::string::npos) return std::nullopt;
+  const auto number = [&](const char* then) -> std::optional<long long> {
+    std::size_t end = pos;
+    while (end < trimmed.size() && std::isdigit(static_cast<unsigned char>(trimmed[end]))) ++end;
+    if (end == pos || trimmed.compare(end, std::strlen(then), then) != 0) return std::nullopt;
+    const long long value = std::atoll(trimmed.substr(pos, end - pos).c_str());
+    pos = end + std::strlen(then);
+    return value;
+  };
+  const auto bytes = number(" byte(s) in ");
+  if (!bytes) return std::nullopt;
+  const auto objects = number(" object(s) allocated from:");
+  if (!objects || pos != trimmed.size()) return std::nullopt;
+  block.bytes = *bytes;
+  block.objects = *objects;
+  block.text = line;
+  return block;
+}
+
 SanitizerFindings classifySanitizerOutput(const std::string& output, const std::vector<std::string>& foreign_roots) {
-  static const std::regex kHeader(R"((Direct|Indirect) leak of (\d+) byte\(s\) in (\d+) object\(s\) allocated from:)");
   std::vector<std::string> roots;
   for (const std::string& root : foreign_roots)
     if (!root.empty()) roots.push_back(leakRootFolder(root) + "/");
@@ -117,16 +151,12 @@ SanitizerFindings classifySanitizerOutput(const std::string& output, const std::
   for (std::string line; std::getline(in, line);) lines.push_back(line);
 
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    std::smatch m;
-    if (lines[i].find(" leak of ") == std::string::npos || !std::regex_search(lines[i], m, kHeader)) {
+    std::optional<LeakBlock> header = parseLeakHeader(lines[i]);
+    if (!header) {
       if (isOtherSanitizerReport(lines[i])) findings.other_reports.push_back(leakTrim(lines[i]));
       continue;
     }
-    LeakBlock block;
-    block.direct = m[1] == "Direct";
-    block.bytes = std::atoll(m[2].str().c_str());
-    block.objects = std::atoll(m[3].str().c_str());
-    block.text = lines[i];
+    LeakBlock block = std::move(*header);
     while (i + 1 < lines.size() && isLeakFrameLine(leakTrim(lines[i + 1]))) {
       block.frames.push_back(leakTrim(lines[++i]));
       block.text += '\n' + lines[i];
