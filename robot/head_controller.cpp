@@ -106,7 +106,10 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
   filter_.reset(mapped(nominal.T_vr_hmd), nominal.t_ns);
   last_sample_t_ns_ = nominal.t_ns;
   last_tick_ns_ = nominal.t_ns;
-  approaching_ = false;
+  // From where the arm is, at the approach speeds, however near the target: a step below the jump
+  // guard's thresholds would otherwise be sent in one tick (8° of J2 in 10 ms on an xArm, whose
+  // driver refuses it).
+  approaching_ = true;
   initialised_ = true;
   return true;
 }
@@ -230,32 +233,32 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
   last_tick_ns_ = now_ns;
   const Eigen::Isometry3d filtered = filter_.update(target, target_t_ns);
 
+  // Workspace clamp of what is wanted, before the jump guard: an arm standing outside the box
+  // (moved there by hand, or at start-up) is brought in at the approach speeds, not in one tick.
+  HeadCommand cmd;
+  Eigen::Isometry3d wanted = filtered;
+  const Eigen::Vector3d p = filtered.translation();
+  wanted.translation() = p.cwiseMax(config_.workspace.min()).cwiseMin(config_.workspace.max());
+  cmd.clamped = (wanted.translation() - p).norm() > 0;
+
   // Jump guard.
-  double dp = (filtered.translation() - guarded_.translation()).norm();
-  double da = angleBetween(filtered.linear(), guarded_.linear());
+  double dp = (wanted.translation() - guarded_.translation()).norm();
+  double da = angleBetween(wanted.linear(), guarded_.linear());
   if (!approaching_ && (dp > config_.jump_position || da > config_.jump_angle)) {
     approaching_ = true;
     ++jumps_;
   }
   if (approaching_) {
-    guarded_ = stepTowards(guarded_, filtered, config_.approach_speed * dt,
+    guarded_ = stepTowards(guarded_, wanted, config_.approach_speed * dt,
                            config_.approach_angular_speed * dt);
-    dp = (filtered.translation() - guarded_.translation()).norm();
-    da = angleBetween(filtered.linear(), guarded_.linear());
+    dp = (wanted.translation() - guarded_.translation()).norm();
+    da = angleBetween(wanted.linear(), guarded_.linear());
     if (dp <= config_.caught_up_position && da <= config_.caught_up_angle) approaching_ = false;
   } else {
-    guarded_ = filtered;
+    guarded_ = wanted;
   }
-
-  // Workspace clamp.
-  HeadCommand cmd;
   cmd.approaching = approaching_;
-  Eigen::Isometry3d T_robot_head = guarded_;
-  const Eigen::Vector3d p = T_robot_head.translation();
-  const Eigen::Vector3d p_clamped =
-      p.cwiseMax(config_.workspace.min()).cwiseMin(config_.workspace.max());
-  cmd.clamped = (p_clamped - p).norm() > 0;
-  T_robot_head.translation() = p_clamped;
+  const Eigen::Isometry3d T_robot_head = guarded_;
 
   // Inverse kinematics, seeded with the last target.
   const IkResult ik = kinematics_.inverse(T_robot_head * T_head_flange_, q_last_, config_.ik);

@@ -14,10 +14,10 @@
 ///      the pose it was given (the calibration wizards);
 ///   3. recursive low-pass filter (PoseLowPassFilter, cut-off a parameter, paper 100 Hz) on the
 ///      sample times;
-///   4. jump guard: a change beyond jump_position or jump_angle from the last output switches to
+///   4. workspace clamp of the head position to an axis-aligned box in the robot frame;
+///   5. jump guard: a change beyond jump_position or jump_angle from the last output switches to
 ///      a slow approach at approach_speed / approach_angular_speed until within the caught-up
-///      tolerances;
-///   5. workspace clamp of the head position to an axis-aligned box in the robot frame;
+///      tolerances (after the clamp, so an arm standing outside the box is brought in slowly);
 ///   6. inverse kinematics of T_robot_flange = T_robot_head · T_head_flange, seeded with the last
 ///      target (continuity); the result is inside the joint limits by construction.
 ///
@@ -105,8 +105,9 @@ class HeadController {
   static Eigen::Isometry3d T_hmd_head();
 
   /// Starts the mapping with the operator looking straight ahead (`nominal`) and the arm at
-  /// q_current: the output starts from the current head pose, so a distant nominal pose is
-  /// approached slowly by the jump guard. False (nothing changes) if the sample is invalid.
+  /// q_current: the output starts from the current head pose and approaches the target at the
+  /// approach speeds until caught up, however near it is. False (nothing changes) if the sample
+  /// is invalid.
   bool initialise(const HmdSample& nominal, const JointVector& q_current);
   /// The mapping initialise() would set for this head pose: T_robot_nom · (withoutPitchAndRoll(T_vr_hmd) ·
   /// T_hmd_head)⁻¹ (the console shows it before it is confirmed).

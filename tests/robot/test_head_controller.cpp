@@ -119,6 +119,48 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
 // 15° (under the 20° jump threshold: without the resume it would be one full-speed step). The
 // output starts again from the measured joints and approaches the operator at the approach's
 // angular speed, however small the difference.
+// Issue #30: the arm stood 8° of J2 from the nominal pose when the operator's nominal was
+// captured, below the jump guard's 20°: the first target went there in one tick, which the xArm
+// driver refuses (its joints' top speed allows 1.7° in 10 ms). Now it approaches from the arm.
+TEST_F(HeadControllerTest, InitialisingNearTheNominalPoseStillApproachesFromWhereTheArmIs) {
+  JointVector q_near = q_nom;
+  q_near[1] += 8 * kDeg;
+  const double head_apart_deg =
+      Eigen::AngleAxisd(headOf(q_near).linear().transpose() * headOf(q_nom).linear()).angle() / kDeg;
+  const double head_apart_m = (headOf(q_near).translation() - headOf(q_nom).translation()).norm();
+  ASSERT_LT(head_apart_deg, config.jump_angle / kDeg);  // below both thresholds: not a jump
+  ASSERT_LT(head_apart_m, config.jump_position);
+  ASSERT_TRUE(controller.initialise({now, nominal_hmd}, q_near));
+  Eigen::Isometry3d previous = headOf(q_near);
+  int ticks = 0;
+  HeadCommand cmd;
+  do {
+    now += 10 * kMs;
+    cmd = controller.tick(HmdSample{now, nominal_hmd}, now);
+    ASSERT_TRUE(cmd.send);
+    const double step_deg =
+        Eigen::AngleAxisd(previous.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
+    const double step_m = (cmd.T_robot_headTarget.translation() - previous.translation()).norm();
+    EXPECT_LE(step_deg, config.approach_angular_speed * 0.010 / kDeg + 1e-6) << "tick " << ticks;
+    EXPECT_LE(step_m, config.approach_speed * 0.010 + 1e-9) << "tick " << ticks;
+    previous = cmd.T_robot_headTarget;
+    ++ticks;
+  } while (cmd.approaching && ticks < 1000);
+  std::printf("initialise %.1f° / %.0f mm from the nominal head pose: caught up in %d ticks\n", head_apart_deg,
+              head_apart_m * 1e3, ticks);
+  EXPECT_GT(ticks, 3);
+  EXPECT_LT(ticks, 1000);
+  EXPECT_EQ(controller.jumpCount(), 0);
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 0.003);
+}
+
+// At the nominal pose already (a level head): caught up at the first tick.
+TEST_F(HeadControllerTest, InitialisingAtTheNominalPoseFollowsAtOnce) {
+  ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
+  now += 10 * kMs;
+  EXPECT_FALSE(controller.tick(HmdSample{now, level_hmd}, now).approaching);
+}
+
 TEST_F(HeadControllerTest, ResumingStartsFromTheMeasuredJointsAndApproachesSlowly) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   holdFor(level_hmd, 5);

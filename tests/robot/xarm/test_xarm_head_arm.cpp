@@ -22,6 +22,7 @@
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
+#include "robot/link/link_tap.h"
 #include "robot/xarm/controller_simulator.h"
 #include "robot/xarm/tcp_socket.h"
 #include "robot/xarm/xarm_protocol.h"
@@ -102,7 +103,7 @@ class XArmHeadArmTest : public ::testing::Test {
 TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
   startArm();
   const auto stats = arm->stats();
-  EXPECT_NE(stats.firmware.find("telesphere-simulator"), std::string::npos) << stats.firmware;
+  EXPECT_EQ(stats.firmware, xarm::ControllerSimulatorOptions{}.firmware);  // register 1 as the controller wrote it
   EXPECT_GT(stats.link_delay_ms, 0.0);
   auto s = sim->snapshot();
   EXPECT_TRUE(s.enabled);
@@ -309,6 +310,7 @@ class XArmLoop {
   XArmLoop(HeadArm& arm, const Clock& clock, int port) : clock_(clock) {
     endpoints_.base_port = port;
     server_ = std::make_unique<link::LinkServer>(endpoints_);
+    server_->setTap(published_);
     console_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
     operator_app_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
     HeadLoopConfig config;
@@ -378,8 +380,30 @@ class XArmLoop {
     return states_.size();
   }
   const HeadController& controller() const { return controller_; }
+  /// When the robot published its states (link clock, ns), whatever they said: a state's own
+  /// t_ns is its joint measurement's and stands still while the arm is away.
+  std::vector<std::int64_t> publishedStateTimesNs() const { return published_->times(); }
 
  private:
+  class PublishedStates : public link::LinkTap {
+   public:
+    void onLinkMessage(Direction direction, const link::proto::Envelope& envelope,
+                       const std::shared_ptr<const std::vector<std::uint8_t>>&,
+                       const std::shared_ptr<const std::vector<std::uint8_t>>&) override {
+      if (direction != Direction::kSent || !envelope.has_robot_state()) return;
+      std::lock_guard lock(mutex_);
+      times_.push_back(envelope.sender_clock_ns());
+    }
+    std::vector<std::int64_t> times() const {
+      std::lock_guard lock(mutex_);
+      return times_;
+    }
+
+   private:
+    mutable std::mutex mutex_;
+    std::vector<std::int64_t> times_;
+  };
+  std::shared_ptr<PublishedStates> published_ = std::make_shared<PublishedStates>();
   const Clock& clock_;
   HeadController controller_;
   JointStateBuffer buffer_{controller_.config().geometry};
@@ -401,10 +425,31 @@ double headYawDeg(const link::proto::RobotState& s) {
 }
 
 TEST_F(XArmHeadArmTest, AfterAFaultTheHeadResumesFromWhereTheArmIsAndApproachesTheOperatorAtBoundedSpeed) {
-  startArm();
+  // As telesphere-robot starts it (app/robot_assembly.cpp): at the joints of the controller's
+  // nominal head pose.
+  const HeadControllerConfig config;
+  const Xarm6Kinematics kinematics;
+  const IkResult ik = kinematics.inverse(config.T_robot_nom * config.geometry.T_flange_head().inverse(),
+                                         JointVector::Zero(), config.ik);
+  ASSERT_TRUE(ik.converged());
+  XArmOptions o = options();
+  o.nominal_q = ik.q;
+  std::string error;
+  arm = startArm(o, &error);
+  ASSERT_TRUE(arm) << error;
   XArmLoop rig(*arm, clock, 28240);
   ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return s.nominal_set() && s.arm_ok(); })) << rig.fault();
-  std::this_thread::sleep_for(500ms);  // following the operator at yaw 0
+  // Following the operator at yaw 0 once the start-up approach from the driver's nominal joints
+  // to the controller's nominal pose is over: the joints stand still.
+  ASSERT_TRUE(eventually([&] {
+    if (rig.stateCount() == 0) return false;
+    const auto a = rig.states().back();
+    std::this_thread::sleep_for(200ms);
+    const auto b = rig.states().back();
+    double moved = 0;
+    for (int j = 0; j < 6; ++j) moved = std::max(moved, std::abs(a.joint_positions(j) - b.joint_positions(j)));
+    return b.arm_ok() && moved < 1e-3;
+  }, 10000ms)) << rig.fault();
   const double yaw_before = headYawDeg(rig.states().back());
 
   sim->collide();
@@ -426,7 +471,8 @@ TEST_F(XArmHeadArmTest, AfterAFaultTheHeadResumesFromWhereTheArmIsAndApproachesT
   const double approach_deg_s = rig.controller().config().approach_angular_speed * 180.0 / M_PI;
   ASSERT_TRUE(rig.stateBecomes([&](const auto& s) { return std::abs(headYawDeg(s) - yaw_before - 40.0) < 1.0; },
                                std::chrono::milliseconds(int(1000.0 * 40.0 / approach_deg_s) + 3000)))
-      << "head yaw " << headYawDeg(rig.states().back()) - yaw_before << "°, " << rig.fault();
+      << "head yaw " << headYawDeg(rig.states().back()) - yaw_before << "°, " << rig.fault() << ", unreachable targets "
+      << rig.controller().unreachableCount();
   std::this_thread::sleep_for(300ms);
 
   const auto after = rig.states(from);
@@ -448,10 +494,11 @@ TEST_F(XArmHeadArmTest, AfterAFaultTheHeadResumesFromWhereTheArmIsAndApproachesT
               head_speed_max, approach_deg_s, joint_speed_max, after.size());
   EXPECT_EQ(second_faults, 0) << rig.fault();
   EXPECT_EQ(arm->stats().refused_jumps, refused_before) << "the driver refused targets that jumped";
-  // The slow approach, with the 50 Hz states' sampling and the arm's own lag as margin; a swing
-  // toward the operator at the joints' top speed is 180°/s.
+  // The slow approach, with the 50 Hz states' sampling and the arm's own lag as margin. The joints
+  // turning the head in place move faster than the head (about 130°/s for its 45°/s here), but
+  // below their top speed, at which a swing toward the operator would move them.
   EXPECT_LT(head_speed_max, 1.5 * approach_deg_s);
-  EXPECT_LT(joint_speed_max, 90.0);
+  EXPECT_LT(joint_speed_max, 0.9 * o.max_velocity * 180.0 / M_PI);
 }
 
 TEST_F(XArmHeadArmTest, AConsoleStopNeverHidesTheArmsOwnFault) {
@@ -498,7 +545,7 @@ TEST_F(XArmHeadArmTest, ClearingAFaultOnAnUnansweringControllerNeverFreezesTheRo
   sim->setRepliesPaused(true);
   sim->dropConnections();
   ASSERT_TRUE(rig.stateBecomes([](const auto& s) { return !s.arm_ok(); })) << rig.fault();
-  const std::size_t from = rig.stateCount();
+  const std::size_t from = rig.publishedStateTimesNs().size();
   link::proto::ControlRequest clear;
   clear.set_clear_fault(true);
   const auto t0 = std::chrono::steady_clock::now();
@@ -518,10 +565,13 @@ TEST_F(XArmHeadArmTest, ClearingAFaultOnAnUnansweringControllerNeverFreezesTheRo
   // The reconnect fails (no reply to its first request) and says so.
   EXPECT_TRUE(rig.stateBecomes([](const auto& s) { return s.fault().find("cannot resume") != std::string::npos; }, 8000ms))
       << rig.fault();
-  const auto during = rig.states(from);
-  ASSERT_GE(during.size(), 2u);
+  const auto published = rig.publishedStateTimesNs();
+  ASSERT_GE(published.size(), from + 2);
   std::int64_t gap_max_ns = 0;
-  for (std::size_t i = 1; i < during.size(); ++i) gap_max_ns = std::max(gap_max_ns, during[i].t_ns() - during[i - 1].t_ns());
+  for (std::size_t i = from + 1; i < published.size(); ++i)
+    gap_max_ns = std::max(gap_max_ns, published[i] - published[i - 1]);
+  std::printf("during the failing reconnect: %zu states published, largest gap %.0f ms\n", published.size() - from,
+              double(gap_max_ns) * 1e-6);
   EXPECT_LT(gap_max_ns, 300'000'000) << "robot states stopped during the reconnect";
   // Replies again: the next clear reconnects.
   sim->setRepliesPaused(false);
