@@ -32,7 +32,7 @@ constexpr int kPort = 27980;
 
 std::unique_ptr<Process> startCalibrationRobot(Rig& rig) {
   return std::make_unique<Process>(
-      "telesphere-robot",
+      TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot",  // the scenery; the panel is under test
       QStringList{"--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth",
                   TELESPHERE_SOURCE_DIR "/tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
                   "--stats-period", "0"},

@@ -31,7 +31,7 @@ class CalibrateIntrinsics : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = std::filesystem::temp_directory_path() / ("telesphere-calibrate-" + std::to_string(getpid()));
     std::filesystem::create_directories(dir_);
-    const std::string robot = kBin + "telesphere-robot";
+    const std::string robot = TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot";  // the scenery; the console is under test
     const std::string log = (dir_ / "robot.log").string();
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(

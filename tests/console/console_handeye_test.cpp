@@ -35,7 +35,7 @@ class CalibrateHandEye : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(
-        {kBin + "telesphere-robot", "--sim", "--sim-manipulator", "--port", std::to_string(kPort), "--size", "1280x720",
+        {TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot", "--sim", "--sim-manipulator", "--port", std::to_string(kPort), "--size", "1280x720",
          "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth", kSrc + "tests/console/data/handeye_truth.yaml",
          "--preview-rate", "0", "--stats-period", "0"},
         (dir_ / "robot.log").string(), &error);

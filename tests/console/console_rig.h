@@ -60,10 +60,11 @@ inline void saveShot(QWidget* widget, const QString& name) {
 /// A telesphere process on loopback, its output kept for a failure message.
 class Process {
  public:
+  /// `program` is a name in this tree's bin/, or an absolute path (a fixture from the demo tree).
   Process(const QString& program, const QStringList& args, const QString& log) : log_(log) {
     process_.setProcessChannelMode(QProcess::MergedChannels);
     process_.setStandardOutputFile(log);
-    process_.start(QString(TELESPHERE_BINARY_DIR "/bin/") + program, args);
+    process_.start(program.startsWith('/') ? program : QString(TELESPHERE_BINARY_DIR "/bin/") + program, args);
     EXPECT_TRUE(process_.waitForStarted(10000)) << program.toStdString();
   }
   ~Process() { stop(); }

@@ -33,7 +33,7 @@ constexpr int kPort = 28020;
 TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   Rig rig(kPort);
   rig.robot = std::make_unique<Process>(
-      "telesphere-robot",
+      TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot",  // the scenery; the panel is under test
       QStringList{"--sim", "--sim-manipulator", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5",
                   "--still-timeout-ms", "20000", "--sim-truth", TELESPHERE_SOURCE_DIR "/tests/console/data/handeye_truth.yaml",
                   "--preview-rate", "0", "--stats-period", "0"},
