@@ -51,6 +51,10 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
                 "render this recording (telesphere-robot --record) offline, deterministically, instead of "
                 "connecting to a robot; the head from its recorded head targets, or --trajectory")
       ->check(CLI::ExistingFile);
+  c->add_option("--views", o.views,
+                "with --replay: render only the views a live run logged (its --out folder's views.csv: the camera "
+                "frame and head pose of each PNG), each under the live PNG's name, to compare the two")
+      ->check(CLI::ExistingFile);
   return c;
 }
 
@@ -93,6 +97,14 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
     options.trajectory = xr::HeadTrajectory::load(o.trajectory, &error);
     if (!options.trajectory) return fail(1, error);
   }
+  if (!o.views.empty()) {
+    if (!o.trajectory.empty()) return fail(1, "--views brings the live run's head poses: not with --trajectory");
+    if (o.out_dir.empty()) return fail(1, "--views renders PNGs: give --out DIR");
+    auto views = xr::loadLoggedViews(o.views, &error);
+    if (!views) return fail(1, error);
+    if (views->empty()) return fail(1, o.views + ": no views (was the live run given --png-every?)");
+    options.views = std::move(*views);
+  }
   const auto stats = xr::runOfflineReplay(calibration, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos ? 2 : 3, error);
   const xr::OperatorViewStats& v = stats->view;
@@ -106,9 +118,16 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
                                            std::to_string(v.calibration_generation)).c_str()
                                         : "");
   std::printf("| head | %s |\n| nominal pose from the recording | %s |\n",
-              options.trajectory ? o.trajectory.c_str()
-                                 : (std::to_string(stats->head_targets) + " recorded head targets").c_str(),
+              options.trajectory       ? o.trajectory.c_str()
+              : !options.views.empty() ? ("the live run's, " + o.views).c_str()
+                                       : (std::to_string(stats->head_targets) + " recorded head targets").c_str(),
               v.nominal_from_robot ? "yes" : "no");
+  std::string missing;
+  for (const std::uint64_t sequence : stats->views_missing) missing += " " + std::to_string(sequence);
+  if (!options.views.empty())
+    std::printf("| views rendered / camera frame not in the recording | %llu / %zu%s |\n",
+                static_cast<unsigned long long>(stats->views_rendered), options.views.size() - stats->views_rendered,
+                missing.empty() ? "" : (" (frames" + missing + ")").c_str());
   if (!o.out_dir.empty()) {
     nlohmann::json j = operatorStatsJson(v);
     j.update({{"frames", v.frames},
@@ -121,7 +140,9 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
               {"skipped", stats->skipped},
               {"calibration", calibration ? "--calib " + o.calib : stats->calibration},
               {"calibration_generation", v.calibration_generation},
-              {"calibration_changes", v.calibration_changes}});
+              {"calibration_changes", v.calibration_changes},
+              {"views", options.views.size()},
+              {"views_rendered", stats->views_rendered}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
   }
   return 0;

@@ -4,7 +4,8 @@
 ///        demo motion), renders both eyes of the newest stereo frame at the display rate, sends the
 ///        head targets, prints statistics and writes them (JSON) and the last eye images (PNG).
 ///        With --replay FILE: a recorded session rendered offline instead, deterministically
-///        (xr/replay/offline_replay.h): no robot, the recorded head targets or --trajectory.
+///        (xr/replay/offline_replay.h): no robot, the recorded head targets or --trajectory; with
+///        --views the PNGs a live run wrote, rendered again from the recording.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -29,6 +30,7 @@ struct OffscreenCommandOptions {
   std::string truth_dir;  ///< projection maps for the ground-truth check
   int truth_every = 10;
   std::string replay;  ///< a recording (MCAP) to render offline instead of the robot
+  std::string views;   ///< with replay: a live run's views.csv, rendered instead of display frames
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

@@ -8,7 +8,10 @@
 #        image, every recorded frame was shown; the head matters (a still head gives other
 #        pixels); a cut-off recording is refused with the reason. The recording carries its own
 #        calibration (issue #30): replayed without --calib it renders the same PNGs, and says whose
-#        calibration it used; its log times are on UTC (the metadata names the offset).
+#        calibration it used; its log times are on UTC (the metadata names the offset). And the
+#        replay shows what the operator saw (issue #30): every PNG of the live run, rendered again
+#        from the recording with the camera frame and head pose the live run logged for it
+#        (views.csv), is byte-equal to the live one.
 # Usage: xr_replay_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -25,7 +28,7 @@ calib="$src/calib/data/sim_calibration.yaml"
   --record "$out/session.mcap" > "$out/robot.log" 2>&1 &
 robot=$!
 "$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 4 \
-  --wait 60 --out "$out/live" > "$out/live.txt" || fail "live telesphere-xr offscreen exited with $?"
+  --wait 60 --png-every 10 --out "$out/live" > "$out/live.txt" || fail "live telesphere-xr offscreen exited with $?"
 kill -INT "$robot"
 rc=0
 wait "$robot" || rc=$?
@@ -75,6 +78,18 @@ grep -q "attachments: 1, metadata records: 1" "$out/summary.txt" || { cat "$out/
 # Log times on UTC: the recording's start is this year, not the machine's uptime.
 start_ns=$("$bin/telesphere-mcap" summary --json "$out/session.mcap" | sed -n 's/^ *"start_ns": \([0-9]*\).*/\1/p')
 [ "$start_ns" -gt 1700000000000000000 ] || fail "log times are not on UTC (start_ns $start_ns)"
+
+# The replay against what the operator saw live: each live PNG (its camera frame and head pose in
+# views.csv) rendered again from the recording gives the same pixels.
+replay views --views "$out/live/views.csv"
+views=$(tail -n +2 "$out/live/views.csv" | grep -c . || true)
+[ "$views" -ge 8 ] || fail "only $views views logged by a 4 s live run at 30 Hz, one PNG every 10 frames"
+rendered=$(json "$out/views/stats.json" views_rendered)
+[ "$rendered" -eq "$views" ] || { cat "$out/views.txt"; fail "$rendered of $views live views rendered from the recording"; }
+while IFS=, read -r png _; do
+  [ "$png" = png ] && continue
+  cmp -s "$out/live/$png" "$out/views/$png" || fail "$png: the replay differs from what the live run showed"
+done < "$out/live/views.csv"
 
 # The head matters: the same recording seen from a still head gives other pixels.
 printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n' > "$out/still.csv"

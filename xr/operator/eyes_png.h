@@ -27,15 +27,22 @@ inline bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& lef
   return gl::writePng(path, 2 * left.width(), left.height(), 4, both.data(), error);
 }
 
-/// `dir`/eyes_NNNNN.png (NNNNN = frames) when every > 0 and frames is a multiple of it; true
-/// when nothing was due.
+/// "eyes_NNNNN.png" (NNNNN = frames) when every > 0 and frames is a multiple of it; empty when
+/// no PNG is due.
+inline std::string everyNthEyesPngName(std::uint64_t frames, int every) {
+  if (every <= 0 || frames % static_cast<std::uint64_t>(every) != 0) return {};
+  char name[64];
+  std::snprintf(name, sizeof(name), "eyes_%05llu.png", static_cast<unsigned long long>(frames));
+  return name;
+}
+
+/// `dir`/eyes_NNNNN.png when everyNthEyesPngName names one; true when nothing was due.
 inline bool writeEveryNthEyesPng(const std::string& dir, std::uint64_t frames, int every,
                                  const gl::OffscreenTarget& left, const gl::OffscreenTarget& right,
                                  std::string* error) {
-  if (every <= 0 || dir.empty() || frames % static_cast<std::uint64_t>(every) != 0) return true;
-  char name[64];
-  std::snprintf(name, sizeof(name), "/eyes_%05llu.png", static_cast<unsigned long long>(frames));
-  return writeEyesPng(dir + name, left, right, error);
+  const std::string name = everyNthEyesPngName(frames, every);
+  if (name.empty() || dir.empty()) return true;
+  return writeEyesPng(dir + "/" + name, left, right, error);
 }
 
 }  // namespace telesphere::xr

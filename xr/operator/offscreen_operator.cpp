@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 
 #include "shaders/egl_context.h"
 #include "xr/operator/eyes_png.h"
+#include "xr/operator/logged_view.h"
 #include "xr/operator/operator_loop.h"
 #include "xr/operator/operator_view.h"
 #include "xr/operator/paced_output.h"
@@ -60,7 +62,18 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     if (!truth) return std::nullopt;
   }
 
+  if (!options.png_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(options.png_dir + "/" + kLoggedViewsFile, ec);  // this run's views only
+  }
   OperatorLoop loop(operator_view, output);
+  // Each PNG with the camera frame and head pose it shows (views.csv), for the replay's check.
+  const auto writeEyes = [&](const std::string& png, const DisplayFrame& shown) {
+    if (!writeEyesPng(options.png_dir + "/" + png, output.left(), output.right(), error)) return false;
+    const auto& frame = operator_view.frame();
+    return !frame || appendLoggedView(options.png_dir + "/" + kLoggedViewsFile,
+                                      LoggedView{png, frame->frame.sequence(), shown.T_vr_hmd}, error);
+  };
   const Eigen::Isometry3d T_hmd_eye[2] = {output.T_hmd_eye(0), output.T_hmd_eye(1)};
   const auto t0 = Clock::now();
   while (!stop.load()) {
@@ -72,16 +85,15 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     if (truth && options.truth_every_frames > 0 && frames % static_cast<std::uint64_t>(options.truth_every_frames) == 0 &&
         !truth->record(operator_view, shown.display_ns, shown.T_vr_hmd, T_hmd_eye, options.display.ipd, shown.views[0], error))
       return std::nullopt;
-    if (!writeEveryNthEyesPng(options.png_dir, frames, options.png_every_frames, output.left(), output.right(), error))
-      return std::nullopt;
+    const std::string png = options.png_dir.empty() ? "" : everyNthEyesPngName(frames, options.png_every_frames);
+    if (!png.empty() && !writeEyes(png, shown)) return std::nullopt;
   }
   OffscreenOperatorStats stats;
   const OperatorLoopStats loop_stats = loop.stats();
   stats.fps = loop_stats.fps;
   stats.missed_frames = loop_stats.missed_frames;
   stats.view = operator_view.stats();
-  if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
-    return std::nullopt;
+  if (!options.png_dir.empty() && !writeEyes("eyes_last.png", loop.last().frame)) return std::nullopt;
   return stats;
 }
 

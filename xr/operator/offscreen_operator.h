@@ -27,7 +27,9 @@ struct OffscreenOperatorOptions {
   bool loop_trajectory = true;
   RenderSettings render;
   int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;  ///< 0: upload from the decoder's memory
-  std::string png_dir;       ///< when set: eyes_last.png (side by side) at the end
+  /// When set: eyes_last.png (side by side) at the end, and views.csv with the camera frame and
+  /// head pose of each PNG (xr/operator/logged_view.h).
+  std::string png_dir;
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
   std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
   /// When set: the projection maps of every truth_every_frames-th frame go there

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
@@ -34,7 +35,16 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     *error += damaged_hint;
     return std::nullopt;
   }
-  const bool recorded_head = !options.trajectory;
+  const bool views_mode = !options.views.empty();
+  if (views_mode && options.trajectory) {
+    *error = "views from a live run bring their own head poses: not with a head trajectory";
+    return std::nullopt;
+  }
+  if (views_mode && options.png_dir.empty()) {
+    *error = "views from a live run are rendered into PNGs: give a folder for them";
+    return std::nullopt;
+  }
+  const bool recorded_head = !options.trajectory && !views_mode;
   if (recorded_head) {
     const record::McapSummary& summary = session->summary();
     std::uint64_t head_targets = 0;
@@ -81,7 +91,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   OffscreenOutput output(
       options.display,
       [&](double display_s) {
-        return recorded_head ? T_vr_hmd_recorded : options.trajectory->sample(display_s, options.loop_trajectory);
+        return options.trajectory ? options.trajectory->sample(display_s, options.loop_trajectory) : T_vr_hmd_recorded;
       },
       &clock);
   if (!output.complete()) {
@@ -117,7 +127,27 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     return !ended;
   };
   record::RecordedSessionVisitor visitor;
+  // Views mode: the live run's views by the camera frame they show, each drawn once that frame is in.
+  std::multimap<std::uint64_t, const LoggedView*> views_by_sequence;
+  for (const LoggedView& v : options.views) views_by_sequence.emplace(v.stereo_sequence, &v);
+  const auto drawViewsOf = [&](std::uint64_t sequence) {
+    const auto [begin, end] = views_by_sequence.equal_range(sequence);
+    for (auto it = begin; it != end; ++it) {
+      T_vr_hmd_recorded = it->second->T_vr_hmd;
+      if (!loop.step(error)) return false;
+      if (!view.frame() || view.frame()->frame.sequence() != sequence) {
+        *error = "view " + it->second->png + ": the recording's frame " + std::to_string(sequence) +
+                 " did not decode (see above)";
+        return false;
+      }
+      if (!writeEyesPng(options.png_dir + "/" + it->second->png, output.left(), output.right(), error)) return false;
+      ++stats.views_rendered;
+    }
+    views_by_sequence.erase(begin, end);
+    return true;
+  };
   visitor.before = [&](std::int64_t log_time_ns) {
+    if (views_mode) return !stop.load() && !views_by_sequence.empty();
     while (next_start_ns && *next_start_ns < log_time_ns) {
       if (!due()) return false;
       if (!draw()) {
@@ -132,8 +162,17 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
       first_start_ns = next_start_ns = frame.log_time_ns;
       clock.sleepUntilNs(frame.log_time_ns);
     }
+    const std::uint64_t sequence = frame.frame.sequence();
+    const std::int64_t log_time_ns = frame.log_time_ns;
     view.takeFrame(std::move(frame));
     taken_since_drawn = true;
+    if (views_mode && views_by_sequence.count(sequence) != 0) {
+      clock.sleepUntilNs(log_time_ns);
+      if (!drawViewsOf(sequence)) {
+        failed = true;
+        return false;
+      }
+    }
     return true;
   };
   visitor.calibration = [&](const record::RecordedCalibration& c) {
@@ -169,16 +208,21 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     return std::nullopt;
   }
   // What was logged after the last display frame's start.
-  if (taken_since_drawn && due() && !draw()) return std::nullopt;
+  if (!views_mode && taken_since_drawn && due() && !draw()) return std::nullopt;
+  for (const auto& [sequence, v] : views_by_sequence)
+    if (stats.views_missing.size() < 20 &&
+        (stats.views_missing.empty() || stats.views_missing.back() != sequence))
+      stats.views_missing.push_back(sequence);
 
   stats.view = view.stats();
   stats.recorded_frames = session->frames();
   stats.undecodable = view.undecodable();
   stats.replaced_unshown = view.replacedUnshown();
   stats.skipped = session->skipped();
-  stats.recording_s = double(*next_start_ns - *first_start_ns) * 1e-9;
+  stats.recording_s = double((views_mode ? clock.nowNs() : *next_start_ns) - *first_start_ns) * 1e-9;
   stats.calibration = calibration_source;
-  if (!options.png_dir.empty() && !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
+  if (!views_mode && !options.png_dir.empty() &&
+      !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
     return std::nullopt;
   return stats;
 }

@@ -9,7 +9,9 @@
 ///        headset sent) or a head trajectory given instead. Each frame is rendered with the
 ///        calibration the robot used for it, as the recording attached it, unless one is given
 ///        to override them. The one operator frame loop (OperatorLoop, OffscreenOutput) draws it
-///        on an EGL surfaceless context.
+///        on an EGL surfaceless context. With the views a live run logged (views.csv) it renders
+///        those instead, each from its own camera frame and head pose, for a check of the replay
+///        against what the operator saw.
 #pragma once
 
 #include <atomic>
@@ -17,9 +19,11 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "calib/system_calibration.h"
 #include "xr/operator/head_trajectory.h"
+#include "xr/operator/logged_view.h"
 #include "xr/operator/operator_view.h"
 #include "xr/operator/paced_output.h"
 
@@ -36,6 +40,11 @@ struct OfflineReplayOptions {
   double duration_s = 0;  ///< recording time to render from the first frame; 0: to the end
   std::string png_dir;    ///< when set: eyes_last.png at the end
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many display frames
+  /// When set, instead of display frames on the recording's time line: these views of a live run
+  /// (its views.csv), each rendered once the recording's frame it shows has been read (with what
+  /// was logged before it), its head pose given, into png_dir under the live PNG's name. Not
+  /// with a trajectory.
+  std::vector<LoggedView> views;
   /// Called after each display frame with the recording seconds rendered and the recording's
   /// length (from its first frame to its last message, or to duration_s), for a progress line.
   std::function<void(double rendered_s, double total_s)> progress;
@@ -49,6 +58,9 @@ struct OfflineReplayStats {
   std::uint64_t replaced_unshown = 0;  ///< recorded frames a newer one replaced within a display period
   std::uint64_t skipped = 0;          ///< messages passed over (RecordedSession::skipped)
   double recording_s = 0;             ///< recording time rendered, from the first frame
+  std::uint64_t views_rendered = 0;   ///< of OfflineReplayOptions::views
+  /// Views whose camera frame the recording does not hold (their sequence numbers, up to 20).
+  std::vector<std::uint64_t> views_missing;
   /// Whose calibration was used: "the recording's, generation 1" (and its changes in
   /// view.calibration_changes), or "given (overrides the recording's)".
   std::string calibration;
@@ -57,7 +69,7 @@ struct OfflineReplayStats {
 /// Renders the recording with `given` for every frame, or (nothing given) with the calibrations
 /// the recording holds; nothing, with the reason in *error, when the file, GL or the calibration
 /// do not allow it (a recording without calibrations needs one given), or the recording holds no
-/// complete stereo frame (or no head targets when no trajectory is given).
+/// complete stereo frame (or no head targets when neither a trajectory nor views are given).
 std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::SystemCalibration>& given,
                                                    const OfflineReplayOptions& options,
                                                    const std::atomic<bool>& stop, std::string* error);

@@ -56,6 +56,8 @@ class RecordedView final : public OperatorScene {
     return renderer_.cameraFromEye(eye, T_robot_vr_, T_vr_eye);
   }
 
+  /// The frame on the GPU (nothing before the first).
+  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   /// The live view's figures where they apply (times on the robot's clock: the recording's).
   OperatorViewStats stats() const;
   /// Frames whose JPEGs did not decode (the previous frame stayed on show).
