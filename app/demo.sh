@@ -20,8 +20,9 @@ echo "== The simulated stereo head: camera models and fields of view"
 
 echo
 echo "== Rays through the left camera (x y z in its optical frame) -> pixels; 95° off-axis included"
-printf '0 0 1\n1 0 0\n0.99619 0 -0.08716\n0 0 -1\n' | tee "$out/rays.txt" |
-  "$bin/telesphere-calib" model project --calib "$calib" --camera 0 | paste "$out/rays.txt" - |
+# The rays are written before the pipeline starts: paste reads the file while the projection runs.
+printf '0 0 1\n1 0 0\n0.99619 0 -0.08716\n0 0 -1\n' > "$out/rays.txt"
+"$bin/telesphere-calib" model project --calib "$calib" --camera 0 < "$out/rays.txt" | paste "$out/rays.txt" - |
   awk -F'\t' '{printf "  %-22s -> %s\n", $1, $2}'
 
 echo
