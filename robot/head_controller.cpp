@@ -101,17 +101,20 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
       !q_current.allFinite())
     return false;
   T_robot_vr_ = mappingFor(nominal.T_vr_hmd);
-  q_last_ = kinematics_.clampToLimits(q_current);
-  guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+  startFrom(q_current, nominal.t_ns);
   filter_.reset(mapped(nominal.T_vr_hmd), nominal.t_ns);
   last_sample_t_ns_ = nominal.t_ns;
-  last_tick_ns_ = nominal.t_ns;
-  // From where the arm is, at the approach speeds, however near the target: a step below the jump
-  // guard's thresholds would otherwise be sent in one tick (8° of J2 in 10 ms on an xArm, whose
-  // driver refuses it).
-  approaching_ = true;
   initialised_ = true;
   return true;
+}
+
+void HeadController::startFrom(const JointVector& q_measured, std::int64_t now_ns) {
+  q_last_ = kinematics_.clampToLimits(q_measured);
+  guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+  last_tick_ns_ = now_ns;  // the first step is one period's, not the time since the last tick
+  // At the approach speeds, however near the target: a step below the jump guard's thresholds
+  // would otherwise be sent in one tick (8° of J2 in 10 ms on an xArm, whose driver refuses it).
+  approaching_ = true;
 }
 
 Eigen::Isometry3d HeadController::mappingFor(const Eigen::Isometry3d& T_vr_hmd) const {
@@ -130,11 +133,8 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVe
   hold_target_ = T_robot_head;
   if (!initialised_) {
     // No operator target has been followed yet: the approach starts where the arm is.
-    q_last_ = kinematics_.clampToLimits(q_current);
-    guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
+    startFrom(q_current, now_ns);
     filter_.reset(guarded_, now_ns);
-    last_tick_ns_ = now_ns;
-    approaching_ = false;
   }
   holding_ = true;
   return true;
@@ -142,10 +142,7 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVe
 
 bool HeadController::resumeFrom(const JointVector& q_measured, std::int64_t now_ns) {
   if (!q_measured.allFinite()) return false;
-  q_last_ = kinematics_.clampToLimits(q_measured);
-  guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
-  last_tick_ns_ = now_ns;  // the first step after the pause is one period's, not the pause's
-  approaching_ = true;
+  startFrom(q_measured, now_ns);
   ++resumes_;
   return true;
 }

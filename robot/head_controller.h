@@ -118,8 +118,9 @@ class HeadController {
   link::VisualMode mode() const { return mode_; }
 
   /// Moves the head to T_robot_nom (through the jump guard's slow approach) and holds it there,
-  /// the operator ignored, until releaseHold(). Without a mapping yet, the approach starts from
-  /// the arm's q_current at now_ns. False (nothing changes) for non-finite joints.
+  /// the operator ignored, until releaseHold(). Without a mapping yet, the output starts from
+  /// the arm's q_current at now_ns and approaches at the approach speeds however near the pose
+  /// is. False (nothing changes) for non-finite joints.
   bool holdNominal(const JointVector& q_current, std::int64_t now_ns);
   /// The same hold at any head pose T_robot_head (the calibration wizards' head poses): false
   /// (nothing changes) for non-finite joints or a pose that is not a rigid transform.
@@ -166,6 +167,10 @@ class HeadController {
   const Xarm6Kinematics& kinematics() const { return kinematics_; }
 
  private:
+  /// The output starts at the head pose of the measured joints (clamped to the limits) and
+  /// approaches its target at the approach speeds until caught up: initialise, a hold before
+  /// any operator target, and a resume all start here.
+  void startFrom(const JointVector& q_measured, std::int64_t now_ns);
   HeadRejectReason validate(const std::optional<HmdSample>& sample, std::int64_t now_ns) const;
   Eigen::Isometry3d mapped(const Eigen::Isometry3d& T_vr_hmd) const;
   HeadCommand hold(HeadRejectReason reason);

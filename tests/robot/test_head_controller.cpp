@@ -53,6 +53,35 @@ class HeadControllerTest : public ::testing::Test {
   Eigen::Isometry3d headOf(const JointVector& q) const {
     return controller.kinematics().forward(q) * config.geometry.T_flange_head();
   }
+  /// 10 ms ticks with the operator at `hmd` from the head at `start` until the controller has caught
+  /// up (at most 1000): every step within the approach speeds, each command sent. The ticks it took.
+  int ticksToCatchUp(const Eigen::Isometry3d& hmd, Eigen::Isometry3d start, HeadCommand* last) {
+    int ticks = 0;
+    HeadCommand& cmd = *last;
+    do {
+      now += 10 * kMs;
+      cmd = controller.tick(HmdSample{now, hmd}, now);
+      EXPECT_TRUE(cmd.send) << "tick " << ticks;
+      const double step_deg =
+          Eigen::AngleAxisd(start.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
+      const double step_m = (cmd.T_robot_headTarget.translation() - start.translation()).norm();
+      EXPECT_LE(step_deg, config.approach_angular_speed * 0.010 / kDeg + 1e-6) << "tick " << ticks;
+      EXPECT_LE(step_m, config.approach_speed * 0.010 + 1e-9) << "tick " << ticks;
+      start = cmd.T_robot_headTarget;
+      ++ticks;
+    } while (cmd.approaching && ticks < 1000);
+    return ticks;
+  }
+  /// The arm 8° of J2 from the nominal pose: its head below both jump thresholds from there.
+  JointVector nearNominal(double* apart_deg, double* apart_m) const {
+    JointVector q_near = q_nom;
+    q_near[1] += 8 * kDeg;
+    *apart_deg = Eigen::AngleAxisd(headOf(q_near).linear().transpose() * headOf(q_nom).linear()).angle() / kDeg;
+    *apart_m = (headOf(q_near).translation() - headOf(q_nom).translation()).norm();
+    EXPECT_LT(*apart_deg, config.jump_angle / kDeg);  // below both thresholds: not a jump
+    EXPECT_LT(*apart_m, config.jump_position);
+    return q_near;
+  }
 
   HeadControllerConfig config;
   HeadController controller{config};
@@ -123,30 +152,28 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
 // captured, below the jump guard's 20°: the first target went there in one tick, which the xArm
 // driver refuses (its joints' top speed allows 1.7° in 10 ms). Now it approaches from the arm.
 TEST_F(HeadControllerTest, InitialisingNearTheNominalPoseStillApproachesFromWhereTheArmIs) {
-  JointVector q_near = q_nom;
-  q_near[1] += 8 * kDeg;
-  const double head_apart_deg =
-      Eigen::AngleAxisd(headOf(q_near).linear().transpose() * headOf(q_nom).linear()).angle() / kDeg;
-  const double head_apart_m = (headOf(q_near).translation() - headOf(q_nom).translation()).norm();
-  ASSERT_LT(head_apart_deg, config.jump_angle / kDeg);  // below both thresholds: not a jump
-  ASSERT_LT(head_apart_m, config.jump_position);
+  double head_apart_deg = 0, head_apart_m = 0;
+  const JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
   ASSERT_TRUE(controller.initialise({now, nominal_hmd}, q_near));
-  Eigen::Isometry3d previous = headOf(q_near);
-  int ticks = 0;
   HeadCommand cmd;
-  do {
-    now += 10 * kMs;
-    cmd = controller.tick(HmdSample{now, nominal_hmd}, now);
-    ASSERT_TRUE(cmd.send);
-    const double step_deg =
-        Eigen::AngleAxisd(previous.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
-    const double step_m = (cmd.T_robot_headTarget.translation() - previous.translation()).norm();
-    EXPECT_LE(step_deg, config.approach_angular_speed * 0.010 / kDeg + 1e-6) << "tick " << ticks;
-    EXPECT_LE(step_m, config.approach_speed * 0.010 + 1e-9) << "tick " << ticks;
-    previous = cmd.T_robot_headTarget;
-    ++ticks;
-  } while (cmd.approaching && ticks < 1000);
+  const int ticks = ticksToCatchUp(nominal_hmd, headOf(q_near), &cmd);
   std::printf("initialise %.1f° / %.0f mm from the nominal head pose: caught up in %d ticks\n", head_apart_deg,
+              head_apart_m * 1e3, ticks);
+  EXPECT_GT(ticks, 3);
+  EXPECT_LT(ticks, 1000);
+  EXPECT_EQ(controller.jumpCount(), 0);
+  EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 0.003);
+}
+
+// The same start through the nominal-pose step's HOLD before any operator target (the
+// supervisor's first step at a fresh robot): the hold is approached from the arm too.
+TEST_F(HeadControllerTest, HoldingTheNominalPoseBeforeInitialisingApproachesFromWhereTheArmIs) {
+  double head_apart_deg = 0, head_apart_m = 0;
+  const JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
+  ASSERT_TRUE(controller.holdNominal(q_near, now));
+  HeadCommand cmd;
+  const int ticks = ticksToCatchUp(nominal_hmd, headOf(q_near), &cmd);
+  std::printf("hold %.1f° / %.0f mm from the nominal head pose: caught up in %d ticks\n", head_apart_deg,
               head_apart_m * 1e3, ticks);
   EXPECT_GT(ticks, 3);
   EXPECT_LT(ticks, 1000);
