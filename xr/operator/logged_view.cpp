@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -19,13 +18,12 @@ constexpr const char* kHeader = "png,stereo_sequence,px,py,pz,qx,qy,qz,qw";
 }  // namespace
 
 bool appendLoggedView(const std::string& path, const LoggedView& view, std::string* error) {
-  std::error_code ec;
-  const bool fresh = !std::filesystem::exists(path, ec) || std::filesystem::file_size(path, ec) == 0;
   std::FILE* f = std::fopen(path.c_str(), "a");
   if (!f) {
     *error = path + ": " + std::strerror(errno);
     return false;
   }
+  const bool fresh = std::fseek(f, 0, SEEK_END) == 0 && std::ftell(f) == 0;  // a new or empty file
   const Eigen::Vector3d p = view.T_vr_hmd.translation();
   const Eigen::Quaterniond q(view.T_vr_hmd.linear());
   if (fresh) std::fprintf(f, "%s\n", kHeader);
