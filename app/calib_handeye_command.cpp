@@ -8,14 +8,14 @@
 #include "app/calib_cli_io.h"
 #include "calib/hand_eye_samples.h"
 #ifdef TELESPHERE_CALIB_HAS_ROBOT
-#include "robot/xarm6_kinematics.h"
+#include "robot/arm/xarm6_kinematics.h"
 #endif
 
 namespace telesphere::app {
 namespace {
 
 /// The head arm's forward kinematics for sample files with joint angles (q_head): the xArm 6
-/// model of robot/xarm6_kinematics.h when the robot library is part of the build.
+/// model of robot/arm/xarm6_kinematics.h when the robot library is part of the build.
 calib::HeadArmForwardKinematics headArmForwardKinematics() {
 #ifdef TELESPHERE_CALIB_HAS_ROBOT
   return [kinematics = robot::Xarm6Kinematics()](const std::vector<double>& q, std::string* error)

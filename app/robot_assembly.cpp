@@ -9,21 +9,21 @@
 
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
-#include "robot/aravis_camera.h"
-#include "robot/calibration_in_use.h"
-#include "robot/ground_truth_log.h"
-#include "robot/head_arm_sim.h"
-#include "robot/head_arm_xarm.h"
-#include "robot/head_loop.h"
-#include "robot/preview_streamer.h"
-#include "robot/session_recording.h"
-#include "robot/robot_control.h"
-#include "robot/robot_health_reporter.h"
-#include "robot/simulated_manipulator.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
-#include "robot/true_camera_poses.h"
-#include "robot/video_streamer.h"
+#include "robot/cameras/aravis_camera.h"
+#include "robot/head/calibration_in_use.h"
+#include "robot/stereo/ground_truth_log.h"
+#include "robot/arm/head_arm_sim.h"
+#include "robot/arm/head_arm_xarm.h"
+#include "robot/head/head_loop.h"
+#include "robot/video/preview_streamer.h"
+#include "robot/services/recording_switch.h"
+#include "robot/services/robot_control.h"
+#include "robot/services/robot_health_reporter.h"
+#include "robot/stereo/simulated_manipulator.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
+#include "robot/stereo/true_camera_poses.h"
+#include "robot/video/video_streamer.h"
 
 namespace telesphere::app {
 
@@ -42,7 +42,7 @@ struct RobotAssembly::Parts {
   std::string arm_description;          ///< for the console's health view
   std::unique_ptr<robot::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
-  std::unique_ptr<robot::SessionRecording> recording;  ///< --record, --record-dir, the console's requests
+  std::unique_ptr<robot::RecordingSwitch> recording;  ///< --record, --record-dir, the console's requests
   std::unique_ptr<robot::CalibrationInUse> calibration_in_use;
   robot::TelemetryBatcher telemetry;
   std::unique_ptr<robot::HeadLoop> loop;
@@ -243,11 +243,11 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   // The calibration in use, applied and reverted live by the console (link apply_calibration).
   p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
   if (!o.calib_save.empty()) p->calibration_in_use->setSavePath(o.calib_save);
-  record::SessionRecorderOptions recording;
+  record::LinkRecorderOptions recording;
   recording.mcap.compression = *record::parseCompression(o.record_compression);
   recording.metadata = {{"arm", p->arm_description}, {"cameras", o.syntheticCameras() ? "synthetic" : "aravis"},
                         {"calibration_file", o.calib_path}};
-  p->recording = std::make_unique<robot::SessionRecording>(*p->server, o.record_dir, recording);
+  p->recording = std::make_unique<robot::RecordingSwitch>(*p->server, o.record_dir, recording);
   p->recording->setCalibrationSource([in_use = p->calibration_in_use.get()] {
     link::proto::CalibrationInUse c;
     in_use->fill(&c);

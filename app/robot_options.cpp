@@ -53,7 +53,7 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
                "synthetic cameras: the wrist marker rides on a simulated manipulator (xArm 6) moving along a "
                "teach-mode path, mounted at --sim-truth's T_robot_mount with the marker at its T_wrist_marker "
                "(both or neither; default: across the table, ManipulatorMounting::example)");
-  app.add_option("--arm", o.arm, "head arm: sim (the simulated xArm 6) or xarm (a real xArm 6, robot/xarm/README.md)")
+  app.add_option("--arm", o.arm, "head arm: sim (the simulated xArm 6) or xarm (a real xArm 6, robot/arm/xarm/README.md)")
       ->capture_default_str()->check(CLI::IsMember({"sim", "xarm"}));
   app.add_option("--arm-address", o.arm_address, "--arm xarm: the controller's IPv4 address");
   app.add_option("--arm-command-port", o.arm_command_port, "--arm xarm: the controller's command port")

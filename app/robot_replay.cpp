@@ -7,14 +7,14 @@
 #include <thread>
 
 #include "robot/link/link_server.h"
-#include "robot/record/session_recorder.h"
-#include "robot/record/session_replayer.h"
+#include "robot/record/link_recorder.h"
+#include "robot/record/recording_player.h"
 
 namespace telesphere::app {
 
 int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
   std::string error;
-  auto replayer = record::SessionReplayer::open(o.replay_path, &error);
+  auto replayer = record::RecordingPlayer::open(o.replay_path, &error);
   if (!replayer) {
     std::cerr << "telesphere-robot: --replay: " << error << '\n';
     return 1;
@@ -50,11 +50,11 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
     reply.set_error(refusal);
     return reply;
   });
-  std::shared_ptr<record::SessionRecorder> recorder;
+  std::shared_ptr<record::LinkRecorder> recorder;
   if (!o.record_path.empty()) {
-    record::SessionRecorderOptions recording;
+    record::LinkRecorderOptions recording;
     recording.mcap.compression = *record::parseCompression(o.record_compression);
-    if (!(recorder = record::SessionRecorder::start(o.record_path, recording, &error))) {
+    if (!(recorder = record::LinkRecorder::start(o.record_path, recording, &error))) {
       std::cerr << "telesphere-robot: --record: " << error << '\n';
       server->setControlHandler(nullptr);
       return 1;
@@ -64,7 +64,7 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
   std::fprintf(stderr, "telesphere-robot: replaying %s (%llu messages, %.1f s) at %gx%s on port %d\n",
                o.replay_path.c_str(), static_cast<unsigned long long>(s.messages),
                double(s.end_ns - s.start_ns) * 1e-9, o.replay_rate, o.replay_loop ? ", looping" : "", o.port);
-  record::SessionReplayOptions options;
+  record::RecordingPlayerOptions options;
   options.rate = o.replay_rate;
   options.loop = o.replay_loop;
   // The duration option stops a replay as it stops a robot.

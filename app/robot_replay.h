@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief telesphere-robot --replay FILE: the link served from a recording (record::SessionReplayer)
+/// @brief telesphere-robot --replay FILE: the link served from a recording (record::RecordingPlayer)
 ///        instead of a robot; control requests are answered with a refusal that says so, pings as
 ///        live; --record records the replay too.
 #pragma once

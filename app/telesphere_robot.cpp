@@ -10,7 +10,7 @@
 /// with the pose the joint-state buffer interpolates. --truth-out writes that truth per frame.
 /// --sim-manipulator adds the manipulator carrying the wrist marker (hand-eye calibration).
 /// With --camera-left/--camera-right the cameras are GenICam cameras through Aravis. With --arm
-/// xarm --arm-address IP the head arm is a real xArm 6 (robot/xarm/README.md: the lab's steps).
+/// xarm --arm-address IP the head arm is a real xArm 6 (robot/arm/xarm/README.md: the lab's steps).
 /// --record FILE records everything on the link (MCAP); --replay FILE serves such a recording
 /// instead of a robot (app/robot_replay.h).
 /// Stops cleanly on SIGINT/SIGTERM or after --duration seconds; prints statistics periodically.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief telesphere-xarm-sim: a simulated xArm 6 controller speaking the real protocol
-///        (robot/xarm/controller_simulator.h), so that a lab can rehearse `telesphere-robot --arm
+///        (robot/arm/xarm/controller_simulator.h), so that a lab can rehearse `telesphere-robot --arm
 ///        xarm` and its faults without the arm:
 ///          telesphere-xarm-sim --command-port 5020 &
 ///          telesphere-robot --arm xarm --arm-address 127.0.0.1 --arm-command-port 5020
@@ -16,9 +16,9 @@
 #include <string>
 #include <thread>
 
-#include "robot/xarm/controller_simulator.h"
-#include "robot/xarm/xarm_codes.h"
-#include "robot/xarm/xarm_protocol.h"
+#include "robot/arm/xarm/controller_simulator.h"
+#include "robot/arm/xarm/xarm_codes.h"
+#include "robot/arm/xarm/xarm_protocol.h"
 
 namespace {
 

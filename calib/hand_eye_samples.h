@@ -6,7 +6,7 @@
 ///       T_robot_flange: {translation: [x, y, z], rotation_xyzw: [qx, qy, qz, qw]}  # head arm FK
 ///       # or instead: q_head: [q1, q2, q3, q4, q5, q6]   # head-arm joint angles, rad, through
 ///       #   the head arm's forward kinematics (HeadArmForwardKinematics; telesphere-calib passes
-///       #   the xArm 6 model of robot/xarm6_kinematics.h)
+///       #   the xArm 6 model of robot/arm/xarm6_kinematics.h)
 ///       T_mount_wrist: {translation: [...], rotation_xyzw: [...]}                  # manipulator FK
 ///       image_l: left/000.png        # relative to the sample file; or instead
 ///       corners_l: [[u, v], [u, v], [u, v], [u, v]]   # marker corners, OpenCV order, px

@@ -8,7 +8,7 @@
 /// A chunk is written whole with one write() once it holds `chunk_size` bytes (or flush() is
 /// called), so a process that dies loses at most the chunk being filled; the file up to there
 /// reads linearly, and `telesphere-mcap recover` finishes it (McapReader, mcapRecover).
-/// Not thread-safe: one writer thread (record::SessionRecorder owns it).
+/// Not thread-safe: one writer thread (record::LinkRecorder owns it).
 #pragma once
 
 #include <cstdint>

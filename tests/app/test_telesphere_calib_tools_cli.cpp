@@ -21,7 +21,7 @@
 #include "calib/target_render.h"
 #include "tests/calib/calib_synthetic.h"
 #ifdef TELESPHERE_CALIB_HAS_ROBOT
-#include "robot/xarm6_kinematics.h"
+#include "robot/arm/xarm6_kinematics.h"
 #endif
 
 namespace telesphere::test {

@@ -22,7 +22,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "robot/jpeg_encoder.h"
+#include "robot/video/jpeg_encoder.h"
 #include "shaders/png_io.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"

@@ -28,7 +28,7 @@
 
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
-#include "robot/head_motion_trace.h"
+#include "robot/head/head_motion_trace.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"

@@ -19,14 +19,14 @@
 #include <thread>
 #include <vector>
 
-#include "robot/head_arm_sim.h"
-#include "robot/head_arm_xarm.h"
-#include "robot/head_controller.h"
-#include "robot/head_motion_trace.h"
-#include "robot/joint_state_buffer.h"
-#include "robot/low_pass_filter.h"
-#include "robot/sim_clock.h"
-#include "robot/xarm/controller_simulator.h"
+#include "robot/arm/head_arm_sim.h"
+#include "robot/arm/head_arm_xarm.h"
+#include "robot/head/head_controller.h"
+#include "robot/head/head_motion_trace.h"
+#include "robot/head/joint_state_buffer.h"
+#include "robot/head/low_pass_filter.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/arm/xarm/controller_simulator.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "robot/jpeg_encoder.h"
+#include "robot/video/jpeg_encoder.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/prerendered_frames.h"

@@ -2,7 +2,7 @@
 /// @brief `telesphere-bench record`: what recording a session costs (issue #18). Two 2×4K stereo
 ///        JPEG streams at 45 Hz — one sized like the paper's (≈ 30 MB/s: the JPEG quality whose
 ///        image is nearest 333 kB) and ours (quality 90, 4:2:0, the robot's default) — plus robot
-///        state at 100 Hz, fed to a SessionRecorder as the link's tap would, for each chunk
+///        state at 100 Hz, fed to a LinkRecorder as the link's tap would, for each chunk
 ///        compression: the file's write rate when paced at 45 Hz and flat out, the process CPU per MB
 ///        recorded, frames dropped, and the disk's own sequential write speed measured in the same
 ///        run (4 MB writes + fsync) on the same folder.
@@ -15,10 +15,10 @@
 #include <random>
 #include <thread>
 
-#include "robot/jpeg_encoder.h"
+#include "robot/video/jpeg_encoder.h"
 #include "robot/link/link_endpoints.h"
-#include "robot/record/session_recorder.h"
-#include "robot/synthetic_camera.h"
+#include "robot/record/link_recorder.h"
+#include "robot/cameras/synthetic_camera.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/prerendered_frames.h"
@@ -107,11 +107,11 @@ Row measure(const Stream& stream, rec::McapCompression compression, double secon
   row.input_mb_s = frame_mb * 45.0;
   const auto path = (dir / "bench-record.mcap").string();
   std::string error;
-  rec::SessionRecorderOptions options;
+  rec::LinkRecorderOptions options;
   options.mcap.compression = compression;
   // Paced: 45 stereo frames and 100 states per second, as the robot's link sends them.
   {
-    auto recorder = rec::SessionRecorder::start(path, options, &error);
+    auto recorder = rec::LinkRecorder::start(path, options, &error);
     if (!recorder) throw std::runtime_error(error);
     const auto t0 = Clock::now();
     const double cpu0 = processCpuS();
@@ -151,7 +151,7 @@ Row measure(const Stream& stream, rec::McapCompression compression, double secon
   // Flat out: every frame queued at once, timed until the file is closed (fsync included).
   {
     options.max_queue_bytes = std::size_t(double(flat_out_frames + 8) * stream.meanPairBytes() * 2);
-    auto recorder = rec::SessionRecorder::start(path, options, &error);
+    auto recorder = rec::LinkRecorder::start(path, options, &error);
     if (!recorder) throw std::runtime_error(error);
     const auto t0 = Clock::now();
     for (int i = 0; i < flat_out_frames; ++i)

@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "robot/sim_clock.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 

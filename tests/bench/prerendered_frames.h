@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "calib/camera_resolution.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
 
 namespace telesphere::bench {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "robot/replay_camera.h"
-#include "robot/video_streamer.h"
+#include "robot/cameras/replay_camera.h"
+#include "robot/video/video_streamer.h"
 
 namespace telesphere::bench {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief libFuzzer target: arbitrary bytes as the xArm controller's two streams (robot/xarm/),
+/// @brief libFuzzer target: arbitrary bytes as the xArm controller's two streams (robot/arm/xarm/),
 ///        fed in chunks whose sizes the first byte sets, to the command-port frame reader and the
 ///        report-port report reader. They must never crash, read out of bounds or allocate beyond
 ///        a frame's limit, and a report they accept has finite joints and valid nibbles.
@@ -8,8 +8,8 @@
 #include <cstdint>
 #include <span>
 
-#include "robot/xarm/xarm_protocol.h"
-#include "robot/xarm/xarm_report.h"
+#include "robot/arm/xarm/xarm_protocol.h"
+#include "robot/arm/xarm/xarm_report.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

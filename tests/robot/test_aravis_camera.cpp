@@ -15,9 +15,9 @@
 #include <mutex>
 #include <thread>
 
-#include "robot/aravis_camera.h"
-#include "robot/clock.h"
-#include "robot/debayer.h"
+#include "robot/cameras/aravis_camera.h"
+#include "robot/clock/clock.h"
+#include "robot/cameras/debayer.h"
 
 namespace telesphere::robot {
 namespace {

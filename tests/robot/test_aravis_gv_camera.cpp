@@ -14,8 +14,8 @@
 #include <thread>
 #include <vector>
 
-#include "robot/aravis_camera.h"
-#include "robot/clock.h"
+#include "robot/cameras/aravis_camera.h"
+#include "robot/clock/clock.h"
 
 namespace telesphere::robot {
 namespace {

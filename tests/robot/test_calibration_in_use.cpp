@@ -11,8 +11,8 @@
 
 #include "calib/calibration_file.h"
 #include "calib/system_calibration_yaml.h"
-#include "robot/calibration_in_use.h"
-#include "robot/sim_clock.h"
+#include "robot/head/calibration_in_use.h"
+#include "robot/clock/sim_clock.h"
 
 namespace telesphere::robot {
 namespace {

@@ -7,7 +7,7 @@
 #include <array>
 #include <cstdlib>
 
-#include "robot/debayer.h"
+#include "robot/cameras/debayer.h"
 
 namespace telesphere::robot {
 namespace {

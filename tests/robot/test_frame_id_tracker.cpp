@@ -3,7 +3,7 @@
 ///        and without id 0), counter restarts, and the unwrapped sequence.
 #include <gtest/gtest.h>
 
-#include "robot/frame_id_tracker.h"
+#include "robot/cameras/frame_id_tracker.h"
 
 namespace telesphere::robot {
 namespace {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "robot/head_arm_sim.h"
-#include "robot/sim_clock.h"
+#include "robot/arm/head_arm_sim.h"
+#include "robot/clock/sim_clock.h"
 
 namespace telesphere::robot {
 namespace {

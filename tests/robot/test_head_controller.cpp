@@ -8,9 +8,9 @@
 #include <cmath>
 #include <random>
 
-#include "robot/head_arm_sim.h"
-#include "robot/head_controller.h"
-#include "robot/sim_clock.h"
+#include "robot/arm/head_arm_sim.h"
+#include "robot/head/head_controller.h"
+#include "robot/clock/sim_clock.h"
 
 namespace telesphere::robot {
 namespace {

@@ -8,13 +8,13 @@
 #include <thread>
 
 #include "tests/eventually.h"
-#include "robot/head_arm_sim.h"
-#include "robot/head_loop.h"
-#include "robot/calibration_head_pattern.h"
+#include "robot/arm/head_arm_sim.h"
+#include "robot/head/head_loop.h"
+#include "robot/head/calibration_head_pattern.h"
 #include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
-#include "robot/sim_clock.h"
+#include "robot/clock/sim_clock.h"
 
 namespace telesphere::robot {
 namespace {

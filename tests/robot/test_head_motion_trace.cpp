@@ -7,7 +7,7 @@
 #include <iterator>
 #include <string>
 
-#include "robot/head_motion_trace.h"
+#include "robot/head/head_motion_trace.h"
 
 namespace telesphere::robot {
 namespace {

@@ -8,9 +8,9 @@
 #include <thread>
 #include <vector>
 
-#include "robot/joint_state_buffer.h"
-#include "robot/sim_clock.h"
-#include "robot/true_camera_poses.h"
+#include "robot/head/joint_state_buffer.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/stereo/true_camera_poses.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {
@@ -148,7 +148,7 @@ TEST(JointStateBuffer, OneWriterSeveralReaders) {
 }  // namespace
 }  // namespace telesphere::robot
 
-// TrueCameraPoses (robot/true_camera_poses.h): the synthetic cameras' truth from such a buffer.
+// TrueCameraPoses (robot/stereo/true_camera_poses.h): the synthetic cameras' truth from such a buffer.
 namespace telesphere::robot {
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "robot/jpeg_encoder.h"
+#include "robot/video/jpeg_encoder.h"
 
 namespace telesphere::robot {
 namespace {

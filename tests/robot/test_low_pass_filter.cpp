@@ -7,8 +7,8 @@
 #include <limits>
 #include <random>
 
-#include "robot/low_pass_filter.h"
-#include "robot/xarm6_kinematics.h"
+#include "robot/head/low_pass_filter.h"
+#include "robot/arm/xarm6_kinematics.h"
 
 namespace telesphere::robot {
 namespace {

@@ -8,8 +8,8 @@
 #include <atomic>
 #include <thread>
 
-#include "robot/replay_camera.h"
-#include "robot/sim_clock.h"
+#include "robot/cameras/replay_camera.h"
+#include "robot/clock/sim_clock.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {

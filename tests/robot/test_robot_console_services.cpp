@@ -9,14 +9,14 @@
 #include <random>
 #include <thread>
 
-#include "robot/head_arm_sim.h"
+#include "robot/arm/head_arm_sim.h"
 #include "robot/link/link_client.h"
-#include "robot/preview_streamer.h"
-#include "robot/replay_camera.h"
-#include "robot/robot_control.h"
-#include "robot/robot_health_reporter.h"
-#include "robot/sim_clock.h"
-#include "robot/video_streamer.h"
+#include "robot/video/preview_streamer.h"
+#include "robot/cameras/replay_camera.h"
+#include "robot/services/robot_control.h"
+#include "robot/services/robot_health_reporter.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/video/video_streamer.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-/// @brief The simulated manipulator with the wrist marker (robot/simulated_manipulator.h): home
+/// @brief The simulated manipulator with the wrist marker (robot/stereo/simulated_manipulator.h): home
 ///        configuration at the marker's place, reports at 100 Hz that interpolate to the true
 ///        path, a path that keeps the marker facing the head and turns the wrist about several
 ///        axes (what hand-eye calibration needs), and a clear refusal for a mount out of reach.
 #include <gtest/gtest.h>
 
 #include "calib/hand_eye_calibration.h"
-#include "robot/simulated_manipulator.h"
-#include "robot/synthetic_scene.h"
+#include "robot/stereo/simulated_manipulator.h"
+#include "robot/cameras/synthetic_scene.h"
 
 namespace telesphere::robot {
 namespace {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "robot/stereo_encoder.h"
+#include "robot/video/stereo_encoder.h"
 
 namespace telesphere::robot {
 namespace {

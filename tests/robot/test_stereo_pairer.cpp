@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "robot/sim_clock.h"
-#include "robot/stereo_pairer.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/stereo/stereo_pairer.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
 
 namespace telesphere::robot {
 namespace {

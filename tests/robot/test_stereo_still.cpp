@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief Calibration stills (robot/stereo_still.h): the first pair captured after the request,
+/// @brief Calibration stills (robot/stereo/stereo_still.h): the first pair captured after the request,
 ///        full resolution, grey (Mono8 rows unpadded, RGB to luma, Bayer demosaiced), the head
 ///        joints interpolated at the capture time only when joint states bracket it — waiting
 ///        for the state after, refusing stale pairs, missing and lost joint states with reasons.
@@ -10,10 +10,10 @@
 #include <memory>
 #include <thread>
 
-#include "robot/head_geometry.h"
+#include "robot/head/head_geometry.h"
 #include "robot/link/link_pose.h"
-#include "robot/sim_clock.h"
-#include "robot/stereo_still.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/stereo/stereo_still.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {

@@ -16,9 +16,9 @@
 
 #include "calib/bearing_pose.h"
 #include "calib/target_detection.h"
-#include "robot/sim_clock.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
 #include "tests/calib/calib_synthetic.h"
 #include "tests/eventually.h"
 

@@ -11,10 +11,10 @@
 #include <mutex>
 #include <optional>
 
-#include "robot/sim_clock.h"
-#include "robot/synthetic_camera.h"
-#include "robot/synthetic_scene.h"
-#include "robot/synthetic_trigger.h"
+#include "robot/clock/sim_clock.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/cameras/synthetic_scene.h"
+#include "robot/cameras/synthetic_trigger.h"
 
 namespace telesphere::robot {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "robot/xarm6_kinematics.h"
+#include "robot/arm/xarm6_kinematics.h"
 #include "tests/support/jacobian_check.h"
 
 namespace telesphere::robot {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "calib/system_calibration.h"
-#include "robot/synthetic_scene.h"
+#include "robot/cameras/synthetic_scene.h"
 #include "tests/truth/ground_truth_files.h"
 
 namespace telesphere::truth {

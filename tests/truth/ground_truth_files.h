@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Readers of the two ground-truth files of a simulated run: the robot's per-frame truth
-///        (robot/ground_truth_log.h, `telesphere-robot --truth-out`) and the operator app's
+///        (robot/stereo/ground_truth_log.h, `telesphere-robot --truth-out`) and the operator app's
 ///        projection maps (xr/operator/projection_map_recorder.h, `telesphere-xr offscreen --truth-out`).
 #pragma once
 

@@ -8,7 +8,7 @@
 
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
-#include "robot/record/recorded_session.h"
+#include "robot/record/recording_reader.h"
 #include "shaders/egl_context.h"
 #include "xr/operator/eyes_png.h"
 #include "xr/operator/frame_clock.h"
@@ -30,7 +30,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   }
   const std::string damaged_hint =
       " (for a damaged recording `telesphere-mcap check` says where, `telesphere-mcap recover` keeps its intact part)";
-  const auto session = record::RecordedSession::open(options.recording, error);
+  const auto session = record::RecordingReader::open(options.recording, error);
   if (!session) {
     *error += damaged_hint;
     return std::nullopt;

@@ -56,7 +56,7 @@ struct OfflineReplayStats {
   std::uint64_t head_targets = 0;     ///< recorded head targets taken (0 with a trajectory)
   std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs did not decode
   std::uint64_t replaced_unshown = 0;  ///< recorded frames a newer one replaced within a display period
-  std::uint64_t skipped = 0;          ///< messages passed over (RecordedSession::skipped)
+  std::uint64_t skipped = 0;          ///< messages passed over (RecordingReader::skipped)
   double recording_s = 0;             ///< recording time rendered, from the first frame
   std::uint64_t views_rendered = 0;   ///< of OfflineReplayOptions::views
   /// Views whose camera frame the recording does not hold (their sequence numbers, up to 20).

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "calib/system_calibration.h"
-#include "robot/record/recorded_session.h"
+#include "robot/record/recording_reader.h"
 #include "xr/operator/operator_loop.h"
 #include "xr/operator/operator_view.h"
 #include "xr/operator/stereo_view_renderer.h"

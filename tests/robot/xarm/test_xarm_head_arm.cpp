@@ -14,18 +14,18 @@
 #include <thread>
 #include <vector>
 
-#include "robot/clock.h"
-#include "robot/head_arm_xarm.h"
-#include "robot/head_loop.h"
-#include "robot/robot_health_reporter.h"
+#include "robot/clock/clock.h"
+#include "robot/arm/head_arm_xarm.h"
+#include "robot/head/head_loop.h"
+#include "robot/services/robot_health_reporter.h"
 #include "robot/link/head_angles.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
 #include "robot/link/link_tap.h"
-#include "robot/xarm/controller_simulator.h"
-#include "robot/xarm/tcp_socket.h"
-#include "robot/xarm/xarm_protocol.h"
+#include "robot/arm/xarm/controller_simulator.h"
+#include "robot/arm/xarm/tcp_socket.h"
+#include "robot/arm/xarm/xarm_protocol.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {

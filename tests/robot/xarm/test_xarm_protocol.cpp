@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief The xArm protocol codec (robot/xarm/): the manual's example bytes, frames and reports
+/// @brief The xArm protocol codec (robot/arm/xarm/): the manual's example bytes, frames and reports
 ///        reassembled from any split of the byte stream, malformed and truncated input refused with
 ///        a reason, parameter byte orders, and the code tables.
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include <limits>
 #include <random>
 
-#include "robot/xarm/xarm_codes.h"
-#include "robot/xarm/xarm_protocol.h"
-#include "robot/xarm/xarm_report.h"
+#include "robot/arm/xarm/xarm_codes.h"
+#include "robot/arm/xarm/xarm_protocol.h"
+#include "robot/arm/xarm/xarm_report.h"
 
 namespace telesphere::xarm {
 namespace {
@@ -26,7 +26,7 @@ TEST(XArmFrame, EncodesTheManualsEnableAllJointsExample) {
 }
 
 // Byte sequences written from UFACTORY's developer documentation and its clients' sources (read,
-// not copied; robot/xarm/README.md names them), not from our own encoder.
+// not copied; robot/arm/xarm/README.md names them), not from our own encoder.
 TEST(XArmFrame, TheVendorsExamplesForPayloadSensitivityStateAndErrorCodes) {
   // Register 36, 1 kg at (400, 0, 200) mm, transaction 1 (the documentation's own example) …
   EXPECT_EQ(encodeRequest(1, Register::kSetTcpLoad, tcpLoadParams(1.0, {400.0, 0.0, 200.0})),

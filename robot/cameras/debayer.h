@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+/// @brief Bilinear demosaicing of 8-bit Bayer mosaics (RG, GR, GB, BG) to packed RGB8, the
+///        conversion AravisCamera applies where the camera delivers raw Bayer.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "robot/cameras/camera_source.h"
+
+namespace telesphere::robot {
+
+/// True for the four 8-bit Bayer layouts.
+constexpr bool isBayer(PixelFormat format) {
+  return format == PixelFormat::kBayerRG8 || format == PixelFormat::kBayerGR8 ||
+         format == PixelFormat::kBayerGB8 || format == PixelFormat::kBayerBG8;
+}
+
+/// Bilinear demosaic of one 8-bit Bayer image into packed RGB8 (stride width·3, no padding).
+///
+/// `layout` names the colours of the top-left 2×2 cell (BayerRG8: R at (0,0), G at (1,0) and
+/// (0,1), B at (1,1)). At each pixel the sampled colour is kept; a missing colour is the mean of
+/// its nearest samples: the 4 edge neighbours (G at R/B sites), the 4 diagonal neighbours (B at
+/// R sites, R at B sites) or the 2 neighbours in the row or the column (R and B at G sites),
+/// rounded to nearest. Borders mirror without repeating the edge pixel (x = −1 reads x = 1), which
+/// keeps the mosaic's parity, so a uniform colour stays exact up to the border and a linear ramp is
+/// exact everywhere but the outermost row and column.
+///
+/// `src`: width·height samples, rows `src_stride` bytes apart (≥ width). width, height ≥ 2.
+/// `out_rgb` is resized to width·height·3. Mono8 and RGB8 are not mosaics: false with *error set.
+bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_stride, PixelFormat layout,
+                     std::vector<std::uint8_t>& out_rgb, std::string* error);
+
+}  // namespace telesphere::robot

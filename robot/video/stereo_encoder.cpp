@@ -1,0 +1,160 @@
+// SPDX-License-Identifier: MIT
+/// @brief StereoEncoder: caller thread + one worker, a condition-variable hand-off per pair.
+#include "robot/video/stereo_encoder.h"
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+namespace telesphere::robot {
+namespace stereo_encoder_detail {  // named: Impl's members use it (-Wsubobject-linkage)
+
+/// Output buffers of one side: reuses a buffer nobody else holds any more.
+class StereoEncoderBufferPool {
+ public:
+  std::shared_ptr<std::vector<std::uint8_t>> acquire() {
+    for (auto& buffer : buffers_) {
+      if (buffer.use_count() == 1) {
+        // The last other holder (the link's send) released it; order its reads before our writes.
+        std::atomic_thread_fence(std::memory_order_acquire);
+        return buffer;
+      }
+    }
+    if (buffers_.size() < kMaxBuffers) return buffers_.emplace_back(std::make_shared<std::vector<std::uint8_t>>());
+    return std::make_shared<std::vector<std::uint8_t>>();  // all in flight: a fresh one
+  }
+
+ private:
+  static constexpr std::size_t kMaxBuffers = 8;
+  std::vector<std::shared_ptr<std::vector<std::uint8_t>>> buffers_;
+};
+
+bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const Clock& clock,
+                 const CameraFrame& frame, const JpegSettings& settings, EncodedImage& out,
+                 std::string* error) {
+  if (!frame.pixels || frame.width <= 0 || frame.height <= 0 ||
+      frame.pixels->size() < static_cast<std::size_t>(frame.stride_bytes) * frame.height) {
+    *error = "frame " + std::to_string(frame.sequence) + " has no or too few pixel bytes";
+    return false;
+  }
+  const std::int64_t start_ns = clock.nowNs();
+  auto buffer = pool.acquire();
+  bool ok = false;
+  if (frame.format == PixelFormat::kRgb8) {
+    ok = encoder.encodeRgb(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
+                           settings, *buffer, error);
+  } else if (frame.format == PixelFormat::kMono8) {
+    ok = encoder.encodeGray(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
+                            settings, *buffer, error);
+  } else {
+    *error = std::string("cannot encode pixel format ") + pixelFormatName(frame.format) +
+             " (debayer to RGB8 first)";
+  }
+  if (!ok) return false;
+  out.encoded_ns = clock.nowNs();
+  out.encode_ms = static_cast<double>(out.encoded_ns - start_ns) * 1e-6;
+  out.jpeg = std::move(buffer);
+  return true;
+}
+
+}  // namespace stereo_encoder_detail
+
+using stereo_encoder_detail::encodeFrame;
+using stereo_encoder_detail::StereoEncoderBufferPool;
+
+struct StereoEncoder::Impl {
+  const Clock& clock;
+  JpegSettings settings;
+  mutable std::mutex settings_mutex;
+
+  JpegEncoder left_encoder, right_encoder;
+  StereoEncoderBufferPool left_pool, right_pool;
+
+  // Hand-off to the worker: one job at a time.
+  std::mutex mutex;
+  std::condition_variable cv;
+  const CameraFrame* job = nullptr;
+  JpegSettings job_settings;
+  EncodedImage* job_out = nullptr;
+  bool job_done = false, job_ok = false, quit = false;
+  std::string job_error;
+  std::thread worker;
+
+  Impl(const Clock& c, const JpegSettings& s) : clock(c), settings(s) {
+    worker = std::thread([this] { run(); });
+  }
+
+  void run() {
+    std::unique_lock lock(mutex);
+    for (;;) {
+      cv.wait(lock, [this] { return quit || (job && !job_done); });
+      if (quit) return;
+      const CameraFrame& frame = *job;
+      const JpegSettings s = job_settings;
+      EncodedImage* out = job_out;
+      lock.unlock();
+      std::string error;
+      const bool ok = encodeFrame(right_encoder, right_pool, clock, frame, s, *out, &error);
+      lock.lock();
+      job_ok = ok;
+      job_error = std::move(error);
+      job_done = true;
+      cv.notify_all();
+    }
+  }
+};
+
+StereoEncoder::StereoEncoder(const Clock& clock, const JpegSettings& settings)
+    : impl_(std::make_unique<Impl>(clock, settings)) {}
+
+StereoEncoder::~StereoEncoder() {
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->quit = true;
+  }
+  impl_->cv.notify_all();
+  impl_->worker.join();
+}
+
+void StereoEncoder::setSettings(const JpegSettings& settings) {
+  std::lock_guard lock(impl_->settings_mutex);
+  impl_->settings = settings;
+}
+
+JpegSettings StereoEncoder::settings() const {
+  std::lock_guard lock(impl_->settings_mutex);
+  return impl_->settings;
+}
+
+bool StereoEncoder::encode(const CameraFrame& left, const CameraFrame& right, EncodedPair& out,
+                           std::string* error) {
+  const JpegSettings s = settings();
+  out.settings = s;
+  {
+    std::lock_guard lock(impl_->mutex);
+    impl_->job = &right;
+    impl_->job_settings = s;
+    impl_->job_out = &out.right;
+    impl_->job_done = false;
+  }
+  impl_->cv.notify_all();
+  std::string left_error;
+  const bool left_ok =
+      encodeFrame(impl_->left_encoder, impl_->left_pool, impl_->clock, left, s, out.left, &left_error);
+  std::unique_lock lock(impl_->mutex);
+  impl_->cv.wait(lock, [this] { return impl_->job_done; });
+  impl_->job = nullptr;
+  if (!left_ok) {
+    *error = "left: " + left_error;
+    return false;
+  }
+  if (!impl_->job_ok) {
+    *error = "right: " + impl_->job_error;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace telesphere::robot

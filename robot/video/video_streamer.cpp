@@ -1,0 +1,125 @@
+// SPDX-License-Identifier: MIT
+/// @brief VideoStreamer: pair → parallel encode → StereoFrame message → link.
+#include "robot/video/video_streamer.h"
+
+#include "robot/link/proto_enums.h"
+
+#include "robot/link/link_pose.h"
+
+#include <algorithm>
+#include <iostream>
+
+namespace telesphere::robot {
+namespace {
+
+link::proto::ChromaSubsampling protoSubsampling(const CameraFrame& frame, ChromaSubsampling s) {
+  if (frame.format == PixelFormat::kMono8) return link::proto::CHROMA_GRAY;
+  return link::toProto(s);
+}
+
+}  // namespace
+
+VideoStreamer::VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
+                             StereoPosesAt poses, const VideoStreamerConfig& config)
+    : pairs_(pairs),
+      server_(server),
+      clock_(clock),
+      poses_(std::move(poses)),
+      config_(config),
+      encoder_(clock, config.jpeg) {}
+
+VideoStreamer::~VideoStreamer() { stop(); }
+
+void VideoStreamer::start() {
+  if (running_.exchange(true)) return;
+  thread_ = std::thread([this] { run(); });
+}
+
+void VideoStreamer::stop() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+}
+
+VideoStreamerStats VideoStreamer::stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return stats_;
+}
+
+void VideoStreamer::run() {
+  while (running_) {
+    if (auto pair = pairs_.nextPair(std::chrono::milliseconds(50))) publish(*pair);
+  }
+}
+
+bool VideoStreamer::publish(const StereoFrame& pair) {
+  const std::int64_t start_ns = clock_.nowNs();
+  EncodedPair encoded;
+  std::string error;
+  if (!encoder_.encode(pair.left, pair.right, encoded, &error)) {
+    std::lock_guard lock(stats_mutex_);
+    if (stats_.encode_failures++ % 100 == 0)  // one line per 100, not one per frame
+      std::cerr << "telesphere-robot: frame dropped, encode failed: " << error << '\n';
+    stats_.last_error = error;
+    return false;
+  }
+  const JpegSettings& settings = encoded.settings;  // not settings(): it may have changed since
+
+  link::proto::StereoFrame message;
+  message.set_sequence(++sequence_);
+  std::uint64_t from_joints = 0, fixed = 0;
+  const StereoCameraPoses poses = poses_ ? poses_(pair.left.capture_ns, pair.right.capture_ns) : StereoCameraPoses{};
+  message.set_calibration_generation(poses.calibration_generation);
+  const auto describe = [&](const CameraFrame& frame, CameraSide side, link::proto::CameraImage* image) {
+    image->set_capture_ns(frame.capture_ns);
+    image->set_width(static_cast<std::uint32_t>(frame.width));
+    image->set_height(static_cast<std::uint32_t>(frame.height));
+    image->set_subsampling(protoSubsampling(frame, settings.subsampling));
+    image->set_exposure_us(frame.exposure_us);
+    image->set_camera_sequence(frame.sequence);
+    const bool left = side == CameraSide::kLeft;
+    if (left ? poses.measured_l : poses.measured_r) {
+      image->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
+      ++from_joints;
+    } else {
+      image->set_pose_source(link::proto::POSE_SOURCE_FIXED_CALIBRATION);
+      ++fixed;
+    }
+    link::toLinkPose(left ? poses.T_robot_cam_l : poses.T_robot_cam_r, image->mutable_t_robot_cam());
+  };
+  describe(pair.left, CameraSide::kLeft, message.mutable_left());
+  describe(pair.right, CameraSide::kRight, message.mutable_right());
+  // The pair is as old as its older image; it is encoded when both are.
+  message.mutable_stamps()->set_capture_ns(std::min(pair.left.capture_ns, pair.right.capture_ns));
+  message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));
+  const std::int64_t capture_ns = message.stamps().capture_ns();
+  const std::int64_t encoded_ns = message.stamps().encoded_ns();
+  const std::uint64_t sequence = message.sequence();
+  const std::int64_t link_sent_ns =
+      server_.publishStereoFrame(std::move(message), encoded.left.jpeg, encoded.right.jpeg);
+
+  const std::int64_t sent_ns = clock_.nowNs();
+  if (config_.telemetry) {
+    link::proto::SentFrame sent;
+    sent.set_sequence(sequence);
+    sent.set_capture_ns(capture_ns);
+    sent.set_encoded_ns(encoded_ns);
+    sent.set_sent_ns(link_sent_ns);  // the stamp the frame itself carries
+    sent.set_jpeg_bytes(static_cast<std::uint32_t>(encoded.left.jpeg->size() + encoded.right.jpeg->size()));
+    config_.telemetry->addFrame(sent);
+  }
+  if (config_.on_sent) config_.on_sent(pair, sequence);
+  std::lock_guard lock(stats_mutex_);
+  ++stats_.frames_sent;
+  stats_.poses_from_joints += from_joints;
+  stats_.poses_fixed += fixed;
+  stats_.encode_ms_last = static_cast<double>(
+      std::max(encoded.left.encoded_ns, encoded.right.encoded_ns) - start_ns) * 1e-6;
+  stats_.capture_to_sent_ns_last = sent_ns - capture_ns;
+  stats_.exposure_us_last[0] = pair.left.exposure_us;
+  stats_.exposure_us_last[1] = pair.right.exposure_us;
+  stats_.width = pair.left.width;
+  stats_.height = pair.left.height;
+  return true;
+}
+
+}  // namespace telesphere::robot

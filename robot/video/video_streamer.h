@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot side of the video path (DESIGN.md §4): takes stereo pairs, encodes both
+///        images in parallel, attaches each camera's pose T_robot_cam at its capture time (from
+///        the joint-state buffer; the fixed calibrated pose, flagged as such, when the buffer
+///        cannot say) and the generation of the calibration that gave it, and publishes the frame
+///        on the link with its capture and encode stamps.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "robot/head/calibration_in_use.h"
+#include "robot/clock/clock.h"
+#include "robot/head/joint_state_buffer.h"
+#include "robot/link/link_server.h"
+#include "robot/video/stereo_encoder.h"
+#include "robot/stereo/stereo_pairer.h"
+#include "robot/telemetry/telemetry_batcher.h"
+
+namespace telesphere::robot {
+
+/// Both cameras' T_robot_cam at their capture times (CalibrationInUse::posesAt on the robot).
+using StereoPosesAt = std::function<StereoCameraPoses(std::int64_t left_capture_ns, std::int64_t right_capture_ns)>;
+
+struct VideoStreamerConfig {
+  JpegSettings jpeg;
+  /// Gets one SentFrame sample per frame sent (null: no telemetry).
+  TelemetryBatcher* telemetry = nullptr;
+  /// Called with every pair sent and its sequence (the console's preview); must not block.
+  std::function<void(const StereoFrame&, std::uint64_t sequence)> on_sent;
+};
+
+struct VideoStreamerStats {
+  std::uint64_t frames_sent = 0;
+  std::uint64_t encode_failures = 0;
+  std::uint64_t poses_from_joints = 0;  ///< camera images whose pose came from joint states
+  std::uint64_t poses_fixed = 0;        ///< … from the fixed calibration
+  double encode_ms_last = 0.0;          ///< wall time of the last pair's (parallel) encode
+  std::int64_t capture_to_sent_ns_last = 0;
+  std::uint32_t exposure_us_last[2] = {0, 0};  ///< [left, right], of the last pair sent
+  int width = 0, height = 0;                   ///< of the last pair's images
+  std::string last_error;
+};
+
+class VideoStreamer {
+ public:
+  VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
+                StereoPosesAt poses, const VideoStreamerConfig& config);
+  ~VideoStreamer();
+  VideoStreamer(const VideoStreamer&) = delete;
+  VideoStreamer& operator=(const VideoStreamer&) = delete;
+
+  /// Starts the streaming thread (the pair source must be started by the caller).
+  void start();
+  void stop();
+
+  /// One pair: encode and publish (what the thread does per pair); false on an encode failure.
+  bool publish(const StereoFrame& pair);
+
+  void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
+  JpegSettings jpegSettings() const { return encoder_.settings(); }
+  VideoStreamerStats stats() const;
+
+ private:
+  void run();
+
+  StereoPairSource& pairs_;
+  link::LinkServer& server_;
+  const Clock& clock_;
+  StereoPosesAt poses_;
+  VideoStreamerConfig config_;
+  StereoEncoder encoder_;
+  std::uint64_t sequence_ = 0;
+  mutable std::mutex stats_mutex_;
+  VideoStreamerStats stats_;
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace telesphere::robot
