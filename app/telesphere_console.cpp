@@ -22,9 +22,9 @@
 #include "app/console_calibrate_command.h"
 #include "app/console_robot_commands.h"
 #include "app/console_study_command.h"
-#include "console/console_session.h"
-#include "console/console_window.h"
-#include "console/study_panel.h"
+#include "console/widgets/console_session.h"
+#include "console/widgets/console_window.h"
+#include "console/widgets/study_panel.h"
 
 int main(int argc, char** argv) {
   CLI::App cli{"telesphere-console: the supervisor's view of the robot and the XR app"};

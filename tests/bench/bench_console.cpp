@@ -17,8 +17,8 @@
 #include <fstream>
 #include <random>
 
-#include "console/live_plot.h"
-#include "console/series_store.h"
+#include "console/widgets/live_plot.h"
+#include "console/telemetry/series_store.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
 

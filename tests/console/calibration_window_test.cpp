@@ -17,8 +17,8 @@
 #include <QTableWidget>
 
 #include "calib/calibration_file.h"
-#include "console/calibration_panel.h"
-#include "console/calibration_residuals_view.h"
+#include "console/widgets/calibration_panel.h"
+#include "console/widgets/calibration_residuals_view.h"
 #include "robot/link/link_client.h"
 #include "tests/console/console_rig.h"
 

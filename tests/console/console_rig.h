@@ -21,8 +21,8 @@
 #include <memory>
 #include <string>
 
-#include "console/console_session.h"
-#include "console/console_window.h"
+#include "console/widgets/console_session.h"
+#include "console/widgets/console_window.h"
 #include "tests/console/event_pump.h"
 
 namespace telesphere::console::test_rig {

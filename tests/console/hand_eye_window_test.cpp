@@ -17,8 +17,8 @@
 #include <QTableWidget>
 
 #include "calib/calibration_file.h"
-#include "console/calibration_in_use_panel.h"
-#include "console/hand_eye_panel.h"
+#include "console/widgets/calibration_in_use_panel.h"
+#include "console/widgets/hand_eye_panel.h"
 #include "robot/link/link_client.h"
 #include "tests/console/console_rig.h"
 

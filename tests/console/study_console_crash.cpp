@@ -16,10 +16,10 @@
 #include <cstdio>
 #include <functional>
 
-#include "console/console_session.h"
-#include "console/console_window.h"
-#include "console/questionnaire_page.h"
-#include "console/study_panel.h"
+#include "console/widgets/console_session.h"
+#include "console/widgets/console_window.h"
+#include "console/widgets/questionnaire_page.h"
+#include "console/widgets/study_panel.h"
 #include "tests/console/event_pump.h"
 
 namespace {

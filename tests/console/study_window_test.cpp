@@ -21,11 +21,11 @@
 #include <map>
 #include <set>
 
-#include "console/questionnaire_page.h"
+#include "console/widgets/questionnaire_page.h"
 #include "console/study/study_definition.h"
 #include "console/study/trial_order.h"
 #include "console/study/trial_telemetry.h"
-#include "console/study_panel.h"
+#include "console/widgets/study_panel.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "tests/console/console_rig.h"
 #include "xr/operator/trial_indicator.h"

@@ -12,7 +12,7 @@
 #include <map>
 #include <random>
 
-#include "console/column_decimator.h"
+#include "console/telemetry/column_decimator.h"
 
 namespace telesphere::console {
 namespace {

@@ -4,9 +4,9 @@
 ///        nominal-pose gate (fresh and still head poses only).
 #include <gtest/gtest.h>
 
-#include "console/connection_monitor.h"
-#include "console/fault_log.h"
-#include "console/nominal_pose_gate.h"
+#include "console/supervision/connection_monitor.h"
+#include "console/supervision/fault_log.h"
+#include "console/supervision/nominal_pose_gate.h"
 
 namespace telesphere::console {
 namespace {

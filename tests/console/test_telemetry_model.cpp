@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "console/telemetry_model.h"
+#include "console/telemetry/telemetry_model.h"
 #include "robot/link/link_pose.h"
 
 namespace telesphere::console {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "console/time_series.h"
+#include "console/telemetry/time_series.h"
 
 namespace telesphere::console {
 namespace {
