@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "robot/arm/head_arm_xarm.h"
+#include "robot/arm/joint_target_guard.h"
 
 #include <algorithm>
 #include <atomic>
@@ -82,7 +83,7 @@ struct XArmHeadArm::Impl {
   /// may skip a report, and then every later report seems a period late against its index: ten
   /// reports in a row more than 1.5 periods late (or one impossibly early) restart the fit on
   /// the arrivals as they are now. A single late arrival (a busy machine) only leaves the envelope.
-  DeviceClockMapping report_clock{CameraClockMappingOptions{1000, 500.0, 15'000'000, 10}};
+  DeviceClockMapping report_clock{DeviceClockMappingOptions{1000, 500.0, 15'000'000, 10}};
   std::int64_t last_stamp_ns = 0;  ///< stamps handed out stay strictly increasing
   std::uint64_t report_index = 0;
   std::int64_t last_report_ns = 0;
@@ -98,9 +99,7 @@ struct XArmHeadArm::Impl {
   bool need_error_query = false;
   std::int64_t last_error_poll_ns = 0;  ///< while stopped on request (update())
 
-  std::optional<JointVector> last_target;
-  std::int64_t last_target_ns = 0;
-  int consecutive_jumps = 0;
+  JointTargetGuard guard{{options.max_velocity, options.report_period_ns, options.refused_jumps_for_fault}};
   Stats stats;
 
   // ---- connection -------------------------------------------------------------------------------
@@ -421,9 +420,7 @@ struct XArmHeadArm::Impl {
     streaming = true;
     fault_status = ArmStatus::kOk;
     fault.clear();
-    last_target = toJoints(last_report->q);  // the jump guard starts from where the arm is
-    last_target_ns = clock.nowNs();
-    consecutive_jumps = 0;
+    guard.startFrom(toJoints(last_report->q), clock.nowNs());  // from where the arm is
     servo_in_flight.clear();
     return true;
   }
@@ -644,32 +641,20 @@ bool XArmHeadArm::sendTarget(const JointVector& q_target) {
   {
     std::lock_guard lock(m.mutex);
     if (!m.streaming) return false;
-    if (!m.kinematics.withinLimits(q_target)) {
-      ++m.stats.refused_limits;
-      return false;
-    }
-    const std::int64_t now = m.clock.nowNs();
-    if (m.last_target) {
-      const double dt_s = double(std::clamp(now - m.last_target_ns, m.options.report_period_ns,
-                                            3 * m.options.report_period_ns)) * 1e-9;
-      const JointVector step = (q_target - *m.last_target).cwiseAbs();
-      int joint = 0;
-      const double largest = step.maxCoeff(&joint);
-      if (largest > m.options.max_velocity * dt_s + 1e-3) {
-        ++m.stats.refused_jumps;
-        if (++m.consecutive_jumps >= m.options.refused_jumps_for_fault)
-          m.failLocked(ArmStatus::kStopped,
-                       "targets jump: J" + std::to_string(joint + 1) + " by " +
-                           std::to_string(int(std::lround(largest * 180 / M_PI))) + "° in " +
-                           std::to_string(int(std::lround(dt_s * 1e3))) + " ms (the joints' top speed allows " +
-                           std::to_string(int(std::lround(m.options.max_velocity * dt_s * 180 / M_PI))) +
-                           "°); clear the fault to resume from where the arm is");
+    switch (m.guard.check(q_target, m.clock.nowNs())) {
+      case JointTargetGuard::Verdict::kAccepted:
+        break;
+      case JointTargetGuard::Verdict::kOutsideLimits:
+        ++m.stats.refused_limits;
         return false;
-      }
+      case JointTargetGuard::Verdict::kJump:
+        ++m.stats.refused_jumps;
+        return false;
+      case JointTargetGuard::Verdict::kJumpFault:
+        ++m.stats.refused_jumps;
+        m.failLocked(ArmStatus::kStopped, m.guard.fault());
+        return false;
     }
-    m.consecutive_jumps = 0;
-    m.last_target = q_target;
-    m.last_target_ns = now;
     ++m.stats.targets_sent;
   }
   return m.send(Register::kMoveServoJoint, xarm::servoJointParams(toArray(q_target)), false).has_value();

@@ -41,7 +41,7 @@ struct AravisCameraOptions {
   std::chrono::milliseconds lost_timeout{0};
   std::chrono::milliseconds reconnect_backoff_min{100};  ///< first re-open retry delay, doubling
   std::chrono::milliseconds reconnect_backoff_max{2000};
-  CameraClockMappingOptions clock;
+  DeviceClockMappingOptions clock;
   /// Called with the ArvCamera* after each open and configuration, before acquisition starts (on
   /// the thread that opens: start()'s caller, later the stream thread). For features this class
   /// does not set, and for tests (the fake camera's fill pattern). Must not keep the pointer

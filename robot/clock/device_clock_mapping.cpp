@@ -9,7 +9,7 @@
 
 namespace telesphere::robot {
 
-DeviceClockMapping::DeviceClockMapping(CameraClockMappingOptions options) : options_(options) {
+DeviceClockMapping::DeviceClockMapping(DeviceClockMappingOptions options) : options_(options) {
   options_.window = std::max(options_.window, 2);
   options_.late_pairs_for_reset = std::max(options_.late_pairs_for_reset, 1);
 }

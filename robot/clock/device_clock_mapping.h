@@ -9,7 +9,7 @@
 
 namespace telesphere::robot {
 
-struct CameraClockMappingOptions {
+struct DeviceClockMappingOptions {
   int window = 512;                              ///< pairs kept (45 Hz: ~11 s)
   double max_drift_ppm = 200.0;                  ///< |b − 1| bound; quartz clocks stay inside (±20..100)
   std::int64_t jump_threshold_ns = 50'000'000;   ///< a pair this far off the fit is a clock jump
@@ -43,7 +43,7 @@ class DeviceClockMapping {
  public:
   enum class AddResult { kAdded, kLateSkipped, kReset };
 
-  explicit DeviceClockMapping(CameraClockMappingOptions options = {});
+  explicit DeviceClockMapping(DeviceClockMappingOptions options = {});
 
   /// Adds one pair (hardware stamp, host arrival), both ns; refits. kReset: the pair showed a
   /// clock jump and starts a fresh fit; kLateSkipped: left out as a late outlier.
@@ -79,7 +79,7 @@ class DeviceClockMapping {
   };
   void refit();
 
-  CameraClockMappingOptions options_;
+  DeviceClockMappingOptions options_;
   std::deque<Pair> pairs_;
   // Fit around the newest pair (ref): t_host = ref.host + (t_hw − ref.hw) + offset_ + slope_·(t_hw − ref.hw).
   Pair ref_{0, 0};

@@ -76,7 +76,7 @@ TEST(DeviceClockMapping, LowerEnvelopeRecoversOffsetAndDriftFarBelowTheJitter) {
 }
 
 TEST(DeviceClockMapping, OnePairMapsWithUnitSlopeAndShortWindowsBoundTheDrift) {
-  CameraClockMappingOptions options;
+  DeviceClockMappingOptions options;
   options.max_drift_ppm = 200;
   DeviceClockMapping mapping(options);
   EXPECT_FALSE(mapping.valid());
@@ -147,7 +147,7 @@ TEST(DeviceClockMapping, ClockJumpsResetTheFitAndItRecovers) {
     late += result == DeviceClockMapping::AddResult::kLateSkipped;
   }
   EXPECT_EQ(result, DeviceClockMapping::AddResult::kReset);
-  EXPECT_EQ(late, CameraClockMappingOptions{}.late_pairs_for_reset - 1);
+  EXPECT_EQ(late, DeviceClockMappingOptions{}.late_pairs_for_reset - 1);
   EXPECT_EQ(mapping.jumps(), 3u);
 
   mapping.reset();
