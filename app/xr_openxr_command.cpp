@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief `telesphere-xr openxr`: options, the GL context, what is drawn (robot or test scene),
-///        the per-eye extras (xr::OpenXrReadbackLog, xr::OpenXrMirror and its keys), and the wiring of
+/// @brief `telesphere-xr openxr`: options, the GL context, the eye work (xr_openxr_eye_work.h), and the wiring of
 ///        xr::runOpenXrSessions (sessions, reconnect, the operator loop over an OpenXrOutput);
 ///        statistics.
 #include "app/xr_openxr_command.h"
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "app/operator_stats_json.h"
+#include "app/xr_openxr_eye_work.h"
 #include "calib/calibration_file.h"
 #include "shaders/egl_context.h"
 #include "xr/desktop/desktop_window.h"
@@ -40,83 +40,6 @@ int openXrFail(int code, const std::string& message) {
   std::cerr << "telesphere-xr openxr: " << message << "\n";
   return code;
 }
-
-/// What one run draws (the robot's frames through OperatorView, or the test scene), and what it
-/// does with each eye besides: the readback folder, the mirror window and its keys.
-class OpenXrEyeWork {
- public:
-  OpenXrEyeWork(const OpenXrCommandOptions& o, const xr::RenderSettings& settings) : o_(o), settings_(settings) {}
-
-  /// Opens the readback folder; loads the calibration and connects (robot mode) or uploads the
-  /// test scene. Exit code or 0.
-  int prepare(std::string* error) {
-    if (!o_.readback_dir.empty() && !(readback_ = xr::OpenXrReadbackLog::open(o_.readback_dir, error))) return 1;
-    if (o_.test_scene) {
-      test_scene_ = xr::OpenXrTestSceneView::create(settings_, error);
-      return test_scene_ ? 0 : 3;
-    }
-    auto calibration = calib::loadCalibrationFile(o_.calib);
-    if (!calibration) {
-      *error = calibration.error().describe();
-      return 1;
-    }
-    if (calibration->cameras.size() != 2) {
-      *error = o_.calib + ": the calibration has " + std::to_string(calibration->cameras.size()) +
-               " camera(s); the operator view needs two";
-      return 1;
-    }
-    xr::OperatorViewOptions options;
-    options.endpoints.host = o_.host;
-    options.endpoints.base_port = o_.port;
-    options.render = settings_;
-    view_ = std::make_unique<xr::OperatorView>(*calibration, options);
-    return 0;
-  }
-
-  xr::OperatorScene& scene() { return view_ ? static_cast<xr::OperatorScene&>(*view_) : *test_scene_; }
-  xr::OperatorView* view() { return view_.get(); }
-  xr::OpenXrMirror& mirror() { return mirror_; }
-
-  void newSession(int session) {
-    if (readback_) readback_->newSession(session);
-    if (test_scene_) test_scene_->restart();
-  }
-
-  bool afterEye(const xr::OpenXrEye& eye, std::string* error) {
-    return !readback_ || readback_->eyeDrawn(eye, scene(), view_.get(), view_ ? view_->settings() : settings_, error);
-  }
-
-  void readBack(const xr::OpenXrEye& eye) {
-    if (o_.mirror) mirror_.copyEye(eye);
-    std::string error;
-    if (readback_ && !readback_->saveImage(eye, &error)) std::cerr << "telesphere-xr openxr: " << error << "\n";
-  }
-
-  /// The mirror window between frames: its keys (N nominal, M mode, +/- radius; Escape quits →
-  /// false) and the newest eye images.
-  bool betweenFrames(xr::DesktopWindow& window) {
-    window.pollEvents();
-    (void)window.headInput();  // the head is the headset's; only the commands count here
-    const xr::DesktopCommands c = window.takeCommands();
-    if (view_) {
-      if (c.capture_nominal) view_->requestCaptureNominal();
-      if (c.cycle_mode) view_->requestNextMode();
-      if (c.radius_up) view_->requestRadiusScaled(1.25);
-      if (c.radius_down) view_->requestRadiusScaled(1.0 / 1.25);
-    }
-    std::string error;
-    if (!mirror_.present(window, &error)) std::cerr << "telesphere-xr openxr: mirror: " << error << "\n";
-    return !(c.quit || window.shouldClose());
-  }
-
- private:
-  const OpenXrCommandOptions& o_;
-  xr::RenderSettings settings_;
-  std::unique_ptr<xr::OperatorView> view_;
-  std::unique_ptr<xr::OpenXrTestSceneView> test_scene_;
-  std::unique_ptr<xr::OpenXrReadbackLog> readback_;
-  xr::OpenXrMirror mirror_;
-};
 
 }  // namespace
 
