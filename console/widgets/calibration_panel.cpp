@@ -12,7 +12,6 @@
 #include <QLabel>
 #include <QListWidget>
 #include <QMetaObject>
-#include <QPainter>
 #include <QPlainTextEdit>
 #include <QProgressBar>
 #include <QPushButton>
@@ -21,79 +20,12 @@
 #include <QVBoxLayout>
 
 #include "calib/calibration_file.h"
+#include "console/widgets/calibration_pictures.h"
 #include "console/widgets/calibration_save_dialog.h"
 #include "console/widgets/calibration_residuals_view.h"
 #include "robot/link/link_client.h"
 
 namespace telesphere::console {
-namespace {
-
-/// Two reduced images of a stereo pair side by side (a 4 px gap) with `sample`'s corners drawn
-/// on them in `corner_colour`, and each camera's corner count when `counts`.
-QImage stereoPicture(const std::array<calib::GrayImage, 2>& images, const calibration::StereoSample& sample,
-                     const QColor& corner_colour, double corner_radius, bool counts) {
-  const int w = std::max(images[0].width, 1), h = std::max(images[0].height, 1);
-  QImage image(2 * w + 4, h, QImage::Format_RGB32);
-  image.fill(Qt::black);
-  QPainter p(&image);
-  p.setRenderHint(QPainter::Antialiasing);
-  for (int c = 0; c < 2; ++c) {
-    const calib::GrayImage& t = images[std::size_t(c)];
-    if (t.width <= 0) continue;
-    const QImage gray(t.pixels.data(), t.width, t.height, t.width, QImage::Format_Grayscale8);
-    const int x0 = c * (w + 4);
-    p.drawImage(x0, 0, gray);
-    const double scale = sample.width > 0 ? double(t.width) / sample.width : 1.0;
-    p.setPen(Qt::NoPen);
-    p.setBrush(corner_colour);
-    for (const Eigen::Vector2d& px : sample.views[std::size_t(c)].corners_px)
-      p.drawEllipse(QPointF(x0 + px.x() * scale, px.y() * scale), corner_radius, corner_radius);
-    if (counts) {
-      p.setPen(Qt::white);
-      p.drawText(QPointF(x0 + 6, 16), QString("%1: %2 corners")
-                                          .arg(c == 0 ? "cam_l" : "cam_r")
-                                          .arg(sample.views[std::size_t(c)].corner_ids.size()));
-    }
-  }
-  return image;
-}
-
-/// A sample's two thumbnails with its corners (the sample list).
-QImage sampleImage(const calibration::StereoSample& s) { return stereoPicture(s.thumbnails, s, QColor(255, 60, 60), 1.2, false); }
-
-/// A live still: the corners green when the gates pass and orange when not.
-QImage liveImage(const calibration::LiveStill& still) {
-  return stereoPicture(still.view, still.sample, still.verdict.keep ? QColor(60, 220, 60) : QColor(255, 150, 0), 1.6, true);
-}
-
-/// The polar bins of both cameras as rows of cells: reached (green), required and missing (red),
-/// optional (grey); the bin edges in degrees underneath.
-QPixmap coveragePicture(const calibration::IntrinsicsCollector& collector, const calibration::IntrinsicsDoneRule& rule) {
-  const int cell = 26, rows = 2, label_w = 52;
-  const int bins = std::max(collector.coverage(0).polarBins(), collector.coverage(1).polarBins());
-  QPixmap pixmap(label_w + bins * cell + 2, rows * (cell + 4) + 18);
-  pixmap.fill(Qt::white);
-  QPainter p(&pixmap);
-  for (int c = 0; c < rows; ++c) {
-    const calib::ViewCoverage& cov = collector.coverage(c);
-    const std::vector<int> required = calibration::requiredPolarBins(cov, rule);
-    p.setPen(Qt::black);
-    p.drawText(QRect(0, c * (cell + 4), label_w, cell), Qt::AlignVCenter, c == 0 ? "cam_l" : "cam_r");
-    for (int b = 0; b < cov.polarBins(); ++b) {
-      const bool needed = std::find(required.begin(), required.end(), b) != required.end();
-      const QColor fill = cov.polarCount(b) > 0 ? QColor(90, 180, 90) : needed ? QColor(220, 80, 80) : QColor(200, 200, 200);
-      p.fillRect(QRect(label_w + b * cell, c * (cell + 4), cell - 2, cell), fill);
-    }
-  }
-  p.setPen(Qt::black);
-  for (int b = 0; b <= bins; b += 3) {
-    p.drawText(QRect(label_w + b * cell - 12, rows * (cell + 4), 40, 16), Qt::AlignLeft,
-               QString::number(b * collector.coverage(0).polarBinDeg()) + "°");
-  }
-  return pixmap;
-}
-
-}  // namespace
 
 CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget* parent)
     : QWidget(parent), endpoints_(endpoints) {
@@ -215,10 +147,7 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   live_layout->addWidget(live_status_);
   live_layout->addStretch(1);
   tabs->addTab(live_page, "Live");
-  log_ = new QPlainTextEdit;
-  log_->setReadOnly(true);
-  log_->setMaximumBlockCount(2000);
-  log_->setObjectName("calibration_log");
+  log_ = newCalibrationLog("calibration_log");
   tabs->addTab(log_, "Log");
   layout->addWidget(tabs, 1);
 
@@ -232,19 +161,13 @@ CalibrationPanel::CalibrationPanel(const link::LinkEndpoints& endpoints, QWidget
   connect(delete_, &QPushButton::clicked, this, [this] {
     if (samples_->currentRow() >= 0) deleteSample(samples_->currentRow());
   });
-  connect(save_, &QPushButton::clicked, this, [this] {
-    QString path, format, error;
-    if (!askCalibrationSavePath(this, &path, &format)) return;
-    if (!saveTo(path, format, &error)) status_->setText("<span style='color:#b00'>" + error.toHtmlEscaped() + "</span>");
-  });
+  connectCalibrationSave(save_, this, status_,
+                         [this](const QString& path, const QString& format, QString* error) { return saveTo(path, format, error); });
   setProcedureOptions({});
   setBusy(false);
 }
 
-CalibrationPanel::~CalibrationPanel() {
-  cancel_ = true;
-  if (worker_.joinable()) worker_.join();
-}
+CalibrationPanel::~CalibrationPanel() { worker_.stop(); }
 
 void CalibrationPanel::setProcedureOptions(const calibration::IntrinsicsProcedureOptions& options) {
   options_ = options;
@@ -265,28 +188,17 @@ void CalibrationPanel::setBusy(bool busy) {
 }
 
 void CalibrationPanel::launch(std::function<calibration::IntrinsicsOutcome()> work, const QString& what) {
-  if (worker_.joinable()) worker_.join();
-  cancel_ = false;
-  finished_ = false;
   setBusy(true);
   status_->setText(what);
-  worker_ = std::thread([this, work = std::move(work)] {
-    calibration::IntrinsicsOutcome result = work();
-    {
-      std::lock_guard lock(result_mutex_);
-      pending_ = std::move(result);
-    }
-    finished_ = true;
-    QMetaObject::invokeMethod(this, [this] { onFinished(); }, Qt::QueuedConnection);
-  });
+  worker_.launch(std::move(work), [this] { onFinished(); });
 }
 
 void CalibrationPanel::startAuto() {
   if (running()) return;
   calibration::IntrinsicsProcedureOptions o = options_;
   o.model = model_->currentText().toStdString();
-  o.cancel = &cancel_;
-  o.log = logSink();
+  o.cancel = worker_.cancelFlag();
+  o.log = calibrationLogSink(this, log_);
   o.progress = [this](const calibration::IntrinsicsProgress& p) {
     QImage thumb = p.last_kept ? sampleImage(*p.last_kept) : QImage();
     QMetaObject::invokeMethod(
@@ -315,7 +227,7 @@ void CalibrationPanel::startAuto() {
       "starting: holding the head and looking for the board…");
 }
 
-void CalibrationPanel::cancel() { cancel_ = true; }
+void CalibrationPanel::cancel() { worker_.cancel(); }
 
 void CalibrationPanel::deleteSample(int index) {
   if (running() || !outcome_ || !outcome_->collector || index < 0 ||
@@ -344,7 +256,7 @@ void CalibrationPanel::compareModels() {
       [this, grid, tolerance, base] {
         auto comparison = calibration::compareModels(*base.collector, grid, tolerance);
         {
-          std::lock_guard lock(result_mutex_);
+          std::lock_guard lock(comparison_mutex_);
           pending_comparison_ = std::move(comparison);
         }
         return base;
@@ -355,7 +267,7 @@ void CalibrationPanel::compareModels() {
 void CalibrationPanel::resolve(calibration::IntrinsicsCollector collector, const QString& what) {
   calibration::IntrinsicsProcedureOptions o = options_;
   o.model = model_->currentText().toStdString();
-  o.log = logSink();
+  o.log = calibrationLogSink(this, log_);
   calibration::IntrinsicsOutcome base = *outcome_;
   launch(
       [o, collector = std::move(collector), base]() mutable {
@@ -387,7 +299,7 @@ void CalibrationPanel::startLive() {
         calibration::LiveCapture live(robot, o);
         if (start) live.setCollector(*start);
         std::string last_error;
-        while (!cancel_) {
+        while (!worker_.cancelled()) {
           if (live_capture_request_.exchange(false)) live.requestCapture();
           live.setAutoCapture(live_auto_capture_);
           std::string error;
@@ -442,23 +354,14 @@ void CalibrationPanel::showLiveStill(const calibration::LiveStill& still) {
   live_status_->setText(text);
 }
 
-std::function<void(const std::string&)> CalibrationPanel::logSink() {
-  return [this](const std::string& line) {
-    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
-                              Qt::QueuedConnection);
-  };
-}
-
 QString CalibrationPanel::liveStatusText() const { return live_status_->text(); }
 
 void CalibrationPanel::onFinished() {
-  if (worker_.joinable()) worker_.join();
+  outcome_ = worker_.take();
   live_running_ = false;
   bool fresh_comparison = false;
   {
-    std::lock_guard lock(result_mutex_);
-    outcome_ = std::move(pending_);
-    pending_.reset();
+    std::lock_guard lock(comparison_mutex_);
     fresh_comparison = pending_comparison_.has_value();
     if (pending_comparison_) comparison_ = std::move(pending_comparison_);
     pending_comparison_.reset();
@@ -570,15 +473,7 @@ bool CalibrationPanel::saveTo(const QString& path, const QString& format, QStrin
              QString::fromStdString(outcome_->error) + ")";
     return false;
   }
-  const auto f = calib::parseFormatName(format.toStdString());
-  if (!f) {
-    *error = "unknown format " + format + " (telesphere, kalibr or basalt)";
-    return false;
-  }
-  if (auto e = calib::saveCalibrationFile(*outcome_->calibration, path.toStdString(), *f)) {
-    *error = QString::fromStdString(e->describe());
-    return false;
-  }
+  if (!saveCalibrationAs(*outcome_->calibration, path, format, error)) return false;
   status_->setText(status_->text() + "<br>Saved " + path.toHtmlEscaped() + " (" + format + ").");
   return true;
 }

@@ -4,9 +4,11 @@
 ///        window never waits on it), the done rule stated with its numbers, the kept samples
 ///        as thumbnails with their corners (delete any, then solve again), coverage per camera
 ///        in polar bins, every parameter with its standard deviation, the residuals against polar
-///        angle and the worst views (console/calibration_residuals_view.h), and save as our file,
+///        angle and the worst views (console/widgets/calibration_residuals_view.h), and save as our file,
 ///        kalibr camchain or Basalt JSON (only a result that meets the done rule). The procedure is console/calibration/intrinsics_procedure.h;
-///        the panel talks to the robot through its own link client.
+///        the panel talks to the robot through its own link client; the worker, cancel, log and
+///        save are the wizards' shared scaffolding (calibration_wizard_worker.h,
+///        calibration_save_dialog.h), the pictures calibration_pictures.h.
 ///
 /// Compare models solves the samples with every camera model and preselects the simplest within
 /// the tolerance (console/calibration/model_comparison.h).
@@ -14,7 +16,7 @@
 /// with their corners and the gates' verdict, kept automatically or on Capture, for a board held
 /// by hand; then Solve.
 ///
-/// Hand-eye is the Hand-eye panel's (console/hand_eye_panel.h). Not here yet (issue #15 stays
+/// Hand-eye is the Hand-eye panel's (console/widgets/hand_eye_panel.h). Not here yet (issue #15 stays
 /// open): applying a result to the running robot and XR app.
 #pragma once
 
@@ -24,11 +26,11 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 #include "console/calibration/intrinsics_procedure.h"
 #include "console/calibration/live_capture.h"
 #include "console/calibration/model_comparison.h"
+#include "console/widgets/calibration_wizard_worker.h"
 #include "robot/link/link_endpoints.h"
 
 class QCheckBox;
@@ -72,7 +74,7 @@ class CalibrationPanel : public QWidget {
   const std::optional<calibration::ModelComparison>& comparison() const { return comparison_; }
   bool saveTo(const QString& path, const QString& format, QString* error);
 
-  bool running() const { return worker_.joinable() && !finished_; }
+  bool running() const { return worker_.running(); }
   bool live() const { return running() && live_running_; }
   int liveStills() const { return live_stills_; }  ///< shown since the live view started
   QString liveStatusText() const;
@@ -92,22 +94,17 @@ class CalibrationPanel : public QWidget {
   void setBusy(bool busy);
   void resolve(calibration::IntrinsicsCollector collector, const QString& what);
   void showLiveStill(const calibration::LiveStill& still);
-  /// A log callback for the worker: each line appended to the Log tab on the GUI thread.
-  std::function<void(const std::string&)> logSink();
 
   link::LinkEndpoints endpoints_;
   calibration::IntrinsicsProcedureOptions options_;
-  std::thread worker_;
-  std::atomic<bool> cancel_{false};
-  std::atomic<bool> finished_{true};
+  CalibrationWizardWorker<calibration::IntrinsicsOutcome> worker_{this};
   std::atomic<bool> live_running_{false};
   std::atomic<bool> live_auto_capture_{true};
   std::atomic<bool> live_capture_request_{false};
   int live_stills_ = 0;
   bool capture_waiting_ = false;  ///< Capture clicked, no still kept since (GUI thread)
-  std::mutex result_mutex_;
-  std::optional<calibration::IntrinsicsOutcome> pending_;  ///< the worker's result, until taken
   std::optional<calibration::IntrinsicsOutcome> outcome_;
+  std::mutex comparison_mutex_;  ///< guards pending_comparison_ (written by the worker)
   std::optional<calibration::ModelComparison> comparison_;  ///< of the samples in outcome_
   std::optional<calibration::ModelComparison> pending_comparison_;
 

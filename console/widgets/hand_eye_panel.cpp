@@ -131,10 +131,7 @@ HandEyePanel::HandEyePanel(const link::LinkEndpoints& endpoints, QWidget* parent
   split->setSizes({260, 440});
   page_layout->addWidget(split, 1);
   tabs->addTab(page, "Result");
-  log_ = new QPlainTextEdit;
-  log_->setObjectName("handeye_log");
-  log_->setReadOnly(true);
-  log_->setMaximumBlockCount(2000);
+  log_ = newCalibrationLog("handeye_log");
   tabs->addTab(log_, "Log");
   layout->addWidget(tabs, 1);
 
@@ -151,21 +148,15 @@ HandEyePanel::HandEyePanel(const link::LinkEndpoints& endpoints, QWidget* parent
     if (samples_->currentRow() >= 0) deleteSample(samples_->currentRow());
   });
   connect(outliers_, &QPushButton::clicked, this, &HandEyePanel::removeOutliers);
-  connect(save_, &QPushButton::clicked, this, [this] {
-    QString path, format, error;
-    if (!askCalibrationSavePath(this, &path, &format)) return;
-    if (!saveTo(path, format, &error)) status_->setText("<span style='color:#b00'>" + error.toHtmlEscaped() + "</span>");
-  });
+  connectCalibrationSave(save_, this, status_,
+                         [this](const QString& path, const QString& format, QString* error) { return saveTo(path, format, error); });
   setProcedureOptions({});
   setMeter(head_spread_, "head", 0, options_.collector.rule.min_axis_spread_deg);
   setMeter(wrist_spread_, "wrist", 0, options_.collector.rule.min_axis_spread_deg);
   setBusy(false);
 }
 
-HandEyePanel::~HandEyePanel() {
-  cancel_ = true;
-  if (worker_.joinable()) worker_.join();
-}
+HandEyePanel::~HandEyePanel() { worker_.stop(); }
 
 void HandEyePanel::setProcedureOptions(const calibration::HandEyeProcedureOptions& options) {
   options_ = options;
@@ -219,14 +210,10 @@ void HandEyePanel::setBusy(bool busy) {
 
 void HandEyePanel::start() {
   if (running() || options_.cameras.cameras.size() != 2) return;
-  if (worker_.joinable()) worker_.join();
   calibration::HandEyeProcedureOptions o = options_;
   o.pattern_amplitude_deg = amplitude_->value();
-  o.cancel = &cancel_;
-  o.log = [this](const std::string& line) {
-    QMetaObject::invokeMethod(this, [this, text = QString::fromStdString(line)] { log_->appendPlainText(text); },
-                              Qt::QueuedConnection);
-  };
+  o.cancel = worker_.cancelFlag();
+  o.log = calibrationLogSink(this, log_);
   o.progress = [this](const calibration::HandEyeProgress& p) {
     std::optional<calibration::HandEyeCollector> copy;
     if (p.collector != nullptr) copy = *p.collector;
@@ -242,8 +229,6 @@ void HandEyePanel::start() {
         },
         Qt::QueuedConnection);
   };
-  cancel_ = false;
-  finished_ = false;
   outcome_.reset();
   resolve_what_.clear();
   log_->clear();
@@ -251,28 +236,19 @@ void HandEyePanel::start() {
   setBusy(true);
   status_->setText("starting: the head moves along the pattern…");
   const link::LinkEndpoints endpoints = endpoints_;
-  worker_ = std::thread([this, o, endpoints] {
-    link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
-    calibration::CalibrationRobot robot(client, "hand-eye wizard (console)");
-    calibration::HandEyeOutcome result = calibration::runHandEyeAuto(robot, o);
-    {
-      std::lock_guard lock(result_mutex_);
-      pending_ = std::move(result);
-    }
-    finished_ = true;
-    QMetaObject::invokeMethod(this, [this] { onFinished(); }, Qt::QueuedConnection);
-  });
+  worker_.launch(
+      [o, endpoints] {
+        link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
+        calibration::CalibrationRobot robot(client, "hand-eye wizard (console)");
+        return calibration::runHandEyeAuto(robot, o);
+      },
+      [this] { onFinished(); });
 }
 
-void HandEyePanel::cancel() { cancel_ = true; }
+void HandEyePanel::cancel() { worker_.cancel(); }
 
 void HandEyePanel::onFinished() {
-  if (worker_.joinable()) worker_.join();
-  {
-    std::lock_guard lock(result_mutex_);
-    outcome_ = std::move(pending_);
-    pending_.reset();
-  }
+  outcome_ = worker_.take();
   if (!outcome_) return;
   if (outcome_->collector) showCollector(*outcome_->collector);
   char buf[200];
@@ -297,28 +273,22 @@ void HandEyePanel::onFinished() {
 void HandEyePanel::resolve(const QString& what) {
   // In the worker like a run (0.5 s for 28 samples under ASan, tens of ms in Release): the
   // window never waits on a solve.
-  if (worker_.joinable()) worker_.join();
   calibration::HandEyeOutcome base = std::move(*outcome_);
   outcome_.reset();
-  cancel_ = false;
-  finished_ = false;
   setBusy(true);
   status_->setText(what + " solving…");
   resolve_what_ = what;
   const calib::SystemCalibration cameras = options_.cameras;
-  worker_ = std::thread([this, base = std::move(base), cameras]() mutable {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::string error;
-    const bool ok = base.collector->solve(&error);
-    last_resolve_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    calibration::takeSolve(base, cameras, ok, error);
-    {
-      std::lock_guard lock(result_mutex_);
-      pending_ = std::move(base);
-    }
-    finished_ = true;
-    QMetaObject::invokeMethod(this, [this] { onFinished(); }, Qt::QueuedConnection);
-  });
+  worker_.launch(
+      [this, base = std::move(base), cameras]() mutable {
+        const auto t0 = std::chrono::steady_clock::now();
+        std::string error;
+        const bool ok = base.collector->solve(&error);
+        last_resolve_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        calibration::takeSolve(base, cameras, ok, error);
+        return std::move(base);
+      },
+      [this] { onFinished(); });
 }
 
 void HandEyePanel::deleteSample(int index) {
@@ -340,15 +310,7 @@ bool HandEyePanel::saveTo(const QString& path, const QString& format, QString* e
     *error = "no hand-eye result that meets the done rule";
     return false;
   }
-  const auto f = calib::parseFormatName(format.toStdString());
-  if (!f) {
-    *error = "unknown format " + format;
-    return false;
-  }
-  if (auto e = calib::saveCalibrationFile(*outcome_->calibration, path.toStdString(), *f)) {
-    *error = QString::fromStdString(e->describe());
-    return false;
-  }
+  if (!saveCalibrationAs(*outcome_->calibration, path, format, error)) return false;
   log_->appendPlainText("saved " + path);
   return true;
 }

@@ -11,16 +11,17 @@
 ///          - the done rule with its numbers, and save as our file, kalibr or Basalt (only a
 ///            result that meets the rule).
 ///        The cameras' intrinsics and T_cam_l_cam_r come from a calibration file (Load…), e.g.
-///        the Calibration panel's result. The panel talks to the robot through its own link client.
+///        the Calibration panel's result. The panel talks to the robot through its own link client;
+///        the worker, cancel, log and save are the wizards' shared scaffolding
+///        (calibration_wizard_worker.h, calibration_save_dialog.h).
 #pragma once
 
 #include <QWidget>
 #include <atomic>
-#include <mutex>
 #include <optional>
-#include <thread>
 
 #include "console/calibration/hand_eye_procedure.h"
+#include "console/widgets/calibration_wizard_worker.h"
 #include "robot/link/link_endpoints.h"
 
 class QCustomPlot;
@@ -52,7 +53,7 @@ class HandEyePanel : public QWidget {
   void removeOutliers();         ///< then solves again (worker)
   bool saveTo(const QString& path, const QString& format, QString* error);
 
-  bool running() const { return worker_.joinable() && !finished_; }
+  bool running() const { return worker_.running(); }
   QString statusText() const;
   const std::optional<calibration::HandEyeOutcome>& outcome() const { return outcome_; }
   /// Wall time of the last solve after a delete, ms.
@@ -70,11 +71,7 @@ class HandEyePanel : public QWidget {
   link::LinkEndpoints endpoints_;
   calibration::HandEyeProcedureOptions options_;
   QString cameras_path_;
-  std::thread worker_;
-  std::atomic<bool> cancel_{false};
-  std::atomic<bool> finished_{true};
-  std::mutex result_mutex_;
-  std::optional<calibration::HandEyeOutcome> pending_;
+  CalibrationWizardWorker<calibration::HandEyeOutcome> worker_{this};
   std::optional<calibration::HandEyeOutcome> outcome_;
   std::atomic<double> last_resolve_ms_{0};
   QString resolve_what_;  ///< set while a delete's solve runs
