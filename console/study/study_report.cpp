@@ -13,16 +13,12 @@
 #include "console/study/study_definition.h"
 #include "console/study/tidy_csv.h"
 #include "console/study/trial_telemetry.h"
+#include "console/supervision/visual_mode_label.h"
 
 namespace telesphere::console::study {
 namespace {
 
-const char* modeLabel(const std::string& mode) {
-  if (mode == "full6d") return "Full 6D";
-  if (mode == "orientation3d") return "3D orientation";
-  if (mode == "fixed") return "Fixed perspective";
-  return "?";
-}
+std::string modeLabel(const std::string& mode) { return visualModeTitle(mode, "?"); }
 
 QColor modeColour(std::size_t i) {
   const QColor colours[] = {QColor(0, 128, 0), QColor(230, 80, 40), QColor(40, 80, 220)};
@@ -122,7 +118,7 @@ bool writeLikertPlots(const StudySummary& summary, const std::vector<std::string
       const BoxStats& b = it->second;
       const double key = y - 0.25 + 0.25 * static_cast<double>(m);
       auto* box = new QCPStatisticalBox(plot.yAxis, plot.xAxis);
-      box->setName(modeLabel(modes[m]));
+      box->setName(QString::fromStdString(modeLabel(modes[m])));
       QVector<double> outliers(b.outliers.begin(), b.outliers.end());
       box->addData(key, b.lower_whisker, b.q1, b.median, b.q3, b.upper_whisker, outliers);
       box->setWidth(0.2);

@@ -4,17 +4,19 @@
 
 #include <QString>
 
+#include "console/supervision/visual_mode_label.h"
+#include "robot/link/proto_enums.h"
 #include "robot/link/telesphere_link.pb.h"
 
 namespace telesphere::console {
 
+/// The mode in force as the panels name it (console/supervision/visual_mode_label.h); "?" for
+/// one this console does not know.
 inline QString visualModeLabel(link::proto::VisualMode mode) {
-  switch (mode) {
-    case link::proto::VISUAL_MODE_FULL6D: return "full 6D";
-    case link::proto::VISUAL_MODE_ORIENTATION3D: return "3D orientation";
-    case link::proto::VISUAL_MODE_FIXED: return "fixed perspective";
-    default: return "?";
-  }
+  const auto known = link::fromProto(mode);
+  if (!known) return "?";
+  const std::string_view label = console::visualModeLabel(*known);
+  return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 
 inline QString nominalStepLabel(link::proto::NominalStep step) {

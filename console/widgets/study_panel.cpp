@@ -24,6 +24,7 @@
 #include <set>
 
 #include "console/widgets/console_session.h"
+#include "console/supervision/visual_mode_label.h"
 #include "console/widgets/questionnaire_page.h"
 #include "console/study/study_report.h"
 #include "console/study/trial_order.h"
@@ -33,11 +34,12 @@
 namespace telesphere::console {
 namespace {
 
-QString modeLabel(const std::string& mode) {
-  if (mode == "full6d") return "full 6D";
-  if (mode == "orientation3d") return "3D orientation";
-  if (mode == "fixed") return "fixed perspective";
-  return QString::fromStdString(mode);
+QString modeLabel(const std::string& mode) { return QString::fromStdString(visualModeLabel(mode, mode)); }
+
+QString shortModeLabel(const std::string& mode) {
+  const auto known = link::parseVisualMode(mode);
+  const std::string_view label = known ? visualModeShortLabel(*known) : std::string_view(mode);
+  return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 
 QString clock(double s) {
@@ -486,7 +488,7 @@ void StudyPanel::refreshSessions() {
     for (const study::AnswerRecord& a : answers) answered += a.session_id == s.id;
     QStringList order;  // short: the column must fit beside the others
     for (const std::string& m : s.order)
-      order << (m == "full6d" ? "6D" : m == "orientation3d" ? "3D" : QString::fromStdString(m));
+      order << shortModeLabel(m);
     const QString progress =
         !s.ended_utc.empty()
             ? "complete"
