@@ -21,13 +21,12 @@
 #include <QTableWidget>
 #include <QVBoxLayout>
 #include <map>
-#include <set>
 
 #include "console/widgets/console_session.h"
 #include "console/supervision/visual_mode_label.h"
 #include "console/widgets/questionnaire_page.h"
 #include "console/study/study_report.h"
-#include "console/study/trial_order.h"
+#include "console/study/session_progress.h"
 #include "robot/link/link_endpoints.h"
 #include "robot/link/proto_enums.h"
 
@@ -86,7 +85,7 @@ StudyPanel::StudyPanel(ConsoleSession& session, QWidget* parent) : QWidget(paren
       batch.robot_to_utc_ns = *robot_to_console + steady_to_utc;
     }
     batch.envelope = envelope.SerializeAsString();
-    telemetry_.push_back(std::move(batch));
+    telemetry_.add(std::move(batch));
   });
   timer_tick_.setInterval(100);
   connect(&timer_tick_, &QTimer::timeout, this, &StudyPanel::tick);
@@ -220,9 +219,7 @@ void StudyPanel::buildTrialsPage() {
       notes_trial_id_ = workflow_->runner().trialId();
       const QSignalBlocker block(notes_);
       notes_->clear();
-      telemetry_.clear();
-      telemetry_trial_id_ = workflow_->runner().trialId();
-      last_flush_ms_ = QDateTime::currentMSecsSinceEpoch();
+      telemetry_.start(workflow_->runner().trialId(), link::linkNowNs());
       afterWorkflow();
     }
     refresh();
@@ -295,8 +292,7 @@ bool StudyPanel::openStudy(const QString& study_file, const QString& database) {
   store_ = std::move(store);
   study_ = definition;
   database_ = database;
-  int in_study = 0;
-  for (const study::SessionRecord& s : store_->sessions()) in_study += s.study_name == study_.name;
+  const int in_study = static_cast<int>(study::sessionsOfStudy(*store_, study_).size());
   participant_index_->setValue(in_study);
   QStringList modes;
   for (const std::string& m : study_.modes) modes << modeLabel(m);
@@ -318,19 +314,15 @@ bool StudyPanel::openStudy(const QString& study_file, const QString& database) {
 void StudyPanel::startOrResume() {
   if (!store_) return;
   const std::string participant = participant_->text().trimmed().toStdString();
-  std::optional<study::SessionRecord> record = store_->findSession(participant, study_.name);
-  QString what = "resumed";
+  bool resumed = false;
+  std::string why;
+  const std::optional<study::SessionRecord> record = study::startOrResumeSession(
+      *store_, study_, participant, std::uint64_t(participant_index_->value()), &resumed, &why);
   if (!record) {
-    std::string why;
-    const auto index = std::uint64_t(participant_index_->value());
-    const auto id = store_->startSession(participant, std::int64_t(index), study_, study::trialOrder(study_, index), &why);
-    if (!id) {
-      setStatus(QString::fromStdString(why), true);
-      return;
-    }
-    record = store_->findSession(participant, study_.name);
-    what = "started";
+    setStatus(QString::fromStdString(why), true);
+    return;
   }
+  const QString what = resumed ? "resumed" : "started";
   session_record_ = record;
   workflow_.reset();
   workflow_ = std::make_unique<study::TrialWorkflow>(*store_, *record, study_, robot_);
@@ -363,12 +355,10 @@ void StudyPanel::endTrial(const std::function<bool(std::int64_t now_ns)>& end) {
 }
 
 void StudyPanel::flushTelemetry() {
-  if (telemetry_.empty() || !store_ || telemetry_trial_id_ == 0) return;
+  if (!store_) return;
   std::string why;
-  if (!store_->addTelemetry(telemetry_trial_id_, telemetry_, &why))
+  if (!telemetry_.flush(*store_, link::linkNowNs(), &why))
     setStatus("telemetry not stored: " + QString::fromStdString(why), true);
-  telemetry_.clear();
-  last_flush_ms_ = QDateTime::currentMSecsSinceEpoch();
 }
 
 void StudyPanel::afterWorkflow() {
@@ -380,7 +370,7 @@ void StudyPanel::afterWorkflow() {
 void StudyPanel::tick() {
   if (workflow_) {
     if (workflow_->runner().state() == study::TrialRunner::State::kRunning &&
-        QDateTime::currentMSecsSinceEpoch() - last_flush_ms_ >= kTelemetryFlushMs)
+        telemetry_.due(link::linkNowNs(), std::int64_t(kTelemetryFlushMs) * 1'000'000))
       flushTelemetry();
     workflow_->tick(link::linkNowNs());
     afterWorkflow();
@@ -393,18 +383,7 @@ void StudyPanel::showQuestionnaire() {
   // The first mode, in the session's order, whose page is not complete.
   std::map<std::pair<std::string, std::string>, double> given;
   const auto answers = store_->answers();
-  std::size_t items = 0;
-  for (const study::Questionnaire& q : study_.questionnaires) items += q.items.size();
-  questionnaire_position_ = static_cast<int>(session_record_->order.size());
-  for (std::size_t i = 0; i < session_record_->order.size(); ++i) {
-    std::size_t n = 0;
-    for (const study::AnswerRecord& a : answers)
-      n += a.session_id == session_record_->id && a.mode == session_record_->order[i];
-    if (n < items) {
-      questionnaire_position_ = static_cast<int>(i);
-      break;
-    }
-  }
+  questionnaire_position_ = static_cast<int>(study::nextQuestionnaire(*session_record_, study_, answers));
   if (study_.questionnaires.empty() || questionnaire_position_ >= static_cast<int>(session_record_->order.size())) {
     std::string why;
     if (session_record_->ended_utc.empty() && !store_->endSession(session_record_->id, &why))
@@ -459,9 +438,7 @@ void StudyPanel::toParticipantPage() {
   session_record_.reset();
   notes_trial_id_ = 0;
   participant_->clear();
-  int in_study = 0;
-  if (store_)
-    for (const study::SessionRecord& s : store_->sessions()) in_study += s.study_name == study_.name;
+  const int in_study = store_ ? static_cast<int>(study::sessionsOfStudy(*store_, study_).size()) : 0;
   participant_index_->setValue(in_study);  // the next counterbalanced order
   refreshSessions();
   showPage(Page::kParticipant);
@@ -471,32 +448,19 @@ void StudyPanel::refreshSessions() {
   if (!store_) return;
   const auto trials = store_->trials();
   const auto answers = store_->answers();
-  std::size_t items = 0;
-  for (const study::Questionnaire& q : study_.questionnaires) items += q.items.size();
-  std::vector<study::SessionRecord> sessions;
-  for (const study::SessionRecord& s : store_->sessions())
-    if (s.study_name == study_.name) sessions.push_back(s);
+  const std::vector<study::SessionRecord> sessions = study::sessionsOfStudy(*store_, study_);
   sessions_table_->setRowCount(static_cast<int>(sessions.size()));
   for (std::size_t r = 0; r < sessions.size(); ++r) {
     const study::SessionRecord& s = sessions[r];
-    std::set<int> finished;
-    for (const study::TrialRecord& t : trials)
-      if (t.session_id == s.id && t.outcome != study::TrialOutcome::kRunning &&
-          t.outcome != study::TrialOutcome::kInterrupted)
-        finished.insert(t.order_index);
-    std::size_t answered = 0;
-    for (const study::AnswerRecord& a : answers) answered += a.session_id == s.id;
+    const study::SessionProgress p = study::sessionProgress(s, study_, trials, answers);
     QStringList order;  // short: the column must fit beside the others
-    for (const std::string& m : s.order)
-      order << shortModeLabel(m);
-    const QString progress =
-        !s.ended_utc.empty()
-            ? "complete"
-            : QString("%1/%2 trials, %3/%4 answers")
-                  .arg(finished.size())
-                  .arg(s.order.size())
-                  .arg(answered)
-                  .arg(items * s.order.size());
+    for (const std::string& m : s.order) order << shortModeLabel(m);
+    const QString progress = p.complete ? "complete"
+                                        : QString("%1/%2 trials, %3/%4 answers")
+                                              .arg(p.trials_finished)
+                                              .arg(p.trials)
+                                              .arg(p.answers)
+                                              .arg(p.answers_needed);
     const QStringList cells = {QString::fromStdString(s.participant), QString::number(s.participant_index),
                                order.join(" → "), progress};
     for (int c = 0; c < cells.size(); ++c) sessions_table_->setItem(int(r), c, new QTableWidgetItem(cells[c]));

@@ -6,12 +6,17 @@
 ///        reason; the time limit fails the trial by itself; notes stored on every keystroke),
 ///        keeps each trial's telemetry with it, shows the operator in the headset that a trial
 ///        runs, then the questionnaire pages (one per mode) and the report. The trials' workflow
-///        (mode gate, indicator, recordings, time limit) is study::TrialWorkflow, Qt-free; this
-///        panel shows it and forwards the administrator's clicks. Every event is
+///        (mode gate, indicator, recordings, time limit) is study::TrialWorkflow, the sessions'
+///        progress and the next questionnaire console/study/session_progress.h, the trial's
+///        telemetry study::TrialTelemetryBuffer, all Qt-free; this panel shows them and forwards
+///        the administrator's clicks. Every event is
 ///        committed as it happens (StudyStore): Esc does nothing here, closing the window ends a
 ///        running trial as interrupted, and after a crash the session resumes where it was.
 ///
 ///   pages: open study → participant → trials → questionnaires → done
+///
+/// One concept: the Study dock's pages, their widgets and what each click forwards (about 500
+/// lines, most of them building and filling the five pages); the decisions are in console/study.
 #pragma once
 
 #include <QString>
@@ -26,6 +31,7 @@
 #include "console/study/study_definition.h"
 #include "console/study/study_store.h"
 #include "console/study/trial_runner.h"
+#include "console/study/trial_telemetry_buffer.h"
 #include "console/study/trial_workflow.h"
 #include "console/widgets/study_robot_session.h"
 
@@ -125,9 +131,7 @@ class StudyPanel : public QWidget {
   std::unique_ptr<study::TrialWorkflow> workflow_;  ///< the participant's trials (after store_: freed first)
   std::int64_t notes_trial_id_ = 0;  ///< the trial the notes box writes to
   int questionnaire_position_ = 0;   ///< index into the session's order
-  std::vector<study::TelemetryBatch> telemetry_;
-  std::int64_t telemetry_trial_id_ = 0;  ///< the trial the buffered telemetry belongs to
-  qint64 last_flush_ms_ = 0;
+  study::TrialTelemetryBuffer telemetry_;  ///< the running trial's, until committed
 
   QStackedWidget* pages_;
   QLabel* open_hint_;

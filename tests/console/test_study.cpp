@@ -22,6 +22,7 @@
 #include <random>
 #include <set>
 
+#include "console/study/session_progress.h"
 #include "console/study/study_report.h"
 #include "console/study/study_store.h"
 #include "console/study/study_summary.h"
@@ -29,6 +30,7 @@
 #include "console/study/trial_order.h"
 #include "console/study/trial_runner.h"
 #include "console/study/trial_telemetry.h"
+#include "console/study/trial_telemetry_buffer.h"
 #include "console/study/trial_workflow.h"
 #include "robot/link/proto_enums.h"
 #include "robot/link/telesphere_link.pb.h"
@@ -152,6 +154,90 @@ TEST(StudyStore, EventsAreStoredAndTheirRulesHold) {
   ASSERT_TRUE(s);
   EXPECT_EQ(s->order, trialOrder(d, 0));
   EXPECT_EQ(s->order_scheme, "counterbalanced");
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(SessionProgress, SessionsStartedOrResumedTheirProgressAndTheNextQuestionnaire) {
+  const fs::path dir = freshDir("progress");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  bool resumed = true;
+  const auto s = startOrResumeSession(*store, d, "P01", 2, &resumed, &error);
+  ASSERT_TRUE(s) << error;
+  EXPECT_FALSE(resumed);
+  EXPECT_EQ(s->order, trialOrder(d, 2));
+  const auto again = startOrResumeSession(*store, d, "P01", 5, &resumed, &error);  // the index is the first one's
+  ASSERT_TRUE(again) << error;
+  EXPECT_TRUE(resumed);
+  EXPECT_EQ(again->id, s->id);
+  EXPECT_EQ(again->order, trialOrder(d, 2));
+  EXPECT_FALSE(startOrResumeSession(*store, d, "P 02", 3, &resumed, &error));  // the store refuses the id
+  EXPECT_FALSE(error.empty());
+  EXPECT_EQ(sessionsOfStudy(*store, d).size(), 1u);
+  StudyDefinition other = d;
+  other.name = "another-study";
+  EXPECT_TRUE(sessionsOfStudy(*store, other).empty());
+
+  // Trial 1 ends, trial 2 still runs (not finished); every item of the first mode answered.
+  const auto t1 = store->startTrial(s->id, 0, s->order[0], 300, &error);
+  ASSERT_TRUE(t1) << error;
+  ASSERT_TRUE(store->endTrial(*t1, TrialOutcome::kSuccess, 50, "", &error)) << error;
+  ASSERT_TRUE(store->startTrial(s->id, 1, s->order[1], 300, &error)) << error;
+  std::size_t items = 0;
+  for (const Questionnaire& q : d.questionnaires) {
+    items += q.items.size();
+    for (const QuestionnaireItem& item : q.items)
+      ASSERT_TRUE(store->saveAnswer(s->id, s->order[0], q.instrument, item.key, 4, &error)) << error;
+  }
+  ASSERT_GT(items, 0u);
+  ASSERT_TRUE(store->saveAnswer(s->id, s->order[1], d.questionnaires[0].instrument, d.questionnaires[0].items[0].key, 4,
+                                &error))
+      << error;
+  const SessionProgress p = sessionProgress(*s, d, store->trials(), store->answers());
+  EXPECT_EQ(p.trials_finished, 1u);
+  EXPECT_EQ(p.trials, 3u);
+  EXPECT_EQ(p.answers, items + 1);
+  EXPECT_EQ(p.answers_needed, 3 * items);
+  EXPECT_FALSE(p.complete);
+  EXPECT_EQ(nextQuestionnaire(*s, d, store->answers()), 1u);  // the second mode's page is not complete
+  StudyDefinition none = d;
+  none.questionnaires.clear();
+  EXPECT_EQ(nextQuestionnaire(*s, none, store->answers()), 3u);  // nothing to ask: all done
+  store.reset();
+  fs::remove_all(dir);
+}
+
+TEST(TrialTelemetryBuffer, KeptUntilDueThenCommittedWithItsTrial) {
+  const fs::path dir = freshDir("telemetry_buffer");
+  std::string error;
+  auto store = StudyStore::open((dir / "s.sqlite").string(), &error);
+  ASSERT_TRUE(store) << error;
+  const StudyDefinition d = paperStudy();
+  const auto session = store->startSession("P01", 0, d, trialOrder(d, 0), &error);
+  ASSERT_TRUE(session) << error;
+  const auto trial = store->startTrial(*session, 0, "full6d", 300, &error);
+  ASSERT_TRUE(trial) << error;
+  constexpr std::int64_t kS = 1'000'000'000;
+  TrialTelemetryBuffer buffer;
+  buffer.add({std::nullopt, "before any trial"});
+  EXPECT_TRUE(buffer.flush(*store, 0, &error));  // no trial yet: nothing stored
+  buffer.start(*trial, 10 * kS);                   // and the buffer emptied
+  EXPECT_FALSE(buffer.due(10 * kS + kS / 2, kS));
+  EXPECT_TRUE(buffer.due(11 * kS, kS));
+  buffer.add({std::int64_t{42}, "first"});
+  buffer.add({std::nullopt, "second"});
+  EXPECT_TRUE(buffer.flush(*store, 11 * kS, &error)) << error;
+  EXPECT_FALSE(buffer.due(11 * kS + kS / 2, kS));
+  EXPECT_TRUE(buffer.flush(*store, 12 * kS, &error));  // nothing new: the period still counts from 11 s
+  EXPECT_TRUE(buffer.due(12 * kS, kS));
+  const auto stored = store->telemetry(*trial);
+  ASSERT_EQ(stored.size(), 2u);
+  EXPECT_EQ(stored[0].envelope, "first");
+  EXPECT_EQ(stored[0].robot_to_utc_ns, std::optional<std::int64_t>(42));
+  EXPECT_EQ(stored[1].envelope, "second");
   store.reset();
   fs::remove_all(dir);
 }
