@@ -2,9 +2,6 @@
 /// @brief Head-motion trace analysis and writers (see head_motion_trace.h).
 #include "robot/head/head_motion_trace.h"
 
-#include "shaders/png_io.h"
-
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,8 +11,6 @@
 
 namespace telesphere::robot {
 namespace {
-
-using Rgb = std::array<std::uint8_t, 3>;
 
 /// Time at which `value` crosses v_thr upwards first (first = true) or downwards last.
 std::optional<double> crossing(const std::vector<HeadMotionSample>& trace, double v_thr,
@@ -31,65 +26,6 @@ std::optional<double> crossing(const std::vector<HeadMotionSample>& trace, doubl
     return trace[i - 1].t_s + s * (trace[i].t_s - trace[i - 1].t_s);
   }
   return std::nullopt;
-}
-
-class Canvas {
- public:
-  Canvas(int width, int height)
-      : width_(width), height_(height),
-        pixels_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3, 255) {}
-
-  void set(int x, int y, const Rgb& c) {
-    if (x < 0 || y < 0 || x >= width_ || y >= height_) return;
-    const std::size_t i = (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_) +
-                           static_cast<std::size_t>(x)) * 3;
-    pixels_[i] = c[0];
-    pixels_[i + 1] = c[1];
-    pixels_[i + 2] = c[2];
-  }
-  /// Bresenham line, `thick` px wide (vertically).
-  void line(int x0, int y0, int x1, int y1, const Rgb& c, int thick = 1) {
-    const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
-    const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
-    int err = dx + dy;
-    for (;;) {
-      for (int k = 0; k < thick; ++k) set(x0, y0 + k, c);
-      if (x0 == x1 && y0 == y1) break;
-      const int e2 = 2 * err;
-      if (e2 >= dy) { err += dy; x0 += sx; }
-      if (e2 <= dx) { err += dx; y0 += sy; }
-    }
-  }
-  int width() const { return width_; }
-  int height() const { return height_; }
-  const std::vector<std::uint8_t>& pixels() const { return pixels_; }
-
- private:
-  int width_, height_;
-  std::vector<std::uint8_t> pixels_;
-};
-
-struct Panel {
-  int x0, y0, x1, y1;  // pixel box, y0 top
-  double t_max, v_max;
-  int px(double t) const { return x0 + static_cast<int>(std::lround((x1 - x0) * t / t_max)); }
-  int py(double v) const { return y1 - static_cast<int>(std::lround((y1 - y0) * v / v_max)); }
-};
-
-void drawPanel(Canvas& canvas, const Panel& p, double grid_step, double t_step) {
-  const Rgb grid{225, 225, 225}, axis{0, 0, 0};
-  for (double v = grid_step; v < p.v_max; v += grid_step) canvas.line(p.x0, p.py(v), p.x1, p.py(v), grid);
-  for (double t = t_step; t < p.t_max; t += t_step) canvas.line(p.px(t), p.y0, p.px(t), p.y1, grid);
-  canvas.line(p.x0, p.y1, p.x1, p.y1, axis);
-  canvas.line(p.x0, p.y0, p.x0, p.y1, axis);
-}
-
-void drawSeries(Canvas& canvas, const Panel& p, const std::vector<HeadMotionSample>& trace,
-                const std::function<double(const HeadMotionSample&)>& value, const Rgb& colour) {
-  for (std::size_t i = 1; i < trace.size(); ++i) {
-    canvas.line(p.px(trace[i - 1].t_s), p.py(std::min(value(trace[i - 1]), p.v_max)),
-                p.px(trace[i].t_s), p.py(std::min(value(trace[i]), p.v_max)), colour, 2);
-  }
 }
 
 }  // namespace
@@ -117,33 +53,6 @@ bool writeHeadMotionCsv(const std::filesystem::path& path,
     out << line;
   }
   return static_cast<bool>(out);
-}
-
-bool writeHeadMotionPng(const std::filesystem::path& path,
-                        const std::vector<HeadMotionSample>& trace, int width, int height) {
-  if (width < 64 || height < 64 || trace.size() < 2) return false;
-  Canvas canvas(width, height);
-  double t_max = trace.back().t_s, v_max = 0, d_max = 0;
-  for (const HeadMotionSample& s : trace) {
-    v_max = std::max({v_max, s.v_operator, s.v_robot});
-    d_max = std::max(d_max, s.deviation);
-  }
-  t_max = std::max(t_max, 1e-3);
-  v_max = std::max(1.1 * v_max, 1e-3);
-  d_max = std::max(1.1 * d_max, 1e-4);
-  const int margin = 20, split = height * 3 / 5;
-  const Panel speeds{margin, margin, width - margin, split - margin / 2, t_max, v_max};
-  const Panel deviation{margin, split + margin / 2, width - margin, height - margin, t_max, d_max};
-  drawPanel(canvas, speeds, 0.1, 0.5);
-  drawPanel(canvas, deviation, 0.01, 0.5);
-  drawSeries(canvas, speeds, trace, [](const HeadMotionSample& s) { return s.v_operator; },
-             Rgb{30, 90, 220});
-  drawSeries(canvas, speeds, trace, [](const HeadMotionSample& s) { return s.v_robot; },
-             Rgb{220, 40, 30});
-  drawSeries(canvas, deviation, trace, [](const HeadMotionSample& s) { return s.deviation; },
-             Rgb{20, 150, 60});
-
-  return gl::writePng(path.string(), canvas.width(), canvas.height(), 3, canvas.pixels().data());
 }
 
 }  // namespace telesphere::robot

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief The head-latency experiment of the paper's Fig. 6 as data: operator and robot head speed
 ///        and their deviation over time, the start/finish latencies read from them, and the CSV
-///        and PNG (a plain line plot) they are written as.
+///        they are written as (the figure: telesphere-bench, head_motion_figure.h).
 #pragma once
 
 #include <filesystem>
@@ -30,12 +30,5 @@ HeadLatencies measureHeadLatencies(const std::vector<HeadMotionSample>& trace, d
 /// Writes `t_s,v_operator,v_robot,deviation` rows with a header line. False on an I/O error.
 bool writeHeadMotionCsv(const std::filesystem::path& path,
                         const std::vector<HeadMotionSample>& trace);
-
-/// Writes an RGB PNG, width × height px: top panel the speeds (operator blue, robot red, 0 to
-/// the largest speed, grid every 0.1 m/s), bottom panel Δs (green, 0 to the largest deviation,
-/// grid every 10 mm); vertical grid lines every 0.5 s. False on an I/O or encoder error.
-bool writeHeadMotionPng(const std::filesystem::path& path,
-                        const std::vector<HeadMotionSample>& trace, int width = 1200,
-                        int height = 600);
 
 }  // namespace telesphere::robot

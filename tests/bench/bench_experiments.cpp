@@ -37,6 +37,7 @@
 #include "tests/bench/bench_topic.h"
 #include "tests/bench/child_process.h"
 #include "tests/bench/figure_png.h"
+#include "tests/bench/head_motion_figure.h"
 #include "tests/truth/eye_image_truth.h"
 #include "xr/render/gpu_camera.h"
 #include "xr/render/sphere_geometry.h"
@@ -514,19 +515,12 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
   json["ds_vop_correlation"] = ds_corr;
   {
     robot::writeHeadMotionCsv(out_dir / "head_motion.csv", head.trace);
-    FigureSeries op{"operator head v_op", {}, {}, QColor(31, 119, 180)}, rob{"robot head v_rob", {}, {}, QColor(214, 39, 40)};
-    FigureSeries ds{"Δs (right axis)", {}, {}, QColor(44, 160, 44)};
-    ds.right_axis = true;
-    for (const auto& s : head.trace) {
-      op.x.push_back(s.t_s), op.y.push_back(s.v_operator);
-      rob.x.push_back(s.t_s), rob.y.push_back(s.v_robot);
-      if (std::isfinite(s.deviation)) ds.x.push_back(s.t_s), ds.y.push_back(s.deviation * 1e3);
-    }
-    Figure fig6{"Head speed, operator and robot (experiment 2, paper Fig. 6); t1 " + formatNumber(t1) + " ms, t2 " +
-                    formatNumber(t2) + " ms",
-                "time (s)", "head speed (m/s)", "Δs, eye to camera (mm)", {op, rob, ds}};
-    fig6.legend_left = true;
+    const Figure fig6 = headMotionFigure(
+        head.trace, "Head speed, operator and robot (experiment 2, paper Fig. 6); t1 " + formatNumber(t1) +
+                        " ms, t2 " + formatNumber(t2) + " ms");
     writeFigurePng(fig6, (out_dir / "fig6_head_latency.png").string());
+    const FigureSeries& op = fig6.series[0];
+    const FigureSeries& ds = fig6.series[2];
     FigureSeries op7{"operator head v_op", op.x, op.y, QColor(31, 119, 180)};
     FigureSeries ds7{"Δs, left eye to left camera at capture (right axis)", ds.x, ds.y, QColor(44, 160, 44)};
     ds7.right_axis = true;

@@ -29,6 +29,8 @@
 #include "robot/arm/xarm/controller_simulator.h"
 #include "tests/bench/bench_table.h"
 #include "tests/bench/bench_topic.h"
+#include "tests/bench/figure_png.h"
+#include "tests/bench/head_motion_figure.h"
 
 namespace telesphere::bench {
 namespace {
@@ -397,12 +399,17 @@ nlohmann::json runHead(const BenchContext& ctx) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   const bool csv_ok = robot::writeHeadMotionCsv(dir / "head_latency.csv", main.trace);
-  const bool png_ok = robot::writeHeadMotionPng(dir / "head_latency.png", main.trace);
+  const bool png_ok = writeFigurePng(
+      headMotionFigure(main.trace, "Head speed, operator and robot (lateral move " + formatNumber(kDistance) +
+                                       " m); t1 " + ms(main.latencies.start_s) + " ms, t2 " +
+                                       ms(main.latencies.finish_s) + " ms"),
+      (dir / "head_latency.png").string());
   ctx.out << "\nTrace: " << (dir / "head_latency.csv").string() << (csv_ok ? "" : " (write failed)")
           << ", " << (dir / "head_latency.png").string() << (png_ok ? "" : " (write failed)")
-          << " (top: operator speed blue, robot red; bottom: Δs green)\n";
+          << "\n";
   json["csv"] = (dir / "head_latency.csv").string();
   json["png"] = (dir / "head_latency.png").string();
+  json["png_written"] = png_ok ? 1 : 0;
   return json;
 }
 
