@@ -18,7 +18,7 @@
 namespace telesphere::console::study {
 namespace {
 
-std::string modeLabel(const std::string& mode) { return visualModeTitle(mode, "?"); }
+std::string modeLabel(const std::string& mode) { return supervision::visualModeTitle(mode, "?"); }
 
 QColor modeColour(std::size_t i) {
   const QColor colours[] = {QColor(0, 128, 0), QColor(230, 80, 40), QColor(40, 80, 220)};

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 const char* peerStateName(PeerState state) {
   switch (state) {
@@ -57,4 +57,4 @@ std::string formatDuration(double seconds) {
   return text;
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

@@ -11,7 +11,7 @@
 #include <cstdint>
 #include <string>
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 enum class PeerState { kWaiting, kConnected, kSilent, kGone };
 
@@ -49,4 +49,4 @@ class PeerMonitor {
 /// "4.2 s", "3 min 05 s", "2 h 10 min": a duration for a status line.
 std::string formatDuration(double seconds);
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

@@ -2,7 +2,7 @@
 /// @brief FaultLog: open, clear, acknowledge.
 #include "console/supervision/fault_log.h"
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 Fault* FaultLog::open(const std::string& key) {
   for (auto it = faults_.rbegin(); it != faults_.rend(); ++it)
@@ -52,4 +52,4 @@ std::vector<Fault> FaultLog::unacknowledged() const {
   return out;
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

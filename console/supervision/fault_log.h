@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 struct Fault {
   std::string key;
@@ -49,4 +49,4 @@ class FaultLog {
   std::uint64_t version_ = 0;
 };
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

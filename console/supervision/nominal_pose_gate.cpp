@@ -6,16 +6,16 @@
 #include <cmath>
 #include <cstdio>
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
-NominalGateStatus evaluateNominalGate(const std::deque<HeadPoseSample>& poses, double now_s,
+NominalGateStatus evaluateNominalGate(const std::deque<telemetry::HeadPoseSample>& poses, double now_s,
                                       const NominalGateOptions& options) {
   NominalGateStatus s;
   if (poses.empty()) {
     s.reason = "no head pose from the XR app (is telesphere-xr running, the headset on?)";
     return s;
   }
-  const HeadPoseSample& newest = poses.back();
+  const telemetry::HeadPoseSample& newest = poses.back();
   s.age_s = now_s - newest.t;
   s.angles = link::headAnglesOf(newest.T_vr_hmd);
   s.fresh = s.age_s <= options.max_age_s;
@@ -43,4 +43,4 @@ NominalGateStatus evaluateNominalGate(const std::deque<HeadPoseSample>& poses, d
   return s;
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

@@ -15,7 +15,7 @@
 #include "console/telemetry/telemetry_model.h"
 #include "robot/link/head_angles.h"
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 struct NominalGateOptions {
   double max_age_s = 0.25;
@@ -36,7 +36,7 @@ struct NominalGateStatus {
   std::string reason;         ///< why not, in words ("" when can_capture)
 };
 
-NominalGateStatus evaluateNominalGate(const std::deque<HeadPoseSample>& poses, double now_s,
+NominalGateStatus evaluateNominalGate(const std::deque<telemetry::HeadPoseSample>& poses, double now_s,
                                       const NominalGateOptions& options = {});
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

@@ -12,7 +12,7 @@
 
 #include "robot/link/visual_mode.h"
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 
 /// "full 6D", "3D orientation", "fixed perspective".
 inline std::string_view visualModeLabel(link::VisualMode mode) {
@@ -51,4 +51,4 @@ inline std::string visualModeTitle(std::string_view name, std::string_view unkno
   return title;
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -117,4 +117,4 @@ void ColumnDecimator::decimate(const TimeSeries& series, double t0, double t1, d
   }
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

@@ -22,7 +22,7 @@
 
 #include "console/telemetry/time_series.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 
 class ColumnDecimator {
  public:
@@ -54,4 +54,4 @@ class ColumnDecimator {
   std::size_t last_scanned_ = 0;
 };
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 
 TimeSeries& SeriesStore::series(const SeriesInfo& info, double max_gap_s) {
   auto it = entries_.find(info.name);
@@ -47,4 +47,4 @@ std::size_t SeriesStore::bytes() const {
   return n;
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

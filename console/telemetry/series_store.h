@@ -12,7 +12,7 @@
 
 #include "console/telemetry/time_series.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 
 /// What a series is, for legends, axes and CSV headers.
 struct SeriesInfo {
@@ -56,4 +56,4 @@ class SeriesStore {
   std::uint64_t version_ = 0;
 };
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

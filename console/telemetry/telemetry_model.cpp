@@ -6,7 +6,7 @@
 
 #include "robot/link/link_pose.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 constexpr double kFrameGapS = 1.0;  ///< frames at ≥ 1 Hz join up; a longer silence is a gap
@@ -160,4 +160,4 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
     head_poses_.pop_front();
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

@@ -30,7 +30,7 @@
 #include "console/telemetry/series_store.h"
 #include "robot/link/telesphere_link.pb.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 
 /// The series names above, for plots and tests.
 namespace series {
@@ -116,4 +116,4 @@ class TelemetryModel {
   std::optional<UnmeasuredPose> xr_unmeasured_;
 };
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

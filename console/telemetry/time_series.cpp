@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 bool earlier(const Sample& s, double t) { return s.t < t; }
@@ -58,4 +58,4 @@ std::size_t TimeSeries::bytes() const {
   return blocks * (kBlock + sizeof(void*));
 }
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

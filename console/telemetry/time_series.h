@@ -16,7 +16,7 @@
 #include <utility>
 #include <vector>
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 
 struct Sample {
   double t = 0.0;  ///< s, the console's plot clock
@@ -59,4 +59,4 @@ class TimeSeries {
   std::uint64_t revision_ = 0;
 };
 
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

@@ -88,7 +88,7 @@ void CalibrationInUsePanel::setCandidate(const calib::SystemCalibration& result,
 
 void CalibrationInUsePanel::refresh() {
   const auto& state = session_.robotState();
-  const bool robot_here = session_.robot().state() == PeerState::kConnected && state.has_value();
+  const bool robot_here = session_.robot().state() == supervision::PeerState::kConnected && state.has_value();
   if (robot_here && state->calibration_generation() != 0 &&
       (!in_use_ || in_use_->generation() != state->calibration_generation()))
     fetch();
@@ -114,7 +114,7 @@ void CalibrationInUsePanel::refresh() {
                                    ": a restart goes back to its --calib file</b>"));
   }
   const auto xr = xrGeneration();
-  const bool xr_here = session_.xr().state() == PeerState::kConnected;
+  const bool xr_here = session_.xr().state() == supervision::PeerState::kConnected;
   if (!xr || !xr_here) {
     xr_->setText("<b>XR app:</b> <span style='color:#777'>not heard</span>");
   } else if (*xr == 0) {

@@ -133,14 +133,14 @@ void ConsoleSession::updateFaults(std::int64_t now_ns) {
     faults_.clear("xr.pose_unmeasured", now_ns);
   }
   const std::string where = endpoint().toStdString();
-  if (robot_.state() == PeerState::kGone)
-    faults_.raise("robot.gone", "robot at " + where + " gone: no answer for " + formatDuration(robot_.seconds()),
+  if (robot_.state() == supervision::PeerState::kGone)
+    faults_.raise("robot.gone", "robot at " + where + " gone: no answer for " + supervision::formatDuration(robot_.seconds()),
                   now_ns);
-  else if (robot_.state() == PeerState::kConnected)
+  else if (robot_.state() == supervision::PeerState::kConnected)
     faults_.clear("robot.gone", now_ns);
-  if (xr_.state() == PeerState::kGone)
-    faults_.raise("xr.gone", "XR app gone: nothing from it for " + formatDuration(xr_.seconds()), now_ns);
-  else if (xr_.state() == PeerState::kConnected)
+  if (xr_.state() == supervision::PeerState::kGone)
+    faults_.raise("xr.gone", "XR app gone: nothing from it for " + supervision::formatDuration(xr_.seconds()), now_ns);
+  else if (xr_.state() == supervision::PeerState::kConnected)
     faults_.clear("xr.gone", now_ns);
 
   const std::uint32_t foreign = client_->stats().foreign_schema_version;
@@ -150,7 +150,7 @@ void ConsoleSession::updateFaults(std::int64_t now_ns) {
                       std::to_string(link::kSchemaVersion) + ": run the same telesphere version on both",
                   now_ns);
 
-  if (health_ && robot_.state() == PeerState::kConnected) {
+  if (health_ && robot_.state() == supervision::PeerState::kConnected) {
     if (!health_->arm_ok())
       faults_.raise("arm", "arm: " + (health_->fault().empty() ? std::string("not ok") : health_->fault()), now_ns);
     else
@@ -173,7 +173,7 @@ void ConsoleSession::updateFaults(std::int64_t now_ns) {
       camera_reconnects_[std::size_t(i)] = c.reconnects();
     }
   }
-  const TelemetryCounts& counts = model_.counts();
+  const telemetry::TelemetryCounts& counts = model_.counts();
   const std::uint64_t lost = counts.robot_batches_lost + counts.xr_batches_lost + activity_.telemetry_overflow;
   if (lost > lost_reported_) {
     faults_.raise("telemetry.lost",

@@ -29,8 +29,8 @@ namespace telesphere::console {
 
 struct ConsoleSessionOptions {
   link::LinkEndpoints endpoints;
-  PeerThresholds robot{1'000'000'000, 5'000'000'000};
-  PeerThresholds xr{1'500'000'000, 5'000'000'000};  ///< the XR app is heard through the robot
+  supervision::PeerThresholds robot{1'000'000'000, 5'000'000'000};
+  supervision::PeerThresholds xr{1'500'000'000, 5'000'000'000};  ///< the XR app is heard through the robot
   int poll_ms = 20;
   double retention_s = 600.0;  ///< seconds of every series kept (the longest plot window)
   std::chrono::milliseconds control_timeout{2000};
@@ -66,13 +66,13 @@ class ConsoleSession : public QObject {
   const ConsoleSessionOptions& options() const { return options_; }
   QString endpoint() const;  ///< where the robot is expected ("tcp://127.0.0.1:5760")
 
-  SeriesStore& series() { return series_; }
-  const SeriesStore& series() const { return series_; }
-  const TelemetryModel& telemetry() const { return model_; }
-  const FaultLog& faults() const { return faults_; }
+  telemetry::SeriesStore& series() { return series_; }
+  const telemetry::SeriesStore& series() const { return series_; }
+  const telemetry::TelemetryModel& telemetry() const { return model_; }
+  const supervision::FaultLog& faults() const { return faults_; }
   void acknowledgeFaults();
-  const PeerMonitor& robot() const { return robot_; }
-  const PeerMonitor& xr() const { return xr_; }
+  const supervision::PeerMonitor& robot() const { return robot_; }
+  const supervision::PeerMonitor& xr() const { return xr_; }
 
   const std::optional<link::proto::RobotHealth>& health() const { return health_; }
   const std::optional<link::proto::RobotState>& robotState() const { return state_; }
@@ -115,10 +115,10 @@ class ConsoleSession : public QObject {
   ConsoleSessionOptions options_;
   std::int64_t origin_ns_;
   std::unique_ptr<link::LinkClient> client_;
-  SeriesStore series_;
-  TelemetryModel model_;
-  FaultLog faults_;
-  PeerMonitor robot_, xr_;
+  telemetry::SeriesStore series_;
+  telemetry::TelemetryModel model_;
+  supervision::FaultLog faults_;
+  supervision::PeerMonitor robot_, xr_;
   std::optional<link::proto::RobotHealth> health_;
   std::optional<link::proto::RobotState> state_;
   std::optional<link::proto::XrStats> xr_stats_;

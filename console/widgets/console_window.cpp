@@ -163,26 +163,26 @@ void ConsoleWindow::refreshPanels() {
   health_->refresh();
   preview_->refresh();
   in_use_->refresh();
-  const PeerMonitor& robot = session_.robot();
+  const supervision::PeerMonitor& robot = session_.robot();
   QString line;
   switch (robot.state()) {
-    case PeerState::kWaiting:
+    case supervision::PeerState::kWaiting:
       line = "<b style='color:#b3261e'>waiting for robot at " + session_.endpoint() + "</b> (" +
-             QString::fromStdString(formatDuration(robot.seconds())) + ", retrying)";
+             QString::fromStdString(supervision::formatDuration(robot.seconds())) + ", retrying)";
       break;
-    case PeerState::kConnected:
-      line = "<b style='color:#1b5e20'>robot connected</b> for " + QString::fromStdString(formatDuration(robot.seconds()));
+    case supervision::PeerState::kConnected:
+      line = "<b style='color:#1b5e20'>robot connected</b> for " + QString::fromStdString(supervision::formatDuration(robot.seconds()));
       break;
     default:
       line = "<b style='color:#b3261e'>robot " + QString(peerStateName(robot.state())) + "</b> for " +
-             QString::fromStdString(formatDuration(robot.seconds())) + " at " + session_.endpoint() + " (retrying)";
+             QString::fromStdString(supervision::formatDuration(robot.seconds())) + " at " + session_.endpoint() + " (retrying)";
   }
   if (const auto clock = session_.clock())
     line += QString(" · clock offset %1 ms, round trip %2 ms")
                 .arg(double(clock->server_to_client_offset_ns) * 1e-6, 0, 'f', 3)
                 .arg(double(clock->round_trip_ns) * 1e-6, 0, 'f', 3);
-  const PeerMonitor& xr = session_.xr();
-  line += " · XR app: " + (xr.state() == PeerState::kWaiting ? QString("not heard yet")
+  const supervision::PeerMonitor& xr = session_.xr();
+  line += " · XR app: " + (xr.state() == supervision::PeerState::kWaiting ? QString("not heard yet")
                                                               : QString::fromStdString(xr.describe()));
   connection_->setText(line);
   statusBar()->showMessage(QString("%1 samples in memory (%2 MB), last redraw %3 ms")

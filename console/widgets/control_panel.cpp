@@ -198,7 +198,7 @@ void ControlPanel::send(const QString& what, link::proto::ControlRequest request
 }
 
 void ControlPanel::refresh() {
-  const bool connected = session_.robot().state() == PeerState::kConnected;
+  const bool connected = session_.robot().state() == supervision::PeerState::kConnected;
   for (auto& [name, button] : apply_) button->setEnabled(connected);
   stop_->setEnabled(connected);
   clear_->setEnabled(connected);

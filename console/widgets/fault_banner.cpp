@@ -38,11 +38,11 @@ void FaultBanner::refresh() {
   }
   const std::int64_t now = link::linkNowNs();
   QStringList lines;
-  for (const Fault& f : faults) {
+  for (const supervision::Fault& f : faults) {
     QString line = "⚠ " + QString::fromStdString(f.text).toHtmlEscaped();
     if (f.times > 1) line += QString(" (%1 times)").arg(f.times);
-    line += f.cleared_ns == 0 ? QString(" — since %1 ago").arg(QString::fromStdString(formatDuration(double(now - f.first_ns) * 1e-9)))
-                              : QString(" — cleared %1 ago").arg(QString::fromStdString(formatDuration(double(now - f.cleared_ns) * 1e-9)));
+    line += f.cleared_ns == 0 ? QString(" — since %1 ago").arg(QString::fromStdString(supervision::formatDuration(double(now - f.first_ns) * 1e-9)))
+                              : QString(" — cleared %1 ago").arg(QString::fromStdString(supervision::formatDuration(double(now - f.cleared_ns) * 1e-9)));
     lines << line;
   }
   label_->setText("<b>Faults to acknowledge</b><br>" + lines.join("<br>"));

@@ -68,13 +68,13 @@ QString HealthPanel::value(const QString& section, const QString& key) const {
 
 void HealthPanel::refresh() {
   const ConsoleSession& s = session_;
-  const PeerMonitor& robot = s.robot();
+  const supervision::PeerMonitor& robot = s.robot();
   QString robot_text = QString::fromStdString(robot.describe());
-  if (robot.state() == PeerState::kWaiting)
-    robot_text = "waiting for robot at " + s.endpoint() + " for " + QString::fromStdString(formatDuration(robot.seconds())) +
+  if (robot.state() == supervision::PeerState::kWaiting)
+    robot_text = "waiting for robot at " + s.endpoint() + " for " + QString::fromStdString(supervision::formatDuration(robot.seconds())) +
                  " (retrying)";
   if (robot.reconnects() > 0) robot_text += QString(" (%1 reconnects)").arg(robot.reconnects());
-  setRow("Robot", "link", robot_text, robot.state() != PeerState::kConnected);
+  setRow("Robot", "link", robot_text, robot.state() != supervision::PeerState::kConnected);
   setRow("Robot", "endpoint", s.endpoint());
   if (const auto clock = s.clock())
     setRow("Robot", "clock offset", QString("%1 ms ± %2 ms (round trip %3 ms)")
@@ -88,12 +88,12 @@ void HealthPanel::refresh() {
   const auto& health = s.health();
   if (health) {
     // Everything below is the newest report; while the robot is silent or gone it is the last known.
-    const double report_age = robot.state() == PeerState::kConnected ? 0.0 : robot.seconds();
-    setRow("Robot", "report", report_age > 0 ? QString("last known, %1 old").arg(QString::fromStdString(formatDuration(report_age)))
+    const double report_age = robot.state() == supervision::PeerState::kConnected ? 0.0 : robot.seconds();
+    setRow("Robot", "report", report_age > 0 ? QString("last known, %1 old").arg(QString::fromStdString(supervision::formatDuration(report_age)))
                                              : QString("live"),
            report_age > 0);
     setRow("Robot", "arm / cameras", QString::fromStdString(health->arm() + " / " + health->cameras_kind()));
-    setRow("Robot", "up", QString::fromStdString(formatDuration(double(health->t_ns() - health->started_ns()) * 1e-9)));
+    setRow("Robot", "up", QString::fromStdString(supervision::formatDuration(double(health->t_ns() - health->started_ns()) * 1e-9)));
     for (int i = 0; i < health->cameras_size(); ++i) {
       const auto& c = health->cameras(i);
       const QString name = i == 0 ? QString("left") : i == 1 ? QString("right") : QString("camera %1").arg(i);
@@ -168,10 +168,10 @@ void HealthPanel::refresh() {
            state->nominal_set() ? nominalStepLabel(state->nominal_step()) : nominalStepLabel(state->nominal_step()) + " (no mapping yet)",
            !state->nominal_set());
 
-  const PeerMonitor& xr = s.xr();
-  setRow("XR app", "link", xr.state() == PeerState::kWaiting ? QString("not heard yet (through the robot)")
+  const supervision::PeerMonitor& xr = s.xr();
+  setRow("XR app", "link", xr.state() == supervision::PeerState::kWaiting ? QString("not heard yet (through the robot)")
                                                              : QString::fromStdString(xr.describe()),
-         xr.state() != PeerState::kConnected);
+         xr.state() != supervision::PeerState::kConnected);
   if (const auto& x = s.xrStats()) {
     setRow("XR app", "frames",
            QString("%1 fps · render %2 ms · %3 missed").arg(number(x->fps())).arg(number(x->render_ms())).arg(x->missed_frames()));
@@ -199,7 +199,7 @@ void HealthPanel::refresh() {
   if (health)
     for (const auto& d : health->link_drops()) drops << QString("robot: %1 %2").arg(QString::fromStdString(d.name())).arg(d.count());
   setRow("Link and telemetry", "dropped", drops.isEmpty() ? QString("nothing") : drops.join(" · "), !drops.isEmpty());
-  const TelemetryCounts& t = s.telemetry().counts();
+  const telemetry::TelemetryCounts& t = s.telemetry().counts();
   const std::uint64_t lost = t.robot_batches_lost + t.xr_batches_lost + s.activity().telemetry_overflow;
   if (health && health->telemetry_samples_dropped() > 0)
     setRow("Link and telemetry", "robot dropped", QString("%1 telemetry samples never sent").arg(health->telemetry_samples_dropped()), true);

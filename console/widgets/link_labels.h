@@ -15,7 +15,7 @@ namespace telesphere::console {
 inline QString visualModeLabel(link::proto::VisualMode mode) {
   const auto known = link::fromProto(mode);
   if (!known) return "?";
-  const std::string_view label = console::visualModeLabel(*known);
+  const std::string_view label = supervision::visualModeLabel(*known);
   return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 

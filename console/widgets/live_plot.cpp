@@ -34,7 +34,7 @@ const std::vector<double>& LivePlot::windowChoices() {
   return choices;
 }
 
-LivePlot::LivePlot(SeriesStore& store, std::function<double()> now, PlotSpec spec, QWidget* parent)
+LivePlot::LivePlot(telemetry::SeriesStore& store, std::function<double()> now, PlotSpec spec, QWidget* parent)
     : QWidget(parent), store_(store), now_(std::move(now)), spec_(std::move(spec)) {
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(2, 2, 2, 2);
@@ -186,7 +186,7 @@ std::pair<double, double> LivePlot::visibleRange() const {
 
 void LivePlot::clear() {
   for (const PlotLine& line : spec_.lines)
-    if (const SeriesInfo* info = store_.info(line.series)) store_.series(*info).clear();
+    if (const telemetry::SeriesInfo* info = store_.info(line.series)) store_.series(*info).clear();
   store_.markChanged();
   refresh();
 }
@@ -210,7 +210,7 @@ void LivePlot::refresh() {
   const int columns = std::max(16, plot_->axisRect()->width());
   const double width = (paused_ ? t1 - t0 : window_s_) / columns;
   decimators_.resize(spec_.lines.size());
-  std::vector<Sample> points;
+  std::vector<telemetry::Sample> points;
   QVector<QCPGraphData> data;
   double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
   double hi[2] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
@@ -218,7 +218,7 @@ void LivePlot::refresh() {
   for (std::size_t i = 0; i < spec_.lines.size(); ++i) {
     const PlotLine& line = spec_.lines[i];
     data.clear();
-    if (const TimeSeries* s = store_.find(line.series)) {
+    if (const telemetry::TimeSeries* s = store_.find(line.series)) {
       if (decimate_) {
         decimators_[i].decimate(*s, t0, t1, width, points);
       } else {
@@ -229,7 +229,7 @@ void LivePlot::refresh() {
       data.reserve(int(points.size()));
       // Every column's extremes are among the points: the value range needs no second scan.
       const int axis = line.right_axis ? 1 : 0;
-      for (const Sample& p : points) {
+      for (const telemetry::Sample& p : points) {
         data.push_back(QCPGraphData(p.t - origin_, p.v));
         if (p.t >= t0 && p.t <= t1 && std::isfinite(p.v)) {
           lo[axis] = std::min(lo[axis], p.v);
@@ -289,8 +289,8 @@ bool LivePlot::exportCsv(const QString& path, QString* error) const {
   out << "series,label,unit,t_s,value\n";
   const auto [t0, t1] = visibleRange();
   for (const PlotLine& line : spec_.lines) {
-    const TimeSeries* s = store_.find(line.series);
-    const SeriesInfo* info = store_.info(line.series);
+    const telemetry::TimeSeries* s = store_.find(line.series);
+    const telemetry::SeriesInfo* info = store_.info(line.series);
     if (!s || !info) continue;
     const auto [first, last] = s->indexRange(t0, t1);
     const QString prefix = csvField(QString::fromStdString(info->name)) + "," +

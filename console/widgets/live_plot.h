@@ -54,7 +54,7 @@ class LivePlot : public QWidget {
 
  public:
   /// `now` gives the plot clock's present (s); the store must outlive the plot.
-  LivePlot(SeriesStore& store, std::function<double()> now, PlotSpec spec, QWidget* parent = nullptr);
+  LivePlot(telemetry::SeriesStore& store, std::function<double()> now, PlotSpec spec, QWidget* parent = nullptr);
 
   /// Redraws from the store: live, the window ends now; paused, it stays where it is.
   void refresh();
@@ -100,12 +100,12 @@ class LivePlot : public QWidget {
   void chooseFile(const QString& filter, const QString& suffix,
                   const std::function<bool(const QString&, QString*)>& write);
 
-  SeriesStore& store_;
+  telemetry::SeriesStore& store_;
   std::function<double()> now_;
   PlotSpec spec_;
   QCustomPlot* plot_;
   std::vector<QCPGraph*> graphs_;
-  std::vector<ColumnDecimator> decimators_;  ///< one per curve
+  std::vector<telemetry::ColumnDecimator> decimators_;  ///< one per curve
   struct Marker {
     double t;
     QCPItemStraightLine* line;

@@ -80,7 +80,7 @@ void NominalPosePanel::step(link::proto::NominalStepRequest request, const QStri
 }
 
 void NominalPosePanel::refresh() {
-  gate_ = evaluateNominalGate(session_.telemetry().recentHeadPoses(), session_.now());
+  gate_ = supervision::evaluateNominalGate(session_.telemetry().recentHeadPoses(), session_.now());
   if (gate_.angles)
     head_->setText(QString("operator head: yaw %1, pitch %2, roll %3")
                        .arg(degrees(gate_.angles->yaw * 180.0 / M_PI), degrees(gate_.angles->pitch * 180.0 / M_PI),
@@ -96,7 +96,7 @@ void NominalPosePanel::refresh() {
                            : "<span style='color:#b3261e'>✗ " + QString::fromStdString(gate_.reason).toHtmlEscaped() + "</span>");
 
   const auto& state = session_.robotState();
-  const bool connected = session_.robot().state() == PeerState::kConnected;
+  const bool connected = session_.robot().state() == supervision::PeerState::kConnected;
   const link::proto::NominalStep step = state ? state->nominal_step() : link::proto::NOMINAL_STEP_FOLLOWING;
   hold_->setEnabled(connected && !busy_);
   capture_->setEnabled(connected && !busy_ && step != link::proto::NOMINAL_STEP_FOLLOWING && gate_.can_capture);

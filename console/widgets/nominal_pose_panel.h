@@ -30,7 +30,7 @@ class NominalPosePanel : public QWidget {
   QPushButton* captureButton() const { return capture_; }
   QPushButton* confirmButton() const { return confirm_; }
   QPushButton* undoButton() const { return undo_; }
-  const NominalGateStatus& gate() const { return gate_; }
+  const supervision::NominalGateStatus& gate() const { return gate_; }
   /// The newest mapping a reply carried (step, angles, T_robot_vr).
   const std::optional<link::proto::NominalMapping>& mapping() const { return mapping_; }
   QString statusText() const;
@@ -41,7 +41,7 @@ class NominalPosePanel : public QWidget {
   ConsoleSession& session_;
   QPushButton *hold_, *capture_, *confirm_, *undo_;
   QLabel *head_, *gate_label_, *captured_, *status_;
-  NominalGateStatus gate_;
+  supervision::NominalGateStatus gate_;
   std::optional<link::proto::NominalMapping> mapping_;
   bool busy_ = false;  ///< a request is in flight
 };

@@ -33,11 +33,11 @@
 namespace telesphere::console {
 namespace {
 
-QString modeLabel(const std::string& mode) { return QString::fromStdString(visualModeLabel(mode, mode)); }
+QString modeLabel(const std::string& mode) { return QString::fromStdString(supervision::visualModeLabel(mode, mode)); }
 
 QString shortModeLabel(const std::string& mode) {
   const auto known = link::parseVisualMode(mode);
-  const std::string_view label = known ? visualModeShortLabel(*known) : std::string_view(mode);
+  const std::string_view label = known ? supervision::visualModeShortLabel(*known) : std::string_view(mode);
   return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 

@@ -37,12 +37,12 @@ void StudyRobotSession::sendTrialIndicator(const link::proto::TrialIndicator& in
 }
 
 std::optional<link::proto::VisualMode> StudyRobotSession::xrVisualMode() const {
-  if (session_.xr().state() != PeerState::kConnected) return std::nullopt;
+  if (session_.xr().state() != supervision::PeerState::kConnected) return std::nullopt;
   return session_.telemetry().xrVisualMode();
 }
 
 std::uint64_t StudyRobotSession::robotInstance() const {
-  return session_.robot().state() == PeerState::kConnected ? session_.activity().robot_instance : 0;
+  return session_.robot().state() == supervision::PeerState::kConnected ? session_.activity().robot_instance : 0;
 }
 
 }  // namespace telesphere::console

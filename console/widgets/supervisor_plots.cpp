@@ -15,7 +15,7 @@ std::vector<PlotSpec> supervisorPlots() {
     const QColor colours[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44),
                               QColor(214, 39, 40),  QColor(148, 103, 189), QColor(140, 86, 75)};
     for (int i = 0; i < 6; ++i) {
-      PlotLine line{series::kLatencyStages[i], stage_names[i], colours[i]};
+      PlotLine line{telemetry::series::kLatencyStages[i], stage_names[i], colours[i]};
       line.fill_to_zero = i == 0;
       line.fill_to_previous = i > 0;
       p.lines.push_back(line);
@@ -23,22 +23,22 @@ std::vector<PlotSpec> supervisorPlots() {
     plots.push_back(p);
   }
   plots.push_back(PlotSpec{"Head pose → robot latency", "XR sample → robot head loop [ms]", "",
-                           {PlotLine{series::kHeadLatency, "head pose → robot", QColor(31, 119, 180)}}});
+                           {PlotLine{telemetry::series::kHeadLatency, "head pose → robot", QColor(31, 119, 180)}}});
   plots.push_back(PlotSpec{"Head motion (paper Fig. 6)", "velocity [cm/s]", "",
-                           {PlotLine{series::kVOp, "v_op (operator)", QColor(31, 119, 180)},
-                            PlotLine{series::kVRob, "v_rob (robot head)", QColor(214, 39, 40)}}});
+                           {PlotLine{telemetry::series::kVOp, "v_op (operator)", QColor(31, 119, 180)},
+                            PlotLine{telemetry::series::kVRob, "v_rob (robot head)", QColor(214, 39, 40)}}});
   {
     PlotSpec p{"Eye ↔ camera deviation (paper Fig. 7)", "Δs [cm]", "v_op [cm/s]", {}};
-    p.lines.push_back(PlotLine{series::kDeltaS, "Δs (left eye ↔ left camera)", QColor(31, 119, 180)});
-    PlotLine v{series::kVOp, "v_op (operator)", QColor(214, 39, 40)};
+    p.lines.push_back(PlotLine{telemetry::series::kDeltaS, "Δs (left eye ↔ left camera)", QColor(31, 119, 180)});
+    PlotLine v{telemetry::series::kVOp, "v_op (operator)", QColor(214, 39, 40)};
     v.right_axis = true;
     p.lines.push_back(v);
     plots.push_back(p);
   }
   {
     PlotSpec p{"XR frames", "render time, both eyes [ms]", "missed display frames", {}};
-    p.lines.push_back(PlotLine{series::kXrFrameMs, "render time", QColor(44, 160, 44)});
-    PlotLine missed{series::kXrMissed, "missed frames", QColor(214, 39, 40)};
+    p.lines.push_back(PlotLine{telemetry::series::kXrFrameMs, "render time", QColor(44, 160, 44)});
+    PlotLine missed{telemetry::series::kXrMissed, "missed frames", QColor(214, 39, 40)};
     missed.right_axis = true;
     missed.impulses = true;
     p.lines.push_back(missed);

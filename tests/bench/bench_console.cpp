@@ -56,7 +56,7 @@ constexpr double kInputHz = 1000.0;
 constexpr double kRedrawHz = 30.0;
 
 ConsoleBenchResult runCase(const ConsoleBenchCase& c) {
-  console::SeriesStore store;
+  console::telemetry::SeriesStore store;
   store.setRetention(c.window_s);
   double now = 0.0;
   console::PlotSpec spec{"bench", "value [units]", "", {}};
@@ -73,7 +73,7 @@ ConsoleBenchResult runCase(const ConsoleBenchCase& c) {
   plot.show();
   QApplication::processEvents();
 
-  std::vector<console::TimeSeries*> series;
+  std::vector<console::telemetry::TimeSeries*> series;
   for (int i = 0; i < kSeries; ++i) series.push_back(&store.series({"bench." + std::to_string(i), "", ""}));
   std::mt19937 rng(1);
   std::normal_distribution<double> noise(0.0, 0.3);

@@ -142,10 +142,10 @@ struct Rig {
            (xr ? xr->output().toStdString() : "");
   }
   bool connected() const {
-    return session->robot().state() == PeerState::kConnected && session->xr().state() == PeerState::kConnected;
+    return session->robot().state() == supervision::PeerState::kConnected && session->xr().state() == supervision::PeerState::kConnected;
   }
   std::size_t samples(const char* name) const {
-    const TimeSeries* s = session->series().find(name);
+    const telemetry::TimeSeries* s = session->series().find(name);
     return s ? s->size() : 0;
   }
   void click(QPushButton* button) {

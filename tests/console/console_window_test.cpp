@@ -70,7 +70,7 @@ TEST(ConsoleWindow, WaitsForAnAbsentRobotWithoutFreezing) {
   saveShot(rig.window.get(), "console_waiting_for_robot.png");
   // The robot comes up later: the console picks it up by itself.
   rig.startRobot();
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; })) << rig.logs();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == supervision::PeerState::kConnected; })) << rig.logs();
   EXPECT_TRUE(pumpUntil([&] { return rig.window->connectionText().contains("robot connected"); }))
       << rig.window->connectionText().toStdString();
 }
@@ -93,9 +93,9 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
     }));
   }
   ASSERT_TRUE(pumpUntil([&] {
-    return rig.samples(series::kLatencyStages[5]) > 20 && rig.samples(series::kHeadLatency) > 100 &&
-           rig.samples(series::kVOp) > 50 && rig.samples(series::kVRob) > 50 && rig.samples(series::kDeltaS) > 50 &&
-           rig.samples(series::kXrFrameMs) > 50;
+    return rig.samples(telemetry::series::kLatencyStages[5]) > 20 && rig.samples(telemetry::series::kHeadLatency) > 100 &&
+           rig.samples(telemetry::series::kVOp) > 50 && rig.samples(telemetry::series::kVRob) > 50 && rig.samples(telemetry::series::kDeltaS) > 50 &&
+           rig.samples(telemetry::series::kXrFrameMs) > 50;
   })) << rig.logs();
 
   // A calibration still through the link (issue #15's samples): both images at the cameras'
@@ -127,14 +127,14 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   // XR app stamps the display time it was promised. A sample stamped at its receive time would
   // lie a whole latency (≥ 40 ms here) later.
   const double now = rig.session->now();
-  const TimeSeries& shown = *rig.session->series().find(series::kLatencyStages[5]);
+  const telemetry::TimeSeries& shown = *rig.session->series().find(telemetry::series::kLatencyStages[5]);
   for (std::size_t i = 0; i < shown.size(); ++i) {
     EXPECT_LE(shown[i].t + shown[i].v * 1e-3, now + 1.0 / 30 + 0.005) << i;
     EXPECT_GT(shown[i].v, 0.0) << i;
   }
   // The robot's sample of a frame (capture → encoded) and the XR app's (capture → displayed)
   // arrive at different times by different routes, yet sit at the same capture time.
-  const TimeSeries& encoded = *rig.session->series().find(series::kLatencyStages[0]);
+  const telemetry::TimeSeries& encoded = *rig.session->series().find(telemetry::series::kLatencyStages[0]);
   std::size_t matched = 0;
   for (std::size_t i = 0; i < shown.size(); ++i) {
     const auto [a, b] = encoded.indexRange(shown[i].t - 0.001, shown[i].t + 0.001);
@@ -143,8 +143,8 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   EXPECT_GE(matched, shown.size() * 8 / 10) << matched << " of " << shown.size();
   // Stages are cumulative: each band is non-negative.
   for (int stage = 1; stage < 6; ++stage) {
-    const TimeSeries& a = *rig.session->series().find(series::kLatencyStages[stage - 1]);
-    const TimeSeries& b = *rig.session->series().find(series::kLatencyStages[stage]);
+    const telemetry::TimeSeries& a = *rig.session->series().find(telemetry::series::kLatencyStages[stage - 1]);
+    const telemetry::TimeSeries& b = *rig.session->series().find(telemetry::series::kLatencyStages[stage]);
     if (stage == 2) continue;  // robot and XR series sample different frames
     const std::size_t n = std::min(a.size(), b.size());
     for (std::size_t i = 0; i < n; ++i)
@@ -152,7 +152,7 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
         EXPECT_LE(a[a.size() - 1 - i].v, b[b.size() - 1 - i].v + 1e-9);
       }
   }
-  const TimeSeries& head = *rig.session->series().find(series::kHeadLatency);
+  const telemetry::TimeSeries& head = *rig.session->series().find(telemetry::series::kHeadLatency);
   EXPECT_GT(head.back().v, -1.0);
   EXPECT_LT(head.back().v, 200.0);
   EXPECT_EQ(rig.session->telemetry().counts().robot_batches_lost, 0u);
@@ -394,33 +394,33 @@ TEST(ConsoleWindow, PicksUpARestartedRobotAndNoticesTheXrAppGoing) {
   Rig rig(27830);
   rig.startRobot();
   rig.startXr(false);
-  ASSERT_TRUE(pumpUntil([&] { return rig.connected() && rig.samples(series::kVRob) > 20; }, 60000)) << rig.logs();
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected() && rig.samples(telemetry::series::kVRob) > 20; }, 60000)) << rig.logs();
 
   rig.xr->kill();
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->xr().state() == PeerState::kGone; }, 15000));
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->xr().state() == supervision::PeerState::kGone; }, 15000));
   EXPECT_TRUE(rig.window->faultBanner()->text().contains("XR app gone"));
-  EXPECT_EQ(rig.session->robot().state(), PeerState::kConnected);
+  EXPECT_EQ(rig.session->robot().state(), supervision::PeerState::kConnected);
 
   rig.robot->kill();  // SIGKILL: no goodbye
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kSilent; }, 5000));
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kGone; }, 15000));
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == supervision::PeerState::kSilent; }, 5000));
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == supervision::PeerState::kGone; }, 15000));
   EXPECT_TRUE(rig.window->faultBanner()->text().contains("robot at tcp://127.0.0.1:27833 gone"));
   EXPECT_TRUE(pumpUntil([&] { return rig.window->connectionText().contains("robot gone"); }, 2000));
   saveShot(rig.window.get(), "console_robot_gone.png");
   const double gone_at = rig.session->now();
 
   rig.startRobot();
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; })) << rig.logs();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == supervision::PeerState::kConnected; })) << rig.logs();
   // The first pong of the new process tells it apart from the old one.
   EXPECT_TRUE(pumpUntil([&] { return rig.session->activity().robot_restarts == 1; }, 5000));
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->series().find(series::kVRob)->back().t > gone_at + 0.5; }))
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->series().find(telemetry::series::kVRob)->back().t > gone_at + 0.5; }))
       << rig.logs();
   EXPECT_TRUE(rig.window->faultBanner()->text().contains("the robot restarted"));
   // The silence is a gap in the plot, not a line across it.
-  const TimeSeries& v_rob = *rig.session->series().find(series::kVRob);
-  std::vector<Sample> drawn;
-  ColumnDecimator().decimate(v_rob, v_rob.front().t, v_rob.back().t, (v_rob.back().t - v_rob.front().t) / 400, drawn);
-  EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [](const Sample& s) { return std::isnan(s.v); }));
+  const telemetry::TimeSeries& v_rob = *rig.session->series().find(telemetry::series::kVRob);
+  std::vector<telemetry::Sample> drawn;
+  telemetry::ColumnDecimator().decimate(v_rob, v_rob.front().t, v_rob.back().t, (v_rob.back().t - v_rob.front().t) / 400, drawn);
+  EXPECT_TRUE(std::any_of(drawn.begin(), drawn.end(), [](const telemetry::Sample& s) { return std::isnan(s.v); }));
 }
 
 // Issue #15: a wizard's result applied live from the "Calibration in use" panel. Only the part the

@@ -372,7 +372,7 @@ TEST(StudyWindow, KilledDuringATrialOrAQuestionnaireThenReopenedLosesNothing) {
 TEST(StudyWindow, ChangingTheParticipantOrTheStudyWhileAModeSwitchIsPendingIsSafe) {
   Rig rig(28310);
   rig.startRobot();  // no XR app: the switch waits for its confirmation, then times out
-  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == PeerState::kConnected; }, 60000)) << rig.logs();
+  ASSERT_TRUE(pumpUntil([&] { return rig.session->robot().state() == supervision::PeerState::kConnected; }, 60000)) << rig.logs();
   StudyPanel* panel = rig.window->studyPanel();
   ASSERT_TRUE(panel->openStudy(writeStudy(rig.dir, 300), rig.dir.filePath("a.sqlite")));
   panel->participantEdit()->setText("P01");

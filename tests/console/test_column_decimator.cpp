@@ -14,7 +14,7 @@
 
 #include "console/telemetry/column_decimator.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 /// The decimation written out plainly: all samples in columns [k_first, k_last] in order, a new
@@ -195,4 +195,4 @@ TEST(ColumnDecimator, ScrollingLooksOnlyAtNewSamplesAndOutputDoesNotGrowWithTheR
 }
 
 }  // namespace
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

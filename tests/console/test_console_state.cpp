@@ -8,7 +8,7 @@
 #include "console/supervision/fault_log.h"
 #include "console/supervision/nominal_pose_gate.h"
 
-namespace telesphere::console {
+namespace telesphere::console::supervision {
 namespace {
 
 constexpr std::int64_t kSecond = 1'000'000'000;
@@ -71,11 +71,11 @@ TEST(FaultLog, StaysUntilAcknowledgedAndDoesNotNag) {
   EXPECT_EQ(log.unacknowledged().size(), 2u);
 }
 
-std::deque<HeadPoseSample> poses(double t_end, int n, double dt, double turn_deg_per_s, double yaw_deg) {
-  std::deque<HeadPoseSample> out;
+std::deque<telemetry::HeadPoseSample> poses(double t_end, int n, double dt, double turn_deg_per_s, double yaw_deg) {
+  std::deque<telemetry::HeadPoseSample> out;
   for (int i = 0; i < n; ++i) {
     const double t = t_end - (n - 1 - i) * dt;
-    HeadPoseSample p;
+    telemetry::HeadPoseSample p;
     p.t = t;
     p.T_vr_hmd.linear() = link::headRotationOf({(yaw_deg + turn_deg_per_s * t) * M_PI / 180, 0.1, -0.05});
     p.T_vr_hmd.translation() << 0.1, 1.6, 0.2;
@@ -110,4 +110,4 @@ TEST(NominalPoseGate, OnlyFreshAndStillPosesMayBeCaptured) {
 }
 
 }  // namespace
-}  // namespace telesphere::console
+}  // namespace telesphere::console::supervision

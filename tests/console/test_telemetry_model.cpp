@@ -10,7 +10,7 @@
 #include "console/telemetry/telemetry_model.h"
 #include "robot/link/link_pose.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 constexpr std::int64_t kMs = 1'000'000;
@@ -239,4 +239,4 @@ TEST(TelemetryModel, TenMinutesAtFullRateKeepMemoryFlat) {
 }
 
 }  // namespace
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry

@@ -6,7 +6,7 @@
 
 #include "console/telemetry/time_series.h"
 
-namespace telesphere::console {
+namespace telesphere::console::telemetry {
 namespace {
 
 TEST(TimeSeries, KeepsTimeOrderAndTrims) {
@@ -57,4 +57,4 @@ TEST(TimeSeries, MemoryFollowsTheSampleCount) {
 }
 
 }  // namespace
-}  // namespace telesphere::console
+}  // namespace telesphere::console::telemetry
