@@ -2,7 +2,7 @@
 /// @brief What a study needs of the robot (and, through it, the XR app): the trial's visual mode
 ///        switched and confirmed, the trial indicator (with the trial's recording), and whether
 ///        the robot or the XR app are there. The console's link session implements it
-///        (console/study_robot_session.h); tests script it.
+///        (console/widgets/study_robot_session.h); tests script it.
 #pragma once
 
 #include <cstdint>
