@@ -18,14 +18,14 @@ namespace {
 /// model of robot/arm/xarm6_kinematics.h when the robot library is part of the build.
 calib::HeadArmForwardKinematics headArmForwardKinematics() {
 #ifdef TELESPHERE_CALIB_HAS_ROBOT
-  return [kinematics = robot::Xarm6Kinematics()](const std::vector<double>& q, std::string* error)
+  return [kinematics = robot::arm::Xarm6Kinematics()](const std::vector<double>& q, std::string* error)
              -> std::optional<Eigen::Isometry3d> {
-    if (q.size() != static_cast<std::size_t>(robot::Xarm6Kinematics::kDof)) {
-      *error = "expected " + std::to_string(robot::Xarm6Kinematics::kDof) +
+    if (q.size() != static_cast<std::size_t>(robot::arm::Xarm6Kinematics::kDof)) {
+      *error = "expected " + std::to_string(robot::arm::Xarm6Kinematics::kDof) +
                " xArm 6 joint angles (rad), got " + std::to_string(q.size());
       return std::nullopt;
     }
-    const robot::JointVector joints = Eigen::Map<const robot::JointVector>(q.data());
+    const robot::arm::JointVector joints = Eigen::Map<const robot::arm::JointVector>(q.data());
     if (!kinematics.withinLimits(joints, 1e-6)) {
       *error = "the joint angles are outside the xArm 6 joint limits";
       return std::nullopt;

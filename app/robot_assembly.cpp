@@ -52,13 +52,13 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     return nullptr;
   }
   // The calibration in use, applied and reverted live by the console (link apply_calibration).
-  p->calibration_in_use = std::make_unique<robot::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
+  p->calibration_in_use = std::make_unique<robot::head::CalibrationInUse>(p->calibration, "--calib " + o.calib_path, p->clock);
   if (!o.calib_save.empty()) p->calibration_in_use->setSavePath(o.calib_save);
   record::LinkRecorderOptions recording;
   recording.mcap.compression = *record::parseCompression(o.record_compression);
   recording.metadata = {{"arm", p->arm_description}, {"cameras", o.syntheticCameras() ? "synthetic" : "aravis"},
                         {"calibration_file", o.calib_path}};
-  p->recording = std::make_unique<robot::RecordingSwitch>(*p->server, o.record_dir, recording);
+  p->recording = std::make_unique<robot::services::RecordingSwitch>(*p->server, o.record_dir, recording);
   p->recording->setCalibrationSource([in_use = p->calibration_in_use.get()] {
     link::proto::CalibrationInUse c;
     in_use->fill(&c);
@@ -68,49 +68,49 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     *error = "--record: " + *error;
     return nullptr;
   }
-  robot::HeadLoopConfig loop_config;
+  robot::head::HeadLoopConfig loop_config;
   loop_config.calibration = p->calibration_in_use.get();
   loop_config.auto_nominal = o.auto_nominal;
   loop_config.sphere_radius = o.sphere_radius;
   loop_config.telemetry = &p->telemetry;
-  p->loop = std::make_unique<robot::HeadLoop>(*p->arm, *p->controller, *p->joints, *p->server, p->clock, loop_config);
+  p->loop = std::make_unique<robot::head::HeadLoop>(*p->arm, *p->controller, *p->joints, *p->server, p->clock, loop_config);
 
   if (!makeCameras(*p, exit_code, error)) return nullptr;
 
-  robot::StereoPairerOptions pairing;
+  robot::stereo::StereoPairerOptions pairing;
   pairing.tolerance_ns = static_cast<std::int64_t>(0.25e9 / o.fps);  // a quarter period
-  p->pairs = std::make_unique<robot::StereoPairSource>(*p->left, *p->right, pairing);
-  robot::PreviewOptions preview_options;
+  p->pairs = std::make_unique<robot::stereo::StereoPairSource>(*p->left, *p->right, pairing);
+  robot::video::PreviewOptions preview_options;
   preview_options.max_width = o.preview_width;
   preview_options.rate_hz = o.preview_hz > 0 ? o.preview_hz : 1.0;
-  p->preview = std::make_unique<robot::PreviewStreamer>(*p->server, preview_options);
-  if (!o.truth_path.empty() && !(p->truth_log = robot::GroundTruthLog::open(o.truth_path, *p->truth, error))) {
+  p->preview = std::make_unique<robot::video::PreviewStreamer>(*p->server, preview_options);
+  if (!o.truth_path.empty() && !(p->truth_log = robot::stereo::GroundTruthLog::open(o.truth_path, *p->truth, error))) {
     *exit_code = 1;
     return nullptr;
   }
-  p->stills = std::make_unique<robot::StereoStillTaker>(*p->joints, p->clock,
+  p->stills = std::make_unique<robot::stereo::StereoStillTaker>(*p->joints, p->clock,
                                                         p->manipulator ? &p->manipulator_reports : nullptr);
-  robot::VideoStreamerConfig video_config;
+  robot::video::VideoStreamerConfig video_config;
   video_config.jpeg.quality = o.quality;
-  video_config.jpeg.subsampling = o.subsampling == "444"   ? robot::ChromaSubsampling::k444
-                                  : o.subsampling == "422" ? robot::ChromaSubsampling::k422
-                                                           : robot::ChromaSubsampling::k420;
+  video_config.jpeg.subsampling = o.subsampling == "444"   ? robot::video::ChromaSubsampling::k444
+                                  : o.subsampling == "422" ? robot::video::ChromaSubsampling::k422
+                                                           : robot::video::ChromaSubsampling::k420;
   video_config.telemetry = &p->telemetry;
-  video_config.on_sent = [parts = p.get()](const robot::StereoFrame& pair, std::uint64_t sequence) {
+  video_config.on_sent = [parts = p.get()](const robot::stereo::StereoFrame& pair, std::uint64_t sequence) {
     parts->stills->offer(pair, sequence);
     if (parts->options.preview_hz > 0) parts->preview->offer(pair, sequence);
     if (parts->truth_log) parts->truth_log->frameSent(pair, sequence, parts->loop->nominalMapping());
   };
   // Camera poses at capture time through the calibration in use; before any joint state, the
   // pose at the initial configuration.
-  const robot::StereoPosesAt poses = [parts = p.get()](std::int64_t left_ns, std::int64_t right_ns) {
+  const robot::video::StereoPosesAt poses = [parts = p.get()](std::int64_t left_ns, std::int64_t right_ns) {
     return parts->calibration_in_use->posesAt(*parts->joints, parts->q_initial, left_ns, right_ns);
   };
-  p->video = std::make_unique<robot::VideoStreamer>(*p->pairs, *p->server, p->clock, poses, video_config);
-  p->control = std::make_unique<robot::RobotControl>(*p->loop, p->video.get(), p->stills.get(),
+  p->video = std::make_unique<robot::video::VideoStreamer>(*p->pairs, *p->server, p->clock, poses, video_config);
+  p->control = std::make_unique<robot::services::RobotControl>(*p->loop, p->video.get(), p->stills.get(),
                                                      std::chrono::milliseconds(o.still_timeout_ms),
                                                      p->calibration_in_use.get(), p->recording.get());
-  robot::RobotHealthSources health_sources;
+  robot::services::RobotHealthSources health_sources;
   health_sources.cameras = {p->left.get(), p->right.get()};
   health_sources.pairs = p->pairs.get();
   health_sources.video = p->video.get();
@@ -120,9 +120,9 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   health_sources.telemetry = &p->telemetry;
   health_sources.recording = p->recording.get();
   health_sources.arm = p->arm_description;
-  health_sources.xarm = dynamic_cast<const robot::XArmHeadArm*>(p->arm.get());
+  health_sources.xarm = dynamic_cast<const robot::arm::XArmHeadArm*>(p->arm.get());
   health_sources.cameras_kind = o.syntheticCameras() ? "synthetic" : "aravis";
-  p->health = std::make_unique<robot::RobotHealthReporter>(health_sources, p->clock);
+  p->health = std::make_unique<robot::services::RobotHealthReporter>(health_sources, p->clock);
   *exit_code = 0;
   return std::unique_ptr<RobotAssembly>(new RobotAssembly(std::move(p)));
 }

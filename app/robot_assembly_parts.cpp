@@ -73,9 +73,9 @@ bool makeManipulator(RobotAssembly::Parts& p, std::string* error) {
              "both or neither)";
     return false;
   }
-  robot::SimulatedManipulatorConfig config;
+  robot::stereo::SimulatedManipulatorConfig config;
   if (truth.T_robot_mount) config.mounting = {*truth.T_robot_mount, *truth.T_wrist_marker};
-  p.manipulator = robot::SimulatedManipulator::create(config, error);
+  p.manipulator = robot::stereo::SimulatedManipulator::create(config, error);
   if (!p.manipulator) *error = "--sim-manipulator: " + *error;
   return p.manipulator.has_value();
 }
@@ -84,20 +84,20 @@ bool makeManipulator(RobotAssembly::Parts& p, std::string* error) {
 /// controller, joint-state buffers (reported, and with the simulated arm the truth). False with
 /// the reason and *exit_code (2: the real arm could not start).
 bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
-  robot::HeadControllerConfig controller_config;
+  robot::head::HeadControllerConfig controller_config;
   controller_config.geometry.T_flange_cam_l = *p.calibration.T_flange_cam_l;
   controller_config.geometry.T_cam_l_cam_r = *p.calibration.T_cam_l_cam_r;
-  p.controller = std::make_unique<robot::HeadController>(controller_config);
+  p.controller = std::make_unique<robot::head::HeadController>(controller_config);
   // Start at the nominal head pose so the first frames already look where the operator will.
   const auto ik = p.controller->kinematics().inverse(
       controller_config.T_robot_nom * controller_config.geometry.T_flange_head().inverse(),
-      robot::JointVector::Zero(), controller_config.ik);
-  if (ik.status == robot::IkResult::Status::kConverged) p.q_initial = ik.q;
+      robot::arm::JointVector::Zero(), controller_config.ik);
+  if (ik.status == robot::arm::IkResult::Status::kConverged) p.q_initial = ik.q;
 
-  p.joints = std::make_unique<robot::JointStateBuffer>(controller_config.geometry);
+  p.joints = std::make_unique<robot::head::JointStateBuffer>(controller_config.geometry);
   const RobotOptions& o = p.options;
   if (o.realArm()) {
-    robot::XArmOptions xarm;
+    robot::arm::XArmOptions xarm;
     xarm.address = o.arm_address;
     xarm.command_port = o.arm_command_port;
     xarm.report_port = o.arm_report_port;
@@ -108,7 +108,7 @@ bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
     if (o.arm_collision_sensitivity >= 0) xarm.collision_sensitivity = o.arm_collision_sensitivity;
     xarm.clear_errors = o.arm_clear_errors;
     xarm.nominal_q = p.q_initial;
-    auto arm = robot::XArmHeadArm::start(xarm, p.clock, error, [](const std::string& step) {
+    auto arm = robot::arm::XArmHeadArm::start(xarm, p.clock, error, [](const std::string& step) {
       std::fprintf(stderr, "telesphere-robot: xArm: %s\n", step.c_str());
     });
     if (!arm) {
@@ -120,16 +120,16 @@ bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
     p.arm = std::move(arm);
     return true;
   }
-  robot::HeadGeometry true_geometry;
+  robot::head::HeadGeometry true_geometry;
   true_geometry.T_flange_cam_l = *p.true_calibration.T_flange_cam_l;
   true_geometry.T_cam_l_cam_r = *p.true_calibration.T_cam_l_cam_r;
-  robot::JointStateBufferConfig truth_config;
+  robot::head::JointStateBufferConfig truth_config;
   truth_config.capacity = 8192;  // 8 s at 1 kHz
-  p.truth = std::make_unique<robot::JointStateBuffer>(true_geometry, truth_config);
-  robot::SimulatedArmConfig arm_config;
+  p.truth = std::make_unique<robot::head::JointStateBuffer>(true_geometry, truth_config);
+  robot::arm::SimulatedArmConfig arm_config;
   arm_config.q_initial = p.q_initial;
-  arm_config.on_true_state = [truth = p.truth.get()](const robot::JointState& s) { truth->push(s); };
-  p.arm = std::make_unique<robot::SimulatedArm>(p.clock, arm_config);
+  arm_config.on_true_state = [truth = p.truth.get()](const robot::arm::JointState& s) { truth->push(s); };
+  p.arm = std::make_unique<robot::arm::SimulatedArm>(p.clock, arm_config);
   p.arm_description = "simulated xArm 6";
   return true;
 }
@@ -142,44 +142,44 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
     const Eigen::Isometry3d T_robot_cam_l0 =
         p.controller->kinematics().forward(p.q_initial) * *p.true_calibration.T_flange_cam_l;
     // With the real arm there is no truth but what it reports: the synthetic cameras render there.
-    p.true_poses = std::make_unique<robot::TrueCameraPoses>(
+    p.true_poses = std::make_unique<robot::stereo::TrueCameraPoses>(
         p.truth ? *p.truth : *p.joints, p.clock,
         std::array<Eigen::Isometry3d, 2>{T_robot_cam_l0, T_robot_cam_l0 * *p.true_calibration.T_cam_l_cam_r});
-    robot::DefaultSceneLayout layout;
+    robot::cameras::DefaultSceneLayout layout;
     if (p.manipulator)
       layout.marker_pose = [m = &*p.manipulator](std::int64_t t_ns) { return m->T_robot_marker(t_ns); };
-    auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene(layout));
+    auto scene = std::make_shared<const robot::cameras::SyntheticScene>(robot::cameras::defaultScene(layout));
     // One trigger line for both: when rendering falls behind the frame rate they still expose the
     // same ticks, so every frame can pair.
-    const auto trigger = std::make_shared<robot::SyntheticTrigger>();
+    const auto trigger = std::make_shared<robot::cameras::SyntheticTrigger>();
     for (int index : {0, 1}) {
       const auto camera = calib::atResolution(p.true_calibration.cameras[std::size_t(index)], o.width, o.height, error);
       if (!camera) {
         *exit_code = 1;
         return false;
       }
-      robot::SyntheticCameraOptions options;
+      robot::cameras::SyntheticCameraOptions options;
       options.name = index == 0 ? "synthetic-left" : "synthetic-right";
       options.fps = o.fps;
       options.threads = o.render_threads;
       options.exposure_us = static_cast<std::uint32_t>(std::lround(o.exposure_ms * 1000.0));
       options.transfer_ns = std::llround(o.transfer_ms * 1e6);
       options.trigger = trigger;
-      const robot::CameraSide side = index == 0 ? robot::CameraSide::kLeft : robot::CameraSide::kRight;
-      (index == 0 ? p.left : p.right) = std::make_unique<robot::SyntheticCamera>(
+      const robot::head::CameraSide side = index == 0 ? robot::head::CameraSide::kLeft : robot::head::CameraSide::kRight;
+      (index == 0 ? p.left : p.right) = std::make_unique<robot::cameras::SyntheticCamera>(
           camera->camera, o.width, o.height, scene,
           [poses = p.true_poses.get(), side](std::int64_t t_ns) { return poses->at(side, t_ns); }, p.clock,
           options);
     }
   } else {
     for (auto [id, out] : {std::pair{&o.camera_left, &p.left}, std::pair{&o.camera_right, &p.right}}) {
-      robot::AravisCameraOptions options;
+      robot::cameras::AravisCameraOptions options;
       options.device_id = *id;
       options.frame_rate_hz = o.fps;
-      *out = std::make_unique<robot::AravisCamera>(options);
+      *out = std::make_unique<robot::cameras::AravisCamera>(options);
     }
   }
-  for (robot::CameraSource* camera : {p.left.get(), p.right.get()}) {
+  for (robot::cameras::CameraSource* camera : {p.left.get(), p.right.get()}) {
     if (!camera->start(error)) {
       *error = "camera " + camera->name() + ": " + *error;
       *exit_code = 2;

@@ -35,31 +35,31 @@ namespace telesphere::app {
 /// In construction order; destroyed in reverse (each part outlives the parts that use it).
 struct RobotAssembly::Parts {
   RobotOptions options;
-  robot::SteadyClock clock;
+  robot::clock::SteadyClock clock;
   calib::SystemCalibration calibration, true_calibration;
-  std::optional<robot::SimulatedManipulator> manipulator;  ///< carries the wrist marker (hand-eye)
-  robot::JointStateBuffer manipulator_reports{robot::HeadGeometry{}};
-  std::unique_ptr<robot::HeadController> controller;
-  robot::JointVector q_initial = robot::JointVector::Zero();
+  std::optional<robot::stereo::SimulatedManipulator> manipulator;  ///< carries the wrist marker (hand-eye)
+  robot::head::JointStateBuffer manipulator_reports{robot::head::HeadGeometry{}};
+  std::unique_ptr<robot::head::HeadController> controller;
+  robot::arm::JointVector q_initial = robot::arm::JointVector::Zero();
   /// The simulated arm's noise-free joints at every physics step (null with a real arm).
-  std::unique_ptr<robot::JointStateBuffer> truth;
-  std::unique_ptr<robot::HeadArm> arm;  ///< SimulatedArm or XArmHeadArm
+  std::unique_ptr<robot::head::JointStateBuffer> truth;
+  std::unique_ptr<robot::arm::HeadArm> arm;  ///< SimulatedArm or XArmHeadArm
   std::string arm_description;          ///< for the console's health view
-  std::unique_ptr<robot::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
+  std::unique_ptr<robot::head::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
-  std::unique_ptr<robot::RecordingSwitch> recording;  ///< --record, --record-dir, the console's requests
-  std::unique_ptr<robot::CalibrationInUse> calibration_in_use;
-  robot::TelemetryBatcher telemetry;
-  std::unique_ptr<robot::HeadLoop> loop;
-  std::unique_ptr<robot::TrueCameraPoses> true_poses;
-  std::unique_ptr<robot::CameraSource> left, right;
-  std::unique_ptr<robot::StereoPairSource> pairs;
-  std::unique_ptr<robot::PreviewStreamer> preview;
-  std::unique_ptr<robot::GroundTruthLog> truth_log;
-  std::unique_ptr<robot::StereoStillTaker> stills;
-  std::unique_ptr<robot::VideoStreamer> video;
-  std::unique_ptr<robot::RobotControl> control;
-  std::unique_ptr<robot::RobotHealthReporter> health;
+  std::unique_ptr<robot::services::RecordingSwitch> recording;  ///< --record, --record-dir, the console's requests
+  std::unique_ptr<robot::head::CalibrationInUse> calibration_in_use;
+  robot::telemetry::TelemetryBatcher telemetry;
+  std::unique_ptr<robot::head::HeadLoop> loop;
+  std::unique_ptr<robot::stereo::TrueCameraPoses> true_poses;
+  std::unique_ptr<robot::cameras::CameraSource> left, right;
+  std::unique_ptr<robot::stereo::StereoPairSource> pairs;
+  std::unique_ptr<robot::video::PreviewStreamer> preview;
+  std::unique_ptr<robot::stereo::GroundTruthLog> truth_log;
+  std::unique_ptr<robot::stereo::StereoStillTaker> stills;
+  std::unique_ptr<robot::video::VideoStreamer> video;
+  std::unique_ptr<robot::services::RobotControl> control;
+  std::unique_ptr<robot::services::RobotHealthReporter> health;
 };
 
 /// Loads and checks the calibration in use and the true one (the simulation's); false with the reason.

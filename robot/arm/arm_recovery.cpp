@@ -2,7 +2,7 @@
 /// @brief ArmRecovery (see arm_recovery.h).
 #include "robot/arm/arm_recovery.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 ArmRecovery::~ArmRecovery() {
   if (thread_.joinable()) thread_.join();
@@ -27,4 +27,4 @@ std::optional<bool> ArmRecovery::takeOutcome() {
   return outcome;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

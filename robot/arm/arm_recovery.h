@@ -13,7 +13,7 @@
 
 #include "robot/arm/head_arm.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 class ArmRecovery {
  public:
@@ -39,4 +39,4 @@ class ArmRecovery {
   std::atomic<bool> outcome_{false};
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

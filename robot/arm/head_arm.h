@@ -10,7 +10,7 @@
 
 #include "robot/arm/joint_state.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 class HeadArm {
  public:
@@ -56,4 +56,4 @@ class HeadArm {
   static constexpr const char* kStoppedOnRequest = "stopped on request";
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -7,9 +7,9 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
-SimulatedArm::SimulatedArm(const Clock& clock, const SimulatedArmConfig& config)
+SimulatedArm::SimulatedArm(const clock::Clock& clock, const SimulatedArmConfig& config)
     : clock_(clock), config_(config), rng_(config.seed) {
   TS_ASSERT(config.command_latency_ns >= 0 && config.max_velocity > 0 &&
                 config.max_acceleration > 0 && config.encoder_noise_std >= 0 &&
@@ -141,4 +141,4 @@ void SimulatedArm::publishState() {
   while (states_.size() > config_.max_queued_states) states_.pop_front();
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

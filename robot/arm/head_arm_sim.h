@@ -23,7 +23,7 @@
 #include "robot/arm/head_arm.h"
 #include "robot/arm/xarm6_kinematics.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 struct SimulatedArmConfig {
   /// Dead time from sendTarget() to the set-point reaching the servos: not published (the
@@ -58,7 +58,7 @@ struct SimulatedArmConfig {
 
 class SimulatedArm final : public HeadArm {
  public:
-  SimulatedArm(const Clock& clock, const SimulatedArmConfig& config = {});
+  SimulatedArm(const clock::Clock& clock, const SimulatedArmConfig& config = {});
 
   void update() override;
   bool sendTarget(const JointVector& q_target) override;
@@ -92,7 +92,7 @@ class SimulatedArm final : public HeadArm {
   void step(std::int64_t dt_ns);
   void publishState();
 
-  const Clock& clock_;
+  const clock::Clock& clock_;
   SimulatedArmConfig config_;
   Xarm6Kinematics kinematics_;
   std::mt19937_64 rng_;
@@ -106,4 +106,4 @@ class SimulatedArm final : public HeadArm {
   std::int64_t refused_targets_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

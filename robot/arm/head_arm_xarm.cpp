@@ -8,7 +8,7 @@
 #include <cmath>
 #include <utility>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 XArmHeadArm::XArmHeadArm(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
@@ -20,7 +20,7 @@ XArmHeadArm::~XArmHeadArm() {
   }
 }
 
-std::unique_ptr<XArmHeadArm> XArmHeadArm::start(const XArmOptions& options, const Clock& clock, std::string* error,
+std::unique_ptr<XArmHeadArm> XArmHeadArm::start(const XArmOptions& options, const clock::Clock& clock, std::string* error,
                                                  const std::function<void(const std::string&)>& progress) {
   if (options.address.empty()) {
     *error = "no controller address (--arm-address IP)";
@@ -160,4 +160,4 @@ XArmHeadArm::Stats XArmHeadArm::stats() const {
   return s;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

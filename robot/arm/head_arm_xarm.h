@@ -50,7 +50,7 @@
 #include "robot/clock/clock.h"
 #include "robot/arm/head_arm.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 struct XArmOptions {
   std::string address;  ///< the controller's IPv4 address
@@ -85,7 +85,7 @@ class XArmHeadArm final : public HeadArm {
  public:
   /// Connects and prepares the arm (file comment). Null with the reason (which step, the
   /// controller's words) on failure. `progress` (optional) hears each step as it starts.
-  static std::unique_ptr<XArmHeadArm> start(const XArmOptions& options, const Clock& clock, std::string* error,
+  static std::unique_ptr<XArmHeadArm> start(const XArmOptions& options, const clock::Clock& clock, std::string* error,
                                             const std::function<void(const std::string&)>& progress = {});
   ~XArmHeadArm() override;
   XArmHeadArm(const XArmHeadArm&) = delete;
@@ -129,4 +129,4 @@ class XArmHeadArm final : public HeadArm {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -30,7 +30,7 @@
 #include "robot/arm/xarm/xarm_report.h"
 #include "robot/clock/device_clock_mapping.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 using xarm::Frame;
 using xarm::Register;
@@ -68,11 +68,11 @@ struct XArmConnection {
 };
 
 struct XArmHeadArm::Impl {
-  Impl(const XArmOptions& o, const Clock& c) : options(o), clock(c) {}
+  Impl(const XArmOptions& o, const clock::Clock& c) : options(o), clock(c) {}
   ~Impl() { disconnect(); }  // the receive threads end before the members they use
 
   XArmOptions options;
-  const Clock& clock;
+  const clock::Clock& clock;
   Xarm6Kinematics kinematics;
   std::unique_ptr<XArmConnection> connection;
 
@@ -87,7 +87,7 @@ struct XArmHeadArm::Impl {
   /// may skip a report, and then every later report seems a period late against its index: ten
   /// reports in a row more than 1.5 periods late (or one impossibly early) restart the fit on
   /// the arrivals as they are now. A single late arrival (a busy machine) only leaves the envelope.
-  DeviceClockMapping report_clock{DeviceClockMappingOptions{1000, 500.0, 15'000'000, 10}};
+  clock::DeviceClockMapping report_clock{clock::DeviceClockMappingOptions{1000, 500.0, 15'000'000, 10}};
   std::int64_t last_stamp_ns = 0;  ///< stamps handed out stay strictly increasing
   std::uint64_t report_index = 0;
   std::int64_t last_report_ns = 0;
@@ -165,4 +165,4 @@ struct XArmHeadArm::Impl {
   bool prepare(bool clear_errors, const std::function<void(const std::string&)>& progress, std::string* error);
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -9,7 +9,7 @@
 #include <limits>
 #include <utility>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 bool XArmHeadArm::Impl::connect(std::string* error) {
   auto c = std::make_unique<XArmConnection>();
@@ -234,4 +234,4 @@ bool XArmHeadArm::Impl::waitForReport(const std::function<bool(const xarm::Realt
   return false;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -10,7 +10,7 @@
 #include <limits>
 #include <utility>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 void XArmHeadArm::Impl::handleReport(const xarm::RealtimeReport& r, std::int64_t arrival_ns) {
   std::lock_guard lock(mutex);
@@ -44,4 +44,4 @@ void XArmHeadArm::Impl::handleReport(const xarm::RealtimeReport& r, std::int64_t
   changed.notify_all();
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

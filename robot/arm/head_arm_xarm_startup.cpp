@@ -9,7 +9,7 @@
 #include <limits>
 #include <utility>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 bool XArmHeadArm::Impl::checkErrors(bool clear, std::string* error) {
   auto reply = request(Register::kGetErrorWarning, {}, error);
@@ -215,4 +215,4 @@ bool XArmHeadArm::Impl::prepare(bool clear_errors, const std::function<void(cons
                        "a report on port " + std::to_string(options.report_port), error);
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

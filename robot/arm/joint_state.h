@@ -5,7 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 /// Joint angles (or rates) of the six xArm joints, J1..J6, in rad (rad/s).
 using JointVector = Eigen::Matrix<double, 6, 1>;
@@ -24,4 +24,4 @@ struct JointState {
   ArmStatus status = ArmStatus::kOk;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

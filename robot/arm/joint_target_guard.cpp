@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 void JointTargetGuard::startFrom(const JointVector& q, std::int64_t now_ns) {
   last_target_ = q;
@@ -36,4 +36,4 @@ JointTargetGuard::Verdict JointTargetGuard::check(const JointVector& q_target, s
   return Verdict::kAccepted;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

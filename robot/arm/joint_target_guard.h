@@ -14,7 +14,7 @@
 
 #include "robot/arm/xarm6_kinematics.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 struct JointTargetGuardOptions {
   double max_velocity = 3.14159265358979323846;  ///< rad/s: the joints' top speed
@@ -52,4 +52,4 @@ class JointTargetGuard {
   std::string fault_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -9,7 +9,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -196,4 +196,4 @@ IkResult Xarm6Kinematics::inverse(const Eigen::Isometry3d& T_robot_flange_target
   return result;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

@@ -28,7 +28,7 @@
 
 #include "robot/arm/joint_state.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::arm {
 
 /// One modified-DH row (see the file comment): alpha_{i-1} [rad], a_{i-1} [m], d_i [m], offset_i.
 struct MdhLink {
@@ -115,4 +115,4 @@ Eigen::Vector3d rotationLog(const Eigen::Matrix3d& R);
 /// True iff R is finite, RᵀR = I within tol and det R > 0.
 bool isRotation(const Eigen::Matrix3d& R, double tol = 1e-6);
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::arm

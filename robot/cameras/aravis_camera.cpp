@@ -6,7 +6,7 @@
 
 #include <mutex>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 bool AravisCamera::start(std::string* error) {
   Impl& d = *impl_;
@@ -98,4 +98,4 @@ std::vector<std::string> AravisCamera::listDevices() {
   return out;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -17,7 +17,7 @@
 #include "robot/clock/device_clock_mapping.h"
 #include "robot/cameras/camera_source.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 struct AravisCameraOptions {
   /// Which camera: its Aravis device id ("Fake_1", "Basler-21234567"), physical id, address or
@@ -41,7 +41,7 @@ struct AravisCameraOptions {
   std::chrono::milliseconds lost_timeout{0};
   std::chrono::milliseconds reconnect_backoff_min{100};  ///< first re-open retry delay, doubling
   std::chrono::milliseconds reconnect_backoff_max{2000};
-  DeviceClockMappingOptions clock;
+  clock::DeviceClockMappingOptions clock;
   /// Called with the ArvCamera* after each open and configuration, before acquisition starts (on
   /// the thread that opens: start()'s caller, later the stream thread). For features this class
   /// does not set, and for tests (the fake camera's fill pattern). Must not keep the pointer
@@ -117,4 +117,4 @@ class AravisCamera final : public CameraSource {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -30,7 +30,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 
 // Named (not anonymous) namespace: Impl has a member of this type, and in unity builds this file
@@ -147,7 +147,7 @@ struct AravisCamera::Impl {
   explicit Impl(AravisCameraOptions o) : options(std::move(o)), mapping(options.clock) {}
 
   AravisCameraOptions options;
-  SteadyClock clock;
+  clock::SteadyClock clock;
 
   // Controlling thread / stream thread (handed over at start and back at stop).
   std::unique_ptr<AravisSession> session;
@@ -165,7 +165,7 @@ struct AravisCamera::Impl {
   bool running = false;
 
   // Stream thread only.
-  DeviceClockMapping mapping;
+  clock::DeviceClockMapping mapping;
   FrameIdTracker frame_ids;
   std::uint64_t incomplete_since_good = 0;
   std::int64_t last_buffer_ns = 0;
@@ -189,4 +189,4 @@ struct AravisCamera::Impl {
   std::chrono::milliseconds lostTimeout() const;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

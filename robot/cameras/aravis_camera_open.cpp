@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 std::unique_ptr<AravisSession> AravisCamera::Impl::open(AravisCameraSettings* out, std::string* error) {
   const std::string wanted = options.device_id.empty() ? std::string("(first found)") : options.device_id;
@@ -178,4 +178,4 @@ std::unique_ptr<AravisSession> AravisCamera::Impl::open(AravisCameraSettings* ou
   return session;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 std::chrono::milliseconds AravisCamera::Impl::lostTimeout() const {
   if (options.lost_timeout.count() > 0) return options.lost_timeout;
@@ -200,4 +200,4 @@ AravisCamera::~AravisCamera() { stop(); }
 
 std::string AravisCamera::name() const { return impl_->label(); }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "robot/cameras/camera_source.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 const char* pixelFormatName(PixelFormat format) {
   switch (format) {
@@ -15,4 +15,4 @@ const char* pixelFormatName(PixelFormat format) {
   return "unknown";
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

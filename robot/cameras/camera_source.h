@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 /// Pixel layouts a camera may deliver. Bayer names give the colours of the top-left 2×2 cell.
 enum class PixelFormat { kMono8, kRgb8, kBayerRG8, kBayerGR8, kBayerGB8, kBayerBG8 };
@@ -65,4 +65,4 @@ class CameraSource {
   virtual CameraStats stats() const = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

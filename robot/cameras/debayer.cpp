@@ -2,7 +2,7 @@
 /// @brief Bilinear demosaicing of 8-bit Bayer mosaics to packed RGB8.
 #include "robot/cameras/debayer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 namespace {
 
 inline std::uint8_t debayerMean2(int a, int b) { return static_cast<std::uint8_t>((a + b + 1) >> 1); }
@@ -95,4 +95,4 @@ bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_str
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

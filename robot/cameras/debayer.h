@@ -9,7 +9,7 @@
 
 #include "robot/cameras/camera_source.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 /// True for the four 8-bit Bayer layouts.
 constexpr bool isBayer(PixelFormat format) {
@@ -32,4 +32,4 @@ constexpr bool isBayer(PixelFormat format) {
 bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_stride, PixelFormat layout,
                      std::vector<std::uint8_t>& out_rgb, std::string* error);
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

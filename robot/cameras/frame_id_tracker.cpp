@@ -2,7 +2,7 @@
 /// @brief FrameIdTracker: frame-id unwrapping and lost-frame counting.
 #include "robot/cameras/frame_id_tracker.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 FrameIdTracker::Step FrameIdTracker::next(std::uint64_t frame_id) {
   if (frame_id == 0) zero_used_ = true;
@@ -30,4 +30,4 @@ FrameIdTracker::Step FrameIdTracker::next(std::uint64_t frame_id) {
   return step;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

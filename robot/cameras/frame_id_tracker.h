@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 /// Feeds on frame ids in arrival order (AravisCamera feeds the complete frames only and subtracts
 /// the incomplete buffers it dropped in between from `lost`).
@@ -40,4 +40,4 @@ class FrameIdTracker {
   std::uint64_t sequence_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <thread>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
-ReplayCamera::ReplayCamera(const Clock& clock, std::vector<CameraFrame> frames,
+ReplayCamera::ReplayCamera(const clock::Clock& clock, std::vector<CameraFrame> frames,
                            const ReplayCameraConfig& config)
     : clock_(clock), frames_(std::move(frames)), config_(config) {}
 
@@ -74,4 +74,4 @@ CameraStats ReplayCamera::stats() const {
   return s;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

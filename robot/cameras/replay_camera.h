@@ -18,7 +18,7 @@
 #include "robot/cameras/camera_source.h"
 #include "robot/clock/clock.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 struct ReplayCameraConfig {
   std::string name = "replay";
@@ -31,7 +31,7 @@ class ReplayCamera final : public CameraSource {
  public:
   /// `frames` are cycled; their capture_ns/sequence are replaced, their pixels shared. `clock`
   /// must advance in real time (SteadyClock): nextFrame() sleeps until a frame is due.
-  ReplayCamera(const Clock& clock, std::vector<CameraFrame> frames, const ReplayCameraConfig& config);
+  ReplayCamera(const clock::Clock& clock, std::vector<CameraFrame> frames, const ReplayCameraConfig& config);
 
   std::string name() const override { return config_.name; }
   bool start(std::string* error) override;
@@ -40,7 +40,7 @@ class ReplayCamera final : public CameraSource {
   CameraStats stats() const override;
 
  private:
-  const Clock& clock_;
+  const clock::Clock& clock_;
   std::vector<CameraFrame> frames_;
   ReplayCameraConfig config_;
   std::int64_t period_ns_ = 0;
@@ -50,4 +50,4 @@ class ReplayCamera final : public CameraSource {
   std::atomic<std::uint64_t> delivered_{0}, lost_{0};
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -10,7 +10,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 namespace {
 
 constexpr int kSyntheticRowsPerChunk = 8;
@@ -43,7 +43,7 @@ void syntheticParallelRows(int rows, int threads, const std::function<bool()>& s
 
 SyntheticCamera::SyntheticCamera(const calib::GenericCamera& camera, int width, int height,
                                  std::shared_ptr<const SyntheticScene> scene, PoseAtTime T_world_cam_at,
-                                 const Clock& clock, SyntheticCameraOptions options)
+                                 const clock::Clock& clock, SyntheticCameraOptions options)
     : camera_(camera),
       width_(width),
       height_(height),
@@ -227,4 +227,4 @@ CameraStats SyntheticCamera::stats() const {
   return stats_;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -40,7 +40,7 @@
 #include "robot/cameras/synthetic_scene.h"
 #include "robot/cameras/synthetic_trigger.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 struct SyntheticCameraOptions {
   std::string name = "synthetic";
@@ -65,7 +65,7 @@ class SyntheticCamera final : public CameraSource {
   /// `clock`, which must outlive the camera.
   SyntheticCamera(const calib::GenericCamera& camera, int width, int height,
                   std::shared_ptr<const SyntheticScene> scene, PoseAtTime T_world_cam_at,
-                  const Clock& clock, SyntheticCameraOptions options = {});
+                  const clock::Clock& clock, SyntheticCameraOptions options = {});
   ~SyntheticCamera() override;
   SyntheticCamera(const SyntheticCamera&) = delete;
   SyntheticCamera& operator=(const SyntheticCamera&) = delete;
@@ -105,7 +105,7 @@ class SyntheticCamera final : public CameraSource {
   int width_, height_;
   std::shared_ptr<const SyntheticScene> scene_;
   PoseAtTime T_world_cam_at_;
-  const Clock& clock_;
+  const clock::Clock& clock_;
   SyntheticCameraOptions options_;
   std::int64_t period_ns_;
   std::vector<float> rays_;  ///< 3 floats per sub-sample ray, NaN where the model has no ray
@@ -123,4 +123,4 @@ class SyntheticCamera final : public CameraSource {
   std::thread thread_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

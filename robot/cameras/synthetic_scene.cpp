@@ -8,7 +8,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 namespace {
 
 /// A well-mixed 64-bit hash of a pattern cell (murmur3's finaliser), as a value in [0, 1).
@@ -313,4 +313,4 @@ SyntheticScene defaultScene(const DefaultSceneLayout& layout) {
   return scene;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

@@ -22,7 +22,7 @@
 #include "calib/aprilgrid.h"
 #include "calib/target_render.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 /// Pose of an object in the world at host time t_ns; must be callable from several threads.
 using PoseAtTime = std::function<Eigen::Isometry3d(std::int64_t t_ns)>;
@@ -140,4 +140,4 @@ struct DefaultSceneLayout {
 /// ("marker") on a small grey wrist box ("wrist"); "room". Exact poses: objects().
 SyntheticScene defaultScene(const DefaultSceneLayout& layout = {});
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

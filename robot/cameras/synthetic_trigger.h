@@ -21,7 +21,7 @@
 #include <mutex>
 #include <optional>
 
-namespace telesphere::robot {
+namespace telesphere::robot::cameras {
 
 class SyntheticTrigger {
  public:
@@ -51,4 +51,4 @@ class SyntheticTrigger {
   std::uint64_t followed_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::cameras

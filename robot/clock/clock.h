@@ -7,7 +7,7 @@
 
 #include "robot/link/link_endpoints.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::clock {
 
 class Clock {
  public:
@@ -22,4 +22,4 @@ class SteadyClock final : public Clock {
   std::int64_t nowNs() const override { return link::linkNowNs(); }
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::clock

@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-namespace telesphere::robot {
+namespace telesphere::robot::clock {
 
 DeviceClockMapping::DeviceClockMapping(DeviceClockMappingOptions options) : options_(options) {
   options_.window = std::max(options_.window, 2);
@@ -102,4 +102,4 @@ void DeviceClockMapping::refit() {
   offset_ = offset;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::clock

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <deque>
 
-namespace telesphere::robot {
+namespace telesphere::robot::clock {
 
 struct DeviceClockMappingOptions {
   int window = 512;                              ///< pairs kept (45 Hz: ~11 s)
@@ -89,4 +89,4 @@ class DeviceClockMapping {
   std::uint64_t jumps_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::clock

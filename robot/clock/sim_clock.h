@@ -8,7 +8,7 @@
 #include "calib/debug_assert.h"
 #include "robot/clock/clock.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::clock {
 
 class SimClock final : public Clock {
  public:
@@ -29,4 +29,4 @@ class SimClock final : public Clock {
   std::atomic<std::int64_t> now_ns_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::clock

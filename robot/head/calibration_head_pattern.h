@@ -12,7 +12,7 @@
 #include <cmath>
 #include <cstdint>
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 inline constexpr double kMaxCalibrationPatternDeg = 30.0;
 
@@ -38,4 +38,4 @@ inline Eigen::Isometry3d calibrationPatternPose(const Eigen::Isometry3d& T_robot
   return calibrationPatternSwing(T_robot_centre, a, swing(7.0), swing(5.0), swing(11.0));
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

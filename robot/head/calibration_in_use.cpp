@@ -15,7 +15,7 @@
 #include "calib/calibration_file.h"
 #include "calib/system_calibration_yaml.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 namespace {
 
@@ -30,7 +30,7 @@ double aspect(const calib::CameraCalibration& camera) { return double(camera.wid
 
 }  // namespace
 
-CalibrationInUse::CalibrationInUse(const calib::SystemCalibration& startup, std::string source, const Clock& clock)
+CalibrationInUse::CalibrationInUse(const calib::SystemCalibration& startup, std::string source, const clock::Clock& clock)
     : clock_(clock) {
   if (const auto why = unusable(startup)) throw std::invalid_argument("start-up calibration: " + *why);
   AppliedCalibration first;
@@ -193,7 +193,7 @@ link::proto::ControlReply CalibrationInUse::handleControl(const link::proto::Con
   return reply;
 }
 
-StereoCameraPoses CalibrationInUse::posesAt(const JointStateBuffer& joints, const JointVector& q_fallback,
+StereoCameraPoses CalibrationInUse::posesAt(const JointStateBuffer& joints, const arm::JointVector& q_fallback,
                                             std::int64_t left_capture_ns, std::int64_t right_capture_ns) const {
   const std::shared_ptr<const AppliedCalibration> in_use = current();
   const Eigen::Isometry3d T_flange_cam_l = in_use->geometry.T_flange_cam_l;
@@ -214,4 +214,4 @@ StereoCameraPoses CalibrationInUse::posesAt(const JointStateBuffer& joints, cons
   return poses;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

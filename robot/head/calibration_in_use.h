@@ -31,7 +31,7 @@
 #include "robot/head/joint_state_buffer.h"
 #include "robot/link/telesphere_link.pb.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 /// One generation of the calibration in use.
 struct AppliedCalibration {
@@ -57,7 +57,7 @@ class CalibrationInUse {
   static constexpr std::size_t kMaxPrevious = 16;
 
   /// Starts with `startup` (generation 1); throws std::invalid_argument when it is unusable().
-  CalibrationInUse(const calib::SystemCalibration& startup, std::string source, const Clock& clock);
+  CalibrationInUse(const calib::SystemCalibration& startup, std::string source, const clock::Clock& clock);
 
   /// Why `calibration` cannot be the robot's, or nothing: inconsistent, not two cameras, no
   /// T_cam_l_cam_r or T_flange_cam_l.
@@ -85,14 +85,14 @@ class CalibrationInUse {
 
   /// Both cameras' poses at their capture times through the calibration in use: FK of the
   /// joints interpolated by `joints`, else (no joint state at that time) FK(q_fallback).
-  StereoCameraPoses posesAt(const JointStateBuffer& joints, const JointVector& q_fallback,
+  StereoCameraPoses posesAt(const JointStateBuffer& joints, const arm::JointVector& q_fallback,
                             std::int64_t left_capture_ns, std::int64_t right_capture_ns) const;
 
  private:
   void install(AppliedCalibration next);  ///< caller holds mutex_
 
-  const Clock& clock_;
-  Xarm6Kinematics kinematics_;
+  const clock::Clock& clock_;
+  arm::Xarm6Kinematics kinematics_;
   mutable std::mutex mutex_;
   std::shared_ptr<const AppliedCalibration> current_;
   std::vector<std::shared_ptr<const AppliedCalibration>> previous_;  ///< oldest first
@@ -101,4 +101,4 @@ class CalibrationInUse {
   std::string saved_to_, save_error_;  ///< of the current generation
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

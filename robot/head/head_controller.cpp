@@ -8,11 +8,11 @@
 #include "calib/debug_assert.h"
 #include "robot/link/head_angles.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 namespace {
 
 double angleBetween(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b) {
-  return rotationLog(R_a * R_b.transpose()).norm();
+  return arm::rotationLog(R_a * R_b.transpose()).norm();
 }
 
 Eigen::Quaterniond quaternionOf(const Eigen::Matrix3d& R) {
@@ -66,8 +66,8 @@ Eigen::AlignedBox3d HeadControllerConfig::defaultWorkspace() {
   return Eigen::AlignedBox3d(centre - half, centre + half);
 }
 
-IkOptions HeadControllerConfig::defaultIk() {
-  IkOptions options;
+arm::IkOptions HeadControllerConfig::defaultIk() {
+  arm::IkOptions options;
   options.max_iterations = 30;  // seeded with the last target, 1–4 iterations are typical
   options.position_tolerance = 1e-5;
   options.angle_tolerance = 1e-4;
@@ -85,7 +85,7 @@ HeadController::HeadController(const HeadControllerConfig& config)
                 config.max_sample_age_ns > 0 && config.max_sample_lead_ns >= 0,
             config.jump_position, config.jump_angle, config.approach_speed,
             config.approach_angular_speed, config.max_sample_age_ns);
-  TS_ASSERT(isRotation(config.T_robot_nom.linear()), config.T_robot_nom.matrix());
+  TS_ASSERT(arm::isRotation(config.T_robot_nom.linear()), config.T_robot_nom.matrix());
 }
 
 Eigen::Isometry3d HeadController::T_hmd_head() {
@@ -96,8 +96,8 @@ Eigen::Isometry3d HeadController::T_hmd_head() {
   return T;
 }
 
-bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_current) {
-  if (!nominal.T_vr_hmd.matrix().allFinite() || !isRotation(nominal.T_vr_hmd.linear(), 1e-3) ||
+bool HeadController::initialise(const HmdSample& nominal, const arm::JointVector& q_current) {
+  if (!nominal.T_vr_hmd.matrix().allFinite() || !arm::isRotation(nominal.T_vr_hmd.linear(), 1e-3) ||
       !q_current.allFinite())
     return false;
   T_robot_vr_ = mappingFor(nominal.T_vr_hmd);
@@ -108,7 +108,7 @@ bool HeadController::initialise(const HmdSample& nominal, const JointVector& q_c
   return true;
 }
 
-void HeadController::startFrom(const JointVector& q_measured, std::int64_t now_ns) {
+void HeadController::startFrom(const arm::JointVector& q_measured, std::int64_t now_ns) {
   q_last_ = kinematics_.clampToLimits(q_measured);
   guarded_ = kinematics_.forward(q_last_) * T_flange_head_;
   last_tick_ns_ = now_ns;  // the first step is one period's, not the time since the last tick
@@ -122,12 +122,12 @@ Eigen::Isometry3d HeadController::mappingFor(const Eigen::Isometry3d& T_vr_hmd) 
   return config_.T_robot_nom * T_vr_nom.inverse();
 }
 
-bool HeadController::holdNominal(const JointVector& q_current, std::int64_t now_ns) {
+bool HeadController::holdNominal(const arm::JointVector& q_current, std::int64_t now_ns) {
   return holdAt(config_.T_robot_nom, q_current, now_ns);
 }
 
-bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVector& q_current, std::int64_t now_ns) {
-  if (!q_current.allFinite() || !T_robot_head.matrix().allFinite() || !isRotation(T_robot_head.linear(), 1e-3)) {
+bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const arm::JointVector& q_current, std::int64_t now_ns) {
+  if (!q_current.allFinite() || !T_robot_head.matrix().allFinite() || !arm::isRotation(T_robot_head.linear(), 1e-3)) {
     return false;
   }
   hold_target_ = T_robot_head;
@@ -140,7 +140,7 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const JointVe
   return true;
 }
 
-bool HeadController::resumeFrom(const JointVector& q_measured, std::int64_t now_ns) {
+bool HeadController::resumeFrom(const arm::JointVector& q_measured, std::int64_t now_ns) {
   if (!q_measured.allFinite()) return false;
   startFrom(q_measured, now_ns);
   ++resumes_;
@@ -148,13 +148,13 @@ bool HeadController::resumeFrom(const JointVector& q_measured, std::int64_t now_
 }
 
 bool HeadController::moveHold(const Eigen::Isometry3d& T_robot_head) {
-  if (!holding_ || !T_robot_head.matrix().allFinite() || !isRotation(T_robot_head.linear(), 1e-3)) return false;
+  if (!holding_ || !T_robot_head.matrix().allFinite() || !arm::isRotation(T_robot_head.linear(), 1e-3)) return false;
   hold_target_ = T_robot_head;
   return true;
 }
 
 void HeadController::restoreMapping(const Eigen::Isometry3d& T_robot_vr) {
-  TS_ASSERT(initialised_ && isRotation(T_robot_vr.linear(), 1e-6), T_robot_vr.matrix());
+  TS_ASSERT(initialised_ && arm::isRotation(T_robot_vr.linear(), 1e-6), T_robot_vr.matrix());
   T_robot_vr_ = T_robot_vr;
 }
 
@@ -187,7 +187,7 @@ HeadRejectReason HeadController::validate(const std::optional<HmdSample>& sample
                                           std::int64_t now_ns) const {
   if (!sample) return HeadRejectReason::kMissing;
   if (!sample->T_vr_hmd.matrix().allFinite()) return HeadRejectReason::kNonFinite;
-  if (!isRotation(sample->T_vr_hmd.linear(), 1e-3)) return HeadRejectReason::kNotRotation;
+  if (!arm::isRotation(sample->T_vr_hmd.linear(), 1e-3)) return HeadRejectReason::kNotRotation;
   if (sample->t_ns > now_ns + config_.max_sample_lead_ns) return HeadRejectReason::kFromFuture;
   if (now_ns - sample->t_ns > config_.max_sample_age_ns) return HeadRejectReason::kStale;
   if (sample->t_ns < last_sample_t_ns_) return HeadRejectReason::kOutOfOrder;
@@ -258,9 +258,9 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
   const Eigen::Isometry3d T_robot_head = guarded_;
 
   // Inverse kinematics, seeded with the last target.
-  const IkResult ik = kinematics_.inverse(T_robot_head * T_head_flange_, q_last_, config_.ik);
-  if (ik.status == IkResult::Status::kInvalidTarget) return hold(HeadRejectReason::kNonFinite);
-  if (ik.status == IkResult::Status::kClosestReachable) ++unreachable_;
+  const arm::IkResult ik = kinematics_.inverse(T_robot_head * T_head_flange_, q_last_, config_.ik);
+  if (ik.status == arm::IkResult::Status::kInvalidTarget) return hold(HeadRejectReason::kNonFinite);
+  if (ik.status == arm::IkResult::Status::kClosestReachable) ++unreachable_;
   TS_ASSERT(kinematics_.withinLimits(ik.q), ik.q.transpose());
   q_last_ = ik.q;
   cmd.send = true;
@@ -270,4 +270,4 @@ HeadCommand HeadController::tick(const std::optional<HmdSample>& sample, std::in
   return cmd;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -38,7 +38,7 @@
 #include "robot/head/low_pass_filter.h"
 #include "robot/arm/xarm6_kinematics.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 
 /// Why a tick did not produce a new target.
@@ -78,22 +78,22 @@ struct HeadControllerConfig {
   Eigen::AlignedBox3d workspace = defaultWorkspace();
   std::int64_t max_sample_age_ns = 100'000'000;  ///< older samples are stale
   std::int64_t max_sample_lead_ns = 5'000'000;   ///< tolerated clock skew of newer samples
-  IkOptions ik = defaultIk();
+  arm::IkOptions ik = defaultIk();
 
   /// The default nominal head pose: 0.40 m in front of the base, 0.45 m up, looking along +x.
   static Eigen::Isometry3d defaultNominal();
   static Eigen::AlignedBox3d defaultWorkspace();
-  static IkOptions defaultIk();
+  static arm::IkOptions defaultIk();
 };
 
 /// What one tick produced.
 struct HeadCommand {
   bool send = false;  ///< true: q_target is new and should be sent; false: hold (keep the last)
-  JointVector q_target = JointVector::Zero();  ///< last or new target, always within limits
+  arm::JointVector q_target = arm::JointVector::Zero();  ///< last or new target, always within limits
   HeadRejectReason reason = HeadRejectReason::kNone;
   bool approaching = false;     ///< the jump guard's slow approach is active
   bool clamped = false;         ///< the workspace clamp moved the target
-  IkResult::Status ik_status = IkResult::Status::kConverged;
+  arm::IkResult::Status ik_status = arm::IkResult::Status::kConverged;
   Eigen::Isometry3d T_robot_headTarget = Eigen::Isometry3d::Identity();  ///< what IK aimed at
 };
 
@@ -108,7 +108,7 @@ class HeadController {
   /// q_current: the output starts from the current head pose and approaches the target at the
   /// approach speeds until caught up, however near it is. False (nothing changes) if the sample
   /// is invalid.
-  bool initialise(const HmdSample& nominal, const JointVector& q_current);
+  bool initialise(const HmdSample& nominal, const arm::JointVector& q_current);
   /// The mapping initialise() would set for this head pose: T_robot_nom · (withoutPitchAndRoll(T_vr_hmd) ·
   /// T_hmd_head)⁻¹ (the console shows it before it is confirmed).
   Eigen::Isometry3d mappingFor(const Eigen::Isometry3d& T_vr_hmd) const;
@@ -121,10 +121,10 @@ class HeadController {
   /// the operator ignored, until releaseHold(). Without a mapping yet, the output starts from
   /// the arm's q_current at now_ns and approaches at the approach speeds however near the pose
   /// is. False (nothing changes) for non-finite joints.
-  bool holdNominal(const JointVector& q_current, std::int64_t now_ns);
+  bool holdNominal(const arm::JointVector& q_current, std::int64_t now_ns);
   /// The same hold at any head pose T_robot_head (the calibration wizards' head poses): false
   /// (nothing changes) for non-finite joints or a pose that is not a rigid transform.
-  bool holdAt(const Eigen::Isometry3d& T_robot_head, const JointVector& q_current, std::int64_t now_ns);
+  bool holdAt(const Eigen::Isometry3d& T_robot_head, const arm::JointVector& q_current, std::int64_t now_ns);
   void releaseHold() { holding_ = false; }
   /// Moves the pose held (a calibration pattern, every tick); false (nothing changes) when not
   /// holding or for a pose that is not a rigid transform.
@@ -136,7 +136,7 @@ class HeadController {
   /// operator kept moving, a hold moved on) is approached at approach_speed and
   /// approach_angular_speed, however small the difference (a jump below the threshold would still
   /// be a step the arm takes at full speed). False (nothing changes) for non-finite joints.
-  bool resumeFrom(const JointVector& q_measured, std::int64_t now_ns);
+  bool resumeFrom(const arm::JointVector& q_measured, std::int64_t now_ns);
   std::int64_t resumeCount() const { return resumes_; }
 
   /// Restores a mapping T_robot_vr taken from an earlier initialise() (undo); needs one.
@@ -164,19 +164,19 @@ class HeadController {
   std::int64_t jumpCount() const { return jumps_; }
   std::int64_t unreachableCount() const { return unreachable_; }
   const HeadControllerConfig& config() const { return config_; }
-  const Xarm6Kinematics& kinematics() const { return kinematics_; }
+  const arm::Xarm6Kinematics& kinematics() const { return kinematics_; }
 
  private:
   /// The output starts at the head pose of the measured joints (clamped to the limits) and
   /// approaches its target at the approach speeds until caught up: initialise, a hold before
   /// any operator target, and a resume all start here.
-  void startFrom(const JointVector& q_measured, std::int64_t now_ns);
+  void startFrom(const arm::JointVector& q_measured, std::int64_t now_ns);
   HeadRejectReason validate(const std::optional<HmdSample>& sample, std::int64_t now_ns) const;
   Eigen::Isometry3d mapped(const Eigen::Isometry3d& T_vr_hmd) const;
   HeadCommand hold(HeadRejectReason reason);
 
   HeadControllerConfig config_;
-  Xarm6Kinematics kinematics_;
+  arm::Xarm6Kinematics kinematics_;
   Eigen::Isometry3d T_flange_head_, T_head_flange_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   PoseLowPassFilter filter_;
@@ -189,9 +189,9 @@ class HeadController {
   Eigen::Isometry3d last_operator_target_ = Eigen::Isometry3d::Identity();
   std::int64_t last_sample_t_ns_ = 0;
   std::int64_t last_tick_ns_ = 0;
-  JointVector q_last_ = JointVector::Zero();
+  arm::JointVector q_last_ = arm::JointVector::Zero();
   std::array<std::int64_t, static_cast<std::size_t>(HeadRejectReason::kCount)> rejections_{};
   std::int64_t jumps_ = 0, unreachable_ = 0, resumes_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -2,7 +2,7 @@
 /// @brief HeadGeometry (see head_geometry.h).
 #include "robot/head/head_geometry.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 Eigen::Matrix3d HeadGeometry::R_cam_head() {
   Eigen::Matrix3d R;
@@ -32,4 +32,4 @@ HeadGeometry HeadGeometry::example() {
   return g;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

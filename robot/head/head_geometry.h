@@ -12,7 +12,7 @@
 
 #include <Eigen/Geometry>
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 struct HeadGeometry {
   Eigen::Isometry3d T_flange_cam_l = Eigen::Isometry3d::Identity();
@@ -31,4 +31,4 @@ struct HeadGeometry {
   static HeadGeometry example();
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

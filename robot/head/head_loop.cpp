@@ -16,11 +16,11 @@
 #include <iostream>
 #include <thread>
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 
-HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
-                   link::LinkServer& server, const Clock& clock, const HeadLoopConfig& config)
+HeadLoop::HeadLoop(arm::HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
+                   link::LinkServer& server, const clock::Clock& clock, const HeadLoopConfig& config)
     : arm_(arm),
       controller_(controller),
       buffer_(buffer),
@@ -31,7 +31,7 @@ HeadLoop::HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& b
       recovery_(arm),
       sphere_radius_(config.sphere_radius) {}
 
-std::optional<JointState> HeadLoop::lastState() const {
+std::optional<arm::JointState> HeadLoop::lastState() const {
   std::lock_guard lock(mutex_);
   return last_state_;
 }
@@ -124,7 +124,7 @@ void HeadLoop::tick() {
     }
     t.set_approaching(command.approaching);
     t.set_clamped(command.clamped);
-    t.set_unreachable(command.send && command.ik_status == IkResult::Status::kClosestReachable);
+    t.set_unreachable(command.send && command.ik_status == arm::IkResult::Status::kClosestReachable);
     config_.telemetry->addTick(t);
   }
 
@@ -168,7 +168,7 @@ void HeadLoop::run(const std::atomic<bool>& stop) {
   }
 }
 
-bool HeadLoop::armOkLocked() const { return !recovery_.running() && arm_.status() == ArmStatus::kOk; }
+bool HeadLoop::armOkLocked() const { return !recovery_.running() && arm_.status() == arm::ArmStatus::kOk; }
 
 void HeadLoop::followArmLocked(std::int64_t now_ns) {
   if (recovery_.running()) {
@@ -189,7 +189,7 @@ void HeadLoop::followArmLocked(std::int64_t now_ns) {
       stopped_by_console_ = true;
     }
   }
-  if (arm_.status() != ArmStatus::kOk) {
+  if (arm_.status() != arm::ArmStatus::kOk) {
     resume_pending_ = true;
     arm_ok_since_ns_ = 0;
     return;
@@ -206,13 +206,13 @@ void HeadLoop::followArmLocked(std::int64_t now_ns) {
 
 std::string HeadLoop::faultLocked() const {
   if (recovery_.running()) return "clearing the fault: re-enabling or reconnecting the arm";
-  const ArmStatus status = arm_.status();
-  if (status == ArmStatus::kOk) return "";
+  const arm::ArmStatus status = arm_.status();
+  if (status == arm::ArmStatus::kOk) return "";
   // The arm's own cause first, then ours; a stop we asked for is said once, as ours.
   std::string causes;
   const std::string why = arm_.faultText();
-  if (!(stopped_by_console_ && why == HeadArm::kStoppedOnRequest)) {
-    if (status == ArmStatus::kDisconnected)
+  if (!(stopped_by_console_ && why == arm::HeadArm::kStoppedOnRequest)) {
+    if (status == arm::ArmStatus::kDisconnected)
       causes = why.empty() ? "arm disconnected" : "arm disconnected: " + why;
     else
       causes = why.empty() ? "arm stopped (fault or emergency stop)" : "arm stopped: " + why;
@@ -248,4 +248,4 @@ void HeadLoop::fillHealth(link::proto::RobotHealth* health) const {
   *health->mutable_hold() = holdLocked();
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -61,10 +61,10 @@
 #include "robot/link/link_server.h"
 #include "robot/telemetry/telemetry_batcher.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 struct HeadLoopConfig {
-  std::int64_t period_ns = HeadArm::kStatePeriodNs;  ///< 100 Hz
+  std::int64_t period_ns = arm::HeadArm::kStatePeriodNs;  ///< 100 Hz
   int state_every_ticks = 2;                          ///< robot state at 50 Hz
   int telemetry_every_ticks = 5;                      ///< a telemetry batch every 50 ms
   bool auto_nominal = false;  ///< take the first valid head target as the nominal pose (demo)
@@ -72,7 +72,7 @@ struct HeadLoopConfig {
   /// A nominal capture needs a head pose that arrived at most this long ago.
   std::int64_t max_capture_age_ns = 250'000'000;
   /// Where the per-tick samples go (with the video path's); null: no telemetry.
-  TelemetryBatcher* telemetry = nullptr;
+  telemetry::TelemetryBatcher* telemetry = nullptr;
   /// The calibration in use, changed live: a new generation reaches the controller and the
   /// joint-state buffer at the next tick, and the robot state names it. Null: the controller's
   /// geometry stays (generation 0 in the state).
@@ -85,8 +85,8 @@ struct HeadLoopConfig {
 
 class HeadLoop {
  public:
-  HeadLoop(HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
-           link::LinkServer& server, const Clock& clock, const HeadLoopConfig& config = {});
+  HeadLoop(arm::HeadArm& arm, HeadController& controller, JointStateBuffer& buffer,
+           link::LinkServer& server, const clock::Clock& clock, const HeadLoopConfig& config = {});
 
   /// One period's work; tick() is what run() calls every period_ns.
   void tick();
@@ -115,7 +115,7 @@ class HeadLoop {
   std::int64_t targetsSent() const { return targets_sent_; }
   /// Head targets stamped on arrival because their sender had no clock offset yet.
   std::int64_t targetsStampedOnArrival() const { return targets_stamped_on_arrival_; }
-  std::optional<JointState> lastState() const;
+  std::optional<arm::JointState> lastState() const;
   link::proto::NominalStep nominalStep() const;
   /// The nominal mapping in force (or pending), as a control reply carries it.
   link::proto::NominalMapping nominalMapping() const;
@@ -144,17 +144,17 @@ class HeadLoop {
   bool armOkLocked() const;
   /// Takes a finished recovery's outcome; on the ok→not-ok→ok edges, arranges the resume.
   void followArmLocked(std::int64_t now_ns);
-  HeadArm& arm_;
+  arm::HeadArm& arm_;
   HeadController& controller_;
   JointStateBuffer& buffer_;
   link::LinkServer& server_;
-  const Clock& clock_;
+  const clock::Clock& clock_;
   HeadLoopConfig config_;
   Eigen::Isometry3d T_flange_head_;  ///< of the calibration in use (guarded by mutex_)
   std::uint64_t calibration_generation_ = 0;  ///< the one the controller has (0: its own)
 
   mutable std::mutex mutex_;  ///< everything below (tick vs control thread)
-  std::optional<JointState> last_state_;
+  std::optional<arm::JointState> last_state_;
   std::optional<ArrivedTarget> last_target_;
   std::uint64_t last_target_sender_ = 0;  ///< sender instance of the last target taken
   std::int64_t last_target_t_ns_ = 0;    ///< and its stamp in the sender's clock
@@ -179,7 +179,7 @@ class HeadLoop {
   };
   std::optional<HeadPattern> pattern_;  ///< while the held pose moves along the pattern
   bool stopped_by_console_ = false;  ///< the arm was stopped on a control request (until cleared)
-  ArmRecovery recovery_;             ///< "clear fault" in progress (the arm is its own meanwhile)
+  arm::ArmRecovery recovery_;             ///< "clear fault" in progress (the arm is its own meanwhile)
   bool stop_after_recovery_ = false;  ///< a stop request came during a recovery: applied after it
   bool resume_pending_ = false;      ///< the arm was not ok: resume from a fresh joint state
   std::int64_t arm_ok_since_ns_ = 0;  ///< when the arm was seen ok again (0: not yet)
@@ -189,4 +189,4 @@ class HeadLoop {
   std::atomic<std::int64_t> ticks_{0}, targets_sent_{0}, targets_stamped_on_arrival_{0};
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -13,7 +13,7 @@
 #include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 void HeadLoop::controlStarted() { ++controls_in_progress_; }
 
@@ -134,9 +134,9 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = buf;
     return false;
   }
-  const IkResult ik = controller_.kinematics().inverse(T_robot_head * T_flange_head_.inverse(), last_state_->q,
+  const arm::IkResult ik = controller_.kinematics().inverse(T_robot_head * T_flange_head_.inverse(), last_state_->q,
                                                        controller_.config().ik);
-  if (ik.status != IkResult::Status::kConverged) {
+  if (ik.status != arm::IkResult::Status::kConverged) {
     *error = "calibration head pose: the arm cannot reach it";
     return false;
   }
@@ -147,7 +147,7 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
         if (amplitude == 0.0) continue;
         const Eigen::Isometry3d T = calibrationPatternSwing(T_robot_head, amplitude * M_PI / 180.0, yaw, pitch, roll);
         if (controller_.kinematics().inverse(T * T_flange_head_.inverse(), ik.q, controller_.config().ik).status !=
-            IkResult::Status::kConverged) {
+            arm::IkResult::Status::kConverged) {
           *error = "calibration head pattern: the arm cannot reach its extremes at this amplitude";
           return false;
         }
@@ -170,4 +170,4 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -10,7 +10,7 @@
 #include "robot/link/proto_enums.h"
 #include "robot/link/sphere_radius.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequest& request) {
   link::proto::ControlReply reply;
@@ -131,4 +131,4 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
   return reply;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

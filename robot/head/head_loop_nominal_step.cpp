@@ -9,7 +9,7 @@
 #include "robot/link/head_angles.h"
 #include "robot/link/link_pose.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 link::proto::NominalMapping HeadLoop::nominalMapping() const {
   std::lock_guard lock(mutex_);
@@ -131,4 +131,4 @@ bool HeadLoop::nominalStepLocked(link::proto::NominalStepRequest request, std::s
   }
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <functional>
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 namespace {
 
 /// Time at which `value` crosses v_thr upwards first (first = true) or downwards last.
@@ -55,4 +55,4 @@ bool writeHeadMotionCsv(const std::filesystem::path& path,
   return static_cast<bool>(out);
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

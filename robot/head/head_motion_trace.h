@@ -8,7 +8,7 @@
 #include <optional>
 #include <vector>
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 /// One instant of a replayed head motion.
 struct HeadMotionSample {
@@ -31,4 +31,4 @@ HeadLatencies measureHeadLatencies(const std::vector<HeadMotionSample>& trace, d
 bool writeHeadMotionCsv(const std::filesystem::path& path,
                         const std::vector<HeadMotionSample>& trace);
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -6,7 +6,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 JointStateBuffer::JointStateBuffer(const HeadGeometry& geometry,
                                    const JointStateBufferConfig& config)
@@ -18,11 +18,11 @@ JointStateBuffer::JointStateBuffer(const HeadGeometry& geometry,
             config.capacity, config.max_extrapolation_ns, config.max_gap_ns);
 }
 
-const JointState& JointStateBuffer::at(std::size_t i) const {
+const arm::JointState& JointStateBuffer::at(std::size_t i) const {
   return ring_[(begin_ + i) % ring_.size()];
 }
 
-bool JointStateBuffer::push(const JointState& state) {
+bool JointStateBuffer::push(const arm::JointState& state) {
   if (!state.q.allFinite()) return false;
   std::unique_lock lock(mutex_);
   if (size_ > 0 && state.t_ns <= at(size_ - 1).t_ns) return false;
@@ -46,20 +46,20 @@ bool JointStateBuffer::waitForSampleAtOrAfter(std::int64_t t_ns, std::chrono::st
   return reached;
 }
 
-std::optional<JointVector> JointStateBuffer::jointsAt(std::int64_t t_ns) const {
+std::optional<arm::JointVector> JointStateBuffer::jointsAt(std::int64_t t_ns) const {
   std::shared_lock lock(mutex_);
   if (size_ == 0) return std::nullopt;
-  const JointState& oldest = at(0);
-  const JointState& newest = at(size_ - 1);
+  const arm::JointState& oldest = at(0);
+  const arm::JointState& newest = at(size_ - 1);
   if (t_ns < oldest.t_ns) return std::nullopt;
   if (t_ns >= newest.t_ns) {
     if (t_ns - newest.t_ns > config_.max_extrapolation_ns) return std::nullopt;
     if (size_ == 1 || t_ns == newest.t_ns) return newest.q;
-    const JointState& before = at(size_ - 2);
+    const arm::JointState& before = at(size_ - 2);
     if (newest.t_ns - before.t_ns > config_.max_gap_ns) return newest.q;
     const double s = static_cast<double>(t_ns - before.t_ns) /
                      static_cast<double>(newest.t_ns - before.t_ns);
-    return JointVector(before.q + s * (newest.q - before.q));
+    return arm::JointVector(before.q + s * (newest.q - before.q));
   }
   // Binary search for the last sample at or before t (oldest.t ≤ t < newest.t here).
   std::size_t lo = 0, hi = size_ - 1;
@@ -67,16 +67,16 @@ std::optional<JointVector> JointStateBuffer::jointsAt(std::int64_t t_ns) const {
     const std::size_t mid = (lo + hi) / 2;
     (at(mid).t_ns <= t_ns ? lo : hi) = mid;
   }
-  const JointState& a = at(lo);
-  const JointState& b = at(hi);
+  const arm::JointState& a = at(lo);
+  const arm::JointState& b = at(hi);
   if (t_ns == a.t_ns) return a.q;
   if (b.t_ns - a.t_ns > config_.max_gap_ns) return std::nullopt;
   const double s = static_cast<double>(t_ns - a.t_ns) / static_cast<double>(b.t_ns - a.t_ns);
-  return JointVector(a.q + s * (b.q - a.q));
+  return arm::JointVector(a.q + s * (b.q - a.q));
 }
 
 std::optional<Eigen::Isometry3d> JointStateBuffer::T_robot_flange(std::int64_t t_ns) const {
-  const std::optional<JointVector> q = jointsAt(t_ns);
+  const std::optional<arm::JointVector> q = jointsAt(t_ns);
   if (!q) return std::nullopt;
   return kinematics_.forward(*q);
 }
@@ -118,4 +118,4 @@ std::optional<std::pair<std::int64_t, std::int64_t>> JointStateBuffer::bracket(s
   return std::nullopt;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -28,7 +28,7 @@
 #include "robot/arm/joint_state.h"
 #include "robot/arm/xarm6_kinematics.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 struct JointStateBufferConfig {
   std::size_t capacity = 512;                    ///< samples kept (5.12 s at 100 Hz)
@@ -44,13 +44,13 @@ class JointStateBuffer {
 
   /// Appends a state. False (ignored) unless t_ns is newer than the newest sample and q finite.
   /// When full, the oldest sample is dropped.
-  bool push(const JointState& state);
+  bool push(const arm::JointState& state);
 
   /// The camera mount T_robot_cam uses from now on (a calibration applied live).
   void setGeometry(const HeadGeometry& geometry);
 
   /// q(t_ns) in rad, or nothing outside the window (see the file comment).
-  std::optional<JointVector> jointsAt(std::int64_t t_ns) const;
+  std::optional<arm::JointVector> jointsAt(std::int64_t t_ns) const;
   /// T_robot_flange(t_ns) = FK(q(t_ns)).
   std::optional<Eigen::Isometry3d> T_robot_flange(std::int64_t t_ns) const;
   /// T_robot_cam(t_ns) = FK(q(t_ns)) · T_flange_cam for the left or right camera.
@@ -71,16 +71,16 @@ class JointStateBuffer {
   int waitingReaders() const { return waiting_readers_.load(); }
 
  private:
-  const JointState& at(std::size_t i) const;  ///< i-th oldest; caller holds the lock
+  const arm::JointState& at(std::size_t i) const;  ///< i-th oldest; caller holds the lock
 
-  Xarm6Kinematics kinematics_;
+  arm::Xarm6Kinematics kinematics_;
   Eigen::Isometry3d T_flange_cam_l_, T_flange_cam_r_;
   JointStateBufferConfig config_;
   mutable std::shared_mutex mutex_;
   mutable std::condition_variable_any pushed_;
   mutable std::atomic<int> waiting_readers_{0};
-  std::vector<JointState> ring_;
+  std::vector<arm::JointState> ring_;
   std::size_t begin_ = 0, size_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

@@ -16,7 +16,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::head {
 
 class PoseLowPassFilter {
  public:
@@ -78,4 +78,4 @@ class PoseLowPassFilter {
   std::int64_t t_ns_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::head

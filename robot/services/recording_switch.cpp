@@ -6,7 +6,7 @@
 
 #include "robot/link/link_endpoints.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
 RecordingSwitch::RecordingSwitch(link::LinkServer& server, std::string dir, record::LinkRecorderOptions options)
     : server_(server), dir_(std::move(dir)), options_(options) {}
@@ -140,4 +140,4 @@ link::proto::RecordingState RecordingSwitch::state() const {
   return s;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

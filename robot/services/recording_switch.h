@@ -18,7 +18,7 @@
 #include "robot/link/link_server.h"
 #include "robot/record/link_recorder.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
 class RecordingSwitch {
  public:
@@ -69,4 +69,4 @@ class RecordingSwitch {
   link::proto::RecordingState last_;  ///< of the last finished recording
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

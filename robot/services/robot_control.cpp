@@ -7,14 +7,14 @@
 #include <map>
 #include <string>
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
 link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest& request) {
   // The head loop's lease clock stands while the robot serves a request (a still may take longer
   // than a calibration hold's lease, and the holder cannot renew meanwhile).
   struct Serving {
-    HeadLoop& loop;
-    explicit Serving(HeadLoop& l) : loop(l) { loop.controlStarted(); }
+    head::HeadLoop& loop;
+    explicit Serving(head::HeadLoop& l) : loop(l) { loop.controlStarted(); }
     ~Serving() { loop.controlFinished(); }
   } serving(loop_);
   link::proto::ControlReply reply;
@@ -26,7 +26,7 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
     } else if (q < 1 || q > 100) {
       reply.set_error("JPEG quality " + std::to_string(q) + " is outside [1, 100]");
     } else {
-      JpegSettings settings = video_->jpegSettings();
+      video::JpegSettings settings = video_->jpegSettings();
       settings.quality = q;
       video_->setJpegSettings(settings);
       reply.set_ok(true);
@@ -105,9 +105,9 @@ void RobotControl::followTrial(const link::proto::TrialIndicator& trial, link::p
 void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {
   loop_.fillSettings(settings);
   if (!video_) return;
-  const JpegSettings jpeg = video_->jpegSettings();
+  const video::JpegSettings jpeg = video_->jpegSettings();
   settings->set_jpeg_quality(jpeg.quality);
   settings->set_jpeg_subsampling(link::toProto(jpeg.subsampling));
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

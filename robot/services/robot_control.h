@@ -15,7 +15,7 @@
 #include "robot/stereo/stereo_still.h"
 #include "robot/video/video_streamer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
 class RobotControl {
  public:
@@ -27,8 +27,8 @@ class RobotControl {
   /// the request need more.
   /// `recording` (may be null: recording requests refused) also records study trials: a trial
   /// indicator that turns on with a recording name starts a recording, turning off stops it.
-  RobotControl(HeadLoop& loop, VideoStreamer* video, StereoStillTaker* stills = nullptr,
-               std::chrono::milliseconds still_timeout = kStillTimeout, CalibrationInUse* calibration = nullptr,
+  RobotControl(head::HeadLoop& loop, video::VideoStreamer* video, stereo::StereoStillTaker* stills = nullptr,
+               std::chrono::milliseconds still_timeout = kStillTimeout, head::CalibrationInUse* calibration = nullptr,
                RecordingSwitch* recording = nullptr)
       : loop_(loop),
         video_(video),
@@ -44,13 +44,13 @@ class RobotControl {
   /// Starts or stops the trial's recording after the head loop took a trial indicator.
   void followTrial(const link::proto::TrialIndicator& trial, link::proto::ControlReply* reply);
 
-  HeadLoop& loop_;
-  VideoStreamer* video_;
-  StereoStillTaker* stills_;
+  head::HeadLoop& loop_;
+  video::VideoStreamer* video_;
+  stereo::StereoStillTaker* stills_;
   std::chrono::milliseconds still_timeout_;
-  CalibrationInUse* calibration_;
+  head::CalibrationInUse* calibration_;
   RecordingSwitch* recording_;
   bool trial_recording_ = false;  ///< the recording in progress was started by a trial indicator
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

@@ -2,9 +2,9 @@
 /// @brief RobotHealthReporter: the counters of every part, one message.
 #include "robot/services/robot_health_reporter.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
-RobotHealthReporter::RobotHealthReporter(RobotHealthSources sources, const Clock& clock)
+RobotHealthReporter::RobotHealthReporter(RobotHealthSources sources, const clock::Clock& clock)
     : sources_(std::move(sources)),
       clock_(clock),
       started_ns_(clock.nowNs()),
@@ -30,11 +30,11 @@ link::proto::RobotHealth RobotHealthReporter::make() {
       count->set_count(link_stats.dropped_by_reason[r]);
     }
   }
-  const VideoStreamerStats video = sources_.video ? sources_.video->stats() : VideoStreamerStats{};
-  const StereoPairerStats pairs = sources_.pairs ? sources_.pairs->stats() : StereoPairerStats{};
+  const video::VideoStreamerStats video = sources_.video ? sources_.video->stats() : video::VideoStreamerStats{};
+  const stereo::StereoPairerStats pairs = sources_.pairs ? sources_.pairs->stats() : stereo::StereoPairerStats{};
   for (std::size_t i = 0; i < sources_.cameras.size(); ++i) {
-    const CameraSource* camera = sources_.cameras[i];
-    const CameraStats stats = camera->stats();
+    const cameras::CameraSource* camera = sources_.cameras[i];
+    const cameras::CameraStats stats = camera->stats();
     auto* c = h.add_cameras();
     c->set_name(camera->name());
     c->set_fps(dt_s > 0 ? double(stats.frames - last_frames_[i]) / dt_s : 0.0);
@@ -58,7 +58,7 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   h.set_encode_ms_last(video.encode_ms_last);
   if (sources_.loop) sources_.loop->fillHealth(&h);
   if (sources_.xarm) {
-    const XArmHeadArm::Stats x = sources_.xarm->stats();
+    const arm::XArmHeadArm::Stats x = sources_.xarm->stats();
     auto* out = h.mutable_xarm();
     out->set_firmware(x.firmware);
     out->set_serial(x.serial);
@@ -88,4 +88,4 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   return h;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

@@ -22,36 +22,36 @@
 #include "robot/services/recording_switch.h"
 #include "robot/video/video_streamer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::services {
 
 /// Where the health report reads from. Cameras, pairs and video may be absent (null).
 struct RobotHealthSources {
-  std::vector<const CameraSource*> cameras;  ///< [left, right]
-  const StereoPairSource* pairs = nullptr;
-  const VideoStreamer* video = nullptr;
-  const HeadLoop* loop = nullptr;
+  std::vector<const cameras::CameraSource*> cameras;  ///< [left, right]
+  const stereo::StereoPairSource* pairs = nullptr;
+  const video::VideoStreamer* video = nullptr;
+  const head::HeadLoop* loop = nullptr;
   const RobotControl* control = nullptr;
   const link::LinkServer* server = nullptr;
-  const TelemetryBatcher* telemetry = nullptr;
+  const telemetry::TelemetryBatcher* telemetry = nullptr;
   const RecordingSwitch* recording = nullptr;
-  const XArmHeadArm* xarm = nullptr;  ///< the real xArm's driver, when it is the arm (its figures)
+  const arm::XArmHeadArm* xarm = nullptr;  ///< the real xArm's driver, when it is the arm (its figures)
   std::string arm;           ///< "simulated xArm 6", …
   std::string cameras_kind;  ///< "synthetic", "aravis", …
 };
 
 class RobotHealthReporter {
  public:
-  RobotHealthReporter(RobotHealthSources sources, const Clock& clock);
+  RobotHealthReporter(RobotHealthSources sources, const clock::Clock& clock);
 
   /// The report as of now; camera fps over the time since the previous call.
   link::proto::RobotHealth make();
 
  private:
   RobotHealthSources sources_;
-  const Clock& clock_;
+  const clock::Clock& clock_;
   std::int64_t started_ns_;
   std::int64_t last_ns_;
   std::vector<std::uint64_t> last_frames_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::services

@@ -8,14 +8,14 @@
 #include "robot/link/link_pose.h"
 #include "robot/link/pose_csv.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 namespace {
 
 void writeMissingPose(std::ostream& out) { out << ",,,,,,,"; }
 
 }  // namespace
 
-std::unique_ptr<GroundTruthLog> GroundTruthLog::open(const std::string& path, const JointStateBuffer& truth,
+std::unique_ptr<GroundTruthLog> GroundTruthLog::open(const std::string& path, const head::JointStateBuffer& truth,
                                                      std::string* error) {
   std::ofstream out(path, std::ios::trunc);
   if (!out) {
@@ -29,14 +29,14 @@ std::unique_ptr<GroundTruthLog> GroundTruthLog::open(const std::string& path, co
   return std::unique_ptr<GroundTruthLog>(new GroundTruthLog(std::move(out), truth));
 }
 
-GroundTruthLog::GroundTruthLog(std::ofstream out, const JointStateBuffer& truth)
+GroundTruthLog::GroundTruthLog(std::ofstream out, const head::JointStateBuffer& truth)
     : out_(std::move(out)), truth_(truth) {}
 
 void GroundTruthLog::frameSent(const StereoFrame& pair, std::uint64_t sequence,
                                const link::proto::NominalMapping& mapping) {
   std::lock_guard lock(mutex_);
   out_ << sequence << ',' << pair.left.capture_ns << ',' << pair.right.capture_ns;
-  for (const auto& [side, frame] : {std::pair{CameraSide::kLeft, &pair.left}, std::pair{CameraSide::kRight, &pair.right}}) {
+  for (const auto& [side, frame] : {std::pair{head::CameraSide::kLeft, &pair.left}, std::pair{head::CameraSide::kRight, &pair.right}}) {
     if (const auto T = truth_.T_robot_cam(side, frame->capture_ns)) {
       link::writePoseCsv(out_, *T);
     } else {
@@ -55,4 +55,4 @@ std::uint64_t GroundTruthLog::rows() const {
   return rows_;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

@@ -21,13 +21,13 @@
 #include "robot/link/telesphere_link.pb.h"
 #include "robot/stereo/stereo_pairer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 class GroundTruthLog {
  public:
   /// Creates `path` with its header; nothing, with the reason in *error, when it cannot.
   /// `truth` (the arm's true joints through the true calibration) must outlive the log.
-  static std::unique_ptr<GroundTruthLog> open(const std::string& path, const JointStateBuffer& truth,
+  static std::unique_ptr<GroundTruthLog> open(const std::string& path, const head::JointStateBuffer& truth,
                                               std::string* error);
 
   /// One row for the frame sent as `sequence`.
@@ -36,12 +36,12 @@ class GroundTruthLog {
   std::uint64_t rows() const;
 
  private:
-  GroundTruthLog(std::ofstream out, const JointStateBuffer& truth);
+  GroundTruthLog(std::ofstream out, const head::JointStateBuffer& truth);
 
   mutable std::mutex mutex_;
   std::ofstream out_;
-  const JointStateBuffer& truth_;
+  const head::JointStateBuffer& truth_;
   std::uint64_t rows_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

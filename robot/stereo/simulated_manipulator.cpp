@@ -6,7 +6,7 @@
 
 #include "robot/cameras/synthetic_scene.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 ManipulatorMounting ManipulatorMounting::example() {
   ManipulatorMounting m;
@@ -27,27 +27,27 @@ std::optional<SimulatedManipulator> SimulatedManipulator::create(const Simulated
   }
   // By default the marker sits at the centre of the default scene's marker circle, turned to
   // face the head (marker z towards it, marker x level).
-  Eigen::Isometry3d T_robot_marker = DefaultSceneLayout::T_robot_marker_centre();
+  Eigen::Isometry3d T_robot_marker = cameras::DefaultSceneLayout::T_robot_marker_centre();
   if (config.T_robot_marker_home) {
     T_robot_marker = *config.T_robot_marker_home;
   } else {
-    const Eigen::Vector3d z = (DefaultSceneLayout{}.head_position - T_robot_marker.translation()).normalized();
+    const Eigen::Vector3d z = (cameras::DefaultSceneLayout{}.head_position - T_robot_marker.translation()).normalized();
     const Eigen::Vector3d x = Eigen::Vector3d::UnitZ().cross(z).normalized();
     T_robot_marker.linear().col(0) = x;
     T_robot_marker.linear().col(1) = z.cross(x);
     T_robot_marker.linear().col(2) = z;
   }
   const Eigen::Isometry3d T_mount_flange = m.T_robot_mount.inverse() * T_robot_marker * m.T_wrist_marker.inverse();
-  const Xarm6Kinematics kinematics;
-  IkOptions options;
+  const arm::Xarm6Kinematics kinematics;
+  arm::IkOptions options;
   options.max_iterations = 300;
   // A few seeds: the elbow up and down, the base turned towards the target.
   const double yaw = std::atan2(T_mount_flange.translation().y(), T_mount_flange.translation().x());
-  for (const JointVector& seed : {JointVector((JointVector() << yaw, -0.3, -0.8, 0.0, 1.1, 0.0).finished()),
-                                  JointVector((JointVector() << yaw, 0.3, -1.2, 0.0, 0.9, 0.0).finished()),
-                                  JointVector(JointVector::Zero())}) {
-    const IkResult ik = kinematics.inverse(T_mount_flange, seed, options);
-    if (ik.status != IkResult::Status::kConverged) continue;
+  for (const arm::JointVector& seed : {arm::JointVector((arm::JointVector() << yaw, -0.3, -0.8, 0.0, 1.1, 0.0).finished()),
+                                  arm::JointVector((arm::JointVector() << yaw, 0.3, -1.2, 0.0, 0.9, 0.0).finished()),
+                                  arm::JointVector(arm::JointVector::Zero())}) {
+    const arm::IkResult ik = kinematics.inverse(T_mount_flange, seed, options);
+    if (ik.status != arm::IkResult::Status::kConverged) continue;
     // The path must stay inside the joint limits.
     if (!kinematics.withinLimits(ik.q - config.amplitude_rad.cwiseAbs()) ||
         !kinematics.withinLimits(ik.q + config.amplitude_rad.cwiseAbs()))
@@ -64,9 +64,9 @@ std::optional<SimulatedManipulator> SimulatedManipulator::create(const Simulated
   return std::nullopt;
 }
 
-JointVector SimulatedManipulator::q(std::int64_t t_ns) const {
+arm::JointVector SimulatedManipulator::q(std::int64_t t_ns) const {
   const double t = static_cast<double>(t_ns) * 1e-9;
-  JointVector q = q_home_;
+  arm::JointVector q = q_home_;
   for (int i = 0; i < 6; ++i) {
     // fmod keeps the phase exact for large steady-clock times.
     const double cycle = std::fmod(t, config_.period_s[i]) / config_.period_s[i];
@@ -81,14 +81,14 @@ Eigen::Isometry3d SimulatedManipulator::T_robot_marker(std::int64_t t_ns) const 
   return config_.mounting.T_robot_mount * T_mount_wrist(t_ns) * config_.mounting.T_wrist_marker;
 }
 
-void SimulatedManipulator::update(std::int64_t now_ns, JointStateBuffer& reports) {
+void SimulatedManipulator::update(std::int64_t now_ns, head::JointStateBuffer& reports) {
   const std::int64_t period = config_.report_period_ns;
   if (!started_) {
     next_report_ns_ = now_ns - now_ns % period;
     started_ = true;
   }
   for (; next_report_ns_ <= now_ns; next_report_ns_ += period) {
-    JointState s;
+    arm::JointState s;
     s.t_ns = next_report_ns_;
     s.q = q(next_report_ns_);
     for (int i = 0; i < 6; ++i) s.q[i] += config_.encoder_noise_std * noise_(rng_);
@@ -96,4 +96,4 @@ void SimulatedManipulator::update(std::int64_t now_ns, JointStateBuffer& reports
   }
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

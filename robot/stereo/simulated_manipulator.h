@@ -23,7 +23,7 @@
 #include "robot/head/joint_state_buffer.h"
 #include "robot/arm/xarm6_kinematics.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 /// Where the manipulator stands and where its marker sits (the two transforms the hand-eye
 /// calibration recovers besides T_flange_cam_l).
@@ -45,9 +45,9 @@ struct SimulatedManipulatorConfig {
   std::optional<Eigen::Isometry3d> T_robot_marker_home;
   /// Teach-mode path: q(t) = q_home + amplitude ⊙ sin(2π t / period + phase), rad and s. The
   /// wrist joints swing most (the marker turns about three axes, ≤ 30° from facing the head).
-  JointVector amplitude_rad = (JointVector() << 0.06, 0.05, 0.05, 0.30, 0.25, 0.35).finished();
-  JointVector period_s = (JointVector() << 13.0, 17.0, 19.0, 11.0, 7.0, 9.0).finished();
-  JointVector phase_rad = (JointVector() << 0.0, 1.0, 2.0, 0.5, 1.5, 2.5).finished();
+  arm::JointVector amplitude_rad = (arm::JointVector() << 0.06, 0.05, 0.05, 0.30, 0.25, 0.35).finished();
+  arm::JointVector period_s = (arm::JointVector() << 13.0, 17.0, 19.0, 11.0, 7.0, 9.0).finished();
+  arm::JointVector phase_rad = (arm::JointVector() << 0.0, 1.0, 2.0, 0.5, 1.5, 2.5).finished();
   std::int64_t report_period_ns = 10'000'000;  ///< 100 Hz, like the head arm
   double encoder_noise_std = 2e-5;             ///< rad, Gaussian, per joint and report
   std::uint64_t seed = 7;
@@ -61,27 +61,27 @@ class SimulatedManipulator {
 
   /// Publishes every report due at or before now_ns (multiples of the report period) into
   /// `reports`; the first call publishes only the report at now_ns's period.
-  void update(std::int64_t now_ns, JointStateBuffer& reports);
+  void update(std::int64_t now_ns, head::JointStateBuffer& reports);
 
   /// The true path: joints, T_mount_wrist = FK(q), and the marker in the robot frame.
-  JointVector q(std::int64_t t_ns) const;
+  arm::JointVector q(std::int64_t t_ns) const;
   Eigen::Isometry3d T_mount_wrist(std::int64_t t_ns) const;
   Eigen::Isometry3d T_robot_marker(std::int64_t t_ns) const;
 
-  const JointVector& qHome() const { return q_home_; }
+  const arm::JointVector& qHome() const { return q_home_; }
   const SimulatedManipulatorConfig& config() const { return config_; }
 
  private:
-  SimulatedManipulator(const SimulatedManipulatorConfig& config, const JointVector& q_home)
+  SimulatedManipulator(const SimulatedManipulatorConfig& config, const arm::JointVector& q_home)
       : config_(config), q_home_(q_home), rng_(config.seed) {}
 
   SimulatedManipulatorConfig config_;
-  Xarm6Kinematics kinematics_;
-  JointVector q_home_;
+  arm::Xarm6Kinematics kinematics_;
+  arm::JointVector q_home_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> noise_{0.0, 1.0};
   std::int64_t next_report_ns_ = 0;
   bool started_ = false;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

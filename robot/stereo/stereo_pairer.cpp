@@ -9,7 +9,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 StereoPairer::StereoPairer(StereoPairerOptions options) : options_(options) {
   TS_ASSERT(options_.tolerance_ns >= 0, options_.tolerance_ns);
@@ -17,13 +17,13 @@ StereoPairer::StereoPairer(StereoPairerOptions options) : options_(options) {
   options_.max_waiting = std::max<std::size_t>(1, options_.max_waiting);
 }
 
-std::optional<StereoFrame> StereoPairer::push(StereoSide side, CameraFrame frame) {
+std::optional<StereoFrame> StereoPairer::push(StereoSide side, cameras::CameraFrame frame) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto s = static_cast<std::size_t>(side), o = 1 - s;
   newest_ns_[s] = std::max(newest_ns_[s].value_or(std::numeric_limits<std::int64_t>::min()),
                            frame.capture_ns);
   // The nearest waiting frame of the other side within the tolerance (the older one on a tie).
-  std::deque<CameraFrame>& others = waiting_[o];
+  std::deque<cameras::CameraFrame>& others = waiting_[o];
   std::optional<std::size_t> best;
   std::int64_t best_abs_ns = std::numeric_limits<std::int64_t>::max();
   for (std::size_t i = 0; i < others.size(); ++i) {
@@ -35,7 +35,7 @@ std::optional<StereoFrame> StereoPairer::push(StereoSide side, CameraFrame frame
   }
   std::optional<StereoFrame> pair;
   if (best) {
-    CameraFrame partner = std::move(others[*best]);
+    cameras::CameraFrame partner = std::move(others[*best]);
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(*best));
     pair.emplace();
     pair->left = side == StereoSide::kLeft ? std::move(frame) : std::move(partner);
@@ -43,9 +43,9 @@ std::optional<StereoFrame> StereoPairer::push(StereoSide side, CameraFrame frame
     ++stats_.pairs;
     stats_.max_abs_skew_ns = std::max(stats_.max_abs_skew_ns, std::abs(pair->skewNs()));
   } else {
-    std::deque<CameraFrame>& mine = waiting_[s];
+    std::deque<cameras::CameraFrame>& mine = waiting_[s];
     const auto at = std::upper_bound(mine.begin(), mine.end(), frame.capture_ns,
-                                     [](std::int64_t t, const CameraFrame& f) { return t < f.capture_ns; });
+                                     [](std::int64_t t, const cameras::CameraFrame& f) { return t < f.capture_ns; });
     mine.insert(at, std::move(frame));
     while (mine.size() > options_.max_waiting) {
       mine.pop_front();
@@ -87,7 +87,7 @@ std::size_t StereoPairer::waiting(StereoSide side) const {
   return waiting_[static_cast<std::size_t>(side)].size();
 }
 
-StereoPairSource::StereoPairSource(CameraSource& left, CameraSource& right, StereoPairerOptions options,
+StereoPairSource::StereoPairSource(cameras::CameraSource& left, cameras::CameraSource& right, StereoPairerOptions options,
                                    std::size_t queue_depth)
     : left_(left), right_(right), pairer_(options), queue_depth_(std::max<std::size_t>(1, queue_depth)) {}
 
@@ -111,11 +111,11 @@ void StereoPairSource::stop() {
     if (t.joinable()) t.join();
 }
 
-void StereoPairSource::pull(StereoSide side, CameraSource& camera) {
+void StereoPairSource::pull(StereoSide side, cameras::CameraSource& camera) {
   constexpr std::chrono::milliseconds kPoll(20);
   while (running_.load()) {
     const auto asked = std::chrono::steady_clock::now();
-    std::optional<CameraFrame> frame = camera.nextFrame(kPoll);
+    std::optional<cameras::CameraFrame> frame = camera.nextFrame(kPoll);
     if (!frame) {
       // A stopped camera answers at once: do not spin on it.
       if (std::chrono::steady_clock::now() - asked < std::chrono::milliseconds(1)) {
@@ -152,4 +152,4 @@ std::uint64_t StereoPairSource::pairsDropped() const {
   return pairs_dropped_;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

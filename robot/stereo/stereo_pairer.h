@@ -33,14 +33,14 @@
 
 #include "robot/cameras/camera_source.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 enum class StereoSide { kLeft = 0, kRight = 1 };
 
 /// A left and a right frame captured within the tolerance.
 struct StereoFrame {
-  CameraFrame left;
-  CameraFrame right;
+  cameras::CameraFrame left;
+  cameras::CameraFrame right;
   /// right.capture_ns − left.capture_ns.
   std::int64_t skewNs() const { return right.capture_ns - left.capture_ns; }
 };
@@ -72,7 +72,7 @@ class StereoPairer {
   explicit StereoPairer(StereoPairerOptions options = {});
 
   /// Adds a frame of `side`; the pair it completes, if any.
-  std::optional<StereoFrame> push(StereoSide side, CameraFrame frame);
+  std::optional<StereoFrame> push(StereoSide side, cameras::CameraFrame frame);
   /// Drops every waiting frame (end of stream), counted as flushed.
   void flush();
   StereoPairerStats stats() const;
@@ -85,7 +85,7 @@ class StereoPairer {
 
   StereoPairerOptions options_;
   mutable std::mutex mutex_;
-  std::array<std::deque<CameraFrame>, 2> waiting_;  ///< each sorted by capture_ns
+  std::array<std::deque<cameras::CameraFrame>, 2> waiting_;  ///< each sorted by capture_ns
   std::array<std::optional<std::int64_t>, 2> newest_ns_;
   StereoPairerStats stats_;
 };
@@ -95,7 +95,7 @@ class StereoPairer {
 /// must outlive this object; starting and stopping them is the caller's job.
 class StereoPairSource {
  public:
-  StereoPairSource(CameraSource& left, CameraSource& right, StereoPairerOptions options = {},
+  StereoPairSource(cameras::CameraSource& left, cameras::CameraSource& right, StereoPairerOptions options = {},
                    std::size_t queue_depth = 2);
   ~StereoPairSource();
   StereoPairSource(const StereoPairSource&) = delete;
@@ -112,10 +112,10 @@ class StereoPairSource {
   std::uint64_t pairsDropped() const;
 
  private:
-  void pull(StereoSide side, CameraSource& camera);
+  void pull(StereoSide side, cameras::CameraSource& camera);
 
-  CameraSource& left_;
-  CameraSource& right_;
+  cameras::CameraSource& left_;
+  cameras::CameraSource& right_;
   StereoPairer pairer_;
   std::size_t queue_depth_;
   mutable std::mutex mutex_;
@@ -126,4 +126,4 @@ class StereoPairSource {
   std::array<std::thread, 2> threads_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

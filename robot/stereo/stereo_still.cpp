@@ -8,13 +8,13 @@
 #include "robot/cameras/debayer.h"
 #include "robot/link/link_pose.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
-bool toGray8(const CameraFrame& frame, std::string* gray, std::string* error) {
+bool toGray8(const cameras::CameraFrame& frame, std::string* gray, std::string* error) {
   if (!frame.pixels || frame.width <= 0 || frame.height <= 0 ||
-      frame.stride_bytes < frame.width * bytesPerPixel(frame.format) ||
+      frame.stride_bytes < frame.width * cameras::bytesPerPixel(frame.format) ||
       frame.pixels->size() < std::size_t(frame.stride_bytes) * std::size_t(frame.height - 1) +
-                                 std::size_t(frame.width * bytesPerPixel(frame.format))) {
+                                 std::size_t(frame.width * cameras::bytesPerPixel(frame.format))) {
     *error = "camera frame without valid pixels";
     return false;
   }
@@ -22,12 +22,12 @@ bool toGray8(const CameraFrame& frame, std::string* gray, std::string* error) {
   gray->resize(w * h);
   const std::uint8_t* src = frame.pixels->data();
   const auto luma = [](int r, int g, int b) { return char((299 * r + 587 * g + 114 * b + 500) / 1000); };
-  if (frame.format == PixelFormat::kMono8) {
+  if (frame.format == cameras::PixelFormat::kMono8) {
     for (std::size_t y = 0; y < h; ++y)
       std::copy_n(src + y * std::size_t(frame.stride_bytes), w, gray->begin() + std::ptrdiff_t(y * w));
     return true;
   }
-  if (frame.format == PixelFormat::kRgb8) {
+  if (frame.format == cameras::PixelFormat::kRgb8) {
     for (std::size_t y = 0; y < h; ++y) {
       const std::uint8_t* row = src + y * std::size_t(frame.stride_bytes);
       for (std::size_t x = 0; x < w; ++x) (*gray)[y * w + x] = luma(row[3 * x], row[3 * x + 1], row[3 * x + 2]);
@@ -35,7 +35,7 @@ bool toGray8(const CameraFrame& frame, std::string* gray, std::string* error) {
     return true;
   }
   std::vector<std::uint8_t> rgb;
-  if (!debayerBilinear(src, frame.width, frame.height, frame.stride_bytes, frame.format, rgb, error)) return false;
+  if (!cameras::debayerBilinear(src, frame.width, frame.height, frame.stride_bytes, frame.format, rgb, error)) return false;
   for (std::size_t i = 0; i < w * h; ++i) (*gray)[i] = luma(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
   return true;
 }
@@ -78,7 +78,7 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   // their own rate), never extrapolate.
   const std::int64_t first_capture_ns = std::min(capture_ns, frame.right.capture_ns);
   const std::int64_t last_capture_ns = std::max(capture_ns, frame.right.capture_ns);
-  const auto bracketed = [&](const JointStateBuffer& buffer, const char* arm) {
+  const auto bracketed = [&](const head::JointStateBuffer& buffer, const char* arm) {
     buffer.waitForSampleAtOrAfter(last_capture_ns, deadline);  // woken by each state it reports
     const auto window = buffer.window();
     if (window && window->first <= first_capture_ns && window->second >= last_capture_ns) return true;
@@ -92,8 +92,8 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   if (!bracketed(joints_, "head arm")) return false;
   if (manipulator_ != nullptr && !bracketed(*manipulator_, "manipulator")) return false;
   const auto q = joints_.jointsAt(capture_ns);
-  const auto T_l = joints_.T_robot_cam(CameraSide::kLeft, frame.left.capture_ns);
-  const auto T_r = joints_.T_robot_cam(CameraSide::kRight, frame.right.capture_ns);
+  const auto T_l = joints_.T_robot_cam(head::CameraSide::kLeft, frame.left.capture_ns);
+  const auto T_r = joints_.T_robot_cam(head::CameraSide::kRight, frame.right.capture_ns);
   if (!q || !T_l || !T_r) {
     *error = "no joint state at the capture time";
     return false;
@@ -125,7 +125,7 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
     still->set_manipulator_after_ns(bracket_m->second);
     link::toLinkPose(*T_mount_wrist, still->mutable_t_mount_wrist());
   }
-  const auto fill = [&](const CameraFrame& f, const Eigen::Isometry3d& T, link::proto::CalibrationImage* image) {
+  const auto fill = [&](const cameras::CameraFrame& f, const Eigen::Isometry3d& T, link::proto::CalibrationImage* image) {
     image->set_width(std::uint32_t(f.width));
     image->set_height(std::uint32_t(f.height));
     image->set_capture_ns(f.capture_ns);
@@ -138,4 +138,4 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

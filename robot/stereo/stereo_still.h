@@ -25,13 +25,13 @@
 #include "robot/link/telesphere_link.pb.h"
 #include "robot/stereo/stereo_pairer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 class StereoStillTaker {
  public:
   /// `manipulator`: the manipulator's reported joints (its buffer's flange pose is T_mount_wrist),
   /// or null when the robot has none.
-  StereoStillTaker(const JointStateBuffer& joints, const Clock& clock, const JointStateBuffer* manipulator = nullptr)
+  StereoStillTaker(const head::JointStateBuffer& joints, const clock::Clock& clock, const head::JointStateBuffer* manipulator = nullptr)
       : joints_(joints), clock_(clock), manipulator_(manipulator) {}
 
   /// Every pair the video path sends (cheap: the pixels are shared, nothing is converted here).
@@ -47,9 +47,9 @@ class StereoStillTaker {
   int takersWaiting() const { return takers_waiting_.load(); }
 
  private:
-  const JointStateBuffer& joints_;
-  const Clock& clock_;
-  const JointStateBuffer* manipulator_;
+  const head::JointStateBuffer& joints_;
+  const clock::Clock& clock_;
+  const head::JointStateBuffer* manipulator_;
   mutable std::mutex mutex_;
   std::condition_variable offered_;
   std::optional<std::pair<StereoFrame, std::uint64_t>> newest_;
@@ -58,6 +58,6 @@ class StereoStillTaker {
 };
 
 /// One camera frame as 8-bit grey rows without padding; false with the reason.
-bool toGray8(const CameraFrame& frame, std::string* gray, std::string* error);
+bool toGray8(const cameras::CameraFrame& frame, std::string* gray, std::string* error);
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

@@ -19,29 +19,29 @@
 #include "robot/clock/clock.h"
 #include "robot/head/joint_state_buffer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::stereo {
 
 class TrueCameraPoses {
  public:
   /// `truth`: the arm's true joint states with the true camera mount; `T_robot_cam0`: the left
   /// and right cameras at the arm's initial configuration. Both must outlive this object.
-  TrueCameraPoses(const JointStateBuffer& truth, const Clock& clock,
+  TrueCameraPoses(const head::JointStateBuffer& truth, const clock::Clock& clock,
                   const std::array<Eigen::Isometry3d, 2>& T_robot_cam0,
                   std::chrono::milliseconds max_wait = std::chrono::milliseconds(2000))
       : truth_(truth), clock_(clock), T_robot_cam0_(T_robot_cam0), max_wait_(max_wait) {}
 
   /// T_robot_cam of camera `side` at t_ns (steady ns); thread-safe.
-  Eigen::Isometry3d at(CameraSide side, std::int64_t t_ns) const;
+  Eigen::Isometry3d at(head::CameraSide side, std::int64_t t_ns) const;
 
   /// Poses that fell back to the initial one although the arm had reported states.
   std::uint64_t fallbacks() const { return fallbacks_; }
 
  private:
-  const JointStateBuffer& truth_;
-  const Clock& clock_;
+  const head::JointStateBuffer& truth_;
+  const clock::Clock& clock_;
   std::array<Eigen::Isometry3d, 2> T_robot_cam0_;
   std::chrono::milliseconds max_wait_;
   mutable std::atomic<std::uint64_t> fallbacks_{0};
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::stereo

@@ -2,7 +2,7 @@
 /// @brief TelemetryBatcher: a mutex-guarded batch under construction.
 #include "robot/telemetry/telemetry_batcher.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::telemetry {
 
 void TelemetryBatcher::addTick(const link::proto::HeadTick& tick) {
   std::lock_guard lock(mutex_);
@@ -41,4 +41,4 @@ std::uint64_t TelemetryBatcher::droppedSamples() const {
   return dropped_;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::telemetry

@@ -11,7 +11,7 @@
 
 #include "robot/link/telesphere_link.pb.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::telemetry {
 
 class TelemetryBatcher {
  public:
@@ -35,4 +35,4 @@ class TelemetryBatcher {
   std::uint64_t dropped_ = 0;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::telemetry

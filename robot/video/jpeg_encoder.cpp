@@ -6,7 +6,7 @@
 
 #include <stdexcept>
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 namespace {
 
 int tjSubsampling(ChromaSubsampling s) {
@@ -69,4 +69,4 @@ bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int 
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -11,7 +11,7 @@
 
 #include "robot/link/chroma_subsampling.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 
 using ChromaSubsampling = link::ChromaSubsampling;  ///< the video path's one chroma enum
 
@@ -47,4 +47,4 @@ class JpegEncoder {
   void* handle_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

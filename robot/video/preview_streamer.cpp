@@ -7,12 +7,12 @@
 
 #include "robot/video/jpeg_encoder.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 
-std::optional<PreviewImage> reduceForPreview(const CameraFrame& frame, int max_width) {
+std::optional<PreviewImage> reduceForPreview(const cameras::CameraFrame& frame, int max_width) {
   if (max_width < 1 || frame.width < 1 || frame.height < 1 || !frame.pixels) return std::nullopt;
-  if (frame.format != PixelFormat::kRgb8 && frame.format != PixelFormat::kMono8) return std::nullopt;
-  const int channels = bytesPerPixel(frame.format);
+  if (frame.format != cameras::PixelFormat::kRgb8 && frame.format != cameras::PixelFormat::kMono8) return std::nullopt;
+  const int channels = cameras::bytesPerPixel(frame.format);
   if (frame.stride_bytes < frame.width * channels ||
       frame.pixels->size() < std::size_t(frame.stride_bytes) * std::size_t(frame.height - 1) +
                                  std::size_t(frame.width * channels))
@@ -61,7 +61,7 @@ void PreviewStreamer::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void PreviewStreamer::offer(const StereoFrame& pair, std::uint64_t sequence) {
+void PreviewStreamer::offer(const stereo::StereoFrame& pair, std::uint64_t sequence) {
   {
     std::lock_guard lock(mutex_);
     slot_.emplace(pair, sequence);
@@ -69,7 +69,7 @@ void PreviewStreamer::offer(const StereoFrame& pair, std::uint64_t sequence) {
   offered_.notify_one();
 }
 
-bool PreviewStreamer::publish(const StereoFrame& pair, std::uint64_t sequence, std::string* error) {
+bool PreviewStreamer::publish(const stereo::StereoFrame& pair, std::uint64_t sequence, std::string* error) {
   JpegEncoder encoder;  // a handle per call: a few µs, and the thread keeps no encoder state
   JpegSettings settings;
   settings.quality = options_.quality;
@@ -80,10 +80,10 @@ bool PreviewStreamer::publish(const StereoFrame& pair, std::uint64_t sequence, s
   preview.set_source_height(static_cast<std::uint32_t>(pair.left.height));
   link::SharedBytes jpegs[2];
   int index = 0;
-  for (const CameraFrame* frame : {&pair.left, &pair.right}) {
+  for (const cameras::CameraFrame* frame : {&pair.left, &pair.right}) {
     const auto image = reduceForPreview(*frame, options_.max_width);
     if (!image) {
-      *error = std::string("cannot reduce a ") + pixelFormatName(frame->format) + " " +
+      *error = std::string("cannot reduce a ") + cameras::pixelFormatName(frame->format) + " " +
                std::to_string(frame->width) + "x" + std::to_string(frame->height) + " image";
       return false;
     }
@@ -108,7 +108,7 @@ void PreviewStreamer::run() {
   auto next = std::chrono::steady_clock::now();
   std::uint64_t failures = 0;
   while (true) {
-    std::optional<std::pair<StereoFrame, std::uint64_t>> pair;
+    std::optional<std::pair<stereo::StereoFrame, std::uint64_t>> pair;
     {
       std::unique_lock lock(mutex_);
       offered_.wait(lock, [&] { return !running_ || slot_.has_value(); });
@@ -128,4 +128,4 @@ void PreviewStreamer::run() {
   }
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -20,7 +20,7 @@
 #include "robot/link/link_server.h"
 #include "robot/stereo/stereo_pairer.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 
 struct PreviewOptions {
   int max_width = 320;   ///< px per image
@@ -38,7 +38,7 @@ struct PreviewImage {
 /// `max_width` wide (k = ceil(width / max_width)): each output pixel is the rounded mean of a
 /// k×k block; a last partial row or column of blocks is dropped. Nothing for other formats,
 /// empty frames or max_width < 1.
-std::optional<PreviewImage> reduceForPreview(const CameraFrame& frame, int max_width);
+std::optional<PreviewImage> reduceForPreview(const cameras::CameraFrame& frame, int max_width);
 
 class PreviewStreamer {
  public:
@@ -51,10 +51,10 @@ class PreviewStreamer {
   void stop();
 
   /// Hands over the pair sent as stereo frame `sequence` (latest wins; never blocks).
-  void offer(const StereoFrame& pair, std::uint64_t sequence);
+  void offer(const stereo::StereoFrame& pair, std::uint64_t sequence);
 
   /// Reduces, encodes and publishes one pair now (what the thread does); false with the reason.
-  bool publish(const StereoFrame& pair, std::uint64_t sequence, std::string* error);
+  bool publish(const stereo::StereoFrame& pair, std::uint64_t sequence, std::string* error);
 
   std::uint64_t published() const { return published_; }
 
@@ -65,10 +65,10 @@ class PreviewStreamer {
   PreviewOptions options_;
   std::mutex mutex_;
   std::condition_variable offered_;
-  std::optional<std::pair<StereoFrame, std::uint64_t>> slot_;
+  std::optional<std::pair<stereo::StereoFrame, std::uint64_t>> slot_;
   std::atomic<bool> running_{false};
   std::atomic<std::uint64_t> published_{0};
   std::thread thread_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -8,7 +8,7 @@
 #include <mutex>
 #include <thread>
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 namespace stereo_encoder_detail {  // named: Impl's members use it (-Wsubobject-linkage)
 
 /// Output buffers of one side: reuses a buffer nobody else holds any more.
@@ -31,8 +31,8 @@ class StereoEncoderBufferPool {
   std::vector<std::shared_ptr<std::vector<std::uint8_t>>> buffers_;
 };
 
-bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const Clock& clock,
-                 const CameraFrame& frame, const JpegSettings& settings, EncodedImage& out,
+bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const clock::Clock& clock,
+                 const cameras::CameraFrame& frame, const JpegSettings& settings, EncodedImage& out,
                  std::string* error) {
   if (!frame.pixels || frame.width <= 0 || frame.height <= 0 ||
       frame.pixels->size() < static_cast<std::size_t>(frame.stride_bytes) * frame.height) {
@@ -42,14 +42,14 @@ bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const Cloc
   const std::int64_t start_ns = clock.nowNs();
   auto buffer = pool.acquire();
   bool ok = false;
-  if (frame.format == PixelFormat::kRgb8) {
+  if (frame.format == cameras::PixelFormat::kRgb8) {
     ok = encoder.encodeRgb(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
                            settings, *buffer, error);
-  } else if (frame.format == PixelFormat::kMono8) {
+  } else if (frame.format == cameras::PixelFormat::kMono8) {
     ok = encoder.encodeGray(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
                             settings, *buffer, error);
   } else {
-    *error = std::string("cannot encode pixel format ") + pixelFormatName(frame.format) +
+    *error = std::string("cannot encode pixel format ") + cameras::pixelFormatName(frame.format) +
              " (debayer to RGB8 first)";
   }
   if (!ok) return false;
@@ -65,7 +65,7 @@ using stereo_encoder_detail::encodeFrame;
 using stereo_encoder_detail::StereoEncoderBufferPool;
 
 struct StereoEncoder::Impl {
-  const Clock& clock;
+  const clock::Clock& clock;
   JpegSettings settings;
   mutable std::mutex settings_mutex;
 
@@ -75,14 +75,14 @@ struct StereoEncoder::Impl {
   // Hand-off to the worker: one job at a time.
   std::mutex mutex;
   std::condition_variable cv;
-  const CameraFrame* job = nullptr;
+  const cameras::CameraFrame* job = nullptr;
   JpegSettings job_settings;
   EncodedImage* job_out = nullptr;
   bool job_done = false, job_ok = false, quit = false;
   std::string job_error;
   std::thread worker;
 
-  Impl(const Clock& c, const JpegSettings& s) : clock(c), settings(s) {
+  Impl(const clock::Clock& c, const JpegSettings& s) : clock(c), settings(s) {
     worker = std::thread([this] { run(); });
   }
 
@@ -91,7 +91,7 @@ struct StereoEncoder::Impl {
     for (;;) {
       cv.wait(lock, [this] { return quit || (job && !job_done); });
       if (quit) return;
-      const CameraFrame& frame = *job;
+      const cameras::CameraFrame& frame = *job;
       const JpegSettings s = job_settings;
       EncodedImage* out = job_out;
       lock.unlock();
@@ -106,7 +106,7 @@ struct StereoEncoder::Impl {
   }
 };
 
-StereoEncoder::StereoEncoder(const Clock& clock, const JpegSettings& settings)
+StereoEncoder::StereoEncoder(const clock::Clock& clock, const JpegSettings& settings)
     : impl_(std::make_unique<Impl>(clock, settings)) {}
 
 StereoEncoder::~StereoEncoder() {
@@ -128,7 +128,7 @@ JpegSettings StereoEncoder::settings() const {
   return impl_->settings;
 }
 
-bool StereoEncoder::encode(const CameraFrame& left, const CameraFrame& right, EncodedPair& out,
+bool StereoEncoder::encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right, EncodedPair& out,
                            std::string* error) {
   const JpegSettings s = settings();
   out.settings = s;
@@ -157,4 +157,4 @@ bool StereoEncoder::encode(const CameraFrame& left, const CameraFrame& right, En
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -14,7 +14,7 @@
 #include "robot/clock/clock.h"
 #include "robot/video/jpeg_encoder.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 
 struct EncodedImage {
   std::shared_ptr<const std::vector<std::uint8_t>> jpeg;
@@ -29,14 +29,14 @@ struct EncodedPair {
 
 class StereoEncoder {
  public:
-  StereoEncoder(const Clock& clock, const JpegSettings& settings);
+  StereoEncoder(const clock::Clock& clock, const JpegSettings& settings);
   ~StereoEncoder();
   StereoEncoder(const StereoEncoder&) = delete;
   StereoEncoder& operator=(const StereoEncoder&) = delete;
 
   /// Encodes both frames (RGB8 or Mono8; other formats are refused: debayer first) in parallel.
   /// False with the reason in *error when either fails; `out` is then unspecified.
-  bool encode(const CameraFrame& left, const CameraFrame& right, EncodedPair& out,
+  bool encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right, EncodedPair& out,
               std::string* error);
 
   /// Takes effect from the next encode(). Quality outside 1..100 makes encode() fail.
@@ -48,4 +48,4 @@ class StereoEncoder {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

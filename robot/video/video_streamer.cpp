@@ -9,17 +9,17 @@
 #include <algorithm>
 #include <iostream>
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 namespace {
 
-link::proto::ChromaSubsampling protoSubsampling(const CameraFrame& frame, ChromaSubsampling s) {
-  if (frame.format == PixelFormat::kMono8) return link::proto::CHROMA_GRAY;
+link::proto::ChromaSubsampling protoSubsampling(const cameras::CameraFrame& frame, ChromaSubsampling s) {
+  if (frame.format == cameras::PixelFormat::kMono8) return link::proto::CHROMA_GRAY;
   return link::toProto(s);
 }
 
 }  // namespace
 
-VideoStreamer::VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
+VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& server, const clock::Clock& clock,
                              StereoPosesAt poses, const VideoStreamerConfig& config)
     : pairs_(pairs),
       server_(server),
@@ -51,7 +51,7 @@ void VideoStreamer::run() {
   }
 }
 
-bool VideoStreamer::publish(const StereoFrame& pair) {
+bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   const std::int64_t start_ns = clock_.nowNs();
   EncodedPair encoded;
   std::string error;
@@ -67,16 +67,16 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
   link::proto::StereoFrame message;
   message.set_sequence(++sequence_);
   std::uint64_t from_joints = 0, fixed = 0;
-  const StereoCameraPoses poses = poses_ ? poses_(pair.left.capture_ns, pair.right.capture_ns) : StereoCameraPoses{};
+  const head::StereoCameraPoses poses = poses_ ? poses_(pair.left.capture_ns, pair.right.capture_ns) : head::StereoCameraPoses{};
   message.set_calibration_generation(poses.calibration_generation);
-  const auto describe = [&](const CameraFrame& frame, CameraSide side, link::proto::CameraImage* image) {
+  const auto describe = [&](const cameras::CameraFrame& frame, head::CameraSide side, link::proto::CameraImage* image) {
     image->set_capture_ns(frame.capture_ns);
     image->set_width(static_cast<std::uint32_t>(frame.width));
     image->set_height(static_cast<std::uint32_t>(frame.height));
     image->set_subsampling(protoSubsampling(frame, settings.subsampling));
     image->set_exposure_us(frame.exposure_us);
     image->set_camera_sequence(frame.sequence);
-    const bool left = side == CameraSide::kLeft;
+    const bool left = side == head::CameraSide::kLeft;
     if (left ? poses.measured_l : poses.measured_r) {
       image->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
       ++from_joints;
@@ -86,8 +86,8 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
     }
     link::toLinkPose(left ? poses.T_robot_cam_l : poses.T_robot_cam_r, image->mutable_t_robot_cam());
   };
-  describe(pair.left, CameraSide::kLeft, message.mutable_left());
-  describe(pair.right, CameraSide::kRight, message.mutable_right());
+  describe(pair.left, head::CameraSide::kLeft, message.mutable_left());
+  describe(pair.right, head::CameraSide::kRight, message.mutable_right());
   // The pair is as old as its older image; it is encoded when both are.
   message.mutable_stamps()->set_capture_ns(std::min(pair.left.capture_ns, pair.right.capture_ns));
   message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));
@@ -122,4 +122,4 @@ bool VideoStreamer::publish(const StereoFrame& pair) {
   return true;
 }
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -23,17 +23,17 @@
 #include "robot/stereo/stereo_pairer.h"
 #include "robot/telemetry/telemetry_batcher.h"
 
-namespace telesphere::robot {
+namespace telesphere::robot::video {
 
 /// Both cameras' T_robot_cam at their capture times (CalibrationInUse::posesAt on the robot).
-using StereoPosesAt = std::function<StereoCameraPoses(std::int64_t left_capture_ns, std::int64_t right_capture_ns)>;
+using StereoPosesAt = std::function<head::StereoCameraPoses(std::int64_t left_capture_ns, std::int64_t right_capture_ns)>;
 
 struct VideoStreamerConfig {
   JpegSettings jpeg;
   /// Gets one SentFrame sample per frame sent (null: no telemetry).
-  TelemetryBatcher* telemetry = nullptr;
+  telemetry::TelemetryBatcher* telemetry = nullptr;
   /// Called with every pair sent and its sequence (the console's preview); must not block.
-  std::function<void(const StereoFrame&, std::uint64_t sequence)> on_sent;
+  std::function<void(const stereo::StereoFrame&, std::uint64_t sequence)> on_sent;
 };
 
 struct VideoStreamerStats {
@@ -50,7 +50,7 @@ struct VideoStreamerStats {
 
 class VideoStreamer {
  public:
-  VideoStreamer(StereoPairSource& pairs, link::LinkServer& server, const Clock& clock,
+  VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& server, const clock::Clock& clock,
                 StereoPosesAt poses, const VideoStreamerConfig& config);
   ~VideoStreamer();
   VideoStreamer(const VideoStreamer&) = delete;
@@ -61,7 +61,7 @@ class VideoStreamer {
   void stop();
 
   /// One pair: encode and publish (what the thread does per pair); false on an encode failure.
-  bool publish(const StereoFrame& pair);
+  bool publish(const stereo::StereoFrame& pair);
 
   void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
   JpegSettings jpegSettings() const { return encoder_.settings(); }
@@ -70,9 +70,9 @@ class VideoStreamer {
  private:
   void run();
 
-  StereoPairSource& pairs_;
+  stereo::StereoPairSource& pairs_;
   link::LinkServer& server_;
-  const Clock& clock_;
+  const clock::Clock& clock_;
   StereoPosesAt poses_;
   VideoStreamerConfig config_;
   StereoEncoder encoder_;
@@ -83,4 +83,4 @@ class VideoStreamer {
   std::thread thread_;
 };
 
-}  // namespace telesphere::robot
+}  // namespace telesphere::robot::video

@@ -266,11 +266,11 @@ TEST_F(CalibToolsCli, HandEyeFromHeadArmJointAngles) {
   fs::create_directories(dir);
   writeStereoIntrinsics(dir / "intrinsics.yaml");
   const HandEyeTruth truth = handEyeTruth();
-  const robot::Xarm6Kinematics arm;
+  const robot::arm::Xarm6Kinematics arm;
   // Head motion in joint space: J1 (yaw), J5 and J4 (pitch, roll of the wrist) about a working pose.
   const auto q_at = [](int i) {
     const double phase = 0.37 * i;
-    robot::JointVector q;
+    robot::arm::JointVector q;
     q << 0.6 * std::sin(phase), -0.3, -0.8, 0.25 * std::sin(0.7 * phase), 1.1 + 0.35 * std::sin(1.3 * phase), 0.0;
     return q;
   };
@@ -287,7 +287,7 @@ TEST_F(CalibToolsCli, HandEyeFromHeadArmJointAngles) {
     f << "marker: {dictionary: DICT_4X4_50, id: 0, size: 0.1}\nsamples:\n";
     for (const auto& s : samples) {
       // t_ns = attempt · 100 ms (see simulateHandEyeSession): the attempt gives the joint angles.
-      const robot::JointVector q = q_at(static_cast<int>(s.t_ns / 100000000));
+      const robot::arm::JointVector q = q_at(static_cast<int>(s.t_ns / 100000000));
       char buf[256];
       std::snprintf(buf, sizeof buf, "[%.17g, %.17g, %.17g, %.17g, %.17g, %.17g]", q[0], q[1], q[2], q[3], q[4], q[5]);
       f << "  - t_ns: " << s.t_ns << "\n    q_head: " << buf << "\n    T_mount_wrist: " << poseYaml(s.T_mount_wrist)

@@ -191,10 +191,10 @@ Rate measure(int reps, F f) {
   return {reps / wall, reps / cpu, 1e3 * cpu / reps};
 }
 
-robot::JpegSettings settingsFor(int quality, bool chroma444) {
-  robot::JpegSettings s;
+robot::video::JpegSettings settingsFor(int quality, bool chroma444) {
+  robot::video::JpegSettings s;
   s.quality = quality;
-  s.subsampling = chroma444 ? robot::ChromaSubsampling::k444 : robot::ChromaSubsampling::k420;
+  s.subsampling = chroma444 ? robot::video::ChromaSubsampling::k444 : robot::video::ChromaSubsampling::k420;
   return s;
 }
 
@@ -290,7 +290,7 @@ nlohmann::json runCodec(const BenchContext& ctx) {
       << " cores, " << reps << " repetitions\n";
 
   // Encode and decode on one core, at the operating point: quality 90, 4:2:0.
-  robot::JpegEncoder encoder;
+  robot::video::JpegEncoder encoder;
   xr::JpegDecoder decoder;
   std::vector<std::uint8_t> jpeg;
   std::string error;

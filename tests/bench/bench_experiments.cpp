@@ -261,7 +261,7 @@ ImageLatency imageLatency(const std::vector<XrFrameAt>& frames) {
 // --- 2./3. Head latency and Δs ---------------------------------------------------------------
 
 struct HeadResult {
-  std::vector<robot::HeadMotionSample> trace;
+  std::vector<robot::head::HeadMotionSample> trace;
   std::vector<double> t1_ms, t2_ms;  ///< one per move
   std::vector<double> ds_mm, vop_for_ds;  ///< Δs and v_op per display frame during the moves
 };
@@ -277,7 +277,7 @@ HeadResult headLatency(const LoopRun& run, const std::vector<XrFrameAt>& frames)
   const double t_begin = std::max(v_op.front().first, v_rob.front().first);
   const double t_end = std::min(v_op.back().first, v_rob.back().first);
   for (double t = t_begin; t <= t_end; t += 0.005) {
-    robot::HeadMotionSample s;
+    robot::head::HeadMotionSample s;
     s.t_s = t - t_begin;
     s.v_operator = interpolate(v_op, t);
     s.v_robot = interpolate(v_rob, t);
@@ -293,10 +293,10 @@ HeadResult headLatency(const LoopRun& run, const std::vector<XrFrameAt>& frames)
   }
   for (std::size_t k = 0; k < starts.size(); ++k) {
     const double a = starts[k] - 0.3, b = k + 1 < starts.size() ? starts[k + 1] - 0.3 : 1e9;
-    std::vector<robot::HeadMotionSample> window;
+    std::vector<robot::head::HeadMotionSample> window;
     for (const auto& s : out.trace)
       if (s.t_s >= a && s.t_s < b) window.push_back(s);
-    const auto latencies = robot::measureHeadLatencies(window, kSpeedThreshold);
+    const auto latencies = robot::head::measureHeadLatencies(window, kSpeedThreshold);
     if (latencies.start_s) out.t1_ms.push_back(*latencies.start_s * 1e3);
     if (latencies.finish_s) out.t2_ms.push_back(*latencies.finish_s * 1e3);
   }
@@ -331,7 +331,7 @@ std::vector<EyeFrame> eyeErrors(const LoopRun& run, const std::vector<XrFrameAt>
   const auto v_op = operatorSpeed(frames);
   std::map<std::int64_t, double> t_robot_of_display;
   for (const auto& f : frames) t_robot_of_display[f.frame.display_ns()] = f.t_robot_s;
-  const robot::SyntheticScene scene = robot::defaultScene();
+  const robot::cameras::SyntheticScene scene = robot::cameras::defaultScene();
   for (const auto& frame : *truth_frames) {
     const auto row = robot_rows->find(frame.stereo_sequence);
     const auto t = t_robot_of_display.find(frame.display_ns);
@@ -514,7 +514,7 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
   json["ds_max_mm"] = percentile(head.ds_mm, 1.0);
   json["ds_vop_correlation"] = ds_corr;
   {
-    robot::writeHeadMotionCsv(out_dir / "head_motion.csv", head.trace);
+    robot::head::writeHeadMotionCsv(out_dir / "head_motion.csv", head.trace);
     const Figure fig6 = headMotionFigure(
         head.trace, "Head speed, operator and robot (experiment 2, paper Fig. 6); t1 " + formatNumber(t1) +
                         " ms, t2 " + formatNumber(t2) + " ms");

@@ -35,9 +35,9 @@
 namespace telesphere::bench {
 namespace {
 
-using robot::HeadController;
-using robot::HeadControllerConfig;
-using robot::JointVector;
+using robot::head::HeadController;
+using robot::head::HeadControllerConfig;
+using robot::arm::JointVector;
 
 constexpr std::int64_t kMs = 1'000'000;
 constexpr double kDistance = 0.25;                            // m, lateral
@@ -72,8 +72,8 @@ Eigen::Isometry3d operatorPose(double t, const Eigen::Vector3d& jitter = Eigen::
 }
 
 struct Replay {
-  std::vector<robot::HeadMotionSample> trace;
-  robot::HeadLatencies latencies;
+  std::vector<robot::head::HeadMotionSample> trace;
+  robot::head::HeadLatencies latencies;
   std::vector<double> tick_us;
   double mean_deviation = 0, max_deviation = 0;  // m, while the operator moves
 };
@@ -81,9 +81,9 @@ struct Replay {
 /// The 10 ms trace of a run from the arm's joint states in `buffer` (the replay's time zero at
 /// t0_ns, the same clock as the states): speeds by finite differences, Δs between the operator's
 /// left eye and cam_l, the deviation while the operator moves, t1 and t2.
-void traceRun(const robot::JointStateBuffer& buffer, const HeadControllerConfig& config,
+void traceRun(const robot::head::JointStateBuffer& buffer, const HeadControllerConfig& config,
               const Eigen::Isometry3d& T_robot_vr, const JointVector& q_nom, std::int64_t t0_ns, Replay& out) {
-  const robot::Xarm6Kinematics kin;
+  const robot::arm::Xarm6Kinematics kin;
   const Eigen::Isometry3d T_head_eye_l(Eigen::Translation3d(0, 0.0325, 0));  // 65 mm IPD
   const auto operatorHead = [&](double t) { return T_robot_vr * operatorPose(t) * HeadController::T_hmd_head(); };
   Eigen::Vector3d p_rob_prev = (kin.forward(q_nom) * config.geometry.T_flange_head()).translation();
@@ -93,10 +93,10 @@ void traceRun(const robot::JointStateBuffer& buffer, const HeadControllerConfig&
   for (std::int64_t t = 10 * kMs; t <= end_ns; t += 10 * kMs) {
     const double ts = static_cast<double>(t) * 1e-9;
     const auto T_flange = buffer.T_robot_flange(t0_ns + t);
-    const auto T_cam_l = buffer.T_robot_cam(robot::CameraSide::kLeft, t0_ns + t);
+    const auto T_cam_l = buffer.T_robot_cam(robot::head::CameraSide::kLeft, t0_ns + t);
     if (!T_flange || !T_cam_l) continue;
     const Eigen::Vector3d p_rob = (*T_flange * config.geometry.T_flange_head()).translation();
-    robot::HeadMotionSample s;
+    robot::head::HeadMotionSample s;
     s.t_s = ts;
     s.v_operator = (operatorHead(ts).translation() - operatorHead(ts - 0.01).translation()).norm() / 0.01;
     s.v_robot = (p_rob - p_rob_prev).norm() / 0.01;
@@ -110,33 +110,33 @@ void traceRun(const robot::JointStateBuffer& buffer, const HeadControllerConfig&
     }
   }
   out.mean_deviation = deviation_sum / std::max(1, deviation_n);
-  out.latencies = robot::measureHeadLatencies(out.trace, kThreshold);
+  out.latencies = robot::head::measureHeadLatencies(out.trace, kThreshold);
 }
 
 JointVector nominalJoints(const HeadControllerConfig& config) {
   JointVector seed;
   seed << 0.0, -0.3, -1.0, 0.0, -0.6, 0.0;
   const Eigen::Isometry3d T_head_flange = config.geometry.T_flange_head().inverse();
-  return robot::Xarm6Kinematics().inverse(config.T_robot_nom * T_head_flange, seed).q;
+  return robot::arm::Xarm6Kinematics().inverse(config.T_robot_nom * T_head_flange, seed).q;
 }
 
-Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = robot::SimulatedArmConfig{}.breakaway_rad) {
+Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = robot::arm::SimulatedArmConfig{}.breakaway_rad) {
   HeadControllerConfig config;
   config.cutoff_hz = cutoff_hz;
   HeadController controller(config);
   const JointVector q_nom = nominalJoints(config);
 
-  robot::SimClock clock(0);
-  robot::SimulatedArmConfig arm_config;
+  robot::clock::SimClock clock(0);
+  robot::arm::SimulatedArmConfig arm_config;
   arm_config.command_latency_ns = latency_ns;
   arm_config.breakaway_rad = breakaway_rad;
   arm_config.q_initial = q_nom;
-  robot::SimulatedArm arm(clock, arm_config);
-  robot::JointStateBuffer buffer(config.geometry);
+  robot::arm::SimulatedArm arm(clock, arm_config);
+  robot::head::JointStateBuffer buffer(config.geometry);
   controller.initialise({0, operatorPose(0)}, q_nom);
 
   Replay out;
-  robot::HmdSample hmd{0, operatorPose(0)};
+  robot::head::HmdSample hmd{0, operatorPose(0)};
   const std::int64_t end_ns = static_cast<std::int64_t>(kTotal * 1e9);
   for (std::int64_t t = kMs; t <= end_ns; t += kMs) {
     clock.set(t);
@@ -148,7 +148,7 @@ Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = 
     }
     if (t % (10 * kMs) != 0) continue;
     const auto t0 = std::chrono::steady_clock::now();
-    const robot::HeadCommand cmd = controller.tick(hmd, t);
+    const robot::head::HeadCommand cmd = controller.tick(hmd, t);
     const auto t1 = std::chrono::steady_clock::now();
     out.tick_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
     if (cmd.send) arm.sendTarget(cmd.q_target);
@@ -162,7 +162,7 @@ Replay replay(double cutoff_hz, std::int64_t latency_ns, double breakaway_rad = 
 /// states stamped by the driver on the steady clock. The simulated arm's dynamics are the same.
 struct XArmSimReplay {
   Replay replay;
-  robot::XArmHeadArm::Stats stats;
+  robot::arm::XArmHeadArm::Stats stats;
   double report_hz = 0, command_hz = 0;
 };
 
@@ -177,15 +177,15 @@ XArmSimReplay replayThroughXArmSim(double cutoff_hz, std::int64_t latency_ns) {
   std::string error;
   const auto sim = xarm::ControllerSimulator::start(sim_options, &error);
   if (!sim) throw std::runtime_error("xArm protocol simulator: " + error);
-  robot::SteadyClock clock;
-  robot::XArmOptions options;
+  robot::clock::SteadyClock clock;
+  robot::arm::XArmOptions options;
   options.address = "127.0.0.1";
   options.command_port = sim->commandPort();
   options.report_port = sim->reportPort();
   options.normal_report_port = sim->normalReportPort();
-  const auto arm = robot::XArmHeadArm::start(options, clock, &error);
+  const auto arm = robot::arm::XArmHeadArm::start(options, clock, &error);
   if (!arm) throw std::runtime_error("xArm driver against the simulator: " + error);
-  robot::JointStateBuffer buffer(config.geometry);
+  robot::head::JointStateBuffer buffer(config.geometry);
   while (arm->pollState()) {
   }
 
@@ -204,12 +204,12 @@ XArmSimReplay replayThroughXArmSim(double cutoff_hz, std::int64_t latency_ns) {
     while (auto s = arm->pollState()) buffer.push(*s);
     if (now - t0 > end_ns) continue;
     const std::int64_t t_hmd = t0 + ((now - t0) / kHmdPeriodNs) * kHmdPeriodNs;
-    const robot::HmdSample hmd{t_hmd, operatorPose(static_cast<double>(t_hmd - t0) * 1e-9)};
+    const robot::head::HmdSample hmd{t_hmd, operatorPose(static_cast<double>(t_hmd - t0) * 1e-9)};
     const auto c0 = std::chrono::steady_clock::now();
-    const robot::HeadCommand cmd = controller.tick(hmd, now);
+    const robot::head::HeadCommand cmd = controller.tick(hmd, now);
     out.replay.tick_us.push_back(
         std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - c0).count());
-    if (cmd.send && !arm->sendTarget(cmd.q_target) && arm->status() != robot::ArmStatus::kOk)
+    if (cmd.send && !arm->sendTarget(cmd.q_target) && arm->status() != robot::arm::ArmStatus::kOk)
       throw std::runtime_error("the xArm driver stopped: " + arm->faultText());
   }
   const double run_s = static_cast<double>(clock.nowNs() - t0) * 1e-9;
@@ -224,7 +224,7 @@ XArmSimReplay replayThroughXArmSim(double cutoff_hz, std::int64_t latency_ns) {
 /// part faster than half the peak), and the fraction of tracking jitter (0.5 mm RMS per axis at
 /// rest) that passes.
 std::pair<double, double> filterTrade(double cutoff_hz) {
-  robot::PoseLowPassFilter clean(cutoff_hz), noisy(cutoff_hz);
+  robot::head::PoseLowPassFilter clean(cutoff_hz), noisy(cutoff_hz);
   std::mt19937 rng(1);
   std::normal_distribution<double> jitter(0.0, 0.0005);
   double lag_sum = 0, in_sq = 0, out_sq = 0;
@@ -252,7 +252,7 @@ std::pair<double, double> filterTrade(double cutoff_hz) {
 std::string ms(const std::optional<double>& s) { return s ? formatNumber(*s * 1e3, 3) : "n/a"; }
 
 nlohmann::json runHead(const BenchContext& ctx) {
-  const std::int64_t latency_ns = robot::SimulatedArmConfig{}.command_latency_ns;
+  const std::int64_t latency_ns = robot::arm::SimulatedArmConfig{}.command_latency_ns;
   nlohmann::json json;
 
   // 1. The replay at the defaults (paper: cut-off 100 Hz).
@@ -398,7 +398,7 @@ nlohmann::json runHead(const BenchContext& ctx) {
   const std::filesystem::path dir(outDir());
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  const bool csv_ok = robot::writeHeadMotionCsv(dir / "head_latency.csv", main.trace);
+  const bool csv_ok = robot::head::writeHeadMotionCsv(dir / "head_latency.csv", main.trace);
   const bool png_ok = writeFigurePng(
       headMotionFigure(main.trace, "Head speed, operator and robot (lateral move " + formatNumber(kDistance) +
                                        " m); t1 " + ms(main.latencies.start_s) + " ms, t2 " +

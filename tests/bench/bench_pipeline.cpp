@@ -32,9 +32,9 @@ struct PipelineResolution {
 };
 
 /// One single-core encode plus one decode of `frame` (median of `reps`), and the JPEG size.
-double codecFloorMs(const robot::CameraFrame& frame, const robot::JpegSettings& settings, int reps,
+double codecFloorMs(const robot::cameras::CameraFrame& frame, const robot::video::JpegSettings& settings, int reps,
                     std::size_t* jpeg_bytes) {
-  robot::JpegEncoder encoder;
+  robot::video::JpegEncoder encoder;
   xr::JpegDecoder decoder;
   std::vector<std::uint8_t> jpeg;
   xr::YuvPlanes planes;
@@ -60,8 +60,8 @@ struct PipelineRun {
   bool sustained = false;
 };
 
-PipelineRun runPipeline(const std::vector<robot::CameraFrame>& left_frames,
-                        const std::vector<robot::CameraFrame>& right_frames, double rate_hz,
+PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_frames,
+                        const std::vector<robot::cameras::CameraFrame>& right_frames, double rate_hz,
                         double seconds, int port) {
   link::LinkEndpoints endpoints;
   endpoints.base_port = port;
@@ -116,7 +116,7 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
   const std::vector<PipelineResolution> resolutions = {{"4k", 3840, 2160}, {"1080p", 1920, 1080}};
   const std::vector<double> rates = {45.0, 30.0, 22.5, 15.0, 10.0, 5.0};
   const double seconds = ctx.quick ? 2.0 : 10.0;
-  const robot::JpegSettings settings;  // quality 90, 4:2:0: the robot's default
+  const robot::video::JpegSettings settings;  // quality 90, 4:2:0: the robot's default
   Table summary({"stereo input", "rate Hz", "sustained", "p50 ms", "p99 ms", "floor ms",
                  "p50/floor", "MB/s", "sent", "dropped", "camera lost"});
   Table stages({"stereo input", "capture→encoded", "encoded→sent", "sent→received",

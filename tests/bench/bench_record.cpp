@@ -176,11 +176,11 @@ nlohmann::json run(const BenchContext& ctx) {
   ctx.out << "rendering " << kDistinct << " " << width << "x" << height << " stereo pairs of the default scene...\n";
   const auto lefts = prerender(width, height, 0.0, kDistinct);
   const auto rights = prerender(width, height, -0.064, kDistinct);
-  robot::JpegEncoder encoder;
-  const auto encode = [&](const robot::CameraFrame& f, int quality) {
+  robot::video::JpegEncoder encoder;
+  const auto encode = [&](const robot::cameras::CameraFrame& f, int quality) {
     auto out = std::make_shared<std::vector<std::uint8_t>>();
     std::string error;
-    robot::JpegSettings settings;
+    robot::video::JpegSettings settings;
     settings.quality = quality;
     encoder.encodeRgb(f.pixels->data(), f.width, f.height, f.stride_bytes, settings, *out, &error);
     return Bytes(out);

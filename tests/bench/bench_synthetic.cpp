@@ -40,7 +40,7 @@ calib::GenericCamera syntheticBenchLens(int width, int height) {
 Eigen::Isometry3d syntheticBenchHeadPose(std::int64_t /*t_ns*/) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // optical z along +x of the robot, y down
-  T.translation() = robot::DefaultSceneLayout{}.head_position;
+  T.translation() = robot::cameras::DefaultSceneLayout{}.head_position;
   return T;
 }
 
@@ -51,8 +51,8 @@ nlohmann::json runSynthetic(const BenchContext& ctx) {
   std::vector<Size> sizes = {{640, 480}, {1280, 1024}, {1920, 1080}, {3840, 2160}};
   if (ctx.quick) sizes.resize(2);
   const int threads = std::max(1, syntheticThreads());
-  auto scene = std::make_shared<robot::SyntheticScene>(robot::defaultScene());
-  robot::SimClock clock;
+  auto scene = std::make_shared<robot::cameras::SyntheticScene>(robot::cameras::defaultScene());
+  robot::clock::SimClock clock;
   nlohmann::json json;
   json["threads"] = threads;
   json["hardware_threads"] = std::thread::hardware_concurrency();
@@ -63,11 +63,11 @@ nlohmann::json runSynthetic(const BenchContext& ctx) {
   Table table({"resolution", "supersampling", "render (ms)", "fps", "CPU (ms)", "set-up (ms)", "rays (MB)"});
   for (const Size& size : sizes) {
     for (int n : {1, 2}) {
-      robot::SyntheticCameraOptions options;
+      robot::cameras::SyntheticCameraOptions options;
       options.supersampling = n;
       options.threads = threads;
       const auto s0 = std::chrono::steady_clock::now();
-      const robot::SyntheticCamera cam(syntheticBenchLens(size.width, size.height), size.width, size.height,
+      const robot::cameras::SyntheticCamera cam(syntheticBenchLens(size.width, size.height), size.width, size.height,
                                        scene, &syntheticBenchHeadPose, clock, options);
       const double setup_ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count();
@@ -78,7 +78,7 @@ nlohmann::json runSynthetic(const BenchContext& ctx) {
       for (int f = 0; f < frames; ++f) {
         const std::clock_t c0 = std::clock();
         const auto t0 = std::chrono::steady_clock::now();
-        const robot::CameraFrame frame = cam.renderAt(static_cast<std::int64_t>(f) * 22'222'222);
+        const robot::cameras::CameraFrame frame = cam.renderAt(static_cast<std::int64_t>(f) * 22'222'222);
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
         cpu_ms += 1000.0 * static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC / frames;
         if (frame.pixels->empty()) ctx.out << "empty frame\n";

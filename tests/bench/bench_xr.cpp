@@ -107,8 +107,8 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
     link::LinkEndpoints endpoints;
     endpoints.base_port = port;
     port += 10;
-    const robot::StereoPosesAt poses = [](std::int64_t, std::int64_t) {
-      robot::StereoCameraPoses p;
+    const robot::video::StereoPosesAt poses = [](std::int64_t, std::int64_t) {
+      robot::head::StereoCameraPoses p;
       p.T_robot_cam_l = forwardCameraPose(0.032);
       p.T_robot_cam_r = forwardCameraPose(-0.032);
       p.measured_l = p.measured_r = true;

@@ -13,6 +13,6 @@
 
 namespace telesphere::bench {
 
-Figure headMotionFigure(const std::vector<robot::HeadMotionSample>& trace, const std::string& title);
+Figure headMotionFigure(const std::vector<robot::head::HeadMotionSample>& trace, const std::string& title);
 
 }  // namespace telesphere::bench

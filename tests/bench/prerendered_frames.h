@@ -37,22 +37,22 @@ inline Eigen::Isometry3d forwardCameraPose(double y_offset) {
   Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
   // Optical frame: z forward (robot x), x right (robot −y), y down (robot −z).
   T_robot_cam.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  T_robot_cam.translation() = robot::DefaultSceneLayout{}.head_position + Eigen::Vector3d(0.0, y_offset, 0.0);
+  T_robot_cam.translation() = robot::cameras::DefaultSceneLayout{}.head_position + Eigen::Vector3d(0.0, y_offset, 0.0);
   return T_robot_cam;
 }
 
 /// `count` frames of the default scene, the camera 1 cm further left in each, so consecutive
 /// frames differ as a moving head's would.
-inline std::vector<robot::CameraFrame> prerender(int width, int height, double y_offset, int count) {
+inline std::vector<robot::cameras::CameraFrame> prerender(int width, int height, double y_offset, int count) {
   const auto lens = simulatedLens(width, height);
-  auto scene = std::make_shared<const robot::SyntheticScene>(robot::defaultScene());
-  std::vector<robot::CameraFrame> frames;
-  robot::SteadyClock clock;
+  auto scene = std::make_shared<const robot::cameras::SyntheticScene>(robot::cameras::defaultScene());
+  std::vector<robot::cameras::CameraFrame> frames;
+  robot::clock::SteadyClock clock;
   for (int i = 0; i < count; ++i) {
-    robot::SyntheticCameraOptions options;
+    robot::cameras::SyntheticCameraOptions options;
     options.threads = 2;
-    robot::SyntheticCamera camera(lens.camera, width, height, scene,
-                                  robot::fixedPose(forwardCameraPose(y_offset + 0.01 * i)), clock, options);
+    robot::cameras::SyntheticCamera camera(lens.camera, width, height, scene,
+                                  robot::cameras::fixedPose(forwardCameraPose(y_offset + 0.01 * i)), clock, options);
     frames.push_back(camera.renderAt(0));
   }
   return frames;

@@ -15,16 +15,16 @@
 namespace telesphere::bench {
 
 struct ReplayVideoSource {
-  robot::SteadyClock clock;
+  robot::clock::SteadyClock clock;
   std::int64_t start_ns;  ///< frame 0 of both cameras
   link::LinkServer server;
-  robot::ReplayCamera left, right;
-  robot::StereoPairSource pairs;
-  robot::VideoStreamer streamer;
+  robot::cameras::ReplayCamera left, right;
+  robot::stereo::StereoPairSource pairs;
+  robot::video::VideoStreamer streamer;
 
-  ReplayVideoSource(const link::LinkEndpoints& endpoints, const std::vector<robot::CameraFrame>& left_frames,
-                    const std::vector<robot::CameraFrame>& right_frames, double rate_hz,
-                    robot::StereoPosesAt poses, std::chrono::milliseconds delay)
+  ReplayVideoSource(const link::LinkEndpoints& endpoints, const std::vector<robot::cameras::CameraFrame>& left_frames,
+                    const std::vector<robot::cameras::CameraFrame>& right_frames, double rate_hz,
+                    robot::video::StereoPosesAt poses, std::chrono::milliseconds delay)
       : start_ns(clock.nowNs() + delay.count() * 1'000'000),
         server(endpoints),
         left(clock, left_frames, cameraConfig("left", rate_hz)),
@@ -45,15 +45,15 @@ struct ReplayVideoSource {
   }
 
  private:
-  robot::ReplayCameraConfig cameraConfig(const char* name, double rate_hz) const {
-    robot::ReplayCameraConfig config;
+  robot::cameras::ReplayCameraConfig cameraConfig(const char* name, double rate_hz) const {
+    robot::cameras::ReplayCameraConfig config;
     config.name = name;
     config.fps = rate_hz;
     config.start_ns = start_ns;  // one instant for both: a triggered pair
     return config;
   }
-  static robot::StereoPairerOptions pairing() {
-    robot::StereoPairerOptions options;
+  static robot::stereo::StereoPairerOptions pairing() {
+    robot::stereo::StereoPairerOptions options;
     options.tolerance_ns = 1'000'000;
     return options;
   }

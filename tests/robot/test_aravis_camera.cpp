@@ -101,14 +101,14 @@ struct FakeScene {
 
 class AravisCameraFake : public ::testing::Test {
  protected:
-  void SetUp() override { AravisCamera::enableFakeInterface(); }
+  void SetUp() override { cameras::AravisCamera::enableFakeInterface(); }
 
-  static AravisCameraOptions fakeOptions(FakeScene& scene) {
-    AravisCameraOptions o;
+  static cameras::AravisCameraOptions fakeOptions(FakeScene& scene) {
+    cameras::AravisCameraOptions o;
     o.device_id = "Fake_1";
     o.width = 640;
     o.height = 480;
-    o.pixel_format = PixelFormat::kMono8;
+    o.pixel_format = cameras::PixelFormat::kMono8;
     o.frame_rate_hz = 50;
     o.exposure_us = 4000;
     o.gain = 2;
@@ -132,17 +132,17 @@ class AravisCameraFake : public ::testing::Test {
 
 TEST_F(AravisCameraFake, OpensByNameConfiguresAndReadsBack) {
   FakeScene scene;
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
-  const AravisCameraSettings s = camera.settings();
+  const cameras::AravisCameraSettings s = camera.settings();
   EXPECT_EQ(s.device_id, "Fake_1");
   EXPECT_EQ(camera.name(), "Fake_1");
   EXPECT_EQ(s.serial_number, "1");
   EXPECT_EQ(s.width, 640);
   EXPECT_EQ(s.height, 480);
-  EXPECT_EQ(s.camera_format, PixelFormat::kMono8);
-  EXPECT_EQ(s.output_format, PixelFormat::kMono8);
+  EXPECT_EQ(s.camera_format, cameras::PixelFormat::kMono8);
+  EXPECT_EQ(s.output_format, cameras::PixelFormat::kMono8);
   EXPECT_NEAR(s.frame_rate_hz, 50.0, 0.5);
   EXPECT_NEAR(s.exposure_us, 4000.0, 1.0);
   EXPECT_NEAR(s.gain, 2.0, 0.01);
@@ -152,9 +152,9 @@ TEST_F(AravisCameraFake, OpensByNameConfiguresAndReadsBack) {
 
 TEST_F(AravisCameraFake, OpensBySerialNumber) {
   FakeScene scene;
-  AravisCameraOptions o = fakeOptions(scene);
+  cameras::AravisCameraOptions o = fakeOptions(scene);
   o.device_id = "1";  // the fake's serial; Aravis itself would take "1" for an address
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   EXPECT_EQ(camera.settings().device_id, "Fake_1");
@@ -162,9 +162,9 @@ TEST_F(AravisCameraFake, OpensBySerialNumber) {
 
 TEST_F(AravisCameraFake, WrongNameGivesAnErrorNamingItAndListingTheDevices) {
   FakeScene scene;
-  AravisCameraOptions o = fakeOptions(scene);
+  cameras::AravisCameraOptions o = fakeOptions(scene);
   o.device_id = "Basler-99999999";
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   EXPECT_FALSE(camera.start(&error));
   EXPECT_NE(error.find("Basler-99999999"), std::string::npos) << error;
@@ -172,16 +172,16 @@ TEST_F(AravisCameraFake, WrongNameGivesAnErrorNamingItAndListingTheDevices) {
   EXPECT_NE(error.find("Fake_1"), std::string::npos) << error;
   EXPECT_EQ(camera.stats().last_error, error);
   EXPECT_FALSE(camera.nextFrame(10ms).has_value());
-  const auto devices = AravisCamera::listDevices();
+  const auto devices = cameras::AravisCamera::listDevices();
   ASSERT_FALSE(devices.empty());
   EXPECT_NE(devices.front().find("Fake_1"), std::string::npos);
 }
 
 TEST_F(AravisCameraFake, SettingsTheCameraRefusesAreReported) {
   FakeScene scene;
-  AravisCameraOptions o = fakeOptions(scene);
+  cameras::AravisCameraOptions o = fakeOptions(scene);
   o.frame_rate_hz = 5000;  // the fake's AcquisitionFrameRate ends at 1000 Hz
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   EXPECT_FALSE(camera.start(&error));
   EXPECT_NE(error.find("Fake_1"), std::string::npos) << error;
@@ -190,16 +190,16 @@ TEST_F(AravisCameraFake, SettingsTheCameraRefusesAreReported) {
 
 TEST_F(AravisCameraFake, StreamsFramesWithIncreasingSequenceAndHostCaptureTimes) {
   FakeScene scene;
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
-  SteadyClock host;
+  clock::SteadyClock host;
   std::uint64_t last_sequence = 0;
   for (int i = 0; i < 20; ++i) {
     const auto frame = camera.nextFrame(3s);
     ASSERT_TRUE(frame.has_value()) << "frame " << i << ": " << camera.stats().last_error;
     const std::int64_t now_ns = host.nowNs();
-    EXPECT_EQ(frame->format, PixelFormat::kMono8);
+    EXPECT_EQ(frame->format, cameras::PixelFormat::kMono8);
     EXPECT_EQ(frame->width, 640);
     EXPECT_EQ(frame->height, 480);
     EXPECT_EQ(frame->stride_bytes, 640);
@@ -215,13 +215,13 @@ TEST_F(AravisCameraFake, StreamsFramesWithIncreasingSequenceAndHostCaptureTimes)
     }
     last_sequence = frame->sequence;
   }
-  const CameraStats stats = camera.stats();
+  const cameras::CameraStats stats = camera.stats();
   EXPECT_EQ(stats.frames, 20u);
   EXPECT_EQ(stats.incomplete, 0u);
   EXPECT_EQ(stats.lost, 0u);
   EXPECT_EQ(stats.reconnects, 0u);
   EXPECT_TRUE(stats.last_error.empty()) << stats.last_error;
-  const AravisCameraDetails details = camera.details();
+  const cameras::AravisCameraDetails details = camera.details();
   EXPECT_GT(details.clock_pairs, 0u);
   // The fake stamps with CLOCK_REALTIME: the mapped offset is realtime → steady.
   const std::int64_t realtime_to_steady_ns =
@@ -232,7 +232,7 @@ TEST_F(AravisCameraFake, StreamsFramesWithIncreasingSequenceAndHostCaptureTimes)
 
 TEST_F(AravisCameraFake, StopsAndStartsAgain) {
   FakeScene scene;
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   ASSERT_TRUE(camera.nextFrame(3s).has_value());
@@ -248,21 +248,21 @@ TEST_F(AravisCameraFake, StopsAndStartsAgain) {
 }
 
 TEST_F(AravisCameraFake, BayerIsDebayeredToTheKnownColourBars) {
-  for (PixelFormat layout : {PixelFormat::kBayerRG8, PixelFormat::kBayerGR8, PixelFormat::kBayerGB8, PixelFormat::kBayerBG8}) {
-    SCOPED_TRACE(pixelFormatName(layout));
+  for (cameras::PixelFormat layout : {cameras::PixelFormat::kBayerRG8, cameras::PixelFormat::kBayerGR8, cameras::PixelFormat::kBayerGB8, cameras::PixelFormat::kBayerBG8}) {
+    SCOPED_TRACE(cameras::pixelFormatName(layout));
     FakeScene scene;
-    AravisCameraOptions o = fakeOptions(scene);
+    cameras::AravisCameraOptions o = fakeOptions(scene);
     o.pixel_format = layout;
     o.width = 128;
     o.height = 64;
-    AravisCamera camera(o);
+    cameras::AravisCamera camera(o);
     std::string error;
     ASSERT_TRUE(camera.start(&error)) << error;
     EXPECT_EQ(camera.settings().camera_format, layout);
-    EXPECT_EQ(camera.settings().output_format, PixelFormat::kRgb8);
+    EXPECT_EQ(camera.settings().output_format, cameras::PixelFormat::kRgb8);
     const auto frame = camera.nextFrame(3s);
     ASSERT_TRUE(frame.has_value()) << camera.stats().last_error;
-    ASSERT_EQ(frame->format, PixelFormat::kRgb8);
+    ASSERT_EQ(frame->format, cameras::PixelFormat::kRgb8);
     ASSERT_EQ(frame->stride_bytes, 128 * 3);
     ASSERT_EQ(frame->pixels->size(), 128u * 64u * 3u);
     int checked = 0;
@@ -282,17 +282,17 @@ TEST_F(AravisCameraFake, BayerIsDebayeredToTheKnownColourBars) {
 
 TEST_F(AravisCameraFake, RawBayerIsDeliveredUnchangedWhenDebayerIsOff) {
   FakeScene scene;
-  AravisCameraOptions o = fakeOptions(scene);
-  o.pixel_format = PixelFormat::kBayerGB8;
+  cameras::AravisCameraOptions o = fakeOptions(scene);
+  o.pixel_format = cameras::PixelFormat::kBayerGB8;
   o.width = 64;
   o.height = 32;
   o.debayer = false;
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   const auto frame = camera.nextFrame(3s);
   ASSERT_TRUE(frame.has_value());
-  EXPECT_EQ(frame->format, PixelFormat::kBayerGB8);
+  EXPECT_EQ(frame->format, cameras::PixelFormat::kBayerGB8);
   ASSERT_EQ(frame->pixels->size(), 64u * 32u);
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 64; ++x)
@@ -304,7 +304,7 @@ TEST_F(AravisCameraFake, IncompleteFramesAreDroppedCountedAndTheStreamResumes) {
   // restarted with another size): Aravis marks them SIZE_MISMATCH; they must be dropped with a
   // reason, nothing may crash, and the next good frame must come through.
   FakeScene scene;
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   ASSERT_TRUE(camera.nextFrame(3s).has_value());
@@ -318,7 +318,7 @@ TEST_F(AravisCameraFake, IncompleteFramesAreDroppedCountedAndTheStreamResumes) {
   const auto frame = camera.nextFrame(3s);
   ASSERT_TRUE(frame.has_value()) << camera.stats().last_error;
   EXPECT_EQ(frame->width, 640);
-  const AravisCameraDetails details = camera.details();
+  const cameras::AravisCameraDetails details = camera.details();
   EXPECT_GE(details.dropped_by_reason.at("SIZE_MISMATCH"), 3u);
   EXPECT_EQ(details.stats.lost, 0u) << "dropped frames must not be counted twice as lost";
   EXPECT_EQ(details.stats.reconnects, 0u);
@@ -328,7 +328,7 @@ TEST_F(AravisCameraFake, FrameIdGapsAreCountedAsLost) {
   FakeScene scene;
   scene.skip_every = 5;  // every 5th frame the id jumps by 3: 3 frames lost
   scene.skip_amount = 3;
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   std::uint64_t last = 0;
@@ -352,10 +352,10 @@ TEST_F(AravisCameraFake, FrameIdGapsAreCountedAsLost) {
 TEST_F(AravisCameraFake, HardwareStampsOnAForeignClockAreMappedToTheHost) {
   FakeScene scene;
   scene.hw_offset_ns = 7'000'000'000;  // camera clock = host steady clock + 7 s
-  AravisCamera camera(fakeOptions(scene));
+  cameras::AravisCamera camera(fakeOptions(scene));
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
-  SteadyClock host;
+  clock::SteadyClock host;
   for (int i = 0; i < 25; ++i) {
     const auto frame = camera.nextFrame(3s);
     ASSERT_TRUE(frame.has_value());
@@ -370,10 +370,10 @@ TEST_F(AravisCameraFake, HardwareStampsOnAForeignClockAreMappedToTheHost) {
 
 TEST_F(AravisCameraFake, LostCameraIsReopenedWhenItComesBack) {
   FakeScene scene;
-  AravisCameraOptions o = fakeOptions(scene);
+  cameras::AravisCameraOptions o = fakeOptions(scene);
   o.reconnect_backoff_min = 10ms;
   o.reconnect_backoff_max = 50ms;
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   ASSERT_TRUE(camera.nextFrame(3s).has_value());
@@ -385,7 +385,7 @@ TEST_F(AravisCameraFake, LostCameraIsReopenedWhenItComesBack) {
   arv_disable_interface("Fake");
   g_signal_emit_by_name(scene.currentDevice(), "control-lost");
   EXPECT_TRUE(waitFor([&] { return camera.details().reconnect_attempts >= 2; }));
-  CameraStats stats = camera.stats();
+  cameras::CameraStats stats = camera.stats();
   EXPECT_NE(stats.last_error.find("camera lost"), std::string::npos) << stats.last_error;
   EXPECT_NE(stats.last_error.find("not found"), std::string::npos) << stats.last_error;
   EXPECT_EQ(stats.reconnects, 0u);

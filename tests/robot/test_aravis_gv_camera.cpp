@@ -77,24 +77,24 @@ TEST(AravisCameraGigEVision, StreamsWithPacketLossAndReopensARestartedCamera) {
   FakeGvCameraProcess camera_process(netns, iface, serial, loss);
   ASSERT_TRUE(camera_process.start());
 
-  AravisCameraOptions o;
+  cameras::AravisCameraOptions o;
   o.device_id = serial;  // by serial number: Aravis names the device "Aravis-Fake-<serial>"
   o.width = 640;
   o.height = 480;
-  o.pixel_format = PixelFormat::kMono8;
+  o.pixel_format = cameras::PixelFormat::kMono8;
   o.frame_rate_hz = 30;
   o.exposure_us = 2000;
   o.queue_depth = 16;
   o.reconnect_backoff_min = 50ms;
   o.reconnect_backoff_max = 500ms;
-  AravisCamera camera(o);
+  cameras::AravisCamera camera(o);
   std::string error;
   // The camera process needs a moment before it answers discovery.
   ASSERT_TRUE(gvWaitFor([&] { return camera.start(&error); }, 20s)) << error;
   EXPECT_EQ(camera.settings().device_id, "Aravis-Fake-" + serial);
   EXPECT_EQ(camera.settings().width, 640);
 
-  SteadyClock host;
+  clock::SteadyClock host;
   auto collect = [&](int wanted, std::chrono::seconds limit) {
     int good = 0;
     std::uint64_t last_sequence = 0;
@@ -117,7 +117,7 @@ TEST(AravisCameraGigEVision, StreamsWithPacketLossAndReopensARestartedCamera) {
     return good;
   };
   EXPECT_EQ(collect(20, 30s), 20);
-  AravisCameraDetails details = camera.details();
+  cameras::AravisCameraDetails details = camera.details();
   std::printf("GigE Vision fake, %s per mille packets lost: %llu good frames, %llu incomplete, %llu lost; drift %.2f ppm\n",
               loss.c_str(), static_cast<unsigned long long>(details.stats.frames),
               static_cast<unsigned long long>(details.stats.incomplete),

@@ -31,9 +31,9 @@ Eigen::Isometry3d shifted(const Eigen::Isometry3d& T, double dx_m, double angle_
 }
 
 TEST(CalibrationInUse, StartsAtGenerationOneAndRefusesAnUnusableStart) {
-  SimClock clock(1'000);
+  clock::SimClock clock(1'000);
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "--calib sim", clock);
+  head::CalibrationInUse in_use(start, "--calib sim", clock);
   EXPECT_EQ(in_use.current()->generation, 1u);
   EXPECT_EQ(in_use.current()->source, "--calib sim");
   EXPECT_EQ(in_use.previousCount(), 0u);
@@ -41,14 +41,14 @@ TEST(CalibrationInUse, StartsAtGenerationOneAndRefusesAnUnusableStart) {
 
   calib::SystemCalibration no_hand_eye = start;
   no_hand_eye.T_flange_cam_l.reset();
-  EXPECT_NE(CalibrationInUse::unusable(no_hand_eye).value_or("").find("T_flange_cam_l"), std::string::npos);
-  EXPECT_THROW(CalibrationInUse(no_hand_eye, "x", clock), std::invalid_argument);
+  EXPECT_NE(head::CalibrationInUse::unusable(no_hand_eye).value_or("").find("T_flange_cam_l"), std::string::npos);
+  EXPECT_THROW(head::CalibrationInUse(no_hand_eye, "x", clock), std::invalid_argument);
 }
 
 TEST(CalibrationInUse, AppliesMergesAndRevertsThroughTheHistory) {
-  SimClock clock(1'000);
+  clock::SimClock clock(1'000);
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "start", clock);
+  head::CalibrationInUse in_use(start, "start", clock);
   std::string error;
 
   // A hand-eye result only: the cameras stay as they are.
@@ -89,9 +89,9 @@ TEST(CalibrationInUse, AppliesMergesAndRevertsThroughTheHistory) {
 // restart with --calib that file keeps it; without a path, or when it cannot be written, the
 // link's view says so (the console warns).
 TEST(CalibrationInUse, SavesEveryAppliedCalibrationWhereItWasToldAndSaysWhenItCannot) {
-  SimClock clock(1'000);
+  clock::SimClock clock(1'000);
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "start", clock);
+  head::CalibrationInUse in_use(start, "start", clock);
   std::string error;
   calib::SystemCalibration hand_eye = start;
   hand_eye.T_flange_cam_l = shifted(*start.T_flange_cam_l, 0.012, 1.5);
@@ -125,9 +125,9 @@ TEST(CalibrationInUse, SavesEveryAppliedCalibrationWhereItWasToldAndSaysWhenItCa
 }
 
 TEST(CalibrationInUse, RefusesWhatDoesNotFitTheseCamerasAndKeepsOnlyTheNewestHistory) {
-  SimClock clock;
+  clock::SimClock clock;
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "start", clock);
+  head::CalibrationInUse in_use(start, "start", clock);
   std::string error;
 
   calib::SystemCalibration square = start;  // 16:9 cameras calibrated as 1:1
@@ -148,22 +148,22 @@ TEST(CalibrationInUse, RefusesWhatDoesNotFitTheseCamerasAndKeepsOnlyTheNewestHis
   EXPECT_NE(error.find("two cameras"), std::string::npos) << error;
   EXPECT_EQ(in_use.current()->generation, 1u) << "a refused apply changes nothing";
 
-  for (int i = 0; i < int(CalibrationInUse::kMaxPrevious) + 5; ++i) {
+  for (int i = 0; i < int(head::CalibrationInUse::kMaxPrevious) + 5; ++i) {
     calib::SystemCalibration c = start;
     c.T_flange_cam_l = shifted(*start.T_flange_cam_l, 0.001 * (i + 1), 0);
     ASSERT_TRUE(in_use.apply(c, "step " + std::to_string(i), &error)) << error;
   }
-  EXPECT_EQ(in_use.previousCount(), CalibrationInUse::kMaxPrevious);
+  EXPECT_EQ(in_use.previousCount(), head::CalibrationInUse::kMaxPrevious);
   std::size_t reverts = 0;
   while (in_use.revert(&error)) ++reverts;
-  EXPECT_EQ(reverts, CalibrationInUse::kMaxPrevious);
+  EXPECT_EQ(reverts, head::CalibrationInUse::kMaxPrevious);
   EXPECT_NE(in_use.current()->source.find("step 4"), std::string::npos) << "the oldest kept (start and steps 0–3 dropped): " << in_use.current()->source;
 }
 
 TEST(CalibrationInUse, AnswersTheLinksRequests) {
-  SimClock clock;
+  clock::SimClock clock;
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "start", clock);
+  head::CalibrationInUse in_use(start, "start", clock);
 
   link::proto::ControlRequest get;
   get.set_id(7);
@@ -206,28 +206,28 @@ TEST(CalibrationInUse, AnswersTheLinksRequests) {
 }
 
 TEST(CalibrationInUse, CameraPosesComeFromTheJointsThroughTheCalibrationInUse) {
-  SimClock clock;
+  clock::SimClock clock;
   const auto start = simCalibration();
-  CalibrationInUse in_use(start, "start", clock);
-  JointStateBuffer joints{HeadGeometry{}};
-  JointVector q0;
+  head::CalibrationInUse in_use(start, "start", clock);
+  head::JointStateBuffer joints{head::HeadGeometry{}};
+  arm::JointVector q0;
   q0 << 0.1, -0.4, -0.9, 0.05, -0.5, 0.2;
-  JointVector q1 = q0 + JointVector::Constant(0.02);
+  arm::JointVector q1 = q0 + arm::JointVector::Constant(0.02);
   joints.push({1'000'000'000, q0});
   joints.push({1'010'000'000, q1});
-  const Xarm6Kinematics kinematics;
+  const arm::Xarm6Kinematics kinematics;
 
   // Before any joint state: the fallback configuration, flagged unmeasured.
-  StereoCameraPoses poses = in_use.posesAt(joints, q0, 10, 10);
+  head::StereoCameraPoses poses = in_use.posesAt(joints, q0, 10, 10);
   EXPECT_FALSE(poses.measured_l);
   EXPECT_FALSE(poses.measured_r);
   EXPECT_TRUE(poses.T_robot_cam_l.isApprox(kinematics.forward(q0) * *start.T_flange_cam_l, 1e-12));
 
   const auto check = [&](const calib::SystemCalibration& c, std::uint64_t generation) {
-    const StereoCameraPoses p = in_use.posesAt(joints, q0, 1'005'000'000, 1'010'000'000);
+    const head::StereoCameraPoses p = in_use.posesAt(joints, q0, 1'005'000'000, 1'010'000'000);
     EXPECT_TRUE(p.measured_l && p.measured_r);
     EXPECT_EQ(p.calibration_generation, generation);
-    const JointVector q_mid = 0.5 * (q0 + q1);
+    const arm::JointVector q_mid = 0.5 * (q0 + q1);
     EXPECT_TRUE(p.T_robot_cam_l.isApprox(kinematics.forward(q_mid) * *c.T_flange_cam_l, 1e-12));
     EXPECT_TRUE(p.T_robot_cam_r.isApprox(kinematics.forward(q1) * *c.T_flange_cam_l * *c.T_cam_l_cam_r, 1e-12));
   };

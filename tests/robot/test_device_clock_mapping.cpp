@@ -32,7 +32,7 @@ TEST(DeviceClockMapping, LowerEnvelopeRecoversOffsetAndDriftFarBelowTheJitter) {
   SyntheticClocks clocks;
   std::mt19937_64 rng(20261122);
   std::exponential_distribution<double> jitter(1.0 / clocks.jitter_mean_ns);
-  DeviceClockMapping mapping;  // window 512 (~11 s at 45 Hz)
+  clock::DeviceClockMapping mapping;  // window 512 (~11 s at 45 Hz)
 
   double max_error_ns = 0, sum_error_ns = 0;
   int checked = 0;
@@ -43,7 +43,7 @@ TEST(DeviceClockMapping, LowerEnvelopeRecoversOffsetAndDriftFarBelowTheJitter) {
     const std::int64_t hw_ns = clocks.hw0_ns + i * kFramePeriodNs;
     const std::int64_t arrival_ns =
         clocks.hostOf(hw_ns) + clocks.min_delay_ns + std::llround(jitter(rng));
-    ASSERT_NE(mapping.add(hw_ns, arrival_ns), DeviceClockMapping::AddResult::kReset) << "frame " << i;
+    ASSERT_NE(mapping.add(hw_ns, arrival_ns), clock::DeviceClockMapping::AddResult::kReset) << "frame " << i;
     recent.emplace_back(static_cast<double>(hw_ns - clocks.hw0_ns), static_cast<double>(arrival_ns - clocks.host0_ns));
     if (recent.size() > 512) recent.erase(recent.begin());
     if (i < 600) continue;  // window filled
@@ -76,9 +76,9 @@ TEST(DeviceClockMapping, LowerEnvelopeRecoversOffsetAndDriftFarBelowTheJitter) {
 }
 
 TEST(DeviceClockMapping, OnePairMapsWithUnitSlopeAndShortWindowsBoundTheDrift) {
-  DeviceClockMappingOptions options;
+  clock::DeviceClockMappingOptions options;
   options.max_drift_ppm = 200;
-  DeviceClockMapping mapping(options);
+  clock::DeviceClockMapping mapping(options);
   EXPECT_FALSE(mapping.valid());
   mapping.add(1'000'000'000, 5'000'000'000);
   ASSERT_TRUE(mapping.valid());
@@ -96,7 +96,7 @@ TEST(DeviceClockMapping, ClockJumpsResetTheFitAndItRecovers) {
   SyntheticClocks clocks;
   std::mt19937_64 rng(7);
   std::exponential_distribution<double> jitter(1.0 / clocks.jitter_mean_ns);
-  DeviceClockMapping mapping;
+  clock::DeviceClockMapping mapping;
   std::int64_t hw_ns = clocks.hw0_ns;
   std::int64_t host_shift_ns = 0;  // how far the camera clock has jumped, host unchanged
   auto arrival = [&](std::int64_t hw) { return clocks.hostOf(hw - host_shift_ns) + clocks.min_delay_ns + std::llround(jitter(rng)); };
@@ -107,27 +107,27 @@ TEST(DeviceClockMapping, ClockJumpsResetTheFitAndItRecovers) {
   EXPECT_LT(settled(hw_ns), 100'000.0);
 
   // A single very late arrival (a 300 ms stall) is skipped, not a jump.
-  EXPECT_EQ(mapping.add(hw_ns, clocks.hostOf(hw_ns) + 300'000'000), DeviceClockMapping::AddResult::kLateSkipped);
+  EXPECT_EQ(mapping.add(hw_ns, clocks.hostOf(hw_ns) + 300'000'000), clock::DeviceClockMapping::AddResult::kLateSkipped);
   hw_ns += kFramePeriodNs;
-  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), DeviceClockMapping::AddResult::kAdded);
+  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), clock::DeviceClockMapping::AddResult::kAdded);
   EXPECT_EQ(mapping.jumps(), 0u);
 
   // The camera clock restarts from a small value (camera reset): stamps go back → reset.
   host_shift_ns = 1'000'000'000 - (hw_ns + kFramePeriodNs);  // true time goes on one frame later
   hw_ns = 1'000'000'000;
-  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), DeviceClockMapping::AddResult::kReset);
+  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), clock::DeviceClockMapping::AddResult::kReset);
   EXPECT_EQ(mapping.jumps(), 1u);
   EXPECT_EQ(mapping.size(), 1u);
   for (int i = 0; i < 300; ++i) {
     hw_ns += kFramePeriodNs;
-    ASSERT_EQ(mapping.add(hw_ns, arrival(hw_ns)), DeviceClockMapping::AddResult::kAdded) << i;
+    ASSERT_EQ(mapping.add(hw_ns, arrival(hw_ns)), clock::DeviceClockMapping::AddResult::kAdded) << i;
   }
   EXPECT_LT(settled(hw_ns), 100'000.0);
 
   // The camera clock jumps forward by 2 s: pairs would land 2 s before the fit → reset.
   host_shift_ns += 2'000'000'000;
   hw_ns += kFramePeriodNs + 2'000'000'000;
-  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), DeviceClockMapping::AddResult::kReset);
+  EXPECT_EQ(mapping.add(hw_ns, arrival(hw_ns)), clock::DeviceClockMapping::AddResult::kReset);
   EXPECT_EQ(mapping.jumps(), 2u);
 
   // The camera clock steps back by 10 ms only (less than a frame): stamps still increase, every
@@ -140,14 +140,14 @@ TEST(DeviceClockMapping, ClockJumpsResetTheFitAndItRecovers) {
   host_shift_ns -= 100'000'000;
   hw_ns += kFramePeriodNs - 100'000'000 + kFramePeriodNs * 5;  // still increasing
   int late = 0;
-  DeviceClockMapping::AddResult result = DeviceClockMapping::AddResult::kAdded;
-  for (int i = 0; i < 10 && result != DeviceClockMapping::AddResult::kReset; ++i) {
+  clock::DeviceClockMapping::AddResult result = clock::DeviceClockMapping::AddResult::kAdded;
+  for (int i = 0; i < 10 && result != clock::DeviceClockMapping::AddResult::kReset; ++i) {
     hw_ns += kFramePeriodNs;
     result = mapping.add(hw_ns, arrival(hw_ns));
-    late += result == DeviceClockMapping::AddResult::kLateSkipped;
+    late += result == clock::DeviceClockMapping::AddResult::kLateSkipped;
   }
-  EXPECT_EQ(result, DeviceClockMapping::AddResult::kReset);
-  EXPECT_EQ(late, DeviceClockMappingOptions{}.late_pairs_for_reset - 1);
+  EXPECT_EQ(result, clock::DeviceClockMapping::AddResult::kReset);
+  EXPECT_EQ(late, clock::DeviceClockMappingOptions{}.late_pairs_for_reset - 1);
   EXPECT_EQ(mapping.jumps(), 3u);
 
   mapping.reset();

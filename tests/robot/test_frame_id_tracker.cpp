@@ -9,7 +9,7 @@ namespace telesphere::robot {
 namespace {
 
 TEST(FrameIdTracker, CountsGapsAndKeepsTheSequence) {
-  FrameIdTracker t;
+  cameras::FrameIdTracker t;
   auto s = t.next(100);
   EXPECT_TRUE(s.resynced);
   EXPECT_EQ(s.sequence, 100u);
@@ -23,7 +23,7 @@ TEST(FrameIdTracker, CountsGapsAndKeepsTheSequence) {
 }
 
 TEST(FrameIdTracker, GigEVisionBlockIdsWrapSkippingZero) {
-  FrameIdTracker t;
+  cameras::FrameIdTracker t;
   t.next(65534);
   auto s = t.next(65535);
   EXPECT_EQ(s.lost, 0u);
@@ -38,7 +38,7 @@ TEST(FrameIdTracker, GigEVisionBlockIdsWrapSkippingZero) {
 }
 
 TEST(FrameIdTracker, WrapWithZeroUsedCountsZeroAsAFrame) {
-  FrameIdTracker t;
+  cameras::FrameIdTracker t;
   t.next(0);
   t.next(1);
   t.next(65535);  // big forward step: restart
@@ -49,7 +49,7 @@ TEST(FrameIdTracker, WrapWithZeroUsedCountsZeroAsAFrame) {
 }
 
 TEST(FrameIdTracker, RestartsAndHugeJumpsResyncWithoutCountingLoss) {
-  FrameIdTracker t(1000);
+  cameras::FrameIdTracker t(1000);
   t.next(500'000);
   auto s = t.next(500'001);
   const std::uint64_t seq = s.sequence;

@@ -17,7 +17,7 @@ constexpr std::int64_t kMs = 1'000'000;
 
 /// Advances clock and arm in 1 ms steps for `ms`, calling `each` after every step.
 template <typename F>
-void run(SimClock& clock, SimulatedArm& arm, int ms, F&& each) {
+void run(clock::SimClock& clock, arm::SimulatedArm& arm, int ms, F&& each) {
   for (int i = 0; i < ms; ++i) {
     clock.advance(kMs);
     arm.update();
@@ -26,12 +26,12 @@ void run(SimClock& clock, SimulatedArm& arm, int ms, F&& each) {
 }
 
 TEST(SimulatedArm, TargetsTakeEffectAfterTheCommandLatency) {
-  SimClock clock(5 * kMs);
-  SimulatedArmConfig config;
+  clock::SimClock clock(5 * kMs);
+  arm::SimulatedArmConfig config;
   config.command_latency_ns = 100 * kMs;
   config.encoder_noise_std = 0;
-  SimulatedArm arm(clock, config);
-  JointVector target = JointVector::Zero();
+  arm::SimulatedArm arm(clock, config);
+  arm::JointVector target = arm::JointVector::Zero();
   target[0] = 0.5;
   ASSERT_TRUE(arm.sendTarget(target));
   std::int64_t first_motion_ns = -1;
@@ -42,15 +42,15 @@ TEST(SimulatedArm, TargetsTakeEffectAfterTheCommandLatency) {
 }
 
 TEST(SimulatedArm, StaticFrictionHoldsAJointAtRestUntilTheBreakaway) {
-  SimClock clock(0);
-  SimulatedArmConfig config;
+  clock::SimClock clock(0);
+  arm::SimulatedArmConfig config;
   config.command_latency_ns = 0;
   config.encoder_noise_std = 0;
   config.breakaway_rad = 0.01;
-  std::vector<JointState> truth;
-  config.on_true_state = [&](const JointState& s) { truth.push_back(s); };
-  SimulatedArm arm(clock, config);
-  JointVector target = JointVector::Zero();
+  std::vector<arm::JointState> truth;
+  config.on_true_state = [&](const arm::JointState& s) { truth.push_back(s); };
+  arm::SimulatedArm arm(clock, config);
+  arm::JointVector target = arm::JointVector::Zero();
   target[0] = 0.009;  // within the breakaway: stays put
   ASSERT_TRUE(arm.sendTarget(target));
   run(clock, arm, 100, [] {});
@@ -66,17 +66,17 @@ TEST(SimulatedArm, StaticFrictionHoldsAJointAtRestUntilTheBreakaway) {
 }
 
 TEST(SimulatedArm, RespectsVelocityAndAccelerationLimitsAndStopsOnTarget) {
-  SimClock clock;
-  SimulatedArmConfig config;
+  clock::SimClock clock;
+  arm::SimulatedArmConfig config;
   config.command_latency_ns = 0;
-  SimulatedArm arm(clock, config);
-  JointVector target;
+  arm::SimulatedArm arm(clock, config);
+  arm::JointVector target;
   target << 1.5, -0.5, -1.0, 2.0, 1.0, -2.5;
   ASSERT_TRUE(arm.sendTarget(target));
-  JointVector v_prev = JointVector::Zero();
+  arm::JointVector v_prev = arm::JointVector::Zero();
   double v_seen = 0;
   run(clock, arm, 3000, [&] {
-    const JointVector& v = arm.trueVelocities();
+    const arm::JointVector& v = arm.trueVelocities();
     EXPECT_LE(v.cwiseAbs().maxCoeff(), config.max_velocity + 1e-12);
     EXPECT_LE((v - v_prev).cwiseAbs().maxCoeff(), config.max_acceleration * 1e-3 + 1e-12);
     v_seen = std::max(v_seen, v.cwiseAbs().maxCoeff());
@@ -89,34 +89,34 @@ TEST(SimulatedArm, RespectsVelocityAndAccelerationLimitsAndStopsOnTarget) {
 
 TEST(SimulatedArm, PublishesNoisyStatesAt100HzDeterministically) {
   const auto record = [](std::uint64_t seed) {
-    SimClock clock;
-    SimulatedArmConfig config;
+    clock::SimClock clock;
+    arm::SimulatedArmConfig config;
     config.seed = seed;
-    config.q_initial = JointVector::Constant(0.1);
-    SimulatedArm arm(clock, config);
-    std::vector<JointState> states;
+    config.q_initial = arm::JointVector::Constant(0.1);
+    arm::SimulatedArm arm(clock, config);
+    std::vector<arm::JointState> states;
     run(clock, arm, 1000, [&] {
       while (auto s = arm.pollState()) states.push_back(*s);
     });
     return states;
   };
-  const std::vector<JointState> a = record(1), b = record(1), c = record(2);
+  const std::vector<arm::JointState> a = record(1), b = record(1), c = record(2);
   ASSERT_EQ(a.size(), 100u);
   double sum_sq = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].t_ns, static_cast<std::int64_t>(i + 1) * 10 * kMs);
     EXPECT_EQ(a[i].q, b[i].q);
-    sum_sq += (a[i].q - JointVector::Constant(0.1)).squaredNorm();
+    sum_sq += (a[i].q - arm::JointVector::Constant(0.1)).squaredNorm();
   }
   EXPECT_NE(a[0].q, c[0].q);
   const double noise_std = std::sqrt(sum_sq / (6.0 * static_cast<double>(a.size())));
-  EXPECT_NEAR(noise_std, SimulatedArmConfig{}.encoder_noise_std, 0.2 * SimulatedArmConfig{}.encoder_noise_std);
+  EXPECT_NEAR(noise_std, arm::SimulatedArmConfig{}.encoder_noise_std, 0.2 * arm::SimulatedArmConfig{}.encoder_noise_std);
 }
 
 TEST(SimulatedArm, RefusesTargetsBeyondTheJointLimits) {
-  SimClock clock;
-  SimulatedArm arm(clock);
-  JointVector q = JointVector::Zero();
+  clock::SimClock clock;
+  arm::SimulatedArm arm(clock);
+  arm::JointVector q = arm::JointVector::Zero();
   q[1] = 2.2;  // J2 upper limit is 120° = 2.094 rad
   EXPECT_FALSE(arm.sendTarget(q));
   q[1] = NAN;
@@ -127,19 +127,19 @@ TEST(SimulatedArm, RefusesTargetsBeyondTheJointLimits) {
 }
 
 TEST(SimulatedArm, StopBrakesHoldsAndRefusesUntilCleared) {
-  SimClock clock;
-  SimulatedArmConfig config;
+  clock::SimClock clock;
+  arm::SimulatedArmConfig config;
   config.command_latency_ns = 0;
-  SimulatedArm arm(clock, config);
-  JointVector target = JointVector::Zero();
+  arm::SimulatedArm arm(clock, config);
+  arm::JointVector target = arm::JointVector::Zero();
   target[0] = 3.0;
   ASSERT_TRUE(arm.sendTarget(target));
   run(clock, arm, 400, [] {});
   const double v_at_stop = arm.trueVelocities()[0];
   ASSERT_GT(v_at_stop, 1.0);
   arm.triggerStop();
-  EXPECT_EQ(arm.status(), ArmStatus::kStopped);
-  EXPECT_FALSE(arm.sendTarget(JointVector::Zero()));
+  EXPECT_EQ(arm.status(), arm::ArmStatus::kStopped);
+  EXPECT_FALSE(arm.sendTarget(arm::JointVector::Zero()));
   const double q_at_stop = arm.trueJoints()[0];
   double v_prev = v_at_stop;
   run(clock, arm, 1000, [&] {
@@ -150,26 +150,26 @@ TEST(SimulatedArm, StopBrakesHoldsAndRefusesUntilCleared) {
   // Braking distance v²/(2a), give or take one step.
   EXPECT_NEAR(arm.trueJoints()[0] - q_at_stop, v_at_stop * v_at_stop / (2 * config.max_acceleration),
               0.01);
-  JointState last;
+  arm::JointState last;
   while (auto s = arm.pollState()) last = *s;
-  EXPECT_EQ(last.status, ArmStatus::kStopped);
+  EXPECT_EQ(last.status, arm::ArmStatus::kStopped);
   EXPECT_TRUE(arm.clearStop());
-  EXPECT_TRUE(arm.sendTarget(JointVector::Zero()));
+  EXPECT_TRUE(arm.sendTarget(arm::JointVector::Zero()));
   run(clock, arm, 3000, [] {});
   EXPECT_NEAR(arm.trueJoints()[0], 0.0, 1e-12);
 }
 
 TEST(SimulatedArm, DroppedConnectionLosesStatesAndTargets) {
-  SimClock clock;
-  SimulatedArmConfig config;
+  clock::SimClock clock;
+  arm::SimulatedArmConfig config;
   config.command_latency_ns = 100 * kMs;
-  SimulatedArm arm(clock, config);
-  JointVector target = JointVector::Zero();
+  arm::SimulatedArm arm(clock, config);
+  arm::JointVector target = arm::JointVector::Zero();
   target[5] = 1.0;
   ASSERT_TRUE(arm.sendTarget(target));
   run(clock, arm, 50, [] {});
   arm.dropConnection();  // the target is still in flight: lost
-  EXPECT_EQ(arm.status(), ArmStatus::kDisconnected);
+  EXPECT_EQ(arm.status(), arm::ArmStatus::kDisconnected);
   EXPECT_FALSE(arm.sendTarget(target));
   EXPECT_FALSE(arm.clearStop());
   int received = 0;
@@ -179,7 +179,7 @@ TEST(SimulatedArm, DroppedConnectionLosesStatesAndTargets) {
   EXPECT_EQ(received, 0);
   EXPECT_EQ(arm.trueJoints()[5], 0.0);
   arm.reconnect();
-  EXPECT_EQ(arm.status(), ArmStatus::kOk);
+  EXPECT_EQ(arm.status(), arm::ArmStatus::kOk);
   run(clock, arm, 100, [&] {
     while (arm.pollState()) ++received;
   });

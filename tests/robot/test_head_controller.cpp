@@ -33,34 +33,34 @@ class HeadControllerTest : public ::testing::Test {
  protected:
   HeadControllerTest() {
     // The arm starts at the nominal head pose.
-    const Xarm6Kinematics& kin = controller.kinematics();
-    JointVector seed;
+    const arm::Xarm6Kinematics& kin = controller.kinematics();
+    arm::JointVector seed;
     seed << 0.0, -0.3, -1.0, 0.0, -0.6, 0.0;
-    const IkResult ik = kin.inverse(
+    const arm::IkResult ik = kin.inverse(
         config.T_robot_nom * config.geometry.T_flange_head().inverse(), seed);
     EXPECT_TRUE(ik.converged());
     q_nom = ik.q;
   }
   /// Initialises with the operator at `nominal` and runs `ticks` 10 ms ticks holding `pose`.
-  HeadCommand holdFor(const Eigen::Isometry3d& pose, int ticks) {
-    HeadCommand cmd;
+  head::HeadCommand holdFor(const Eigen::Isometry3d& pose, int ticks) {
+    head::HeadCommand cmd;
     for (int i = 0; i < ticks; ++i) {
       now += 10 * kMs;
-      cmd = controller.tick(HmdSample{now, pose}, now);
+      cmd = controller.tick(head::HmdSample{now, pose}, now);
     }
     return cmd;
   }
-  Eigen::Isometry3d headOf(const JointVector& q) const {
+  Eigen::Isometry3d headOf(const arm::JointVector& q) const {
     return controller.kinematics().forward(q) * config.geometry.T_flange_head();
   }
   /// 10 ms ticks with the operator at `hmd` from the head at `start` until the controller has caught
   /// up (at most 1000): every step within the approach speeds, each command sent. The ticks it took.
-  int ticksToCatchUp(const Eigen::Isometry3d& hmd, Eigen::Isometry3d start, HeadCommand* last) {
+  int ticksToCatchUp(const Eigen::Isometry3d& hmd, Eigen::Isometry3d start, head::HeadCommand* last) {
     int ticks = 0;
-    HeadCommand& cmd = *last;
+    head::HeadCommand& cmd = *last;
     do {
       now += 10 * kMs;
-      cmd = controller.tick(HmdSample{now, hmd}, now);
+      cmd = controller.tick(head::HmdSample{now, hmd}, now);
       EXPECT_TRUE(cmd.send) << "tick " << ticks;
       const double step_deg =
           Eigen::AngleAxisd(start.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
@@ -73,8 +73,8 @@ class HeadControllerTest : public ::testing::Test {
     return ticks;
   }
   /// The arm 8° of J2 from the nominal pose: its head below both jump thresholds from there.
-  JointVector nearNominal(double* apart_deg, double* apart_m) const {
-    JointVector q_near = q_nom;
+  arm::JointVector nearNominal(double* apart_deg, double* apart_m) const {
+    arm::JointVector q_near = q_nom;
     q_near[1] += 8 * kDeg;
     *apart_deg = Eigen::AngleAxisd(headOf(q_near).linear().transpose() * headOf(q_nom).linear()).angle() / kDeg;
     *apart_m = (headOf(q_near).translation() - headOf(q_nom).translation()).norm();
@@ -83,9 +83,9 @@ class HeadControllerTest : public ::testing::Test {
     return q_near;
   }
 
-  HeadControllerConfig config;
-  HeadController controller{config};
-  JointVector q_nom;
+  head::HeadControllerConfig config;
+  head::HeadController controller{config};
+  arm::JointVector q_nom;
   std::int64_t now = 1000 * kMs;
   const Eigen::Isometry3d nominal_hmd = hmdPose({0.3, 1.6, -0.2}, 30 * kDeg, 12 * kDeg, -7 * kDeg);
   const Eigen::Isometry3d level_hmd = hmdPose({0.3, 1.6, -0.2}, 30 * kDeg, 0, 0);
@@ -94,7 +94,7 @@ class HeadControllerTest : public ::testing::Test {
 TEST_F(HeadControllerTest, PitchAndRollAreRemovedFromTheNominalPose) {
   ASSERT_TRUE(controller.initialise({now, nominal_hmd}, q_nom));
   // The operator looking level with the recorded yaw maps exactly onto the nominal pose.
-  const HeadCommand cmd = holdFor(level_hmd, 20);
+  const head::HeadCommand cmd = holdFor(level_hmd, 20);
   ASSERT_TRUE(cmd.send);
   EXPECT_TRUE(cmd.T_robot_headTarget.isApprox(config.T_robot_nom, 1e-6))
       << cmd.T_robot_headTarget.matrix();
@@ -109,13 +109,13 @@ TEST_F(HeadControllerTest, OperatorMotionIsMappedIntoTheRobotFrame) {
   Eigen::Isometry3d moved = level_hmd;
   moved.translation() += 0.10 * left_vr + Eigen::Vector3d(0, 0.05, 0);
   moved.linear() = Eigen::AngleAxisd(20 * kDeg, Eigen::Vector3d::UnitY()) * moved.linear();
-  const HeadCommand cmd = holdFor(moved, 200);  // a jump (20°): approached, then tracked
+  const head::HeadCommand cmd = holdFor(moved, 200);  // a jump (20°): approached, then tracked
   const Eigen::Vector3d expected = config.T_robot_nom.translation() + Eigen::Vector3d(0, 0.10, 0.05);
   EXPECT_LT((cmd.T_robot_headTarget.translation() - expected).norm(), 1e-6);
   const Eigen::Matrix3d R_expected =
       config.T_robot_nom.linear() * Eigen::AngleAxisd(20 * kDeg, Eigen::Vector3d::UnitZ());
-  EXPECT_LT(rotationLog(cmd.T_robot_headTarget.linear() * R_expected.transpose()).norm(), 1e-6);
-  EXPECT_EQ(cmd.ik_status, IkResult::Status::kConverged);
+  EXPECT_LT(arm::rotationLog(cmd.T_robot_headTarget.linear() * R_expected.transpose()).norm(), 1e-6);
+  EXPECT_EQ(cmd.ik_status, arm::IkResult::Status::kConverged);
   EXPECT_TRUE(headOf(cmd.q_target).isApprox(cmd.T_robot_headTarget, 1e-4));
 }
 
@@ -126,10 +126,10 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
   jumped.translation() += level_hmd.linear() * Eigen::Vector3d(0.25, 0, 0);  // 25 cm right
   Eigen::Vector3d previous = holdFor(level_hmd, 1).T_robot_headTarget.translation();
   int ticks = 0;
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   do {
     now += 10 * kMs;
-    cmd = controller.tick(HmdSample{now, jumped}, now);
+    cmd = controller.tick(head::HmdSample{now, jumped}, now);
     const Eigen::Vector3d p = cmd.T_robot_headTarget.translation();
     EXPECT_LE((p - previous).norm(), config.approach_speed * 0.010 + 1e-9);
     previous = p;
@@ -153,9 +153,9 @@ TEST_F(HeadControllerTest, JumpsAreApproachedSlowly) {
 // driver refuses (its joints' top speed allows 1.7° in 10 ms). Now it approaches from the arm.
 TEST_F(HeadControllerTest, InitialisingNearTheNominalPoseStillApproachesFromWhereTheArmIs) {
   double head_apart_deg = 0, head_apart_m = 0;
-  const JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
+  const arm::JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
   ASSERT_TRUE(controller.initialise({now, nominal_hmd}, q_near));
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   const int ticks = ticksToCatchUp(nominal_hmd, headOf(q_near), &cmd);
   std::printf("initialise %.1f° / %.0f mm from the nominal head pose: caught up in %d ticks\n", head_apart_deg,
               head_apart_m * 1e3, ticks);
@@ -169,9 +169,9 @@ TEST_F(HeadControllerTest, InitialisingNearTheNominalPoseStillApproachesFromWher
 // supervisor's first step at a fresh robot): the hold is approached from the arm too.
 TEST_F(HeadControllerTest, HoldingTheNominalPoseBeforeInitialisingApproachesFromWhereTheArmIs) {
   double head_apart_deg = 0, head_apart_m = 0;
-  const JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
+  const arm::JointVector q_near = nearNominal(&head_apart_deg, &head_apart_m);
   ASSERT_TRUE(controller.holdNominal(q_near, now));
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   const int ticks = ticksToCatchUp(nominal_hmd, headOf(q_near), &cmd);
   std::printf("hold %.1f° / %.0f mm from the nominal head pose: caught up in %d ticks\n", head_apart_deg,
               head_apart_m * 1e3, ticks);
@@ -185,7 +185,7 @@ TEST_F(HeadControllerTest, HoldingTheNominalPoseBeforeInitialisingApproachesFrom
 TEST_F(HeadControllerTest, InitialisingAtTheNominalPoseFollowsAtOnce) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   now += 10 * kMs;
-  EXPECT_FALSE(controller.tick(HmdSample{now, level_hmd}, now).approaching);
+  EXPECT_FALSE(controller.tick(head::HmdSample{now, level_hmd}, now).approaching);
 }
 
 TEST_F(HeadControllerTest, ResumingStartsFromTheMeasuredJointsAndApproachesSlowly) {
@@ -193,15 +193,15 @@ TEST_F(HeadControllerTest, ResumingStartsFromTheMeasuredJointsAndApproachesSlowl
   holdFor(level_hmd, 5);
   const Eigen::Isometry3d turned = level_hmd * Eigen::Isometry3d(Eigen::AngleAxisd(15 * kDeg, Eigen::Vector3d::UnitY()));
   now += 2000 * kMs;  // two seconds stopped
-  ASSERT_FALSE(controller.resumeFrom(JointVector::Constant(std::nan("")), now));
+  ASSERT_FALSE(controller.resumeFrom(arm::JointVector::Constant(std::nan("")), now));
   ASSERT_TRUE(controller.resumeFrom(q_nom, now));
   EXPECT_EQ(controller.resumeCount(), 1);
   Eigen::Isometry3d previous = headOf(q_nom);
   int ticks = 0;
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   do {
     now += 10 * kMs;
-    cmd = controller.tick(HmdSample{now, turned}, now);
+    cmd = controller.tick(head::HmdSample{now, turned}, now);
     const double step_deg =
         Eigen::AngleAxisd(previous.linear().transpose() * cmd.T_robot_headTarget.linear()).angle() / kDeg;
     EXPECT_LE(step_deg, config.approach_angular_speed * 0.010 / kDeg + 1e-6) << "tick " << ticks;
@@ -219,12 +219,12 @@ TEST_F(HeadControllerTest, ResumingStartsFromTheMeasuredJointsAndApproachesSlowl
 // that the new head frame is there, a small change at once, a large one through the slow approach.
 TEST_F(HeadControllerTest, ANewCameraMountMovesTheArmNotTheView) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
-  const HeadCommand before = holdFor(level_hmd, 20);
-  HeadGeometry small = config.geometry;
+  const head::HeadCommand before = holdFor(level_hmd, 20);
+  head::HeadGeometry small = config.geometry;
   small.T_flange_cam_l.translation() += Eigen::Vector3d(0.004, -0.002, 0.003);
   small.T_flange_cam_l.linear() = small.T_flange_cam_l.linear() * Eigen::AngleAxisd(0.5 * kDeg, Eigen::Vector3d::UnitY());
   controller.setGeometry(small);
-  const HeadCommand after = holdFor(level_hmd, 20);
+  const head::HeadCommand after = holdFor(level_hmd, 20);
   EXPECT_LT((after.T_robot_headTarget.translation() - before.T_robot_headTarget.translation()).norm(), 1e-9);
   const Eigen::Isometry3d head_new = controller.kinematics().forward(after.q_target) * small.T_flange_head();
   EXPECT_LT((head_new.translation() - after.T_robot_headTarget.translation()).norm(), 2e-5);
@@ -232,15 +232,15 @@ TEST_F(HeadControllerTest, ANewCameraMountMovesTheArmNotTheView) {
   EXPECT_GT((after.q_target - before.q_target).norm(), 1e-3) << "the arm moved to carry the new mount";
   EXPECT_EQ(controller.jumpCount(), 0);
 
-  HeadGeometry large = small;  // 12 cm: beyond the 10 cm jump threshold
+  head::HeadGeometry large = small;  // 12 cm: beyond the 10 cm jump threshold
   large.T_flange_cam_l.translation().z() += 0.12;
   controller.setGeometry(large);
   Eigen::Vector3d previous = (controller.kinematics().forward(after.q_target) * large.T_flange_head()).translation();
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   int ticks = 0;
   do {
     now += 10 * kMs;
-    cmd = controller.tick(HmdSample{now, level_hmd}, now);
+    cmd = controller.tick(head::HmdSample{now, level_hmd}, now);
     const Eigen::Vector3d p = cmd.T_robot_headTarget.translation();
     EXPECT_LE((p - previous).norm(), config.approach_speed * 0.010 + 1e-9) << ticks;
     previous = p;
@@ -256,12 +256,12 @@ TEST_F(HeadControllerTest, WorkspaceClampHoldsTheTargetInside) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   // The operator walks 1 m forward slowly (no jump): the head stops at the box face.
   const Eigen::Vector3d forward_vr = level_hmd.linear() * Eigen::Vector3d(0, 0, -1);
-  HeadCommand cmd;
+  head::HeadCommand cmd;
   for (int i = 1; i <= 300; ++i) {
     Eigen::Isometry3d T = level_hmd;
     T.translation() += forward_vr * (i / 300.0);
     now += 10 * kMs;
-    cmd = controller.tick(HmdSample{now, T}, now);
+    cmd = controller.tick(head::HmdSample{now, T}, now);
     ASSERT_TRUE(config.workspace.contains(cmd.T_robot_headTarget.translation()));
   }
   EXPECT_TRUE(cmd.clamped);
@@ -275,9 +275,9 @@ TEST_F(HeadControllerTest, Modes) {
   moved.translation() += Eigen::Vector3d(0, 0.05, 0);
   moved.linear() = Eigen::AngleAxisd(10 * kDeg, Eigen::Vector3d::UnitY()) * moved.linear();
   controller.setMode(link::VisualMode::kOrientation3d);
-  HeadCommand cmd = holdFor(moved, 30);
+  head::HeadCommand cmd = holdFor(moved, 30);
   EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 1e-9);
-  EXPECT_NEAR(rotationLog(cmd.T_robot_headTarget.linear() * config.T_robot_nom.linear().transpose())
+  EXPECT_NEAR(arm::rotationLog(cmd.T_robot_headTarget.linear() * config.T_robot_nom.linear().transpose())
                   .z(),
               10 * kDeg, 1e-6);
   controller.setMode(link::VisualMode::kFixed);
@@ -285,23 +285,23 @@ TEST_F(HeadControllerTest, Modes) {
     now += 10 * kMs;
     Eigen::Isometry3d garbage = moved;
     garbage.translation().x() = NAN;  // ignored in fixed mode
-    cmd = controller.tick(HmdSample{now, garbage}, now);
+    cmd = controller.tick(head::HmdSample{now, garbage}, now);
   }
   EXPECT_FALSE(cmd.approaching);
-  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNonFinite), 0);
+  EXPECT_EQ(controller.rejectionCount(head::HeadRejectReason::kNonFinite), 0);
   const Eigen::Vector3d x_head = cmd.T_robot_headTarget.linear().col(0);
   EXPECT_NEAR(x_head.z(), -std::sin(45 * kDeg), 1e-3);  // looking 45° down
   EXPECT_LT((cmd.T_robot_headTarget.translation() - config.T_robot_nom.translation()).norm(), 0.003);
 }
 
 TEST_F(HeadControllerTest, BadInputIsRejectedCountedAndTheArmHolds) {
-  EXPECT_FALSE(controller.tick(HmdSample{now, level_hmd}, now).send);
-  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNotInitialised), 1);
+  EXPECT_FALSE(controller.tick(head::HmdSample{now, level_hmd}, now).send);
+  EXPECT_EQ(controller.rejectionCount(head::HeadRejectReason::kNotInitialised), 1);
   Eigen::Isometry3d nan_pose = level_hmd;
   nan_pose.translation().y() = NAN;
   EXPECT_FALSE(controller.initialise({now, nan_pose}, q_nom));
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
-  const JointVector q_held = holdFor(level_hmd, 10).q_target;
+  const arm::JointVector q_held = holdFor(level_hmd, 10).q_target;
 
   Eigen::Isometry3d inf_pose = level_hmd;
   inf_pose.linear()(1, 1) = INFINITY;
@@ -309,27 +309,27 @@ TEST_F(HeadControllerTest, BadInputIsRejectedCountedAndTheArmHolds) {
   skewed.linear() *= 1.1;
   const std::int64_t t = now + 10 * kMs;
   struct Case {
-    std::optional<HmdSample> sample;
-    HeadRejectReason reason;
+    std::optional<head::HmdSample> sample;
+    head::HeadRejectReason reason;
   };
   const std::vector<Case> cases = {
-      {std::nullopt, HeadRejectReason::kMissing},
-      {HmdSample{t, nan_pose}, HeadRejectReason::kNonFinite},
-      {HmdSample{t, inf_pose}, HeadRejectReason::kNonFinite},
-      {HmdSample{t, skewed}, HeadRejectReason::kNotRotation},
-      {HmdSample{t - 150 * kMs, level_hmd}, HeadRejectReason::kStale},
-      {HmdSample{t + 50 * kMs, level_hmd}, HeadRejectReason::kFromFuture},
-      {HmdSample{now - 5 * kMs, level_hmd}, HeadRejectReason::kOutOfOrder},
+      {std::nullopt, head::HeadRejectReason::kMissing},
+      {head::HmdSample{t, nan_pose}, head::HeadRejectReason::kNonFinite},
+      {head::HmdSample{t, inf_pose}, head::HeadRejectReason::kNonFinite},
+      {head::HmdSample{t, skewed}, head::HeadRejectReason::kNotRotation},
+      {head::HmdSample{t - 150 * kMs, level_hmd}, head::HeadRejectReason::kStale},
+      {head::HmdSample{t + 50 * kMs, level_hmd}, head::HeadRejectReason::kFromFuture},
+      {head::HmdSample{now - 5 * kMs, level_hmd}, head::HeadRejectReason::kOutOfOrder},
   };
   for (const Case& c : cases) {
     const std::int64_t before = controller.rejectionCount(c.reason);
-    const HeadCommand cmd = controller.tick(c.sample, t);
+    const head::HeadCommand cmd = controller.tick(c.sample, t);
     EXPECT_FALSE(cmd.send);
     EXPECT_EQ(cmd.reason, c.reason);
     EXPECT_EQ(controller.rejectionCount(c.reason), before + 1);
     EXPECT_EQ(cmd.q_target, q_held);
   }
-  EXPECT_EQ(controller.rejectionCount(HeadRejectReason::kNonFinite), 2);
+  EXPECT_EQ(controller.rejectionCount(head::HeadRejectReason::kNonFinite), 2);
   // Good input afterwards is followed again.
   now = t;
   EXPECT_TRUE(holdFor(level_hmd, 1).send);
@@ -348,29 +348,29 @@ TEST_F(HeadControllerTest, NeverCommandsBeyondJointLimitsUnderFuzzedInput) {
     if (k == 0) T.translation().x() = NAN;
     if (k == 1) T.linear() *= 2.0;
     if (k == 2) controller.setMode(static_cast<link::VisualMode>(i % 3));
-    const HeadCommand cmd = controller.tick(HmdSample{k == 3 ? now - kMs * 500 : now, T}, now);
+    const head::HeadCommand cmd = controller.tick(head::HmdSample{k == 3 ? now - kMs * 500 : now, T}, now);
     ASSERT_TRUE(controller.kinematics().withinLimits(cmd.q_target)) << cmd.q_target.transpose();
     ASSERT_TRUE(config.workspace.contains(cmd.T_robot_headTarget.translation()) || !cmd.send);
   }
   EXPECT_GT(controller.jumpCount(), 0);
-  EXPECT_GT(controller.rejectionCount(HeadRejectReason::kStale), 0);
+  EXPECT_GT(controller.rejectionCount(head::HeadRejectReason::kStale), 0);
 }
 
 TEST_F(HeadControllerTest, ClosedLoopWithTheSimulatedArm) {
-  SimClock clock(now);
-  SimulatedArmConfig arm_config;
+  clock::SimClock clock(now);
+  arm::SimulatedArmConfig arm_config;
   arm_config.q_initial = q_nom;
-  SimulatedArm arm(clock, arm_config);
+  arm::SimulatedArm arm(clock, arm_config);
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   Eigen::Isometry3d moved = level_hmd;
   moved.translation() += level_hmd.linear() * Eigen::Vector3d(0.08, 0.04, 0);
-  JointState last;
+  arm::JointState last;
   for (int ms = 1; ms <= 1500; ++ms) {
     clock.advance(kMs);
     arm.update();
     while (auto s = arm.pollState()) last = *s;
     if (ms % 10 == 0) {
-      const HeadCommand cmd = controller.tick(HmdSample{clock.nowNs(), moved}, clock.nowNs());
+      const head::HeadCommand cmd = controller.tick(head::HmdSample{clock.nowNs(), moved}, clock.nowNs());
       if (cmd.send) {
         EXPECT_TRUE(arm.sendTarget(cmd.q_target));
       }
@@ -379,7 +379,7 @@ TEST_F(HeadControllerTest, ClosedLoopWithTheSimulatedArm) {
   EXPECT_EQ(arm.refusedTargets(), 0);
   const Eigen::Vector3d expected = config.T_robot_nom.translation() + Eigen::Vector3d(0, -0.08, 0.04);
   EXPECT_LT((headOf(last.q).translation() - expected).norm(), 1e-3);
-  EXPECT_EQ(last.status, ArmStatus::kOk);
+  EXPECT_EQ(last.status, arm::ArmStatus::kOk);
 }
 
 }  // namespace

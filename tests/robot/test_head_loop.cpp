@@ -37,34 +37,34 @@ link::proto::HeadTarget target(std::int64_t t_ns, const Eigen::Vector3d& positio
 }
 
 struct HeadLoopRig {
-  SimClock clock{1'000'000'000};
-  SimulatedArmConfig arm_config;
-  SimulatedArm arm{clock, armConfig()};
-  HeadController controller;
-  JointStateBuffer buffer{controller.config().geometry};
+  clock::SimClock clock{1'000'000'000};
+  arm::SimulatedArmConfig arm_config;
+  arm::SimulatedArm arm{clock, armConfig()};
+  head::HeadController controller;
+  head::JointStateBuffer buffer{controller.config().geometry};
   link::LinkEndpoints endpoints;
   std::unique_ptr<link::LinkServer> server;
   std::unique_ptr<link::LinkClient> client;
-  std::unique_ptr<HeadLoop> loop;
+  std::unique_ptr<head::HeadLoop> loop;
   std::int64_t operator_t_ns = 1;
 
-  static SimulatedArmConfig armConfig() {
-    SimulatedArmConfig c;
+  static arm::SimulatedArmConfig armConfig() {
+    arm::SimulatedArmConfig c;
     c.q_initial << 0.0, -0.3, -0.6, 0.0, 0.9, 0.0;
     return c;
   }
 
-  TelemetryBatcher telemetry;
+  telemetry::TelemetryBatcher telemetry;
 
   /// `hold_lease_ns`: how long a calibration hold lasts without a renewal.
-  explicit HeadLoopRig(int port, std::int64_t hold_lease_ns = HeadLoopConfig{}.hold_lease_ns) {
+  explicit HeadLoopRig(int port, std::int64_t hold_lease_ns = head::HeadLoopConfig{}.hold_lease_ns) {
     endpoints.base_port = port;
     server = std::make_unique<link::LinkServer>(endpoints);
     client = std::make_unique<link::LinkClient>(endpoints, link::LinkClient::Options{.telemetry = true});
-    HeadLoopConfig config;
+    head::HeadLoopConfig config;
     config.telemetry = &telemetry;
     config.hold_lease_ns = hold_lease_ns;
-    loop = std::make_unique<HeadLoop>(arm, controller, buffer, *server, clock, config);
+    loop = std::make_unique<head::HeadLoop>(arm, controller, buffer, *server, clock, config);
     server->setControlHandler([this](const link::proto::ControlRequest& r) { return loop->handleControl(r); });
   }
 
@@ -150,7 +150,7 @@ TEST(HeadLoop, NominalCaptureThenTargetsMoveTheArm) {
   EXPECT_NEAR(T.qw() * T.qw() + T.qx() * T.qx() + T.qy() * T.qy() + T.qz() * T.qz(), 1.0, 1e-9);
   // The joint-state buffer the video path reads was filled on the way.
   EXPECT_GT(rig.buffer.size(), 300u);
-  EXPECT_TRUE(rig.buffer.T_robot_cam(CameraSide::kLeft, rig.clock.nowNs() - 20'000'000));
+  EXPECT_TRUE(rig.buffer.T_robot_cam(head::CameraSide::kLeft, rig.clock.nowNs() - 20'000'000));
 }
 
 TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
@@ -231,7 +231,7 @@ TEST(HeadLoop, GuidedNominalStepHoldCaptureConfirmAndUndo) {
   const Eigen::Isometry3d T_robot_vr = link::fromLinkPose(reply.nominal().t_robot_vr());
   const Eigen::Isometry3d T_robot_head =
       T_robot_vr * link::withoutPitchAndRoll(link::fromLinkPose(reply.nominal().t_vr_hmd_captured())) *
-      HeadController::T_hmd_head();
+      head::HeadController::T_hmd_head();
   EXPECT_TRUE(T_robot_head.isApprox(T_robot_nom, 1e-9));
   for (int i = 0; i < 20; ++i) rig.step();
   EXPECT_FALSE(rig.controller.initialised());  // nothing applied before confirm
@@ -373,7 +373,7 @@ TEST(HeadLoop, TheCalibrationPatternTurnsTheHeadAboutThreeAxes) {
     lo = lo.cwiseMin(ypr);
     hi = hi.cwiseMax(ypr);
     worst_position_m = std::max(worst_position_m, (measured.translation() - T_robot_nom.translation()).norm());
-    const Eigen::Isometry3d wanted = calibrationPatternPose(T_robot_nom, 20.0, rig.clock.nowNs() - start_ns);
+    const Eigen::Isometry3d wanted = head::calibrationPatternPose(T_robot_nom, 20.0, rig.clock.nowNs() - start_ns);
     worst_lag_deg = std::max(worst_lag_deg,
                              Eigen::AngleAxisd(measured.linear().transpose() * wanted.linear()).angle() * 180 / M_PI);
   }
@@ -524,7 +524,7 @@ TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
 
   r.set_arm_stop(true);
   EXPECT_TRUE(rig.request(r).ok());
-  EXPECT_EQ(rig.arm.status(), ArmStatus::kStopped);
+  EXPECT_EQ(rig.arm.status(), arm::ArmStatus::kStopped);
   ASSERT_TRUE(eventually([&] {
     rig.step();
     const auto s = rig.client->latestRobotState();
@@ -545,7 +545,7 @@ TEST(HeadLoop, KnobsArmStopAndClearThroughControlRequests) {
     const auto s = rig.client->latestRobotState();
     return s && s->arm_ok();
   }));
-  EXPECT_EQ(rig.arm.status(), ArmStatus::kOk);
+  EXPECT_EQ(rig.arm.status(), arm::ArmStatus::kOk);
   EXPECT_EQ(rig.client->latestRobotState()->fault(), "");
   // Nothing to clear: ok, nothing pending.
   reply = rig.request(r);
@@ -662,7 +662,7 @@ TEST(HeadLoop, TargetsAreTimedInTheRobotClockAndOrderedPerSender) {
     rig.step();
   }
   ASSERT_TRUE(rig.controller.initialised());
-  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kStale), 0);
+  EXPECT_EQ(rig.controller.rejectionCount(head::HeadRejectReason::kStale), 0);
   EXPECT_EQ(rig.loop->targetsStampedOnArrival(), 0);
   const std::int64_t sent = rig.loop->targetsSent();
   EXPECT_GT(sent, 40);
@@ -671,12 +671,12 @@ TEST(HeadLoop, TargetsAreTimedInTheRobotClockAndOrderedPerSender) {
   // (stamped on arrival it would look fresh).
   rig.sendTarget(head + Eigen::Vector3d(0.05, 0, 0), {}, rig.clock.nowNs() - 300'000'000);
   rig.step();
-  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kStale), 1);
+  EXPECT_EQ(rig.controller.rejectionCount(head::HeadRejectReason::kStale), 1);
 
   // A pose stamped 50 ms in the robot's future (a wrong clock offset): refused too.
   rig.sendTarget(head, {}, rig.clock.nowNs() + 50'000'000);
   rig.step();
-  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kFromFuture), 1);
+  EXPECT_EQ(rig.controller.rejectionCount(head::HeadRejectReason::kFromFuture), 1);
 
   // The operator PC restarts: a new sender whose clock starts near zero is heard at once.
   link::LinkClient restarted(rig.endpoints);
@@ -687,7 +687,7 @@ TEST(HeadLoop, TargetsAreTimedInTheRobotClockAndOrderedPerSender) {
   }
   EXPECT_EQ(rig.server->latestHeadTarget()->sender_instance(), restarted.instance());
   EXPECT_GE(rig.loop->targetsSent(), sent + 5);
-  EXPECT_EQ(rig.controller.rejectionCount(HeadRejectReason::kOutOfOrder), 0);
+  EXPECT_EQ(rig.controller.rejectionCount(head::HeadRejectReason::kOutOfOrder), 0);
 
   // A sender without a clock offset yet: its targets are stamped on arrival, and counted.
   rig.sendTarget(head, {}, 0, &restarted);

@@ -19,8 +19,8 @@ double trapezoid(double t, double start, double end) {
   return 0.5 * std::min({1.0, (t - start) / ramp, (end - t) / ramp});
 }
 
-std::vector<HeadMotionSample> syntheticTrace() {
-  std::vector<HeadMotionSample> trace;
+std::vector<head::HeadMotionSample> syntheticTrace() {
+  std::vector<head::HeadMotionSample> trace;
   for (int k = 0; k <= 300; ++k) {
     const double t = k * 0.01;
     trace.push_back({t, trapezoid(t, 0.5, 1.6), trapezoid(t, 0.63, 1.7), 0.01 * std::sin(t)});
@@ -29,11 +29,11 @@ std::vector<HeadMotionSample> syntheticTrace() {
 }
 
 TEST(HeadMotionTrace, LatenciesFromThresholdCrossings) {
-  const HeadLatencies l = measureHeadLatencies(syntheticTrace(), 0.05);
+  const head::HeadLatencies l = head::measureHeadLatencies(syntheticTrace(), 0.05);
   ASSERT_TRUE(l.start_s && l.finish_s);
   EXPECT_NEAR(*l.start_s, 0.13, 1e-9);
   EXPECT_NEAR(*l.finish_s, 0.10, 1e-9);
-  const HeadLatencies never = measureHeadLatencies(syntheticTrace(), 0.9);
+  const head::HeadLatencies never = head::measureHeadLatencies(syntheticTrace(), 0.9);
   EXPECT_FALSE(never.start_s);
   EXPECT_FALSE(never.finish_s);
 }
@@ -42,8 +42,8 @@ TEST(HeadMotionTrace, WritesCsv) {
   const std::filesystem::path dir =
       std::filesystem::path(TELESPHERE_BINARY_DIR) / "test-out" / "head_motion_trace";
   std::filesystem::create_directories(dir);
-  const std::vector<HeadMotionSample> trace = syntheticTrace();
-  ASSERT_TRUE(writeHeadMotionCsv(dir / "trace.csv", trace));
+  const std::vector<head::HeadMotionSample> trace = syntheticTrace();
+  ASSERT_TRUE(head::writeHeadMotionCsv(dir / "trace.csv", trace));
   std::ifstream csv(dir / "trace.csv");
   std::string line;
   std::getline(csv, line);
@@ -52,7 +52,7 @@ TEST(HeadMotionTrace, WritesCsv) {
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, static_cast<int>(trace.size()));
 
-  EXPECT_FALSE(writeHeadMotionCsv(dir / "no-such-dir" / "x.csv", trace));
+  EXPECT_FALSE(head::writeHeadMotionCsv(dir / "no-such-dir" / "x.csv", trace));
 }
 
 }  // namespace

@@ -19,26 +19,26 @@ namespace {
 constexpr std::int64_t kMs = 1'000'000;
 
 /// Joints linear in time, so linear interpolation reproduces them exactly.
-JointVector linearJoints(std::int64_t t_ns) {
+arm::JointVector linearJoints(std::int64_t t_ns) {
   const double t = static_cast<double>(t_ns) * 1e-9;
-  JointVector q;
+  arm::JointVector q;
   q << 0.1 + 0.5 * t, -0.3 + 0.2 * t, -1.0 - 0.1 * t, 0.2 * t, 0.8 - 0.3 * t, -0.4 + t;
   return q;
 }
 
-JointState stateAt(std::int64_t t_ns) { return JointState{t_ns, linearJoints(t_ns), ArmStatus::kOk}; }
+arm::JointState stateAt(std::int64_t t_ns) { return arm::JointState{t_ns, linearJoints(t_ns), arm::ArmStatus::kOk}; }
 
 TEST(JointStateBuffer, InterpolatesJointsAndFollowsKinematicsForPoses) {
-  const HeadGeometry geometry = HeadGeometry::example();
-  JointStateBuffer buffer(geometry);
+  const head::HeadGeometry geometry = head::HeadGeometry::example();
+  head::JointStateBuffer buffer(geometry);
   for (int k = 0; k < 50; ++k) ASSERT_TRUE(buffer.push(stateAt(k * 10 * kMs)));
-  const Xarm6Kinematics kin;
+  const arm::Xarm6Kinematics kin;
   for (const std::int64_t t : {std::int64_t{0}, 5 * kMs, 123 * kMs, 250 * kMs + 1, 490 * kMs}) {
     const auto q = buffer.jointsAt(t);
     ASSERT_TRUE(q) << t;
     EXPECT_TRUE(q->isApprox(linearJoints(t), 1e-12));
-    const auto T_l = buffer.T_robot_cam(CameraSide::kLeft, t);
-    const auto T_r = buffer.T_robot_cam(CameraSide::kRight, t);
+    const auto T_l = buffer.T_robot_cam(head::CameraSide::kLeft, t);
+    const auto T_r = buffer.T_robot_cam(head::CameraSide::kRight, t);
     ASSERT_TRUE(T_l && T_r);
     const Eigen::Isometry3d T_flange = kin.forward(*q);
     EXPECT_TRUE(T_l->isApprox(T_flange * geometry.T_flange_cam_l, 1e-12));
@@ -46,18 +46,18 @@ TEST(JointStateBuffer, InterpolatesJointsAndFollowsKinematicsForPoses) {
     EXPECT_NEAR((T_l->translation() - T_r->translation()).norm(), 0.065, 1e-12);
   }
   // Between two samples, interpolation is linear in the joints (not in the pose).
-  JointStateBuffer step(geometry);
-  JointVector a = JointVector::Zero(), b = JointVector::Zero();
+  head::JointStateBuffer step(geometry);
+  arm::JointVector a = arm::JointVector::Zero(), b = arm::JointVector::Zero();
   b[0] = 0.2;
-  step.push({0, a, ArmStatus::kOk});
-  step.push({10 * kMs, b, ArmStatus::kOk});
+  step.push({0, a, arm::ArmStatus::kOk});
+  step.push({10 * kMs, b, arm::ArmStatus::kOk});
   EXPECT_NEAR((*step.jointsAt(2500'000))[0], 0.05, 1e-15);
 }
 
 TEST(JointStateBuffer, RefusesOutsideItsWindowAndExtrapolatesWithinTheBound) {
-  JointStateBufferConfig config;
+  head::JointStateBufferConfig config;
   config.max_extrapolation_ns = 20 * kMs;
-  JointStateBuffer buffer(HeadGeometry::example(), config);
+  head::JointStateBuffer buffer(head::HeadGeometry::example(), config);
   EXPECT_FALSE(buffer.jointsAt(0));
   EXPECT_FALSE(buffer.window());
   buffer.push(stateAt(100 * kMs));
@@ -69,17 +69,17 @@ TEST(JointStateBuffer, RefusesOutsideItsWindowAndExtrapolatesWithinTheBound) {
   EXPECT_TRUE(extrapolated->isApprox(linearJoints(125 * kMs), 1e-12));
   EXPECT_TRUE(buffer.jointsAt(130 * kMs));
   EXPECT_FALSE(buffer.jointsAt(130 * kMs + 1));
-  EXPECT_FALSE(buffer.T_robot_cam(CameraSide::kLeft, 131 * kMs));
+  EXPECT_FALSE(buffer.T_robot_cam(head::CameraSide::kLeft, 131 * kMs));
 }
 
 TEST(JointStateBuffer, RejectsDisorderedAndNonFiniteStatesAndRefusesAcrossGaps) {
-  JointStateBufferConfig config;
+  head::JointStateBufferConfig config;
   config.max_gap_ns = 50 * kMs;
-  JointStateBuffer buffer(HeadGeometry::example(), config);
+  head::JointStateBuffer buffer(head::HeadGeometry::example(), config);
   EXPECT_TRUE(buffer.push(stateAt(10 * kMs)));
   EXPECT_FALSE(buffer.push(stateAt(10 * kMs)));
   EXPECT_FALSE(buffer.push(stateAt(5 * kMs)));
-  JointState bad = stateAt(20 * kMs);
+  arm::JointState bad = stateAt(20 * kMs);
   bad.q[3] = NAN;
   EXPECT_FALSE(buffer.push(bad));
   EXPECT_TRUE(buffer.push(stateAt(20 * kMs)));
@@ -91,9 +91,9 @@ TEST(JointStateBuffer, RejectsDisorderedAndNonFiniteStatesAndRefusesAcrossGaps) 
 }
 
 TEST(JointStateBuffer, DropsTheOldestWhenFull) {
-  JointStateBufferConfig config;
+  head::JointStateBufferConfig config;
   config.capacity = 8;
-  JointStateBuffer buffer(HeadGeometry::example(), config);
+  head::JointStateBuffer buffer(head::HeadGeometry::example(), config);
   for (int k = 0; k < 20; ++k) buffer.push(stateAt(k * 10 * kMs));
   EXPECT_EQ(buffer.size(), 8u);
   const auto window = buffer.window();
@@ -105,9 +105,9 @@ TEST(JointStateBuffer, DropsTheOldestWhenFull) {
 }
 
 TEST(JointStateBuffer, OneWriterSeveralReaders) {
-  JointStateBufferConfig config;
+  head::JointStateBufferConfig config;
   config.capacity = 64;
-  JointStateBuffer buffer(HeadGeometry::example(), config);
+  head::JointStateBuffer buffer(head::HeadGeometry::example(), config);
   buffer.push(stateAt(0));
   constexpr int kSamples = 3000;
   std::atomic<bool> done{false};
@@ -160,7 +160,7 @@ std::array<Eigen::Isometry3d, 2> initialPoses() {
 }
 
 TEST(JointStateBuffer, AWaitingReaderIsWokenByThePushThatReachesItsTimeAndOtherwiseTimesOut) {
-  JointStateBuffer buffer(HeadGeometry::example());
+  head::JointStateBuffer buffer(head::HeadGeometry::example());
   ASSERT_TRUE(buffer.push(stateAt(0)));
   const auto now = [] { return std::chrono::steady_clock::now(); };
   EXPECT_TRUE(buffer.waitForSampleAtOrAfter(0, now()));  // there already: no wait
@@ -180,43 +180,43 @@ TEST(JointStateBuffer, AWaitingReaderIsWokenByThePushThatReachesItsTimeAndOtherw
 }
 
 TEST(TrueCameraPoses, BeforeTheArmsFirstStateTheInitialPoseIsTheTruthAndNoFallbackIsCounted) {
-  const JointStateBuffer truth(HeadGeometry::example());
-  const SimClock clock(100 * kMs);
-  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  EXPECT_TRUE(poses.at(CameraSide::kRight, 150 * kMs).isApprox(initialPoses()[1]));
+  const head::JointStateBuffer truth(head::HeadGeometry::example());
+  const clock::SimClock clock(100 * kMs);
+  const stereo::TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  EXPECT_TRUE(poses.at(head::CameraSide::kRight, 150 * kMs).isApprox(initialPoses()[1]));
   EXPECT_EQ(poses.fallbacks(), 0u);
 }
 
 TEST(TrueCameraPoses, InsideTheWindowThePoseIsTheBuffersForThatSide) {
-  JointStateBuffer truth(HeadGeometry::example());
+  head::JointStateBuffer truth(head::HeadGeometry::example());
   for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
-  const SimClock clock(10 * kMs);
-  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  for (CameraSide side : {CameraSide::kLeft, CameraSide::kRight})
+  const clock::SimClock clock(10 * kMs);
+  const stereo::TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  for (head::CameraSide side : {head::CameraSide::kLeft, head::CameraSide::kRight})
     EXPECT_TRUE(poses.at(side, 4 * kMs + 500'000).isApprox(*truth.T_robot_cam(side, 4 * kMs + 500'000), 1e-12));
   EXPECT_EQ(poses.fallbacks(), 0u);
 }
 
 TEST(TrueCameraPoses, WaitsForTheSimulationToCatchUpThenFallsBackAndCountsWhenItNeverDoes) {
-  JointStateBuffer truth(HeadGeometry::example());
+  head::JointStateBuffer truth(head::HeadGeometry::example());
   for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
-  const SimClock clock(10 * kMs);
+  const clock::SimClock clock(10 * kMs);
   // An hour's patience: only the pushes' wake-ups end the wait.
-  const TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::hours(1));
+  const stereo::TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::hours(1));
   // The simulation catches up with the capture time while at() waits (it pushes once at() waits,
   // one state after another, each waking the reader): the true pose, no fallback.
   std::thread writer([&truth] {
     EXPECT_TRUE(test::eventually([&] { return truth.waitingReaders() > 0; }));
     for (int k = 11; k <= 40; ++k) truth.push(stateAt(k * kMs));
   });
-  const Eigen::Isometry3d T = poses.at(CameraSide::kLeft, 35 * kMs);
+  const Eigen::Isometry3d T = poses.at(head::CameraSide::kLeft, 35 * kMs);
   writer.join();
-  EXPECT_TRUE(T.isApprox(*truth.T_robot_cam(CameraSide::kLeft, 35 * kMs), 1e-12));
+  EXPECT_TRUE(T.isApprox(*truth.T_robot_cam(head::CameraSide::kLeft, 35 * kMs), 1e-12));
   EXPECT_EQ(poses.fallbacks(), 0u);
   // Far beyond what the (now stalled) simulation reached, past its extrapolation: after the wait,
   // the initial pose, counted.
-  const TrueCameraPoses impatient(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  EXPECT_TRUE(impatient.at(CameraSide::kLeft, 5000 * kMs).isApprox(initialPoses()[0]));
+  const stereo::TrueCameraPoses impatient(truth, clock, initialPoses(), std::chrono::milliseconds(20));
+  EXPECT_TRUE(impatient.at(head::CameraSide::kLeft, 5000 * kMs).isApprox(initialPoses()[0]));
   EXPECT_EQ(impatient.fallbacks(), 1u);
 }
 

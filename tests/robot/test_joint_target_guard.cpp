@@ -16,19 +16,19 @@ namespace {
 
 constexpr std::int64_t kPeriod = 10'000'000;  // 10 ms
 constexpr double kTop = M_PI;                  // rad/s
-using V = JointTargetGuard::Verdict;
+using V = arm::JointTargetGuard::Verdict;
 
-JointTargetGuard started(const JointVector& q, std::int64_t t = 0, int n = 10) {
-  JointTargetGuard g({kTop, kPeriod, n});
+arm::JointTargetGuard started(const arm::JointVector& q, std::int64_t t = 0, int n = 10) {
+  arm::JointTargetGuard g({kTop, kPeriod, n});
   g.startFrom(q, t);
   return g;
 }
 
-JointVector home() { return (JointVector() << 0, -0.3, -0.5, 0, 0.8, 0).finished(); }
+arm::JointVector home() { return (arm::JointVector() << 0, -0.3, -0.5, 0, 0.8, 0).finished(); }
 
 TEST(JointTargetGuard, StepsUpToTheTopSpeedPassAndBecomeTheReference) {
-  JointTargetGuard g = started(home());
-  JointVector q = home();
+  arm::JointTargetGuard g = started(home());
+  arm::JointVector q = home();
   for (int k = 1; k <= 50; ++k) {  // J2 from −17° to 72°
     q[1] += 0.99 * kTop * 0.01;  // just under π rad/s for 10 ms
     ASSERT_EQ(g.check(q, k * kPeriod), V::kAccepted) << k;
@@ -38,8 +38,8 @@ TEST(JointTargetGuard, StepsUpToTheTopSpeedPassAndBecomeTheReference) {
 }
 
 TEST(JointTargetGuard, AStepBeyondTheTopSpeedIsRefusedAndTheReferenceStays) {
-  JointTargetGuard g = started(home());
-  JointVector q = home();
+  arm::JointTargetGuard g = started(home());
+  arm::JointVector q = home();
   q[2] += kTop * 0.01 + 0.01;  // 10 mrad more than 10 ms allow (tolerance 1 mrad)
   EXPECT_EQ(g.check(q, kPeriod), V::kJump);
   EXPECT_TRUE(g.reference()->isApprox(home()));
@@ -50,8 +50,8 @@ TEST(JointTargetGuard, AStepBeyondTheTopSpeedIsRefusedAndTheReferenceStays) {
 }
 
 TEST(JointTargetGuard, TenJumpsInARowAreAFaultThatNamesTheJointAndTheLimit) {
-  JointTargetGuard g = started(home());
-  JointVector far = home();
+  arm::JointTargetGuard g = started(home());
+  arm::JointVector far = home();
   far[1] += 45 * M_PI / 180;
   for (int k = 1; k < 10; ++k) ASSERT_EQ(g.check(far, k * kPeriod), V::kJump) << k;
   EXPECT_EQ(g.check(far, 10 * kPeriod), V::kJumpFault);
@@ -62,8 +62,8 @@ TEST(JointTargetGuard, TenJumpsInARowAreAFaultThatNamesTheJointAndTheLimit) {
 }
 
 TEST(JointTargetGuard, AnAcceptedTargetBetweenJumpsRestartsTheCount) {
-  JointTargetGuard g = started(home(), 0, 3);
-  JointVector far = home();
+  arm::JointTargetGuard g = started(home(), 0, 3);
+  arm::JointVector far = home();
   far[0] += 1.0;
   std::int64_t t = 0;
   for (int round = 0; round < 5; ++round) {
@@ -79,30 +79,30 @@ TEST(JointTargetGuard, AnAcceptedTargetBetweenJumpsRestartsTheCount) {
 TEST(JointTargetGuard, TheTimeSinceCountsBetweenOneAndThreePeriods) {
   const double one_period = kTop * 0.01;
   // A long silence does not allow a long step: at most three periods' worth.
-  JointTargetGuard g = started(home());
-  JointVector q = home();
+  arm::JointTargetGuard g = started(home());
+  arm::JointVector q = home();
   q[3] += 3 * one_period - 0.0005;
   EXPECT_EQ(g.check(q, 1'000'000'000), V::kAccepted);  // 1 s later, 3 periods' step
   q[3] += 3 * one_period + 0.005;
   EXPECT_EQ(g.check(q, 3'000'000'000), V::kJump);  // 2 s later, a bit more than 3 periods' step
   // An early tick (1 ms after) still allows one period's step.
-  JointTargetGuard h = started(home());
-  JointVector r = home();
+  arm::JointTargetGuard h = started(home());
+  arm::JointVector r = home();
   r[4] += one_period - 0.0005;
   EXPECT_EQ(h.check(r, 1'000'000), V::kAccepted);
 }
 
 TEST(JointTargetGuard, NonFiniteAndOutOfLimitTargetsNeverPassAndDoNotCountAsJumps) {
-  JointTargetGuard g = started(home());
+  arm::JointTargetGuard g = started(home());
   for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
                      -std::numeric_limits<double>::infinity(), 1e300}) {
     for (int j = 0; j < 6; ++j) {
-      JointVector q = home();
+      arm::JointVector q = home();
       q[j] = bad;
       EXPECT_EQ(g.check(q, kPeriod), V::kOutsideLimits) << "joint " << j << " = " << bad;
     }
   }
-  JointVector beyond = home();
+  arm::JointVector beyond = home();
   beyond[1] = 121 * M_PI / 180;  // J2's limit is 120°
   EXPECT_EQ(g.check(beyond, kPeriod), V::kOutsideLimits);
   EXPECT_EQ(g.consecutiveJumps(), 0);
@@ -110,9 +110,9 @@ TEST(JointTargetGuard, NonFiniteAndOutOfLimitTargetsNeverPassAndDoNotCountAsJump
 }
 
 TEST(JointTargetGuard, WithoutAReferenceAnyTargetWithinLimitsPassesThenTheRuleHolds) {
-  JointTargetGuard g({kTop, kPeriod, 10});
+  arm::JointTargetGuard g({kTop, kPeriod, 10});
   EXPECT_EQ(g.check(home(), 0), V::kAccepted);
-  JointVector far = home();
+  arm::JointVector far = home();
   far[5] += 1.0;
   EXPECT_EQ(g.check(far, kPeriod), V::kJump);
 }
@@ -120,12 +120,12 @@ TEST(JointTargetGuard, WithoutAReferenceAnyTargetWithinLimitsPassesThenTheRuleHo
 TEST(JointTargetGuard, SeededRandomStepsAreJudgedByTheirLargestJoint) {
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> step(-0.05, 0.05);
-  JointTargetGuard g = started(home());
-  JointVector ref = home();
+  arm::JointTargetGuard g = started(home());
+  arm::JointVector ref = home();
   std::int64_t t = 0;
   int accepted = 0, refused = 0;
   for (int k = 0; k < 2000; ++k) {
-    JointVector q = ref;
+    arm::JointVector q = ref;
     for (int j = 0; j < 6; ++j) q[j] += step(rng);
     t += kPeriod;
     const double largest = (q - ref).cwiseAbs().maxCoeff();

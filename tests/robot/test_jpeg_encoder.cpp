@@ -40,13 +40,13 @@ std::vector<std::uint8_t> decodeRgb(const std::vector<std::uint8_t>& jpeg, int w
 TEST(JpegEncoder, QualityTradesSizeForFidelity) {
   const int w = 320, h = 240;
   const auto rgb = testImage(w, h);
-  JpegEncoder encoder;
+  video::JpegEncoder encoder;
   std::vector<std::uint8_t> jpeg;
   std::string error;
   double last_psnr = 0;
   std::size_t last_size = 0;
   for (int quality : {50, 75, 90, 95}) {
-    ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {quality, ChromaSubsampling::k420}, jpeg, &error)) << error;
+    ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {quality, video::ChromaSubsampling::k420}, jpeg, &error)) << error;
     const double p = psnr(rgb, decodeRgb(jpeg, w, h));
     EXPECT_GT(p, last_psnr) << "quality " << quality;
     EXPECT_GT(jpeg.size(), last_size) << "quality " << quality;
@@ -59,12 +59,12 @@ TEST(JpegEncoder, QualityTradesSizeForFidelity) {
 TEST(JpegEncoder, EverySubsamplingDecodes) {
   const int w = 64, h = 48;
   const auto rgb = testImage(w, h);
-  JpegEncoder encoder;
+  video::JpegEncoder encoder;
   std::vector<std::uint8_t> jpeg;
   std::string error;
   tjhandle d = tjInitDecompress();
-  for (auto [s, tj] : {std::pair{ChromaSubsampling::k420, TJSAMP_420}, {ChromaSubsampling::k422, TJSAMP_422},
-                       {ChromaSubsampling::k444, TJSAMP_444}, {ChromaSubsampling::kGray, TJSAMP_GRAY}}) {
+  for (auto [s, tj] : {std::pair{video::ChromaSubsampling::k420, TJSAMP_420}, {video::ChromaSubsampling::k422, TJSAMP_422},
+                       {video::ChromaSubsampling::k444, TJSAMP_444}, {video::ChromaSubsampling::kGray, TJSAMP_GRAY}}) {
     ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {90, s}, jpeg, &error)) << error;
     int jw, jh, js, jc;
     ASSERT_EQ(tjDecompressHeader3(d, jpeg.data(), jpeg.size(), &jw, &jh, &js, &jc), 0);
@@ -76,13 +76,13 @@ TEST(JpegEncoder, EverySubsamplingDecodes) {
 }
 
 TEST(JpegEncoder, RefusesBadInput) {
-  JpegEncoder encoder;
+  video::JpegEncoder encoder;
   std::vector<std::uint8_t> jpeg, rgb(300);
   std::string error;
   EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 0, 10, 30, {}, jpeg, &error));
   EXPECT_NE(error.find("bad image size 0x10"), std::string::npos);
   EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 20, {}, jpeg, &error));  // stride too short
-  EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 30, {101, ChromaSubsampling::k420}, jpeg, &error));
+  EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 30, {101, video::ChromaSubsampling::k420}, jpeg, &error));
   EXPECT_EQ(error, "JPEG quality 101 is outside 1..100");
 }
 

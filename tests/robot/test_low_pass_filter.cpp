@@ -21,20 +21,20 @@ Eigen::Isometry3d pose(const Eigen::Vector3d& p, double angle, const Eigen::Vect
 }
 
 TEST(PoseLowPassFilter, Alpha) {
-  EXPECT_EQ(PoseLowPassFilter::alpha(100.0, 0), 0.0);
-  EXPECT_NEAR(PoseLowPassFilter::alpha(100.0, 10'000'000), 1.0 - std::exp(-2 * M_PI), 1e-15);
-  EXPECT_EQ(PoseLowPassFilter::alpha(std::numeric_limits<double>::infinity(), 1), 1.0);
+  EXPECT_EQ(head::PoseLowPassFilter::alpha(100.0, 0), 0.0);
+  EXPECT_NEAR(head::PoseLowPassFilter::alpha(100.0, 10'000'000), 1.0 - std::exp(-2 * M_PI), 1e-15);
+  EXPECT_EQ(head::PoseLowPassFilter::alpha(std::numeric_limits<double>::infinity(), 1), 1.0);
 }
 
 TEST(PoseLowPassFilter, StepResponseFollowsTheExponential) {
-  PoseLowPassFilter f(10.0);
+  head::PoseLowPassFilter f(10.0);
   f.reset(Eigen::Isometry3d::Identity(), 0);
   const Eigen::Isometry3d target = pose({1, 0, 0}, 1.0, {0, 0, 1});
   for (int n = 1; n <= 50; ++n) {
     const Eigen::Isometry3d out = f.update(target, n * 1'000'000LL);
     const double expected = 1.0 - std::exp(-2 * M_PI * 10.0 * n * 1e-3);
     EXPECT_NEAR(out.translation().x(), expected, 1e-12);
-    EXPECT_NEAR(rotationLog(out.linear()).z(), expected, 1e-9);
+    EXPECT_NEAR(arm::rotationLog(out.linear()).z(), expected, 1e-9);
   }
 }
 
@@ -44,7 +44,7 @@ TEST(PoseLowPassFilter, VariableTimeStepsAreExact) {
   const Eigen::Isometry3d start = pose({0.1, -0.2, 0.3}, 0.4, {1, 2, 3});
   const Eigen::Isometry3d target = pose({0.5, 0.1, -0.1}, 1.2, {-1, 0.5, 2});
   for (int trial = 0; trial < 20; ++trial) {
-    PoseLowPassFilter one(100.0), many(100.0);
+    head::PoseLowPassFilter one(100.0), many(100.0);
     one.reset(start, 0);
     many.reset(start, 0);
     const std::int64_t t_end = 30'000'000;
@@ -56,13 +56,13 @@ TEST(PoseLowPassFilter, VariableTimeStepsAreExact) {
       b = many.update(target, t);
     }
     EXPECT_LT((a.translation() - b.translation()).norm(), 1e-12);
-    EXPECT_LT(rotationLog(a.linear() * b.linear().transpose()).norm(), 1e-9);
+    EXPECT_LT(arm::rotationLog(a.linear() * b.linear().transpose()).norm(), 1e-9);
   }
 }
 
 TEST(PoseLowPassFilter, AttenuatesByThreeDecibelsAtTheCutoff) {
   const double fc = 10.0;
-  PoseLowPassFilter f(fc);
+  head::PoseLowPassFilter f(fc);
   f.reset(Eigen::Isometry3d::Identity(), 0);
   double peak = 0;
   const std::int64_t dt_ns = 100'000;  // 10 kHz sampling ≫ f_c
@@ -76,11 +76,11 @@ TEST(PoseLowPassFilter, AttenuatesByThreeDecibelsAtTheCutoff) {
 }
 
 TEST(PoseLowPassFilter, OffPassesTheInputAndOlderSamplesDoNotMoveIt) {
-  PoseLowPassFilter off(std::numeric_limits<double>::infinity());
+  head::PoseLowPassFilter off(std::numeric_limits<double>::infinity());
   off.reset(Eigen::Isometry3d::Identity(), 0);
   const Eigen::Isometry3d target = pose({1, 2, 3}, 0.7, {0, 1, 0});
   EXPECT_TRUE(off.update(target, 1).isApprox(target, 1e-12));
-  PoseLowPassFilter f(50.0);
+  head::PoseLowPassFilter f(50.0);
   f.reset(Eigen::Isometry3d::Identity(), 1'000'000);
   EXPECT_TRUE(f.update(target, 500'000).isApprox(Eigen::Isometry3d::Identity(), 1e-15));
 }

@@ -17,10 +17,10 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::vector<CameraFrame> frames(int count) {
-  std::vector<CameraFrame> out;
+std::vector<cameras::CameraFrame> frames(int count) {
+  std::vector<cameras::CameraFrame> out;
   for (int i = 0; i < count; ++i) {
-    CameraFrame f;
+    cameras::CameraFrame f;
     f.width = 4;
     f.height = 2;
     f.stride_bytes = 12;
@@ -31,10 +31,10 @@ std::vector<CameraFrame> frames(int count) {
 }
 
 TEST(ReplayCamera, DeliversFramesOnTheGridCyclingTheInput) {
-  SteadyClock clock;
-  ReplayCameraConfig config;
+  clock::SteadyClock clock;
+  cameras::ReplayCameraConfig config;
   config.fps = 200.0;
-  ReplayCamera camera(clock, frames(3), config);
+  cameras::ReplayCamera camera(clock, frames(3), config);
   std::string error;
   ASSERT_TRUE(camera.start(&error)) << error;
   std::int64_t first_ns = 0;
@@ -52,10 +52,10 @@ TEST(ReplayCamera, DeliversFramesOnTheGridCyclingTheInput) {
 }
 
 TEST(ReplayCamera, ASlowConsumerGetsTheNewestFrameAndTheRestCountAsLost) {
-  SimClock clock(1'000'000'000);
-  ReplayCameraConfig config;
+  clock::SimClock clock(1'000'000'000);
+  cameras::ReplayCameraConfig config;
   config.fps = 1000.0;
-  ReplayCamera camera(clock, frames(1), config);
+  cameras::ReplayCamera camera(clock, frames(1), config);
   std::string error;
   ASSERT_TRUE(camera.start(&error));
   ASSERT_TRUE(camera.nextFrame(1000ms));  // frame 0, due at the start
@@ -69,7 +69,7 @@ TEST(ReplayCamera, ASlowConsumerGetsTheNewestFrameAndTheRestCountAsLost) {
 
 /// A simulated clock that moves 1 ms forward each time it is read: a camera waiting on it sees
 /// time pass as fast as it looks, and how often it looked says that it is waiting.
-class SteppingClock final : public Clock {
+class SteppingClock final : public clock::Clock {
  public:
   explicit SteppingClock(std::int64_t start_ns) : now_ns_(start_ns) {}
   std::int64_t nowNs() const override {
@@ -85,11 +85,11 @@ class SteppingClock final : public Clock {
 };
 
 TEST(ReplayCamera, TwoCamerasWithOneStartInstantCarryEqualStamps) {
-  SteadyClock clock;
-  ReplayCameraConfig config;
+  clock::SteadyClock clock;
+  cameras::ReplayCameraConfig config;
   config.fps = 100.0;
   config.start_ns = clock.nowNs();
-  ReplayCamera left(clock, frames(2), config), right(clock, frames(2), config);
+  cameras::ReplayCamera left(clock, frames(2), config), right(clock, frames(2), config);
   std::string error;
   ASSERT_TRUE(left.start(&error) && right.start(&error));
   for (int k = 0; k < 3; ++k) {
@@ -103,9 +103,9 @@ TEST(ReplayCamera, TwoCamerasWithOneStartInstantCarryEqualStamps) {
 
 TEST(ReplayCamera, StopEndsWaitingAndTimeoutsReturnNothing) {
   SteppingClock clock(1'000'000'000);
-  ReplayCameraConfig config;
+  cameras::ReplayCameraConfig config;
   config.fps = 0.5;  // next frame only after 2 s
-  ReplayCamera camera(clock, frames(1), config);
+  cameras::ReplayCamera camera(clock, frames(1), config);
   std::string error;
   ASSERT_TRUE(camera.start(&error));
   ASSERT_TRUE(camera.nextFrame(100ms));  // frame 0 is due at once
@@ -130,19 +130,19 @@ TEST(ReplayCamera, StopEndsWaitingAndTimeoutsReturnNothing) {
 }
 
 TEST(ReplayCamera, RefusesNoFramesAndBadRates) {
-  SteadyClock clock;
+  clock::SteadyClock clock;
   std::string error;
-  ReplayCamera none(clock, {}, {});
+  cameras::ReplayCamera none(clock, {}, {});
   EXPECT_FALSE(none.start(&error));
   EXPECT_NE(error.find("no frames"), std::string::npos);
-  ReplayCameraConfig config;
+  cameras::ReplayCameraConfig config;
   config.fps = 0.0;
-  ReplayCamera zero(clock, frames(1), config);
+  cameras::ReplayCamera zero(clock, frames(1), config);
   EXPECT_FALSE(zero.start(&error));
   EXPECT_NE(error.find("frame rate"), std::string::npos);
-  std::vector<CameraFrame> short_frames = frames(1);
+  std::vector<cameras::CameraFrame> short_frames = frames(1);
   short_frames[0].height = 100;
-  ReplayCamera bad(clock, short_frames, {});
+  cameras::ReplayCamera bad(clock, short_frames, {});
   EXPECT_FALSE(bad.start(&error));
 }
 

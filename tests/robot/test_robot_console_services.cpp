@@ -25,12 +25,12 @@ namespace {
 using namespace std::chrono_literals;
 using ::telesphere::test::eventually;
 
-CameraFrame randomFrame(int w, int h, PixelFormat format, std::uint64_t seed) {
-  CameraFrame f;
+cameras::CameraFrame randomFrame(int w, int h, cameras::PixelFormat format, std::uint64_t seed) {
+  cameras::CameraFrame f;
   f.width = w;
   f.height = h;
   f.format = format;
-  const int channels = bytesPerPixel(format);
+  const int channels = cameras::bytesPerPixel(format);
   f.stride_bytes = w * channels + 5;  // padded rows
   auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(f.stride_bytes) * std::size_t(h));
   std::mt19937_64 rng(seed);
@@ -40,14 +40,14 @@ CameraFrame randomFrame(int w, int h, PixelFormat format, std::uint64_t seed) {
 }
 
 TEST(PreviewReduction, IsTheRoundedBlockMeanAndRefusesWhatItCannotReduce) {
-  for (PixelFormat format : {PixelFormat::kRgb8, PixelFormat::kMono8}) {
-    const CameraFrame f = randomFrame(1003, 517, format, 3);
-    const auto img = reduceForPreview(f, 320);
+  for (cameras::PixelFormat format : {cameras::PixelFormat::kRgb8, cameras::PixelFormat::kMono8}) {
+    const cameras::CameraFrame f = randomFrame(1003, 517, format, 3);
+    const auto img = video::reduceForPreview(f, 320);
     ASSERT_TRUE(img);
     const int k = 4;  // ceil(1003 / 320)
     EXPECT_EQ(img->width, 1003 / k);
     EXPECT_EQ(img->height, 517 / k);
-    const int c = bytesPerPixel(format);
+    const int c = cameras::bytesPerPixel(format);
     EXPECT_EQ(img->channels, c);
     for (int y = 0; y < img->height; y += 7)
       for (int x = 0; x < img->width; x += 11)
@@ -59,22 +59,22 @@ TEST(PreviewReduction, IsTheRoundedBlockMeanAndRefusesWhatItCannotReduce) {
           EXPECT_EQ(img->pixels[std::size_t((y * img->width + x) * c + ch)], (sum + 8) / 16) << x << "," << y;
         }
   }
-  EXPECT_TRUE(reduceForPreview(randomFrame(320, 10, PixelFormat::kRgb8, 1), 320)->width == 320);  // k = 1
-  EXPECT_FALSE(reduceForPreview(randomFrame(64, 64, PixelFormat::kBayerRG8, 1), 32));
-  EXPECT_FALSE(reduceForPreview(randomFrame(64, 64, PixelFormat::kRgb8, 1), 0));
-  CameraFrame empty;
-  EXPECT_FALSE(reduceForPreview(empty, 32));
-  CameraFrame short_buffer = randomFrame(64, 64, PixelFormat::kRgb8, 1);
+  EXPECT_TRUE(video::reduceForPreview(randomFrame(320, 10, cameras::PixelFormat::kRgb8, 1), 320)->width == 320);  // k = 1
+  EXPECT_FALSE(video::reduceForPreview(randomFrame(64, 64, cameras::PixelFormat::kBayerRG8, 1), 32));
+  EXPECT_FALSE(video::reduceForPreview(randomFrame(64, 64, cameras::PixelFormat::kRgb8, 1), 0));
+  cameras::CameraFrame empty;
+  EXPECT_FALSE(video::reduceForPreview(empty, 32));
+  cameras::CameraFrame short_buffer = randomFrame(64, 64, cameras::PixelFormat::kRgb8, 1);
   short_buffer.height = 100;  // claims more rows than it has
-  EXPECT_FALSE(reduceForPreview(short_buffer, 32));
+  EXPECT_FALSE(video::reduceForPreview(short_buffer, 32));
 }
 
 /// A smooth picture (what a camera sees; random pixels are the worst case for JPEG).
-CameraFrame smoothFrame(int w, int h, double phase) {
-  CameraFrame f;
+cameras::CameraFrame smoothFrame(int w, int h, double phase) {
+  cameras::CameraFrame f;
   f.width = w;
   f.height = h;
-  f.format = PixelFormat::kRgb8;
+  f.format = cameras::PixelFormat::kRgb8;
   f.stride_bytes = w * 3;
   auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(w) * std::size_t(h) * 3);
   for (int y = 0; y < h; ++y)
@@ -88,36 +88,36 @@ CameraFrame smoothFrame(int w, int h, double phase) {
 
 /// Replay cameras → pairs → video streamer (+ preview, telemetry) → link server, in real time.
 struct VideoRig {
-  SteadyClock clock;
+  clock::SteadyClock clock;
   link::LinkEndpoints endpoints;
   link::LinkServer server;
-  ReplayCamera left, right;
-  StereoPairSource pairs;
-  TelemetryBatcher telemetry;
-  PreviewStreamer preview;
-  VideoStreamer video;
-  SimClock arm_clock{1};
-  SimulatedArm arm{arm_clock};
-  HeadController controller;
-  JointStateBuffer buffer{controller.config().geometry};
-  HeadLoop loop{arm, controller, buffer, server, arm_clock};
-  RobotControl control{loop, &video};
+  cameras::ReplayCamera left, right;
+  stereo::StereoPairSource pairs;
+  telemetry::TelemetryBatcher telemetry;
+  video::PreviewStreamer preview;
+  video::VideoStreamer video;
+  clock::SimClock arm_clock{1};
+  arm::SimulatedArm arm{arm_clock};
+  head::HeadController controller;
+  head::JointStateBuffer buffer{controller.config().geometry};
+  head::HeadLoop loop{arm, controller, buffer, server, arm_clock};
+  services::RobotControl control{loop, &video};
 
   static link::LinkEndpoints at(int port) {
     link::LinkEndpoints e;
     e.base_port = port;
     return e;
   }
-  static ReplayCameraConfig camera(const char* name) {
-    ReplayCameraConfig c;
+  static cameras::ReplayCameraConfig camera(const char* name) {
+    cameras::ReplayCameraConfig c;
     c.name = name;
     c.fps = 30;
     return c;
   }
-  static VideoStreamerConfig videoConfig(TelemetryBatcher* telemetry, PreviewStreamer* preview) {
-    VideoStreamerConfig c;
+  static video::VideoStreamerConfig videoConfig(telemetry::TelemetryBatcher* telemetry, video::PreviewStreamer* preview) {
+    video::VideoStreamerConfig c;
     c.telemetry = telemetry;
-    c.on_sent = [preview](const StereoFrame& pair, std::uint64_t sequence) { preview->offer(pair, sequence); };
+    c.on_sent = [preview](const stereo::StereoFrame& pair, std::uint64_t sequence) { preview->offer(pair, sequence); };
     return c;
   }
   explicit VideoRig(int port)
@@ -125,8 +125,8 @@ struct VideoRig {
         server(endpoints),
         left(clock, {smoothFrame(640, 360, 0.0)}, camera("left")),
         right(clock, {smoothFrame(640, 360, 1.0)}, camera("right")),
-        pairs(left, right, StereoPairerOptions{.tolerance_ns = 5'000'000}),
-        preview(server, PreviewOptions{.max_width = 160, .rate_hz = 20, .quality = 90}),
+        pairs(left, right, stereo::StereoPairerOptions{.tolerance_ns = 5'000'000}),
+        preview(server, video::PreviewOptions{.max_width = 160, .rate_hz = 20, .quality = 90}),
         video(pairs, server, clock, nullptr, videoConfig(&telemetry, &preview)) {
     server.setControlHandler([this](const link::proto::ControlRequest& r) { return control.handle(r); });
     std::string error;
@@ -163,7 +163,7 @@ TEST(RobotConsoleServices, PreviewFramesArriveSmallAndDecodeToTheReducedImage) {
                           90, TJPF_RGB, 0),
             0);
   tjDestroy(tj);
-  const auto want = reduceForPreview(smoothFrame(640, 360, 0.0), 160);
+  const auto want = video::reduceForPreview(smoothFrame(640, 360, 0.0), 160);
   double error = 0;
   for (std::size_t i = 0; i < rgb.size(); ++i) error += std::abs(int(rgb[i]) - int(want->pixels[i]));
   EXPECT_LT(error / double(rgb.size()), 2.5);  // mean absolute error, 8-bit levels
@@ -244,7 +244,7 @@ TEST(RobotConsoleServices, JpegQualityThroughAControlRequestAndSettingsInEveryRe
 
 TEST(RobotConsoleServices, HealthReportsCamerasVideoAndSettings) {
   VideoRig rig(27260);
-  RobotHealthSources sources;
+  services::RobotHealthSources sources;
   sources.cameras = {&rig.left, &rig.right};
   sources.pairs = &rig.pairs;
   sources.video = &rig.video;
@@ -254,7 +254,7 @@ TEST(RobotConsoleServices, HealthReportsCamerasVideoAndSettings) {
   sources.telemetry = &rig.telemetry;
   sources.arm = "simulated xArm 6";
   sources.cameras_kind = "replay";
-  RobotHealthReporter reporter(sources, rig.clock);
+  services::RobotHealthReporter reporter(sources, rig.clock);
   std::this_thread::sleep_for(1s);
   const auto h = reporter.make();
   EXPECT_EQ(h.instance(), rig.server.instance());

@@ -12,23 +12,23 @@
 namespace telesphere::robot {
 namespace {
 
-SimulatedManipulator makeExample() {
+stereo::SimulatedManipulator makeExample() {
   std::string error;
-  auto m = SimulatedManipulator::create({}, &error);
+  auto m = stereo::SimulatedManipulator::create({}, &error);
   EXPECT_TRUE(m) << error;
   return *m;
 }
 
 TEST(SimulatedManipulator, HomeIsTheMarkersPlaceAndReportsFollowThePath) {
-  SimulatedManipulator m = makeExample();
-  const Xarm6Kinematics kinematics;
-  const ManipulatorMounting& mount = m.config().mounting;
+  stereo::SimulatedManipulator m = makeExample();
+  const arm::Xarm6Kinematics kinematics;
+  const stereo::ManipulatorMounting& mount = m.config().mounting;
   const Eigen::Isometry3d T_home = mount.T_robot_mount * kinematics.forward(m.qHome()) * mount.T_wrist_marker;
-  EXPECT_LT((T_home.translation() - DefaultSceneLayout::T_robot_marker_centre().translation()).norm(), 1e-5);
-  const Eigen::Vector3d to_head = (DefaultSceneLayout{}.head_position - T_home.translation()).normalized();
+  EXPECT_LT((T_home.translation() - cameras::DefaultSceneLayout::T_robot_marker_centre().translation()).norm(), 1e-5);
+  const Eigen::Vector3d to_head = (cameras::DefaultSceneLayout{}.head_position - T_home.translation()).normalized();
   EXPECT_GT(to_head.dot(T_home.linear().col(2)), std::cos(1e-4));  // facing the head
 
-  JointStateBuffer reports{HeadGeometry{}};
+  head::JointStateBuffer reports{head::HeadGeometry{}};
   const std::int64_t t0 = 1'000'003'000;
   m.update(t0, reports);
   EXPECT_EQ(reports.size(), 1u);
@@ -48,15 +48,15 @@ TEST(SimulatedManipulator, HomeIsTheMarkersPlaceAndReportsFollowThePath) {
 }
 
 TEST(SimulatedManipulator, ThePathKeepsTheMarkerFacingTheHeadAndTurnsTheWrist) {
-  SimulatedManipulator m = makeExample();
-  const DefaultSceneLayout layout;
+  stereo::SimulatedManipulator m = makeExample();
+  const cameras::DefaultSceneLayout layout;
   std::vector<calib::HandEyeSample> samples;
   double worst_facing_deg = 0, farthest_m = 0;
   for (std::int64_t t = 0; t < 120'000'000'000; t += 2'000'000'000) {
     const Eigen::Isometry3d T = m.T_robot_marker(t);
     const Eigen::Vector3d to_head = (layout.head_position - T.translation()).normalized();
     worst_facing_deg = std::max(worst_facing_deg, std::acos(std::clamp(to_head.dot(T.linear().col(2)), -1.0, 1.0)) * 180 / M_PI);
-    farthest_m = std::max(farthest_m, (T.translation() - DefaultSceneLayout::T_robot_marker_centre().translation()).norm());
+    farthest_m = std::max(farthest_m, (T.translation() - cameras::DefaultSceneLayout::T_robot_marker_centre().translation()).norm());
     calib::HandEyeSample s;
     s.T_mount_wrist = m.T_mount_wrist(t);
     s.T_robot_flange.linear() = Eigen::AngleAxisd(0.01 * double(samples.size()), Eigen::Vector3d(1, 2, 3).normalized())
@@ -74,14 +74,14 @@ TEST(SimulatedManipulator, ThePathKeepsTheMarkerFacingTheHeadAndTurnsTheWrist) {
 }
 
 TEST(SimulatedManipulator, AMountOutOfReachIsRefusedWithTheReason) {
-  SimulatedManipulatorConfig config;
+  stereo::SimulatedManipulatorConfig config;
   config.mounting.T_robot_mount.translation() = Eigen::Vector3d(4.0, 0.35, 0.10);  // 3 m from the marker
   std::string error;
-  EXPECT_FALSE(SimulatedManipulator::create(config, &error));
+  EXPECT_FALSE(stereo::SimulatedManipulator::create(config, &error));
   EXPECT_NE(error.find("cannot reach the marker's place"), std::string::npos) << error;
   config = {};
   config.period_s[2] = 0.0;
-  EXPECT_FALSE(SimulatedManipulator::create(config, &error));
+  EXPECT_FALSE(stereo::SimulatedManipulator::create(config, &error));
   EXPECT_NE(error.find("periods positive"), std::string::npos) << error;
 }
 

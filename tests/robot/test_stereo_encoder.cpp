@@ -13,12 +13,12 @@
 namespace telesphere::robot {
 namespace {
 
-CameraFrame testFrame(int width, int height, PixelFormat format, std::uint32_t seed) {
-  CameraFrame f;
+cameras::CameraFrame testFrame(int width, int height, cameras::PixelFormat format, std::uint32_t seed) {
+  cameras::CameraFrame f;
   f.width = width;
   f.height = height;
   f.format = format;
-  f.stride_bytes = width * bytesPerPixel(format);
+  f.stride_bytes = width * cameras::bytesPerPixel(format);
   auto pixels = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(f.stride_bytes) * height);
   // Smooth content (JPEG-friendly) with a seed-dependent phase so the two sides differ.
   for (int y = 0; y < height; ++y)
@@ -30,10 +30,10 @@ CameraFrame testFrame(int width, int height, PixelFormat format, std::uint32_t s
 }
 
 /// Decodes to the frame's own pixel layout and returns the RMS difference.
-double rmsAfterRoundTrip(const CameraFrame& f, const std::vector<std::uint8_t>& jpeg) {
+double rmsAfterRoundTrip(const cameras::CameraFrame& f, const std::vector<std::uint8_t>& jpeg) {
   tjhandle h = tjInitDecompress();
   std::vector<std::uint8_t> out(f.pixels->size());
-  const int pf = f.format == PixelFormat::kMono8 ? TJPF_GRAY : TJPF_RGB;
+  const int pf = f.format == cameras::PixelFormat::kMono8 ? TJPF_GRAY : TJPF_RGB;
   EXPECT_EQ(tjDecompress2(h, jpeg.data(), jpeg.size(), out.data(), f.width, f.stride_bytes,
                           f.height, pf, 0), 0) << tjGetErrorStr2(h);
   tjDestroy(h);
@@ -46,11 +46,11 @@ double rmsAfterRoundTrip(const CameraFrame& f, const std::vector<std::uint8_t>& 
 }
 
 TEST(StereoEncoder, EncodesBothSidesAndTheyDecodeBack) {
-  SteadyClock clock;
-  StereoEncoder encoder(clock, {90, ChromaSubsampling::k444});
-  for (PixelFormat format : {PixelFormat::kRgb8, PixelFormat::kMono8}) {
-    const CameraFrame left = testFrame(320, 240, format, 1), right = testFrame(320, 240, format, 2);
-    EncodedPair out;
+  clock::SteadyClock clock;
+  video::StereoEncoder encoder(clock, {90, video::ChromaSubsampling::k444});
+  for (cameras::PixelFormat format : {cameras::PixelFormat::kRgb8, cameras::PixelFormat::kMono8}) {
+    const cameras::CameraFrame left = testFrame(320, 240, format, 1), right = testFrame(320, 240, format, 2);
+    video::EncodedPair out;
     std::string error;
     const std::int64_t before = clock.nowNs();
     ASSERT_TRUE(encoder.encode(left, right, out, &error)) << error;
@@ -66,17 +66,17 @@ TEST(StereoEncoder, EncodesBothSidesAndTheyDecodeBack) {
 }
 
 TEST(StereoEncoder, RefusesBayerAndEmptyFramesNamingTheSide) {
-  SteadyClock clock;
-  StereoEncoder encoder(clock, {});
-  const CameraFrame good = testFrame(64, 48, PixelFormat::kRgb8, 1);
-  CameraFrame bayer = testFrame(64, 48, PixelFormat::kMono8, 1);
-  bayer.format = PixelFormat::kBayerRG8;
-  EncodedPair out;
+  clock::SteadyClock clock;
+  video::StereoEncoder encoder(clock, {});
+  const cameras::CameraFrame good = testFrame(64, 48, cameras::PixelFormat::kRgb8, 1);
+  cameras::CameraFrame bayer = testFrame(64, 48, cameras::PixelFormat::kMono8, 1);
+  bayer.format = cameras::PixelFormat::kBayerRG8;
+  video::EncodedPair out;
   std::string error;
   EXPECT_FALSE(encoder.encode(good, bayer, out, &error));
   EXPECT_NE(error.find("right"), std::string::npos) << error;
   EXPECT_NE(error.find("BayerRG8"), std::string::npos) << error;
-  CameraFrame empty;
+  cameras::CameraFrame empty;
   EXPECT_FALSE(encoder.encode(empty, good, out, &error));
   EXPECT_NE(error.find("left"), std::string::npos) << error;
   // And it still works afterwards.
@@ -84,36 +84,36 @@ TEST(StereoEncoder, RefusesBayerAndEmptyFramesNamingTheSide) {
 }
 
 TEST(StereoEncoder, QualityChangesLiveAndBadQualityFails) {
-  SteadyClock clock;
-  StereoEncoder encoder(clock, {95, ChromaSubsampling::k420});
-  const CameraFrame f = testFrame(256, 256, PixelFormat::kRgb8, 3);
-  EncodedPair high, low;
+  clock::SteadyClock clock;
+  video::StereoEncoder encoder(clock, {95, video::ChromaSubsampling::k420});
+  const cameras::CameraFrame f = testFrame(256, 256, cameras::PixelFormat::kRgb8, 3);
+  video::EncodedPair high, low;
   std::string error;
   ASSERT_TRUE(encoder.encode(f, f, high, &error)) << error;
-  encoder.setSettings({30, ChromaSubsampling::k420});
+  encoder.setSettings({30, video::ChromaSubsampling::k420});
   ASSERT_TRUE(encoder.encode(f, f, low, &error)) << error;
   EXPECT_LT(low.left.jpeg->size(), high.left.jpeg->size());
-  encoder.setSettings({0, ChromaSubsampling::k420});
+  encoder.setSettings({0, video::ChromaSubsampling::k420});
   EXPECT_FALSE(encoder.encode(f, f, low, &error));
   EXPECT_NE(error.find("quality"), std::string::npos) << error;
 }
 
 TEST(StereoEncoder, ReusesABufferOnlyAfterEveryoneReleasedIt) {
-  SteadyClock clock;
-  StereoEncoder encoder(clock, {});
-  const CameraFrame f = testFrame(128, 96, PixelFormat::kRgb8, 4);
-  EncodedPair first, second;
+  clock::SteadyClock clock;
+  video::StereoEncoder encoder(clock, {});
+  const cameras::CameraFrame f = testFrame(128, 96, cameras::PixelFormat::kRgb8, 4);
+  video::EncodedPair first, second;
   std::string error;
   ASSERT_TRUE(encoder.encode(f, f, first, &error)) << error;
   const auto held = first.left.jpeg;  // e.g. still queued in the link
   const std::vector<std::uint8_t> held_bytes = *held;
   first = {};
-  ASSERT_TRUE(encoder.encode(testFrame(128, 96, PixelFormat::kRgb8, 9), f, second, &error));
+  ASSERT_TRUE(encoder.encode(testFrame(128, 96, cameras::PixelFormat::kRgb8, 9), f, second, &error));
   EXPECT_NE(second.left.jpeg.get(), held.get());  // not overwritten while held
   EXPECT_EQ(*held, held_bytes);
   const void* second_ptr = second.left.jpeg.get();
   second = {};
-  EncodedPair third;
+  video::EncodedPair third;
   ASSERT_TRUE(encoder.encode(f, f, third, &error));
   // A released buffer comes back (the first free one in the pool: `held`'s is still taken).
   EXPECT_EQ(third.left.jpeg.get(), second_ptr);

@@ -21,15 +21,15 @@ namespace {
 
 using namespace std::chrono_literals;
 
-CameraFrame frame(PixelFormat format, int w, int h, int stride, std::int64_t capture_ns,
+cameras::CameraFrame frame(cameras::PixelFormat format, int w, int h, int stride, std::int64_t capture_ns,
                   const std::function<std::uint8_t(int x, int y, int c)>& value) {
-  CameraFrame f;
+  cameras::CameraFrame f;
   f.format = format;
   f.width = w;
   f.height = h;
   f.stride_bytes = stride;
   f.capture_ns = capture_ns;
-  const int bpp = bytesPerPixel(format);
+  const int bpp = cameras::bytesPerPixel(format);
   auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(stride) * std::size_t(h), 0xEE);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
@@ -38,8 +38,8 @@ CameraFrame frame(PixelFormat format, int w, int h, int stride, std::int64_t cap
   return f;
 }
 
-JointState state(std::int64_t t_ns, double q0) {
-  JointState s;
+arm::JointState state(std::int64_t t_ns, double q0) {
+  arm::JointState s;
   s.t_ns = t_ns;
   s.q << q0, -0.3, 0.4, 0.1, 0.6, -0.2;
   return s;
@@ -48,7 +48,7 @@ JointState state(std::int64_t t_ns, double q0) {
 using test::eventually;
 
 /// Offers `pair` from another thread once take() waits for one (as the video path would).
-std::thread offerOnceWaiting(StereoStillTaker& taker, StereoFrame pair, std::uint64_t sequence) {
+std::thread offerOnceWaiting(stereo::StereoStillTaker& taker, stereo::StereoFrame pair, std::uint64_t sequence) {
   return std::thread([&taker, pair, sequence] {
     EXPECT_TRUE(eventually([&] { return taker.takersWaiting() > 0; }));
     taker.offer(pair, sequence);
@@ -56,7 +56,7 @@ std::thread offerOnceWaiting(StereoStillTaker& taker, StereoFrame pair, std::uin
 }
 
 /// Pushes `state` from another thread once a reader waits for a sample (as the arm's reports would).
-std::thread pushOnceWaited(JointStateBuffer& buffer, JointState state) {
+std::thread pushOnceWaited(head::JointStateBuffer& buffer, arm::JointState state) {
   return std::thread([&buffer, state] {
     EXPECT_TRUE(eventually([&] { return buffer.waitingReaders() > 0; }));
     buffer.push(state);
@@ -64,26 +64,26 @@ std::thread pushOnceWaited(JointStateBuffer& buffer, JointState state) {
 }
 
 struct StillRig {
-  SimClock clock{1'000'000'000};
-  JointStateBuffer joints{HeadGeometry::example()};
-  StereoStillTaker taker{joints, clock};
-  std::thread offerSoon(StereoFrame pair, std::uint64_t sequence) { return offerOnceWaiting(taker, pair, sequence); }
+  clock::SimClock clock{1'000'000'000};
+  head::JointStateBuffer joints{head::HeadGeometry::example()};
+  stereo::StereoStillTaker taker{joints, clock};
+  std::thread offerSoon(stereo::StereoFrame pair, std::uint64_t sequence) { return offerOnceWaiting(taker, pair, sequence); }
 };
 
 TEST(StereoStill, ThePairAfterTheRequestAtFullResolutionWithBracketedJoints) {
   StillRig rig;
   const std::int64_t t0 = rig.clock.nowNs();
   // A pair captured before the request is there already: it must not be the still.
-  StereoFrame old;
-  old.left = frame(PixelFormat::kMono8, 8, 4, 8, t0 - 5'000'000, [](int, int, int) { return 1; });
+  stereo::StereoFrame old;
+  old.left = frame(cameras::PixelFormat::kMono8, 8, 4, 8, t0 - 5'000'000, [](int, int, int) { return 1; });
   old.right = old.left;
   rig.taker.offer(old, 1);
   ASSERT_TRUE(rig.joints.push(state(t0, 0.10)));
   ASSERT_TRUE(rig.joints.push(state(t0 + 10'000'000, 0.20)));
   ASSERT_TRUE(rig.joints.push(state(t0 + 20'000'000, 0.30)));
-  StereoFrame pair;  // Mono8 with row padding, RGB on the right
-  pair.left = frame(PixelFormat::kMono8, 5, 3, 8, t0 + 4'000'000, [](int x, int y, int) { return 10 * y + x; });
-  pair.right = frame(PixelFormat::kRgb8, 5, 3, 16, t0 + 4'500'000, [](int x, int, int c) {
+  stereo::StereoFrame pair;  // Mono8 with row padding, RGB on the right
+  pair.left = frame(cameras::PixelFormat::kMono8, 5, 3, 8, t0 + 4'000'000, [](int x, int y, int) { return 10 * y + x; });
+  pair.right = frame(cameras::PixelFormat::kRgb8, 5, 3, 16, t0 + 4'500'000, [](int x, int, int c) {
     return c == 0 ? 200 : c == 1 ? 100 : 50 + x;
   });
   auto offering = rig.offerSoon(pair, 7);
@@ -105,7 +105,7 @@ TEST(StereoStill, ThePairAfterTheRequestAtFullResolutionWithBracketedJoints) {
   EXPECT_EQ(still.joints_before_ns(), t0);
   EXPECT_EQ(still.joints_after_ns(), t0 + 10'000'000);
   const Eigen::Isometry3d T = link::fromLinkPose(still.right().t_robot_cam());
-  EXPECT_TRUE(T.isApprox(*rig.joints.T_robot_cam(CameraSide::kRight, t0 + 4'500'000), 1e-12));
+  EXPECT_TRUE(T.isApprox(*rig.joints.T_robot_cam(head::CameraSide::kRight, t0 + 4'500'000), 1e-12));
   EXPECT_EQ(rig.taker.taken(), 1u);
 }
 
@@ -113,8 +113,8 @@ TEST(StereoStill, WaitsForTheJointStateAfterTheCaptureButNeverExtrapolates) {
   StillRig rig;
   const std::int64_t t0 = rig.clock.nowNs();
   ASSERT_TRUE(rig.joints.push(state(t0, 0.1)));
-  StereoFrame pair;
-  pair.left = frame(PixelFormat::kMono8, 4, 4, 4, t0 + 6'000'000, [](int, int, int) { return 9; });
+  stereo::StereoFrame pair;
+  pair.left = frame(cameras::PixelFormat::kMono8, 4, 4, 4, t0 + 6'000'000, [](int, int, int) { return 9; });
   pair.right = pair.left;
   // The buffer would extrapolate 6 ms; the still waits for the state after, which comes later.
   auto offering = rig.offerSoon(pair, 3);
@@ -128,7 +128,7 @@ TEST(StereoStill, WaitsForTheJointStateAfterTheCaptureButNeverExtrapolates) {
   EXPECT_NEAR(still.head_joints(0), 0.16, 1e-12);
   // No state after it ever: refused with the reason, after the timeout.
   rig.clock.set(t0 + 12'000'000);  // the request comes after the first pair: that one is stale now
-  StereoFrame later = pair;
+  stereo::StereoFrame later = pair;
   later.left.capture_ns = later.right.capture_ns = t0 + 15'000'000;
   auto offering2 = rig.offerSoon(later, 4);
   EXPECT_FALSE(rig.taker.take(&still, 200ms, &error));
@@ -142,8 +142,8 @@ TEST(StereoStill, RefusesWithoutAFreshPairOrAnyJointState) {
   link::proto::CalibrationStill still;
   EXPECT_FALSE(rig.taker.take(&still, 50ms, &error));  // nothing offered
   EXPECT_NE(error.find("no stereo frame captured within 50 ms"), std::string::npos) << error;
-  StereoFrame pair;
-  pair.left = frame(PixelFormat::kMono8, 4, 4, 4, rig.clock.nowNs() + 1, [](int, int, int) { return 9; });
+  stereo::StereoFrame pair;
+  pair.left = frame(cameras::PixelFormat::kMono8, 4, 4, 4, rig.clock.nowNs() + 1, [](int, int, int) { return 9; });
   pair.right = pair.left;
   auto offering = rig.offerSoon(pair, 1);
   EXPECT_FALSE(rig.taker.take(&still, 150ms, &error));
@@ -156,15 +156,15 @@ TEST(StereoStill, RefusesWithoutAFreshPairOrAnyJointState) {
 // capture time too, with their forward kinematics; a manipulator that stopped reporting makes
 // the still fail with the reason, not carry stale joints.
 TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
-  SimClock clock{1'000'000'000};
-  JointStateBuffer joints{HeadGeometry::example()};
-  JointStateBuffer manipulator{HeadGeometry{}};
-  StereoStillTaker taker{joints, clock, &manipulator};
+  clock::SimClock clock{1'000'000'000};
+  head::JointStateBuffer joints{head::HeadGeometry::example()};
+  head::JointStateBuffer manipulator{head::HeadGeometry{}};
+  stereo::StereoStillTaker taker{joints, clock, &manipulator};
   const std::int64_t t0 = clock.nowNs();
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(joints.push(state(t0 + i * 10'000'000, 0.1 * (i + 1))));
   ASSERT_TRUE(manipulator.push(state(t0 - 2'000'000, 0.5)));
-  StereoFrame pair;
-  pair.left = frame(PixelFormat::kMono8, 4, 4, 4, t0 + 4'000'000, [](int, int, int) { return 9; });
+  stereo::StereoFrame pair;
+  pair.left = frame(cameras::PixelFormat::kMono8, 4, 4, 4, t0 + 4'000'000, [](int, int, int) { return 9; });
   pair.right = pair.left;
   std::thread offering = offerOnceWaiting(taker, pair, 5);
   std::thread report = pushOnceWaited(manipulator, state(t0 + 8'000'000, 0.6));  // the next report comes later
@@ -182,7 +182,7 @@ TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
 
   // The manipulator stops reporting: the next still is refused, naming it.
   clock.set(t0 + 12'000'000);
-  StereoFrame later = pair;
+  stereo::StereoFrame later = pair;
   later.left.capture_ns = later.right.capture_ns = t0 + 15'000'000;
   ASSERT_TRUE(joints.push(state(t0 + 30'000'000, 0.4)));
   std::thread offering_later = offerOnceWaiting(taker, later, 6);
@@ -193,19 +193,19 @@ TEST(StereoStill, TheManipulatorsJointsAreBracketedToo) {
 
 TEST(StereoStill, BayerIsDemosaicedToLumaAndBrokenFramesAreRefused) {
   // A uniform colour through an RG mosaic comes back as its luma everywhere.
-  const CameraFrame bayer = frame(PixelFormat::kBayerRG8, 6, 4, 6, 0, [](int x, int y, int) {
+  const cameras::CameraFrame bayer = frame(cameras::PixelFormat::kBayerRG8, 6, 4, 6, 0, [](int x, int y, int) {
     return (y % 2 == 0) ? (x % 2 == 0 ? 200 : 100) : (x % 2 == 0 ? 100 : 40);
   });
   std::string gray, error;
-  ASSERT_TRUE(toGray8(bayer, &gray, &error)) << error;
+  ASSERT_TRUE(stereo::toGray8(bayer, &gray, &error)) << error;
   ASSERT_EQ(gray.size(), 24u);
   for (char v : gray) EXPECT_EQ(std::uint8_t(v), (299 * 200 + 587 * 100 + 114 * 40 + 500) / 1000);
-  CameraFrame broken = bayer;
+  cameras::CameraFrame broken = bayer;
   broken.stride_bytes = 3;  // shorter than a row
-  EXPECT_FALSE(toGray8(broken, &gray, &error));
+  EXPECT_FALSE(stereo::toGray8(broken, &gray, &error));
   broken = bayer;
   broken.pixels.reset();
-  EXPECT_FALSE(toGray8(broken, &gray, &error));
+  EXPECT_FALSE(stereo::toGray8(broken, &gray, &error));
   EXPECT_EQ(error, "camera frame without valid pixels");
 }
 

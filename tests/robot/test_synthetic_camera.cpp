@@ -60,8 +60,8 @@ Eigen::Isometry3d someCameraPose() {
 }
 
 /// A uniform grey room (half extent 6 m) around the world origin.
-void addPlainRoom(SyntheticScene& scene) {
-  const SurfaceStyle plain{kRoomRgb, false, 0};
+void addPlainRoom(cameras::SyntheticScene& scene) {
+  const cameras::SurfaceStyle plain{kRoomRgb, false, 0};
   scene.addRoom("room", Eigen::Isometry3d::Identity(), Eigen::Vector3d(6, 6, 6), plain, plain, plain, plain);
 }
 
@@ -74,7 +74,7 @@ struct EdgeCheck {
 /// kFaceRgb on kRoomRgb) crosses image rows (near-vertical edges) or columns (near-horizontal
 /// ones) next to 3 points on each of its 4 edges: coverage summed across the edge (the renderer
 /// samples n×n per pixel), against the crossing of the model's projection of the 3-D edge.
-EdgeCheck checkBoxEdges(const CameraFrame& frame, const calib::GenericCamera& camera,
+EdgeCheck checkBoxEdges(const cameras::CameraFrame& frame, const calib::GenericCamera& camera,
                         const Eigen::Isometry3d& T_cam_box, const Eigen::Vector3d& h) {
   const auto& px = *frame.pixels;
   const auto coverage = [&](int u, int v) {
@@ -126,17 +126,17 @@ TEST(SyntheticCamera, BoxEdgesLieWhereTheModelProjectsThem) {
   const std::vector<Eigen::Isometry3d> T_cam_boxes = {
       facingPose(0.0, 0.0, 1.6), facingPose(50 * M_PI / 180, 0.5, 1.6),
       facingPose(85 * M_PI / 180, M_PI, 1.6), facingPose(105 * M_PI / 180, -0.6, 1.6)};
-  auto scene = std::make_shared<SyntheticScene>();
+  auto scene = std::make_shared<cameras::SyntheticScene>();
   addPlainRoom(*scene);
   for (std::size_t i = 0; i < T_cam_boxes.size(); ++i)
-    scene->addBox("box" + std::to_string(i), fixedPose(T_world_cam * T_cam_boxes[i]), h,
-                  SurfaceStyle{kFaceRgb, false, 0});
-  SimClock clock;
-  SyntheticCameraOptions options;
+    scene->addBox("box" + std::to_string(i), cameras::fixedPose(T_world_cam * T_cam_boxes[i]), h,
+                  cameras::SurfaceStyle{kFaceRgb, false, 0});
+  clock::SimClock clock;
+  cameras::SyntheticCameraOptions options;
   options.supersampling = 4;
-  const SyntheticCamera cam(camera, 640, 512, scene, fixedPose(T_world_cam), clock, options);
-  const CameraFrame frame = cam.renderAt(0);
-  ASSERT_EQ(frame.format, PixelFormat::kRgb8);
+  const cameras::SyntheticCamera cam(camera, 640, 512, scene, cameras::fixedPose(T_world_cam), clock, options);
+  const cameras::CameraFrame frame = cam.renderAt(0);
+  ASSERT_EQ(frame.format, cameras::PixelFormat::kRgb8);
   ASSERT_EQ(frame.stride_bytes, 3 * 640);
   ASSERT_EQ(frame.pixels->size(), 640u * 512u * 3u);
   for (std::size_t i = 0; i < T_cam_boxes.size(); ++i) {
@@ -152,32 +152,32 @@ TEST(SyntheticCamera, BoxEdgesLieWhereTheModelProjectsThem) {
 TEST(SyntheticCamera, RaysBeyondNinetyDegreesHitTheDefaultScene) {
   // The demo's head looking along +x of the robot: every valid ray, those beyond 90° included,
   // meets the room or an object; the rendered pixel is the scene's colour along that ray.
-  const DefaultSceneLayout layout;
-  auto scene = std::make_shared<SyntheticScene>(defaultScene(layout));
+  const cameras::DefaultSceneLayout layout;
+  auto scene = std::make_shared<cameras::SyntheticScene>(cameras::defaultScene(layout));
   Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
   T_robot_cam.linear().col(0) = -Eigen::Vector3d::UnitY();  // optical x: the head's right
   T_robot_cam.linear().col(1) = -Eigen::Vector3d::UnitZ();  // optical y: down
   T_robot_cam.linear().col(2) = Eigen::Vector3d::UnitX();   // optical z: forward
   T_robot_cam.translation() = layout.head_position;
   const calib::GenericCamera camera = lens640();
-  SimClock clock;
-  const SyntheticCamera cam(camera, 640, 512, scene, fixedPose(T_robot_cam), clock);
-  const CameraFrame frame = cam.renderAt(0);
-  const SceneView view = scene->view(0, T_robot_cam);
+  clock::SimClock clock;
+  const cameras::SyntheticCamera cam(camera, 640, 512, scene, cameras::fixedPose(T_robot_cam), clock);
+  const cameras::CameraFrame frame = cam.renderAt(0);
+  const cameras::SceneView view = scene->view(0, T_robot_cam);
   int behind = 0, mismatched = 0, black = 0, valid = 0;
   std::array<int, 16> objects_seen{};
   for (int v = 0; v < 512; ++v) {
     for (int u = 0; u < 640; ++u) {
       Eigen::Vector3d d;
       if (!camera.unproject(Eigen::Vector2d(u, v), d)) continue;
-      SceneHit hit;
+      cameras::SceneHit hit;
       // The ray exactly as the camera stores it (unit, in float).
       const Eigen::Vector3d d_stored = d.normalized().cast<float>().cast<double>();
       ASSERT_TRUE(view.intersect(d_stored, &hit)) << u << ", " << v;
       ++objects_seen[static_cast<std::size_t>(hit.object)];
       const std::uint8_t* p = &(*frame.pixels)[(static_cast<std::size_t>(v) * 640 + u) * 3];
       const bool target = scene->objects()[static_cast<std::size_t>(hit.object)].kind ==
-                          SceneObjectKind::kPlanarTarget;
+                          cameras::SceneObjectKind::kPlanarTarget;
       black += !target && p[0] + p[1] + p[2] == 0;  // tags are black, walls and boxes never
       if (d.z() < 0) ++behind;
       bool differs = false;
@@ -204,18 +204,18 @@ TEST(SyntheticCamera, RenderedAprilGridIsDetectedWithTheTrueBoardPose) {
   const Eigen::Isometry3d T_world_cam = someCameraPose();
   const Eigen::Isometry3d T_cam_board = test::boardPoseAt(grid, 0.35, 0.8, 0.6, 0.25, -0.2, 0.1);
   // A textured room (moved to enclose this camera) behind the board.
-  SyntheticScene board_scene;
-  board_scene.addRoom("room", T_world_cam, Eigen::Vector3d(3, 3, 3), SurfaceStyle{{205, 185, 150}, true, 1},
-                      SurfaceStyle{{160, 180, 205}, true, 2}, SurfaceStyle{{140, 110, 80}, true, 3},
-                      SurfaceStyle{{235, 235, 228}, true, 4});
-  board_scene.addAprilGrid("board", fixedPose(T_world_cam * T_cam_board), grid);
-  SimClock clock;
-  SyntheticCameraOptions options;
+  cameras::SyntheticScene board_scene;
+  board_scene.addRoom("room", T_world_cam, Eigen::Vector3d(3, 3, 3), cameras::SurfaceStyle{{205, 185, 150}, true, 1},
+                      cameras::SurfaceStyle{{160, 180, 205}, true, 2}, cameras::SurfaceStyle{{140, 110, 80}, true, 3},
+                      cameras::SurfaceStyle{{235, 235, 228}, true, 4});
+  board_scene.addAprilGrid("board", cameras::fixedPose(T_world_cam * T_cam_board), grid);
+  clock::SimClock clock;
+  cameras::SyntheticCameraOptions options;
   options.supersampling = 2;
-  const SyntheticCamera cam(lens.camera, lens.width, lens.height,
-                            std::make_shared<SyntheticScene>(std::move(board_scene)), fixedPose(T_world_cam),
+  const cameras::SyntheticCamera cam(lens.camera, lens.width, lens.height,
+                            std::make_shared<cameras::SyntheticScene>(std::move(board_scene)), cameras::fixedPose(T_world_cam),
                             clock, options);
-  const CameraFrame frame = cam.renderAt(0);
+  const cameras::CameraFrame frame = cam.renderAt(0);
   calib::GrayImage gray(frame.width, frame.height);
   for (std::size_t i = 0; i < gray.pixels.size(); ++i) {
     const std::uint8_t* p = &(*frame.pixels)[3 * i];
@@ -263,18 +263,18 @@ TEST(SyntheticCamera, ImagesFollowThePoseAtCaptureTime) {
   };
   const Eigen::Vector3d h(0.25, 0.25, 0.1);
   const Eigen::Isometry3d T_world_box = T_world_cam0 * facingPose(0.3, 0.0, 1.6);
-  auto scene = std::make_shared<SyntheticScene>();
+  auto scene = std::make_shared<cameras::SyntheticScene>();
   addPlainRoom(*scene);
-  scene->addBox("box", fixedPose(T_world_box), h, SurfaceStyle{kFaceRgb, false, 0});
-  SimClock clock;
-  SyntheticCameraOptions options;
+  scene->addBox("box", cameras::fixedPose(T_world_box), h, cameras::SurfaceStyle{kFaceRgb, false, 0});
+  clock::SimClock clock;
+  cameras::SyntheticCameraOptions options;
   options.supersampling = 4;
-  const SyntheticCamera cam(camera, 640, 512, scene, T_world_cam_at, clock, options);
+  const cameras::SyntheticCamera cam(camera, 640, 512, scene, T_world_cam_at, clock, options);
   Eigen::Vector2d centres[2];
   const std::int64_t times[2] = {0, 250'000'000};
   for (int k = 0; k < 2; ++k) {
     SCOPED_TRACE("t_ns " + std::to_string(times[k]));
-    const CameraFrame frame = cam.renderAt(times[k]);
+    const cameras::CameraFrame frame = cam.renderAt(times[k]);
     EXPECT_EQ(frame.capture_ns, times[k]);
     const Eigen::Isometry3d T_cam_box = T_world_cam_at(times[k]).inverse() * T_world_box;
     EXPECT_EQ(checkBoxEdges(frame, camera, T_cam_box, h).measured, 12);
@@ -286,13 +286,13 @@ TEST(SyntheticCamera, ImagesFollowThePoseAtCaptureTime) {
 
 /// A small camera looking at the default scene while panning: frames at different times differ.
 struct ThreadedRig {
-  SimClock clock{1'000'000};
-  std::shared_ptr<SyntheticScene> scene = std::make_shared<SyntheticScene>(defaultScene());
+  clock::SimClock clock{1'000'000};
+  std::shared_ptr<cameras::SyntheticScene> scene = std::make_shared<cameras::SyntheticScene>(cameras::defaultScene());
   static Eigen::Isometry3d pose(std::int64_t t_ns) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.linear() = Eigen::AngleAxisd(0.5 * static_cast<double>(t_ns) * 1e-9, Eigen::Vector3d::UnitZ()) *
                  (Eigen::Matrix3d() << 0, 0, 1, -1, 0, 0, 0, -1, 0).finished();
-    T.translation() = DefaultSceneLayout{}.head_position;
+    T.translation() = cameras::DefaultSceneLayout{}.head_position;
     return T;
   }
   static calib::GenericCamera lens() {
@@ -304,12 +304,12 @@ struct ThreadedRig {
 
 TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
   ThreadedRig rig;
-  SyntheticCameraOptions options;
+  cameras::SyntheticCameraOptions options;
   options.name = "synthetic-left";
   options.fps = 50.0;  // ticks every 20 ms
   options.exposure_us = 4000;
   options.transfer_ns = 3'000'000;  // delivered 2 + 3 ms after the middle of the exposure
-  SyntheticCamera cam(ThreadedRig::lens(), 320, 256, rig.scene, &ThreadedRig::pose, rig.clock, options);
+  cameras::SyntheticCamera cam(ThreadedRig::lens(), 320, 256, rig.scene, &ThreadedRig::pose, rig.clock, options);
   ASSERT_EQ(cam.periodNs(), 20'000'000);
   ASSERT_EQ(cam.deliveryDelayNs(), 5'000'000);
   EXPECT_EQ(cam.name(), "synthetic-left");
@@ -346,7 +346,7 @@ TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
   EXPECT_EQ(late->capture_ns, 8 * 20'000'000);
   EXPECT_EQ(late->sequence, 5u);
   EXPECT_EQ(cam.skippedTicks(), 2u);
-  const CameraStats stats = cam.stats();
+  const cameras::CameraStats stats = cam.stats();
   EXPECT_EQ(stats.frames, 6u);
   EXPECT_EQ(stats.lost, 0u);
   cam.stop();
@@ -356,11 +356,11 @@ TEST(SyntheticCamera, ThreadedSourceDeliversFramesAtClockTicks) {
 
 TEST(SyntheticCamera, FullQueueDropsTheOldestAsLost) {
   ThreadedRig rig;
-  SyntheticCameraOptions options;
+  cameras::SyntheticCameraOptions options;
   options.fps = 50.0;
   options.queue_depth = 2;
   options.exposure_us = 0;  // delivered at the tick: the thread may look at the clock only then
-  SyntheticCamera cam(ThreadedRig::lens(), 64, 48, rig.scene, &ThreadedRig::pose, rig.clock, options);
+  cameras::SyntheticCamera cam(ThreadedRig::lens(), 64, 48, rig.scene, &ThreadedRig::pose, rig.clock, options);
   ASSERT_TRUE(cam.start(nullptr));
   // Four ticks, each rendered before the next, nobody reading: the two oldest are lost.
   for (std::uint64_t i = 1; i <= 4; ++i) {
@@ -383,9 +383,9 @@ TEST(SyntheticCamera, StopAbandonsAFrameBeingRendered) {
   // stop() once the thread is rendering the rows of a large frame (1280×1024, 2×2 samples): it
   // returns with that frame unfinished — fewer rows rendered than the frame has (a few chunks of 8
   // here: 24–32 of 1024 measured) — and nothing delivered. Counted in rows, not timed.
-  auto scene = std::make_shared<SyntheticScene>(defaultScene());
+  auto scene = std::make_shared<cameras::SyntheticScene>(cameras::defaultScene());
   const auto lens = test::lens1280();
-  SimClock clock(1);  // the first tick is then tick 1
+  clock::SimClock clock(1);  // the first tick is then tick 1
   std::mutex m;
   std::condition_variable cv;
   bool rendering = false;
@@ -397,9 +397,9 @@ TEST(SyntheticCamera, StopAbandonsAFrameBeingRendered) {
     }
     return ThreadedRig::pose(0);
   };
-  SyntheticCameraOptions options;
+  cameras::SyntheticCameraOptions options;
   options.supersampling = 2;
-  SyntheticCamera cam(lens.camera, lens.width, lens.height, scene, pose, clock, options);
+  cameras::SyntheticCamera cam(lens.camera, lens.width, lens.height, scene, pose, clock, options);
   ASSERT_TRUE(cam.start(nullptr));
   {
     // Each tick's delivery time in turn until the render thread is at work (the thread may

@@ -20,7 +20,7 @@ namespace telesphere::robot {
 namespace {
 
 TEST(SyntheticTrigger, TheFirstCameraClaimsAndALaggingPartnerFollows) {
-  SyntheticTrigger trigger;
+  cameras::SyntheticTrigger trigger;
   EXPECT_EQ(trigger.tickFor(1, 1), 1);  // nothing claimed yet: its own
   EXPECT_EQ(trigger.tickFor(1, 1), 1);  // the partner at the same tick
   EXPECT_EQ(trigger.tickFor(2, 2), 2);  // on time: the next tick
@@ -35,7 +35,7 @@ TEST(SyntheticTrigger, TheFirstCameraClaimsAndALaggingPartnerFollows) {
 }
 
 TEST(SyntheticTrigger, AClaimTheCameraHasRenderedOrStartedAfterIsNotFollowed) {
-  SyntheticTrigger trigger;
+  cameras::SyntheticTrigger trigger;
   EXPECT_EQ(trigger.tickFor(10, 12), 12);
   // A camera past the claim (its next tick is 13) takes its own choice and claims it.
   EXPECT_EQ(trigger.tickFor(13, 15), 15);
@@ -84,7 +84,7 @@ class RenderGate {
 Eigen::Isometry3d headPose(std::int64_t /*t_ns*/) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  T.translation() = DefaultSceneLayout{}.head_position;
+  T.translation() = cameras::DefaultSceneLayout{}.head_position;
   return T;
 }
 
@@ -93,27 +93,27 @@ Eigen::Isometry3d headPose(std::int64_t /*t_ns*/) {
 /// there. The right camera's next two frames after tick 1, as ticks (-1: none).
 std::array<std::int64_t, 2> rightTicksAfterALag(bool shared_trigger, std::uint64_t* followed) {
   constexpr std::int64_t kP = 100'000'000;  // 10 Hz
-  SimClock clock(1);                         // the first tick is tick 1
-  auto scene = std::make_shared<SyntheticScene>(defaultScene());
+  clock::SimClock clock(1);                         // the first tick is tick 1
+  auto scene = std::make_shared<cameras::SyntheticScene>(cameras::defaultScene());
   Eigen::VectorXd p(6);
   p << 19.7, 19.7, 39.5, 31.5, -0.18, 0.59;
   const auto lens = *calib::GenericCamera::create("ds", p);
   RenderGate gate;
   gate.holdAt(0, 2 * kP);
   gate.holdAt(1, 1 * kP);
-  SyntheticCameraOptions options;
+  cameras::SyntheticCameraOptions options;
   options.fps = 10.0;
   options.exposure_us = 0;  // delivered at the tick
   options.threads = 1;
-  if (shared_trigger) options.trigger = std::make_shared<SyntheticTrigger>();
+  if (shared_trigger) options.trigger = std::make_shared<cameras::SyntheticTrigger>();
   options.name = "left";
-  SyntheticCamera left(lens, 80, 64, scene, [&gate](std::int64_t t) { gate.pass(0, t); return headPose(t); }, clock,
+  cameras::SyntheticCamera left(lens, 80, 64, scene, [&gate](std::int64_t t) { gate.pass(0, t); return headPose(t); }, clock,
                        options);
   options.name = "right";
-  SyntheticCamera right(lens, 80, 64, scene, [&gate](std::int64_t t) { gate.pass(1, t); return headPose(t); },
+  cameras::SyntheticCamera right(lens, 80, 64, scene, [&gate](std::int64_t t) { gate.pass(1, t); return headPose(t); },
                         clock, options);
   std::array<std::int64_t, 2> ticks{-1, -1};
-  const auto tickOf = [&](SyntheticCamera& cam) -> std::int64_t {
+  const auto tickOf = [&](cameras::SyntheticCamera& cam) -> std::int64_t {
     const auto frame = cam.nextFrame(std::chrono::seconds(30));
     return frame ? frame->capture_ns / kP : -1;
   };

@@ -17,8 +17,8 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-JointVector randomJoints(const Xarm6Kinematics& kin, std::mt19937& rng, double margin) {
-  JointVector q;
+arm::JointVector randomJoints(const arm::Xarm6Kinematics& kin, std::mt19937& rng, double margin) {
+  arm::JointVector q;
   for (int i = 0; i < 6; ++i) {
     std::uniform_real_distribution<double> u(kin.lowerLimits()[i] + margin,
                                              kin.upperLimits()[i] - margin);
@@ -29,12 +29,12 @@ JointVector randomJoints(const Xarm6Kinematics& kin, std::mt19937& rng, double m
 
 double weightedCost(const Eigen::Isometry3d& T, const Eigen::Isometry3d& target, double w) {
   return (target.translation() - T.translation()).squaredNorm() +
-         std::pow(w * rotationLog(target.linear() * T.linear().transpose()).norm(), 2);
+         std::pow(w * arm::rotationLog(target.linear() * T.linear().transpose()).norm(), 2);
 }
 
 TEST(Xarm6Kinematics, ZeroPoseMatchesPublishedHome) {
-  const Xarm6Kinematics kin;
-  const Eigen::Isometry3d T = kin.forward(JointVector::Zero());
+  const arm::Xarm6Kinematics kin;
+  const Eigen::Isometry3d T = kin.forward(arm::JointVector::Zero());
   EXPECT_NEAR(T.translation().x(), 0.207, 1e-4);
   EXPECT_NEAR(T.translation().y(), 0.0, 1e-9);
   EXPECT_NEAR(T.translation().z(), 0.112, 1e-4);
@@ -45,13 +45,13 @@ TEST(Xarm6Kinematics, ZeroPoseMatchesPublishedHome) {
 }
 
 TEST(Xarm6Kinematics, PublishedJointLimits) {
-  const Xarm6Kinematics kin;
-  JointVector lower, upper;
+  const arm::Xarm6Kinematics kin;
+  arm::JointVector lower, upper;
   lower << -360, -118, -225, -360, -97, -360;
   upper << 360, 120, 11, 360, 180, 360;
   EXPECT_TRUE(kin.lowerLimits().isApprox(lower * kDeg, 1e-12));
   EXPECT_TRUE(kin.upperLimits().isApprox(upper * kDeg, 1e-12));
-  JointVector q = JointVector::Zero();
+  arm::JointVector q = arm::JointVector::Zero();
   q[1] = 121 * kDeg;
   EXPECT_FALSE(kin.withinLimits(q));
   EXPECT_NEAR(kin.clampToLimits(q)[1], 120 * kDeg, 1e-12);
@@ -61,16 +61,16 @@ TEST(Xarm6Kinematics, PublishedJointLimits) {
 }
 
 TEST(Xarm6Kinematics, JacobianMatchesCentralDifferences) {
-  const Xarm6Kinematics kin;
+  const arm::Xarm6Kinematics kin;
   std::mt19937 rng(7);
   for (int n = 0; n < 50; ++n) {
-    const JointVector q0 = randomJoints(kin, rng, 0.0);
-    Jacobian6 J;
+    const arm::JointVector q0 = randomJoints(kin, rng, 0.0);
+    arm::Jacobian6 J;
     const Eigen::Isometry3d T0 = kin.forward(q0, &J);
     const auto f = [&](const Eigen::VectorXd& q) {
       const Eigen::Isometry3d T = kin.forward(q);
       Eigen::VectorXd out(6);
-      out << T.translation(), rotationLog(T.linear() * T0.linear().transpose());
+      out << T.translation(), arm::rotationLog(T.linear() * T0.linear().transpose());
       return out;
     };
     EXPECT_TRUE(test::jacobianNear(J, test::numericJacobian(f, q0), 1e-6)) << "q = " << q0.transpose();
@@ -78,23 +78,23 @@ TEST(Xarm6Kinematics, JacobianMatchesCentralDifferences) {
 }
 
 TEST(Xarm6Kinematics, IkRoundTripFromNearbySeed) {
-  const Xarm6Kinematics kin;
+  const arm::Xarm6Kinematics kin;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> perturb(-0.2, 0.2);
   int tried = 0;
   while (tried < 300) {
-    const JointVector q_true = randomJoints(kin, rng, 5 * kDeg);
+    const arm::JointVector q_true = randomJoints(kin, rng, 5 * kDeg);
     if (kin.minSingularValue(q_true) < 0.02) continue;  // singular cases have their own tests
     ++tried;
-    JointVector seed = q_true;
+    arm::JointVector seed = q_true;
     for (int i = 0; i < 6; ++i) seed[i] += perturb(rng);
     const Eigen::Isometry3d target = kin.forward(q_true);
-    const IkResult r = kin.inverse(target, seed);
+    const arm::IkResult r = kin.inverse(target, seed);
     ASSERT_TRUE(r.converged()) << "q_true " << q_true.transpose() << " pos err "
                                << r.position_error << " angle err " << r.angle_error;
     const Eigen::Isometry3d T = kin.forward(r.q);
     EXPECT_LT((T.translation() - target.translation()).norm(), 1e-6);
-    EXPECT_LT(rotationLog(T.linear() * target.linear().transpose()).norm(), 1e-6);
+    EXPECT_LT(arm::rotationLog(T.linear() * target.linear().transpose()).norm(), 1e-6);
     EXPECT_TRUE(kin.withinLimits(r.q));
     // Same branch as the configuration near the seed.
     EXPECT_LT((r.q - q_true).cwiseAbs().maxCoeff(), 0.5) << r.q.transpose() << " vs " << q_true.transpose();
@@ -102,15 +102,15 @@ TEST(Xarm6Kinematics, IkRoundTripFromNearbySeed) {
 }
 
 TEST(Xarm6Kinematics, IkContinuousAlongPath) {
-  const Xarm6Kinematics kin;
-  JointVector q;
+  const arm::Xarm6Kinematics kin;
+  arm::JointVector q;
   q << 0.1, -0.3, -1.2, 0.2, 1.0, 0.3;
   const Eigen::Isometry3d start = kin.forward(q);
   for (int k = 1; k <= 300; ++k) {
     Eigen::Isometry3d target = start;
     target.translation() += Eigen::Vector3d(0.0005 * k, 0.0008 * k, -0.0003 * k);
     target.linear() = start.linear() * Eigen::AngleAxisd(0.002 * k, Eigen::Vector3d::UnitY());
-    const IkResult r = kin.inverse(target, q);
+    const arm::IkResult r = kin.inverse(target, q);
     ASSERT_TRUE(r.converged()) << "step " << k;
     // ~1 mm and 0.1° per step: joints move by a comparable small amount, no branch flip.
     EXPECT_LT((r.q - q).cwiseAbs().maxCoeff(), 0.02) << "step " << k;
@@ -121,8 +121,8 @@ TEST(Xarm6Kinematics, IkContinuousAlongPath) {
 TEST(Xarm6Kinematics, WristSingularity) {
   // The xArm 6 wrist is offset (a5 = 76 mm), so J5 = 0 only makes J4 and J6 parallel, not
   // coincident, and is not singular; the wrist singularity lies elsewhere along J5. Find it.
-  const Xarm6Kinematics kin;
-  JointVector q;
+  const arm::Xarm6Kinematics kin;
+  arm::JointVector q;
   q << 0.0, -0.4, -1.0, 0.3, 0.0, -0.2;
   EXPECT_GT(kin.minSingularValue(q), 0.01);  // J5 = 0
   double best_sigma = 1e9, best_q5 = 0;
@@ -132,23 +132,23 @@ TEST(Xarm6Kinematics, WristSingularity) {
     if (sigma < best_sigma) best_sigma = sigma, best_q5 = q5;
   }
   q[4] = best_q5;
-  const JointVector q_singular = q;
+  const arm::JointVector q_singular = q;
   EXPECT_LT(best_sigma, 1e-4);
   // A target at the singular configuration, from a nearby seed: reached.
-  JointVector seed = q_singular + JointVector::Constant(0.05);
-  const IkResult at = kin.inverse(kin.forward(q_singular), seed);
+  arm::JointVector seed = q_singular + arm::JointVector::Constant(0.05);
+  const arm::IkResult at = kin.inverse(kin.forward(q_singular), seed);
   EXPECT_TRUE(at.converged()) << at.position_error << " " << at.angle_error;
   // From exactly on the singularity, towards 1 cm / 0.05 rad along the lost task direction
   // (the smallest singular vector): no NaN, no wild joint jump, error never worse than the start.
-  Jacobian6 J;
+  arm::Jacobian6 J;
   const Eigen::Isometry3d T_singular = kin.forward(q_singular, &J);
-  J.bottomRows<3>() *= IkOptions{}.rotation_weight;
-  const Eigen::SelfAdjointEigenSolver<Jacobian6> eig(J * J.transpose());
+  J.bottomRows<3>() *= arm::IkOptions{}.rotation_weight;
+  const Eigen::SelfAdjointEigenSolver<arm::Jacobian6> eig(J * J.transpose());
   const Eigen::Matrix<double, 6, 1> lost = eig.eigenvectors().col(0);
   Eigen::Isometry3d target = T_singular;
   target.translation() += 0.01 * lost.head<3>().normalized();
   target.linear() = Eigen::AngleAxisd(0.05, lost.tail<3>().normalized()) * target.linear();
-  const IkResult away = kin.inverse(target, q_singular);
+  const arm::IkResult away = kin.inverse(target, q_singular);
   ASSERT_TRUE(away.q.allFinite());
   EXPECT_TRUE(kin.withinLimits(away.q));
   EXPECT_LE(weightedCost(kin.forward(away.q), target, 0.2), weightedCost(T_singular, target, 0.2));
@@ -157,14 +157,14 @@ TEST(Xarm6Kinematics, WristSingularity) {
   if (away.converged()) {
     EXPECT_LT(away.position_error, 1e-6);
   } else {
-    EXPECT_EQ(away.status, IkResult::Status::kClosestReachable);
+    EXPECT_EQ(away.status, arm::IkResult::Status::kClosestReachable);
   }
 }
 
 TEST(Xarm6Kinematics, ElbowSingularityAndStretchedBoundary) {
-  const Xarm6Kinematics kin;
+  const arm::Xarm6Kinematics kin;
   // The elbow is stretched where q3 puts the forearm in line with the upper arm; find it.
-  JointVector q = JointVector::Zero();
+  arm::JointVector q = arm::JointVector::Zero();
   q[4] = 0.8;
   double best_q3 = 0, best_sigma = 1e9;
   for (double q3 = kin.lowerLimits()[2]; q3 <= kin.upperLimits()[2]; q3 += 1e-4) {
@@ -178,7 +178,7 @@ TEST(Xarm6Kinematics, ElbowSingularityAndStretchedBoundary) {
   const double reach = 0.28948866 + std::hypot(0.0775, 0.3425);
   Eigen::Isometry3d T5 = Eigen::Isometry3d::Identity();
   for (int i = 0; i < 5; ++i) {
-    const MdhLink& l = kin.links()[static_cast<std::size_t>(i)];
+    const arm::MdhLink& l = kin.links()[static_cast<std::size_t>(i)];
     T5 = T5 * Eigen::AngleAxisd(l.alpha, Eigen::Vector3d::UnitX()) * Eigen::Translation3d(l.a, 0, 0) *
          Eigen::AngleAxisd(q[i] + l.theta_offset, Eigen::Vector3d::UnitZ()) *
          Eigen::Translation3d(0, 0, l.d);
@@ -190,28 +190,28 @@ TEST(Xarm6Kinematics, ElbowSingularityAndStretchedBoundary) {
   Eigen::Isometry3d target = T_stretched;
   const Eigen::Vector3d out_dir = (T5.translation() - Eigen::Vector3d(0, 0, 0.267)).normalized();
   target.translation() += 0.05 * out_dir;
-  JointVector seed = q;
+  arm::JointVector seed = q;
   seed[2] -= 0.3;
-  const IkResult r = kin.inverse(target, seed);
-  EXPECT_EQ(r.status, IkResult::Status::kClosestReachable);
+  const arm::IkResult r = kin.inverse(target, seed);
+  EXPECT_EQ(r.status, arm::IkResult::Status::kClosestReachable);
   EXPECT_TRUE(kin.withinLimits(r.q));
   EXPECT_NEAR(r.position_error, 0.05, 0.005);
   EXPECT_LT(r.angle_error, 0.05);
   // IK on the singularity itself (target = the stretched pose) converges.
-  const IkResult on = kin.inverse(T_stretched, seed);
+  const arm::IkResult on = kin.inverse(T_stretched, seed);
   EXPECT_TRUE(on.converged()) << on.position_error << " " << on.angle_error;
 }
 
 TEST(Xarm6Kinematics, UnreachableTargetGivesClosestReachablePose) {
-  const Xarm6Kinematics kin;
-  IkOptions options;
+  const arm::Xarm6Kinematics kin;
+  arm::IkOptions options;
   Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
   target.translation() = Eigen::Vector3d(1.2, 0.5, 0.6);
   target.linear() = Eigen::Matrix3d(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
-  JointVector seed;
+  arm::JointVector seed;
   seed << 0.3, 0.2, -0.8, 0.0, 0.6, 0.0;
-  const IkResult r = kin.inverse(target, seed, options);
-  EXPECT_EQ(r.status, IkResult::Status::kClosestReachable);
+  const arm::IkResult r = kin.inverse(target, seed, options);
+  EXPECT_EQ(r.status, arm::IkResult::Status::kClosestReachable);
   ASSERT_TRUE(r.q.allFinite());
   EXPECT_TRUE(kin.withinLimits(r.q));
   const double cost = weightedCost(kin.forward(r.q), target, options.rotation_weight);
@@ -219,19 +219,19 @@ TEST(Xarm6Kinematics, UnreachableTargetGivesClosestReachablePose) {
   // No configuration in a dense random sample is closer.
   std::mt19937 rng(3);
   for (int n = 0; n < 20000; ++n) {
-    const JointVector q = randomJoints(kin, rng, 0.0);
+    const arm::JointVector q = randomJoints(kin, rng, 0.0);
     ASSERT_GE(weightedCost(kin.forward(q), target, options.rotation_weight), cost - 1e-9)
         << q.transpose();
   }
 }
 
 TEST(Xarm6Kinematics, JointLimitsHoldForTargetsBeyondThem) {
-  const Xarm6Kinematics kin;
-  JointVector beyond;
+  const arm::Xarm6Kinematics kin;
+  arm::JointVector beyond;
   beyond << 0.0, 125 * kDeg, -1.0, 0.0, 1.0, 0.0;  // J2 past its 120° limit
-  JointVector seed = beyond;
+  arm::JointVector seed = beyond;
   seed[1] = 110 * kDeg;
-  const IkResult r = kin.inverse(kin.forward(beyond), seed);
+  const arm::IkResult r = kin.inverse(kin.forward(beyond), seed);
   EXPECT_TRUE(kin.withinLimits(r.q)) << r.q.transpose();
   if (!r.converged()) {
     EXPECT_TRUE(r.at_joint_limit);
@@ -239,18 +239,18 @@ TEST(Xarm6Kinematics, JointLimitsHoldForTargetsBeyondThem) {
 }
 
 TEST(Xarm6Kinematics, InvalidTargetReturnsClampedSeed) {
-  const Xarm6Kinematics kin;
-  JointVector seed = JointVector::Zero();
+  const arm::Xarm6Kinematics kin;
+  arm::JointVector seed = arm::JointVector::Zero();
   seed[1] = 2.5;  // beyond J2's limit
   Eigen::Isometry3d nan_target = Eigen::Isometry3d::Identity();
   nan_target.translation().x() = NAN;
-  IkResult r = kin.inverse(nan_target, seed);
-  EXPECT_EQ(r.status, IkResult::Status::kInvalidTarget);
+  arm::IkResult r = kin.inverse(nan_target, seed);
+  EXPECT_EQ(r.status, arm::IkResult::Status::kInvalidTarget);
   EXPECT_TRUE(r.q.isApprox(kin.clampToLimits(seed)));
   Eigen::Isometry3d skewed = Eigen::Isometry3d::Identity();
   skewed.linear()(0, 1) = 0.3;
   r = kin.inverse(skewed, seed);
-  EXPECT_EQ(r.status, IkResult::Status::kInvalidTarget);
+  EXPECT_EQ(r.status, arm::IkResult::Status::kInvalidTarget);
 }
 
 }  // namespace

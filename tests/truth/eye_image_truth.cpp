@@ -22,7 +22,7 @@ double quantile(std::vector<double> values, double q) {
 
 std::optional<FrameEyeError> evaluateEyeImages(const XrTruthFrame& frame, const std::vector<float>& map,
                                                const RobotTruthRow& robot, const calib::SystemCalibration& calibration,
-                                               const robot::SyntheticScene& scene, const EyeErrorOptions& options,
+                                               const robot::cameras::SyntheticScene& scene, const EyeErrorOptions& options,
                                                std::string* error) {
   if (!robot.mapping_set) {
     *error = "frame " + std::to_string(frame.stereo_sequence) + ": no nominal mapping on the robot yet";
@@ -56,7 +56,7 @@ std::optional<FrameEyeError> evaluateEyeImages(const XrTruthFrame& frame, const 
       out.stamp_position_error_m = d.translation().norm();
       out.stamp_angle_error_deg = Eigen::AngleAxisd(d.linear()).angle() * 180.0 / M_PI;
     }
-    const robot::SceneView view = scene.view(robot.capture_ns[eye], T_robot_cam);
+    const robot::cameras::SceneView view = scene.view(robot.capture_ns[eye], T_robot_cam);
     const float* eye_map = &map[static_cast<std::size_t>(eye) * pixels * 2];
     for (int row = stride / 2; row < frame.height; row += stride) {
       for (int col = stride / 2; col < frame.width; col += stride) {
@@ -72,7 +72,7 @@ std::optional<FrameEyeError> evaluateEyeImages(const XrTruthFrame& frame, const 
           continue;
         }
         d_cam.normalize();
-        robot::SceneHit hit;
+        robot::cameras::SceneHit hit;
         if (!view.intersect(d_cam, &hit)) {
           ++out.no_scene;
           continue;

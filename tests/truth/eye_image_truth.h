@@ -41,7 +41,7 @@ struct FrameEyeError {
 /// Nothing when the robot truth lacks a camera pose or the mapping, or the camera sizes do not fit.
 std::optional<FrameEyeError> evaluateEyeImages(const XrTruthFrame& frame, const std::vector<float>& map,
                                                const RobotTruthRow& robot, const calib::SystemCalibration& calibration,
-                                               const robot::SyntheticScene& scene, const EyeErrorOptions& options,
+                                               const robot::cameras::SyntheticScene& scene, const EyeErrorOptions& options,
                                                std::string* error);
 
 /// q-quantile (0…1) of `values` by linear interpolation between order statistics (NaN if empty).

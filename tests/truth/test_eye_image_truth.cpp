@@ -20,7 +20,7 @@ namespace {
 
 struct TruthRig {
   calib::SystemCalibration calibration;
-  robot::SyntheticScene scene = robot::defaultScene();
+  robot::cameras::SyntheticScene scene = robot::cameras::defaultScene();
   RobotTruthRow robot;
   XrTruthFrame frame;
 
@@ -32,7 +32,7 @@ struct TruthRig {
     // (optical z = robot x, optical x = robot −y, optical y = robot −z); the right one 64 mm to its right.
     Eigen::Isometry3d T_robot_cam_l = Eigen::Isometry3d::Identity();
     T_robot_cam_l.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-    T_robot_cam_l.translation() = robot::DefaultSceneLayout{}.head_position + Eigen::Vector3d(0, 0.032, 0);
+    T_robot_cam_l.translation() = robot::cameras::DefaultSceneLayout{}.head_position + Eigen::Vector3d(0, 0.032, 0);
     const Eigen::Isometry3d T_robot_cam_r = T_robot_cam_l * *calibration.T_cam_l_cam_r;
     robot.sequence = 7;
     robot.capture_ns = {1'000'000'000, 1'000'000'000};

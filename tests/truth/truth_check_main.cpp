@@ -37,7 +37,7 @@ int main(int argc, char** argv) {
   if (!frames) return std::cerr << error << '\n', 2;
   const auto calibration = calib::loadCalibrationFile(calib_path);
   if (!calibration) return std::cerr << calibration.error().describe() << '\n', 2;
-  const robot::SyntheticScene scene = robot::defaultScene();
+  const robot::cameras::SyntheticScene scene = robot::cameras::defaultScene();
 
   std::vector<double> all;
   int evaluated_frames = 0, skipped = 0;

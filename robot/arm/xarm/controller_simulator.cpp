@@ -18,7 +18,7 @@
 namespace telesphere::xarm {
 
 using namespace std::chrono_literals;
-using robot::JointVector;
+using robot::arm::JointVector;
 
 namespace {
 
@@ -37,11 +37,11 @@ struct JointMove {
 
 struct ControllerSimulator::Impl {
   ControllerSimulatorOptions options;
-  robot::SteadyClock clock;
+  robot::clock::SteadyClock clock;
   TcpListener command_listener, report_listener, normal_listener;
 
   mutable std::mutex mutex;  ///< everything below
-  robot::SimulatedArm arm;
+  robot::arm::SimulatedArm arm;
   std::uint8_t state = std::uint8_t(ControllerState::kStopped);
   std::uint8_t mode = std::uint8_t(ControllerMode::kPosition);
   bool enabled = false;

@@ -39,7 +39,7 @@ struct ControllerSimulatorOptions {
   std::string address = "127.0.0.1";
   int command_port = 0;  ///< 0: a free port (commandPort() says which)
   int report_port = 0;
-  robot::SimulatedArmConfig arm;  ///< dynamics; state_period_ns is the report period (10 ms)
+  robot::arm::SimulatedArmConfig arm;  ///< dynamics; state_period_ns is the report period (10 ms)
   int normal_report_port = 0;  ///< 30001 on a controller
   /// Register 1 (≤ 39 characters of 40): "axis,type,armSN,boxSN,vX.Y.Z" as UFACTORY's firmware writes it.
   std::string firmware = "6,6,XI1202,AC1302,v2.3.0";
@@ -79,8 +79,8 @@ class ControllerSimulator {
     std::uint8_t state = 0, mode = 0;
     int error = 0, warning = 0;
     bool enabled = false;
-    robot::JointVector q_true = robot::JointVector::Zero();  ///< rad, noise-free
-    robot::JointVector set_point = robot::JointVector::Zero();
+    robot::arm::JointVector q_true = robot::arm::JointVector::Zero();  ///< rad, noise-free
+    robot::arm::JointVector set_point = robot::arm::JointVector::Zero();
     std::uint64_t servo_commands = 0;   ///< servo targets taken
     std::uint64_t reports_sent = 0;
     int command_clients = 0, report_clients = 0, normal_report_clients = 0;

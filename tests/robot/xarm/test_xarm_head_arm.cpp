@@ -34,8 +34,8 @@ namespace {
 using namespace std::chrono_literals;
 using test::eventually;
 
-JointVector nominal() {
-  JointVector q;
+arm::JointVector nominal() {
+  arm::JointVector q;
   q << 0.0, -0.2, -0.4, 0.0, 0.3, 0.0;
   return q;
 }
@@ -48,8 +48,8 @@ class XArmHeadArmTest : public ::testing::Test {
     ASSERT_TRUE(sim) << error;
   }
 
-  XArmOptions options() const {
-    XArmOptions o;
+  arm::XArmOptions options() const {
+    arm::XArmOptions o;
     o.address = "127.0.0.1";
     o.command_port = sim->commandPort();
     o.report_port = sim->reportPort();
@@ -60,8 +60,8 @@ class XArmHeadArmTest : public ::testing::Test {
     return o;
   }
 
-  std::unique_ptr<XArmHeadArm> startArm(XArmOptions o, std::string* error) {
-    return XArmHeadArm::start(o, clock, error);
+  std::unique_ptr<arm::XArmHeadArm> startArm(arm::XArmOptions o, std::string* error) {
+    return arm::XArmHeadArm::start(o, clock, error);
   }
 
   void startArm() {
@@ -71,7 +71,7 @@ class XArmHeadArmTest : public ::testing::Test {
   }
 
   /// Calls update() (as the head loop does at 100 Hz) until `status` shows.
-  bool becomes(ArmStatus status, std::chrono::milliseconds limit = 3000ms) {
+  bool becomes(arm::ArmStatus status, std::chrono::milliseconds limit = 3000ms) {
     return eventually(
         [&] {
           arm->update();
@@ -84,7 +84,7 @@ class XArmHeadArmTest : public ::testing::Test {
 
   /// Streams targets at 100 Hz from the nominal joints along J1 by `step` rad per tick.
   void stream(int ticks, double step) {
-    JointVector q = nominal();
+    arm::JointVector q = nominal();
     auto next = std::chrono::steady_clock::now();
     for (int k = 0; k < ticks; ++k) {
       arm->update();
@@ -95,9 +95,9 @@ class XArmHeadArmTest : public ::testing::Test {
     }
   }
 
-  SteadyClock clock;
+  clock::SteadyClock clock;
   std::unique_ptr<xarm::ControllerSimulator> sim;
-  std::unique_ptr<XArmHeadArm> arm;
+  std::unique_ptr<arm::XArmHeadArm> arm;
 };
 
 TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
@@ -110,7 +110,7 @@ TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
   EXPECT_EQ(s.mode, std::uint8_t(xarm::ControllerMode::kServo));
   EXPECT_EQ(s.error, 0);
   EXPECT_LT((s.q_true - nominal()).cwiseAbs().maxCoeff(), 0.011);
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
   EXPECT_EQ(arm->faultText(), "");
 
   while (arm->pollState()) {
@@ -122,7 +122,7 @@ TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
   EXPECT_TRUE(eventually([&] { return std::abs(sim->snapshot().set_point[0] - 0.2) < 1e-6; }, 2000ms))
       << sim->snapshot().set_point[0];
   // The reports became joint states on our clock, one per report period, in order.
-  std::vector<JointState> states;
+  std::vector<arm::JointState> states;
   while (auto st = arm->pollState()) states.push_back(*st);
   ASSERT_GE(states.size(), 30u);
   for (std::size_t i = 1; i < states.size(); ++i) {
@@ -136,7 +136,7 @@ TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
 
 TEST_F(XArmHeadArmTest, RefusesTargetsOutsideTheLimitsNotFiniteOrJumpingAndStopsAfterTenJumps) {
   startArm();
-  JointVector q = nominal();
+  arm::JointVector q = nominal();
   q[1] = 3.0;  // J2 beyond 120°
   EXPECT_FALSE(arm->sendTarget(q));
   q = nominal();
@@ -146,13 +146,13 @@ TEST_F(XArmHeadArmTest, RefusesTargetsOutsideTheLimitsNotFiniteOrJumpingAndStops
   q = nominal();
   q[2] += 0.5;  // 29° in ≤ 30 ms: beyond 180°/s
   for (int k = 0; k < 9; ++k) EXPECT_FALSE(arm->sendTarget(q));
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);  // nine refused, still streaming
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);  // nine refused, still streaming
   EXPECT_FALSE(arm->sendTarget(q));
-  EXPECT_EQ(arm->status(), ArmStatus::kStopped);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kStopped);
   EXPECT_NE(arm->faultText().find("J3"), std::string::npos) << arm->faultText();
   EXPECT_EQ(sim->snapshot().servo_commands, 0u);  // none of them reached the controller
   EXPECT_TRUE(arm->clearStop());
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
   q = nominal();
   q[2] += 0.01;  // a step the joints can take
   EXPECT_TRUE(arm->sendTarget(q));
@@ -164,7 +164,7 @@ TEST_F(XArmHeadArmTest, AControllerErrorAtStartUpIsClearedOnlyWhenTheSupervisorA
   EXPECT_FALSE(startArm(options(), &error));
   EXPECT_NE(error.find("C31 collision caused abnormal current"), std::string::npos) << error;
   EXPECT_EQ(sim->snapshot().error, 31);  // left as it was
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.clear_errors = true;
   arm = startArm(o, &error);
   ASSERT_TRUE(arm) << error;
@@ -174,7 +174,7 @@ TEST_F(XArmHeadArmTest, AControllerErrorAtStartUpIsClearedOnlyWhenTheSupervisorA
 TEST_F(XArmHeadArmTest, AnEmergencyStopStopsStreamingAndClearsOnlyOnceReleased) {
   startArm();
   sim->pressEmergencyStop();
-  ASSERT_TRUE(becomes(ArmStatus::kStopped));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kStopped));
   EXPECT_FALSE(arm->sendTarget(nominal()));
   ASSERT_TRUE(eventually([&] {
     arm->update();
@@ -182,10 +182,10 @@ TEST_F(XArmHeadArmTest, AnEmergencyStopStopsStreamingAndClearsOnlyOnceReleased) 
   })) << arm->faultText();
   EXPECT_FALSE(arm->clearStop());
   EXPECT_NE(arm->faultText().find("release the emergency stop"), std::string::npos) << arm->faultText();
-  EXPECT_EQ(arm->status(), ArmStatus::kStopped);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kStopped);
   sim->releaseEmergencyStop();
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
   EXPECT_EQ(sim->snapshot().mode, std::uint8_t(xarm::ControllerMode::kServo));
   EXPECT_TRUE(arm->sendTarget(nominal()));
 }
@@ -193,20 +193,20 @@ TEST_F(XArmHeadArmTest, AnEmergencyStopStopsStreamingAndClearsOnlyOnceReleased) 
 TEST_F(XArmHeadArmTest, ACollisionStopShowsTheControllersCodeAndClearsOnRequest) {
   startArm();
   sim->collide();
-  ASSERT_TRUE(becomes(ArmStatus::kStopped));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kStopped));
   ASSERT_TRUE(eventually([&] {
     arm->update();
     return arm->faultText() == "controller error C31 collision caused abnormal current";
   })) << arm->faultText();
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
   EXPECT_EQ(sim->snapshot().error, 0);
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
 }
 
 TEST_F(XArmHeadArmTest, SilentReportsDisconnectAndOnlyClearStopReconnects) {
   startArm();
   sim->setReportsPaused(true);
-  ASSERT_TRUE(becomes(ArmStatus::kDisconnected));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kDisconnected));
   EXPECT_NE(arm->faultText().find("no joint report"), std::string::npos) << arm->faultText();
   EXPECT_FALSE(arm->sendTarget(nominal()));
   sim->setReportsPaused(false);
@@ -214,9 +214,9 @@ TEST_F(XArmHeadArmTest, SilentReportsDisconnectAndOnlyClearStopReconnects) {
   const std::uint64_t sent = sim->snapshot().reports_sent;
   ASSERT_TRUE(eventually([&] { return sim->snapshot().reports_sent > sent + 5; }));
   arm->update();
-  EXPECT_EQ(arm->status(), ArmStatus::kDisconnected);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kDisconnected);
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
   EXPECT_EQ(arm->stats().reconnects, 1u);
   EXPECT_TRUE(arm->sendTarget(nominal()));
 }
@@ -224,10 +224,10 @@ TEST_F(XArmHeadArmTest, SilentReportsDisconnectAndOnlyClearStopReconnects) {
 TEST_F(XArmHeadArmTest, ADroppedConnectionDisconnectsAndClearStopReconnects) {
   startArm();
   sim->dropConnections();
-  ASSERT_TRUE(becomes(ArmStatus::kDisconnected));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kDisconnected));
   EXPECT_NE(arm->faultText().find("closed"), std::string::npos) << arm->faultText();
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
   EXPECT_TRUE(eventually([&] { return sim->snapshot().command_clients == 1; }));
 }
 
@@ -235,7 +235,7 @@ TEST_F(XArmHeadArmTest, UnansweredServoCommandsDisconnect) {
   startArm();
   sim->setRepliesPaused(true);
   EXPECT_TRUE(arm->sendTarget(nominal()));
-  ASSERT_TRUE(becomes(ArmStatus::kDisconnected));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kDisconnected));
   EXPECT_NE(arm->faultText().find("did not answer"), std::string::npos) << arm->faultText();
   sim->setRepliesPaused(false);
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
@@ -245,36 +245,36 @@ TEST_F(XArmHeadArmTest, AMalformedReportDisconnectsWithTheReason) {
   startArm();
   const std::vector<std::uint8_t> garbage{0, 0, 0, 145, 0x11, 0, 0};  // a 145-byte "normal" report header
   sim->sendRawReport(garbage);
-  ASSERT_TRUE(becomes(ArmStatus::kDisconnected));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kDisconnected));
   EXPECT_NE(arm->faultText().find("malformed report"), std::string::npos) << arm->faultText();
 }
 
 TEST_F(XArmHeadArmTest, AMalformedReplyDisconnectsWithTheReason) {
   startArm();
   sim->sendRawReply(std::vector<std::uint8_t>{0, 1, 0, 9, 0, 2, 13, 0});  // protocol id 9
-  ASSERT_TRUE(becomes(ArmStatus::kDisconnected));
+  ASSERT_TRUE(becomes(arm::ArmStatus::kDisconnected));
   EXPECT_NE(arm->faultText().find("malformed reply"), std::string::npos) << arm->faultText();
 }
 
 TEST_F(XArmHeadArmTest, AStopRequestStopsTheControllerAndClearsOnRequest) {
   startArm();
   arm->stop();
-  EXPECT_EQ(arm->status(), ArmStatus::kStopped);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kStopped);
   EXPECT_EQ(arm->faultText(), "stopped on request");
   EXPECT_TRUE(eventually([&] { return sim->snapshot().state == std::uint8_t(xarm::ControllerState::kStopped); }));
   EXPECT_TRUE(arm->clearStop()) << arm->faultText();
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
 }
 
 TEST_F(XArmHeadArmTest, TheControllersFaultReachesTheConsoleOverTheLinkAndItsClearFaultResumes) {
   startArm();
-  HeadController controller;
-  JointStateBuffer buffer(controller.config().geometry);
+  head::HeadController controller;
+  head::JointStateBuffer buffer(controller.config().geometry);
   link::LinkEndpoints endpoints;
   endpoints.base_port = 27680;
   link::LinkServer server(endpoints);
   link::LinkClient console(endpoints);
-  HeadLoop loop(*arm, controller, buffer, server, clock);
+  head::HeadLoop loop(*arm, controller, buffer, server, clock);
   server.setControlHandler([&loop](const link::proto::ControlRequest& r) { return loop.handleControl(r); });
   std::atomic<bool> stop{false};
   std::thread head([&] { loop.run(stop); });
@@ -307,15 +307,15 @@ TEST_F(XArmHeadArmTest, TheControllersFaultReachesTheConsoleOverTheLinkAndItsCle
 /// robot state it sees.
 class XArmLoop {
  public:
-  XArmLoop(HeadArm& arm, const Clock& clock, int port) : clock_(clock) {
+  XArmLoop(arm::HeadArm& arm, const clock::Clock& clock, int port) : clock_(clock) {
     endpoints_.base_port = port;
     server_ = std::make_unique<link::LinkServer>(endpoints_);
     server_->setTap(published_);
     console_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
     operator_app_ = std::make_unique<link::LinkClient>(endpoints_, link::LinkClient::Options{.frames = false});
-    HeadLoopConfig config;
+    head::HeadLoopConfig config;
     config.auto_nominal = true;  // the first head target is the nominal pose
-    loop_ = std::make_unique<HeadLoop>(arm, controller_, buffer_, *server_, clock, config);
+    loop_ = std::make_unique<head::HeadLoop>(arm, controller_, buffer_, *server_, clock, config);
     server_->setControlHandler([this](const link::proto::ControlRequest& r) { return loop_->handleControl(r); });
     head_ = std::thread([this] { loop_->run(stop_); });
     operator_ = std::thread([this] {
@@ -379,7 +379,7 @@ class XArmLoop {
     std::lock_guard lock(mutex_);
     return states_.size();
   }
-  const HeadController& controller() const { return controller_; }
+  const head::HeadController& controller() const { return controller_; }
   /// When the robot published its states (link clock, ns), whatever they said: a state's own
   /// t_ns is its joint measurement's and stands still while the arm is away.
   std::vector<std::int64_t> publishedStateTimesNs() const { return published_->times(); }
@@ -404,13 +404,13 @@ class XArmLoop {
     std::vector<std::int64_t> times_;
   };
   std::shared_ptr<PublishedStates> published_ = std::make_shared<PublishedStates>();
-  const Clock& clock_;
-  HeadController controller_;
-  JointStateBuffer buffer_{controller_.config().geometry};
+  const clock::Clock& clock_;
+  head::HeadController controller_;
+  head::JointStateBuffer buffer_{controller_.config().geometry};
   link::LinkEndpoints endpoints_;
   std::unique_ptr<link::LinkServer> server_;
   std::unique_ptr<link::LinkClient> console_, operator_app_;
-  std::unique_ptr<HeadLoop> loop_;
+  std::unique_ptr<head::HeadLoop> loop_;
   std::atomic<bool> stop_{false};
   std::atomic<double> yaw_deg_{0.0};
   std::mutex mutex_;
@@ -427,12 +427,12 @@ double headYawDeg(const link::proto::RobotState& s) {
 TEST_F(XArmHeadArmTest, AfterAFaultTheHeadResumesFromWhereTheArmIsAndApproachesTheOperatorAtBoundedSpeed) {
   // As telesphere-robot starts it (app/robot_assembly.cpp): at the joints of the controller's
   // nominal head pose.
-  const HeadControllerConfig config;
-  const Xarm6Kinematics kinematics;
-  const IkResult ik = kinematics.inverse(config.T_robot_nom * config.geometry.T_flange_head().inverse(),
-                                         JointVector::Zero(), config.ik);
+  const head::HeadControllerConfig config;
+  const arm::Xarm6Kinematics kinematics;
+  const arm::IkResult ik = kinematics.inverse(config.T_robot_nom * config.geometry.T_flange_head().inverse(),
+                                         arm::JointVector::Zero(), config.ik);
   ASSERT_TRUE(ik.converged());
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.nominal_q = ik.q;
   std::string error;
   arm = startArm(o, &error);
@@ -533,7 +533,7 @@ TEST_F(XArmHeadArmTest, AConsoleStopNeverHidesTheArmsOwnFault) {
 }
 
 TEST_F(XArmHeadArmTest, ClearingAFaultOnAnUnansweringControllerNeverFreezesTheRobot) {
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.reply_timeout = 1500ms;
   std::string error;
   arm = startArm(o, &error);
@@ -598,7 +598,7 @@ TEST_F(XArmHeadArmTest, TheSimulatorDropsAClientThatSendsGarbageAndServesTheNext
   truncated->close();
   // The next client is served as usual.
   startArm();
-  EXPECT_EQ(arm->status(), ArmStatus::kOk);
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk);
 }
 
 // Issue #30: the simulator answers as a controller does, and the driver speaks what the firmware
@@ -610,7 +610,7 @@ TEST_F(XArmHeadArmTest, SpeaksTheIdentifierItsFirmwareExpectsAndTheSimulatorEcho
   EXPECT_EQ(arm->stats().serial, "XI120204201B02");
   EXPECT_EQ(arm->stats().firmware, "6,6,XI1202,AC1302,v2.3.0");
   stream(20, 0.002);
-  EXPECT_EQ(arm->status(), ArmStatus::kOk) << arm->faultText();
+  EXPECT_EQ(arm->status(), arm::ArmStatus::kOk) << arm->faultText();
   arm.reset();
 
   // Older firmware: identifier 2 throughout.
@@ -619,7 +619,7 @@ TEST_F(XArmHeadArmTest, SpeaksTheIdentifierItsFirmwareExpectsAndTheSimulatorEcho
   std::string error;
   auto old_sim = xarm::ControllerSimulator::start(old_options, &error);
   ASSERT_TRUE(old_sim) << error;
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.command_port = old_sim->commandPort();
   o.report_port = old_sim->reportPort();
   o.normal_report_port = old_sim->normalReportPort();
@@ -663,20 +663,20 @@ TEST_F(XArmHeadArmTest, AnIdentifier3ConnectionIsKeptInUseWhileTheDriverWaits) {
   std::string error;
   sim = xarm::ControllerSimulator::start(strict, &error);
   ASSERT_TRUE(sim) << error;
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.nominal_speed = 0.3;  // rad/s: J3's 0.4 rad take about 1.3 s
   o.keepalive = 100ms;
   arm = startArm(o, &error);
   ASSERT_TRUE(arm) << error;
   arm.reset();
   o.keepalive = 10000ms;
-  o.nominal_q = JointVector::Zero();  // back again: another 1.3 s move, silent this time
+  o.nominal_q = arm::JointVector::Zero();  // back again: another 1.3 s move, silent this time
   EXPECT_FALSE(startArm(o, &error));
   EXPECT_NE(error.find("closed the command connection"), std::string::npos) << error;
 }
 
 TEST_F(XArmHeadArmTest, SetsThePayloadAndSensitivityReadsThemBackAndReportsThemInHealth) {
-  XArmOptions o = options();
+  arm::XArmOptions o = options();
   o.payload_kg = 1.25;
   o.payload_com_mm = {0.0, 5.0, 62.0};
   o.collision_sensitivity = 2;
@@ -692,10 +692,10 @@ TEST_F(XArmHeadArmTest, SetsThePayloadAndSensitivityReadsThemBackAndReportsThemI
   EXPECT_NEAR(stats.payload_kg, 1.25, 1e-6);
   EXPECT_EQ(stats.collision_sensitivity, 2);
   // The console's health view gets the driver's figures.
-  RobotHealthSources sources;
+  services::RobotHealthSources sources;
   sources.xarm = arm.get();
   sources.arm = "xArm 6";
-  RobotHealthReporter reporter(sources, clock);
+  services::RobotHealthReporter reporter(sources, clock);
   stream(10, 0.002);
   const link::proto::RobotHealth health = reporter.make();
   ASSERT_TRUE(health.has_xarm());
@@ -725,16 +725,16 @@ TEST(XArmHeadArmStart, NobodyListeningFailsWithTheAddressAndAHint) {
     ASSERT_TRUE(listener) << error;
     port = listener->port();
   }
-  SteadyClock clock;
-  XArmOptions o;
+  clock::SteadyClock clock;
+  arm::XArmOptions o;
   o.address = "127.0.0.1";
   o.command_port = port;
   o.connect_timeout = 1000ms;
-  EXPECT_FALSE(XArmHeadArm::start(o, clock, &error));
+  EXPECT_FALSE(arm::XArmHeadArm::start(o, clock, &error));
   EXPECT_NE(error.find("127.0.0.1:" + std::to_string(port)), std::string::npos) << error;
   EXPECT_NE(error.find("refused"), std::string::npos) << error;
   o.address.clear();
-  EXPECT_FALSE(XArmHeadArm::start(o, clock, &error));
+  EXPECT_FALSE(arm::XArmHeadArm::start(o, clock, &error));
   EXPECT_NE(error.find("--arm-address"), std::string::npos) << error;
 }
 
