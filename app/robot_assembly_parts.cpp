@@ -165,7 +165,7 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
       options.exposure_us = static_cast<std::uint32_t>(std::lround(o.exposure_ms * 1000.0));
       options.transfer_ns = std::llround(o.transfer_ms * 1e6);
       options.trigger = trigger;
-      const robot::head::CameraSide side = index == 0 ? robot::head::CameraSide::kLeft : robot::head::CameraSide::kRight;
+      const robot::cameras::CameraSide side = index == 0 ? robot::cameras::CameraSide::kLeft : robot::cameras::CameraSide::kRight;
       (index == 0 ? p.left : p.right) = std::make_unique<robot::cameras::SyntheticCamera>(
           camera->camera, o.width, o.height, scene,
           [poses = p.true_poses.get(), side](std::int64_t t_ns) { return poses->at(side, t_ns); }, p.clock,

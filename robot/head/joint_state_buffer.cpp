@@ -81,12 +81,12 @@ std::optional<Eigen::Isometry3d> JointStateBuffer::T_robot_flange(std::int64_t t
   return kinematics_.forward(*q);
 }
 
-std::optional<Eigen::Isometry3d> JointStateBuffer::T_robot_cam(CameraSide side,
+std::optional<Eigen::Isometry3d> JointStateBuffer::T_robot_cam(cameras::CameraSide side,
                                                               std::int64_t t_ns) const {
   const std::optional<Eigen::Isometry3d> T = T_robot_flange(t_ns);
   if (!T) return std::nullopt;
   std::shared_lock lock(mutex_);
-  return *T * (side == CameraSide::kLeft ? T_flange_cam_l_ : T_flange_cam_r_);
+  return *T * (side == cameras::CameraSide::kLeft ? T_flange_cam_l_ : T_flange_cam_r_);
 }
 
 void JointStateBuffer::setGeometry(const HeadGeometry& geometry) {

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "robot/cameras/camera_side.h"
 #include "robot/head/head_geometry.h"
 #include "robot/arm/joint_state.h"
 #include "robot/arm/xarm6_kinematics.h"
@@ -36,7 +37,6 @@ struct JointStateBufferConfig {
   std::int64_t max_gap_ns = 100'000'000;         ///< widest gap interpolated across
 };
 
-enum class CameraSide { kLeft, kRight };
 
 class JointStateBuffer {
  public:
@@ -54,7 +54,7 @@ class JointStateBuffer {
   /// T_robot_flange(t_ns) = FK(q(t_ns)).
   std::optional<Eigen::Isometry3d> T_robot_flange(std::int64_t t_ns) const;
   /// T_robot_cam(t_ns) = FK(q(t_ns)) · T_flange_cam for the left or right camera.
-  std::optional<Eigen::Isometry3d> T_robot_cam(CameraSide side, std::int64_t t_ns) const;
+  std::optional<Eigen::Isometry3d> T_robot_cam(cameras::CameraSide side, std::int64_t t_ns) const;
 
   std::size_t size() const;
   /// [oldest, newest] sample times, or nothing when empty.

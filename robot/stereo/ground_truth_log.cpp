@@ -36,7 +36,7 @@ void GroundTruthLog::frameSent(const StereoFrame& pair, std::uint64_t sequence,
                                const link::proto::NominalMapping& mapping) {
   std::lock_guard lock(mutex_);
   out_ << sequence << ',' << pair.left.capture_ns << ',' << pair.right.capture_ns;
-  for (const auto& [side, frame] : {std::pair{head::CameraSide::kLeft, &pair.left}, std::pair{head::CameraSide::kRight, &pair.right}}) {
+  for (const auto& [side, frame] : {std::pair{cameras::CameraSide::kLeft, &pair.left}, std::pair{cameras::CameraSide::kRight, &pair.right}}) {
     if (const auto T = truth_.T_robot_cam(side, frame->capture_ns)) {
       link::writePoseCsv(out_, *T);
     } else {

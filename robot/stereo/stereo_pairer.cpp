@@ -17,7 +17,7 @@ StereoPairer::StereoPairer(StereoPairerOptions options) : options_(options) {
   options_.max_waiting = std::max<std::size_t>(1, options_.max_waiting);
 }
 
-std::optional<StereoFrame> StereoPairer::push(StereoSide side, cameras::CameraFrame frame) {
+std::optional<StereoFrame> StereoPairer::push(cameras::CameraSide side, cameras::CameraFrame frame) {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto s = static_cast<std::size_t>(side), o = 1 - s;
   newest_ns_[s] = std::max(newest_ns_[s].value_or(std::numeric_limits<std::int64_t>::min()),
@@ -38,8 +38,8 @@ std::optional<StereoFrame> StereoPairer::push(StereoSide side, cameras::CameraFr
     cameras::CameraFrame partner = std::move(others[*best]);
     others.erase(others.begin() + static_cast<std::ptrdiff_t>(*best));
     pair.emplace();
-    pair->left = side == StereoSide::kLeft ? std::move(frame) : std::move(partner);
-    pair->right = side == StereoSide::kLeft ? std::move(partner) : std::move(frame);
+    pair->left = side == cameras::CameraSide::kLeft ? std::move(frame) : std::move(partner);
+    pair->right = side == cameras::CameraSide::kLeft ? std::move(partner) : std::move(frame);
     ++stats_.pairs;
     stats_.max_abs_skew_ns = std::max(stats_.max_abs_skew_ns, std::abs(pair->skewNs()));
   } else {
@@ -82,7 +82,7 @@ StereoPairerStats StereoPairer::stats() const {
   return stats_;
 }
 
-std::size_t StereoPairer::waiting(StereoSide side) const {
+std::size_t StereoPairer::waiting(cameras::CameraSide side) const {
   std::lock_guard<std::mutex> lock(mutex_);
   return waiting_[static_cast<std::size_t>(side)].size();
 }
@@ -97,8 +97,8 @@ void StereoPairSource::start() {
   std::lock_guard<std::mutex> lock(mutex_);
   if (running_.load()) return;
   running_.store(true);
-  threads_[0] = std::thread([this] { pull(StereoSide::kLeft, left_); });
-  threads_[1] = std::thread([this] { pull(StereoSide::kRight, right_); });
+  threads_[0] = std::thread([this] { pull(cameras::CameraSide::kLeft, left_); });
+  threads_[1] = std::thread([this] { pull(cameras::CameraSide::kRight, right_); });
 }
 
 void StereoPairSource::stop() {
@@ -111,7 +111,7 @@ void StereoPairSource::stop() {
     if (t.joinable()) t.join();
 }
 
-void StereoPairSource::pull(StereoSide side, cameras::CameraSource& camera) {
+void StereoPairSource::pull(cameras::CameraSide side, cameras::CameraSource& camera) {
   constexpr std::chrono::milliseconds kPoll(20);
   while (running_.load()) {
     const auto asked = std::chrono::steady_clock::now();

@@ -31,11 +31,11 @@
 #include <thread>
 #include <vector>
 
+#include "robot/cameras/camera_side.h"
 #include "robot/cameras/camera_source.h"
 
 namespace telesphere::robot::stereo {
 
-enum class StereoSide { kLeft = 0, kRight = 1 };
 
 /// A left and a right frame captured within the tolerance.
 struct StereoFrame {
@@ -72,12 +72,12 @@ class StereoPairer {
   explicit StereoPairer(StereoPairerOptions options = {});
 
   /// Adds a frame of `side`; the pair it completes, if any.
-  std::optional<StereoFrame> push(StereoSide side, cameras::CameraFrame frame);
+  std::optional<StereoFrame> push(cameras::CameraSide side, cameras::CameraFrame frame);
   /// Drops every waiting frame (end of stream), counted as flushed.
   void flush();
   StereoPairerStats stats() const;
   /// Frames waiting on `side`.
-  std::size_t waiting(StereoSide side) const;
+  std::size_t waiting(cameras::CameraSide side) const;
   const StereoPairerOptions& options() const { return options_; }
 
  private:
@@ -112,7 +112,7 @@ class StereoPairSource {
   std::uint64_t pairsDropped() const;
 
  private:
-  void pull(StereoSide side, cameras::CameraSource& camera);
+  void pull(cameras::CameraSide side, cameras::CameraSource& camera);
 
   cameras::CameraSource& left_;
   cameras::CameraSource& right_;

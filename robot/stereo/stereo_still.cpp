@@ -92,8 +92,8 @@ bool StereoStillTaker::take(link::proto::CalibrationStill* still, std::chrono::m
   if (!bracketed(joints_, "head arm")) return false;
   if (manipulator_ != nullptr && !bracketed(*manipulator_, "manipulator")) return false;
   const auto q = joints_.jointsAt(capture_ns);
-  const auto T_l = joints_.T_robot_cam(head::CameraSide::kLeft, frame.left.capture_ns);
-  const auto T_r = joints_.T_robot_cam(head::CameraSide::kRight, frame.right.capture_ns);
+  const auto T_l = joints_.T_robot_cam(cameras::CameraSide::kLeft, frame.left.capture_ns);
+  const auto T_r = joints_.T_robot_cam(cameras::CameraSide::kRight, frame.right.capture_ns);
   if (!q || !T_l || !T_r) {
     *error = "no joint state at the capture time";
     return false;

@@ -5,7 +5,7 @@
 
 namespace telesphere::robot::stereo {
 
-Eigen::Isometry3d TrueCameraPoses::at(head::CameraSide side, std::int64_t t_ns) const {
+Eigen::Isometry3d TrueCameraPoses::at(cameras::CameraSide side, std::int64_t t_ns) const {
   // Wait for the simulation to pass t (woken by each state it pushes), unless t comes before the
   // arm's first state.
   if (truth_.window() || clock_.nowNs() >= t_ns)
@@ -15,7 +15,7 @@ Eigen::Isometry3d TrueCameraPoses::at(head::CameraSide side, std::int64_t t_ns) 
     std::cerr << "telesphere-robot: synthetic camera: no true arm pose at the capture time after "
               << max_wait_.count() << " ms (the head loop is stalled); the frame shows the initial pose ("
               << fallbacks_.load() << " so far)\n";
-  return T_robot_cam0_[side == head::CameraSide::kLeft ? 0 : 1];
+  return T_robot_cam0_[side == cameras::CameraSide::kLeft ? 0 : 1];
 }
 
 }  // namespace telesphere::robot::stereo

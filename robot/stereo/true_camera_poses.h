@@ -31,7 +31,7 @@ class TrueCameraPoses {
       : truth_(truth), clock_(clock), T_robot_cam0_(T_robot_cam0), max_wait_(max_wait) {}
 
   /// T_robot_cam of camera `side` at t_ns (steady ns); thread-safe.
-  Eigen::Isometry3d at(head::CameraSide side, std::int64_t t_ns) const;
+  Eigen::Isometry3d at(cameras::CameraSide side, std::int64_t t_ns) const;
 
   /// Poses that fell back to the initial one although the arm had reported states.
   std::uint64_t fallbacks() const { return fallbacks_; }

@@ -69,14 +69,14 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   std::uint64_t from_joints = 0, fixed = 0;
   const head::StereoCameraPoses poses = poses_ ? poses_(pair.left.capture_ns, pair.right.capture_ns) : head::StereoCameraPoses{};
   message.set_calibration_generation(poses.calibration_generation);
-  const auto describe = [&](const cameras::CameraFrame& frame, head::CameraSide side, link::proto::CameraImage* image) {
+  const auto describe = [&](const cameras::CameraFrame& frame, cameras::CameraSide side, link::proto::CameraImage* image) {
     image->set_capture_ns(frame.capture_ns);
     image->set_width(static_cast<std::uint32_t>(frame.width));
     image->set_height(static_cast<std::uint32_t>(frame.height));
     image->set_subsampling(protoSubsampling(frame, settings.subsampling));
     image->set_exposure_us(frame.exposure_us);
     image->set_camera_sequence(frame.sequence);
-    const bool left = side == head::CameraSide::kLeft;
+    const bool left = side == cameras::CameraSide::kLeft;
     if (left ? poses.measured_l : poses.measured_r) {
       image->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
       ++from_joints;
@@ -86,8 +86,8 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     }
     link::toLinkPose(left ? poses.T_robot_cam_l : poses.T_robot_cam_r, image->mutable_t_robot_cam());
   };
-  describe(pair.left, head::CameraSide::kLeft, message.mutable_left());
-  describe(pair.right, head::CameraSide::kRight, message.mutable_right());
+  describe(pair.left, cameras::CameraSide::kLeft, message.mutable_left());
+  describe(pair.right, cameras::CameraSide::kRight, message.mutable_right());
   // The pair is as old as its older image; it is encoded when both are.
   message.mutable_stamps()->set_capture_ns(std::min(pair.left.capture_ns, pair.right.capture_ns));
   message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));

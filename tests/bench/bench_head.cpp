@@ -93,7 +93,7 @@ void traceRun(const robot::head::JointStateBuffer& buffer, const HeadControllerC
   for (std::int64_t t = 10 * kMs; t <= end_ns; t += 10 * kMs) {
     const double ts = static_cast<double>(t) * 1e-9;
     const auto T_flange = buffer.T_robot_flange(t0_ns + t);
-    const auto T_cam_l = buffer.T_robot_cam(robot::head::CameraSide::kLeft, t0_ns + t);
+    const auto T_cam_l = buffer.T_robot_cam(robot::cameras::CameraSide::kLeft, t0_ns + t);
     if (!T_flange || !T_cam_l) continue;
     const Eigen::Vector3d p_rob = (*T_flange * config.geometry.T_flange_head()).translation();
     robot::head::HeadMotionSample s;

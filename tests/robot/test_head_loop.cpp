@@ -150,7 +150,7 @@ TEST(HeadLoop, NominalCaptureThenTargetsMoveTheArm) {
   EXPECT_NEAR(T.qw() * T.qw() + T.qx() * T.qx() + T.qy() * T.qy() + T.qz() * T.qz(), 1.0, 1e-9);
   // The joint-state buffer the video path reads was filled on the way.
   EXPECT_GT(rig.buffer.size(), 300u);
-  EXPECT_TRUE(rig.buffer.T_robot_cam(head::CameraSide::kLeft, rig.clock.nowNs() - 20'000'000));
+  EXPECT_TRUE(rig.buffer.T_robot_cam(cameras::CameraSide::kLeft, rig.clock.nowNs() - 20'000'000));
 }
 
 TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {

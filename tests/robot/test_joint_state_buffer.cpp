@@ -37,8 +37,8 @@ TEST(JointStateBuffer, InterpolatesJointsAndFollowsKinematicsForPoses) {
     const auto q = buffer.jointsAt(t);
     ASSERT_TRUE(q) << t;
     EXPECT_TRUE(q->isApprox(linearJoints(t), 1e-12));
-    const auto T_l = buffer.T_robot_cam(head::CameraSide::kLeft, t);
-    const auto T_r = buffer.T_robot_cam(head::CameraSide::kRight, t);
+    const auto T_l = buffer.T_robot_cam(cameras::CameraSide::kLeft, t);
+    const auto T_r = buffer.T_robot_cam(cameras::CameraSide::kRight, t);
     ASSERT_TRUE(T_l && T_r);
     const Eigen::Isometry3d T_flange = kin.forward(*q);
     EXPECT_TRUE(T_l->isApprox(T_flange * geometry.T_flange_cam_l, 1e-12));
@@ -69,7 +69,7 @@ TEST(JointStateBuffer, RefusesOutsideItsWindowAndExtrapolatesWithinTheBound) {
   EXPECT_TRUE(extrapolated->isApprox(linearJoints(125 * kMs), 1e-12));
   EXPECT_TRUE(buffer.jointsAt(130 * kMs));
   EXPECT_FALSE(buffer.jointsAt(130 * kMs + 1));
-  EXPECT_FALSE(buffer.T_robot_cam(head::CameraSide::kLeft, 131 * kMs));
+  EXPECT_FALSE(buffer.T_robot_cam(cameras::CameraSide::kLeft, 131 * kMs));
 }
 
 TEST(JointStateBuffer, RejectsDisorderedAndNonFiniteStatesAndRefusesAcrossGaps) {
@@ -183,7 +183,7 @@ TEST(TrueCameraPoses, BeforeTheArmsFirstStateTheInitialPoseIsTheTruthAndNoFallba
   const head::JointStateBuffer truth(head::HeadGeometry::example());
   const clock::SimClock clock(100 * kMs);
   const stereo::TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  EXPECT_TRUE(poses.at(head::CameraSide::kRight, 150 * kMs).isApprox(initialPoses()[1]));
+  EXPECT_TRUE(poses.at(cameras::CameraSide::kRight, 150 * kMs).isApprox(initialPoses()[1]));
   EXPECT_EQ(poses.fallbacks(), 0u);
 }
 
@@ -192,7 +192,7 @@ TEST(TrueCameraPoses, InsideTheWindowThePoseIsTheBuffersForThatSide) {
   for (int k = 0; k <= 10; ++k) ASSERT_TRUE(truth.push(stateAt(k * kMs)));
   const clock::SimClock clock(10 * kMs);
   const stereo::TrueCameraPoses poses(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  for (head::CameraSide side : {head::CameraSide::kLeft, head::CameraSide::kRight})
+  for (cameras::CameraSide side : {cameras::CameraSide::kLeft, cameras::CameraSide::kRight})
     EXPECT_TRUE(poses.at(side, 4 * kMs + 500'000).isApprox(*truth.T_robot_cam(side, 4 * kMs + 500'000), 1e-12));
   EXPECT_EQ(poses.fallbacks(), 0u);
 }
@@ -209,14 +209,14 @@ TEST(TrueCameraPoses, WaitsForTheSimulationToCatchUpThenFallsBackAndCountsWhenIt
     EXPECT_TRUE(test::eventually([&] { return truth.waitingReaders() > 0; }));
     for (int k = 11; k <= 40; ++k) truth.push(stateAt(k * kMs));
   });
-  const Eigen::Isometry3d T = poses.at(head::CameraSide::kLeft, 35 * kMs);
+  const Eigen::Isometry3d T = poses.at(cameras::CameraSide::kLeft, 35 * kMs);
   writer.join();
-  EXPECT_TRUE(T.isApprox(*truth.T_robot_cam(head::CameraSide::kLeft, 35 * kMs), 1e-12));
+  EXPECT_TRUE(T.isApprox(*truth.T_robot_cam(cameras::CameraSide::kLeft, 35 * kMs), 1e-12));
   EXPECT_EQ(poses.fallbacks(), 0u);
   // Far beyond what the (now stalled) simulation reached, past its extrapolation: after the wait,
   // the initial pose, counted.
   const stereo::TrueCameraPoses impatient(truth, clock, initialPoses(), std::chrono::milliseconds(20));
-  EXPECT_TRUE(impatient.at(head::CameraSide::kLeft, 5000 * kMs).isApprox(initialPoses()[0]));
+  EXPECT_TRUE(impatient.at(cameras::CameraSide::kLeft, 5000 * kMs).isApprox(initialPoses()[0]));
   EXPECT_EQ(impatient.fallbacks(), 1u);
 }
 

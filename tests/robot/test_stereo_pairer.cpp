@@ -30,7 +30,7 @@ cameras::CameraFrame frameAt(std::int64_t capture_ns, std::uint64_t sequence) {
 }
 
 struct Arrival {
-  stereo::StereoSide side;
+  cameras::CameraSide side;
   cameras::CameraFrame frame;
 };
 
@@ -56,9 +56,9 @@ std::vector<Arrival> randomInterleaving(std::mt19937& rng, const std::vector<cam
   while (i < left.size() || j < right.size()) {
     const bool take_left = j == right.size() || (i < left.size() && std::bernoulli_distribution(0.5)(rng));
     if (take_left)
-      out.push_back({stereo::StereoSide::kLeft, left[i++]});
+      out.push_back({cameras::CameraSide::kLeft, left[i++]});
     else
-      out.push_back({stereo::StereoSide::kRight, right[j++]});
+      out.push_back({cameras::CameraSide::kRight, right[j++]});
   }
   return out;
 }
@@ -66,8 +66,8 @@ std::vector<Arrival> randomInterleaving(std::mt19937& rng, const std::vector<cam
 /// Arrival by capture time (what two cameras delivering on time give).
 std::vector<Arrival> timeOrdered(const std::vector<cameras::CameraFrame>& left, const std::vector<cameras::CameraFrame>& right) {
   std::vector<Arrival> out;
-  for (const auto& f : left) out.push_back({stereo::StereoSide::kLeft, f});
-  for (const auto& f : right) out.push_back({stereo::StereoSide::kRight, f});
+  for (const auto& f : left) out.push_back({cameras::CameraSide::kLeft, f});
+  for (const auto& f : right) out.push_back({cameras::CameraSide::kRight, f});
   std::stable_sort(out.begin(), out.end(),
                    [](const Arrival& a, const Arrival& b) { return a.frame.capture_ns < b.frame.capture_ns; });
   return out;
@@ -103,8 +103,8 @@ TEST(StereoPairer, HardwareTriggeredFramesPairExactlyInAnyInterleaving) {
   options.max_waiting = 64;
   std::vector<std::vector<Arrival>> orders = {timeOrdered(left, right), randomInterleaving(rng, left, right)};
   std::vector<Arrival> all_left_first;
-  for (const auto& f : left) all_left_first.push_back({stereo::StereoSide::kLeft, f});
-  for (const auto& f : right) all_left_first.push_back({stereo::StereoSide::kRight, f});
+  for (const auto& f : left) all_left_first.push_back({cameras::CameraSide::kLeft, f});
+  for (const auto& f : right) all_left_first.push_back({cameras::CameraSide::kRight, f});
   orders.push_back(all_left_first);
   for (const auto& order : orders) {
     stereo::StereoPairer pairer(options);
@@ -128,11 +128,11 @@ TEST(StereoPairer, EqualTimesWithDifferentSequenceDoNotPairWhenSequencesMustMatc
   options.tolerance_ns = kMs;
   options.match_sequence = true;
   stereo::StereoPairer pairer(options);
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(100 * kMs, 3)));
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kRight, frameAt(100 * kMs, 4)));
-  EXPECT_TRUE(pairer.push(stereo::StereoSide::kRight, frameAt(100 * kMs + kMs / 2, 3)));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(100 * kMs, 3)));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kRight, frameAt(100 * kMs, 4)));
+  EXPECT_TRUE(pairer.push(cameras::CameraSide::kRight, frameAt(100 * kMs + kMs / 2, 3)));
   // The right frame with sequence 4 drops once the left stream has moved past it.
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(133 * kMs, 4)));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(133 * kMs, 4)));
   const stereo::StereoPairerStats stats = pairer.stats();
   EXPECT_EQ(stats.pairs, 1u);
   EXPECT_EQ(stats.dropped[1].no_partner, 1u);
@@ -142,16 +142,16 @@ TEST(StereoPairer, MissingFrameDropsItsPartnerAsNoPartner) {
   stereo::StereoPairerOptions options;
   options.tolerance_ns = 5 * kMs;
   stereo::StereoPairer pairer(options);
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(0, 0)));
-  EXPECT_TRUE(pairer.push(stereo::StereoSide::kRight, frameAt(2 * kMs, 0)));
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(33 * kMs, 1)));  // its right frame is lost
-  EXPECT_EQ(pairer.waiting(stereo::StereoSide::kLeft), 1u);
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(0, 0)));
+  EXPECT_TRUE(pairer.push(cameras::CameraSide::kRight, frameAt(2 * kMs, 0)));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(33 * kMs, 1)));  // its right frame is lost
+  EXPECT_EQ(pairer.waiting(cameras::CameraSide::kLeft), 1u);
   // A right frame 6 ms after the left one: outside the tolerance, never paired.
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kRight, frameAt(39 * kMs, 2)));
-  EXPECT_EQ(pairer.waiting(stereo::StereoSide::kLeft), 0u);  // 39 − 33 > 5: no partner can come
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kRight, frameAt(39 * kMs, 2)));
+  EXPECT_EQ(pairer.waiting(cameras::CameraSide::kLeft), 0u);  // 39 − 33 > 5: no partner can come
   EXPECT_EQ(pairer.stats().dropped[0].no_partner, 1u);
-  EXPECT_TRUE(pairer.push(stereo::StereoSide::kLeft, frameAt(41 * kMs, 2)));  // nearest within 5 ms
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(66 * kMs, 3)));
+  EXPECT_TRUE(pairer.push(cameras::CameraSide::kLeft, frameAt(41 * kMs, 2)));  // nearest within 5 ms
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(66 * kMs, 3)));
   pairer.flush();
   const stereo::StereoPairerStats stats = pairer.stats();
   EXPECT_EQ(stats.pairs, 2u);
@@ -165,9 +165,9 @@ TEST(StereoPairer, TakesTheNearestCandidate) {
   options.tolerance_ns = 10 * kMs;
   options.max_waiting = 8;
   stereo::StereoPairer pairer(options);
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kRight, frameAt(95 * kMs, 0)));  // 8 ms from the left one
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kRight, frameAt(105 * kMs, 1)));  // 2 ms: nearer
-  const auto p = pairer.push(stereo::StereoSide::kLeft, frameAt(103 * kMs, 0));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kRight, frameAt(95 * kMs, 0)));  // 8 ms from the left one
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kRight, frameAt(105 * kMs, 1)));  // 2 ms: nearer
+  const auto p = pairer.push(cameras::CameraSide::kLeft, frameAt(103 * kMs, 0));
   ASSERT_TRUE(p);
   EXPECT_EQ(p->right.capture_ns, 105 * kMs);
   EXPECT_EQ(p->skewNs(), 2 * kMs);
@@ -178,12 +178,12 @@ TEST(StereoPairer, OverflowDropsTheOldestWaitingFrame) {
   options.tolerance_ns = kMs;
   options.max_waiting = 3;
   stereo::StereoPairer pairer(options);
-  for (int k = 0; k < 5; ++k) EXPECT_FALSE(pairer.push(stereo::StereoSide::kLeft, frameAt(k * 20 * kMs, k)));
-  EXPECT_EQ(pairer.waiting(stereo::StereoSide::kLeft), 3u);
+  for (int k = 0; k < 5; ++k) EXPECT_FALSE(pairer.push(cameras::CameraSide::kLeft, frameAt(k * 20 * kMs, k)));
+  EXPECT_EQ(pairer.waiting(cameras::CameraSide::kLeft), 3u);
   EXPECT_EQ(pairer.stats().dropped[0].overflow, 2u);
   // The oldest two are gone: the right frame at 0 finds nothing; the one at 40 ms pairs.
-  EXPECT_FALSE(pairer.push(stereo::StereoSide::kRight, frameAt(0, 0)));
-  EXPECT_TRUE(pairer.push(stereo::StereoSide::kRight, frameAt(40 * kMs, 2)));
+  EXPECT_FALSE(pairer.push(cameras::CameraSide::kRight, frameAt(0, 0)));
+  EXPECT_TRUE(pairer.push(cameras::CameraSide::kRight, frameAt(40 * kMs, 2)));
 }
 
 /// Brute force: with a tolerance below half the smallest spacing of both streams each frame has
@@ -256,7 +256,7 @@ TEST(StereoPairer, RandomStreamsNeverPairBeyondTheTolerance) {
     EXPECT_EQ(stats.pairs + stats.dropped[0].total(), left.size()) << "trial " << trial;
     EXPECT_EQ(stats.pairs + stats.dropped[1].total(), right.size()) << "trial " << trial;
     EXPECT_LE(stats.max_abs_skew_ns, options.tolerance_ns);
-    EXPECT_EQ(pairer.waiting(stereo::StereoSide::kLeft) + pairer.waiting(stereo::StereoSide::kRight), 0u);
+    EXPECT_EQ(pairer.waiting(cameras::CameraSide::kLeft) + pairer.waiting(cameras::CameraSide::kRight), 0u);
   }
 }
 

@@ -105,7 +105,7 @@ TEST(StereoStill, ThePairAfterTheRequestAtFullResolutionWithBracketedJoints) {
   EXPECT_EQ(still.joints_before_ns(), t0);
   EXPECT_EQ(still.joints_after_ns(), t0 + 10'000'000);
   const Eigen::Isometry3d T = link::fromLinkPose(still.right().t_robot_cam());
-  EXPECT_TRUE(T.isApprox(*rig.joints.T_robot_cam(head::CameraSide::kRight, t0 + 4'500'000), 1e-12));
+  EXPECT_TRUE(T.isApprox(*rig.joints.T_robot_cam(cameras::CameraSide::kRight, t0 + 4'500'000), 1e-12));
   EXPECT_EQ(rig.taker.taken(), 1u);
 }
 
