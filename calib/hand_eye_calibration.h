@@ -21,6 +21,8 @@
 /// Identifiability: the unknowns separate only when the head flange rotates about at least two
 /// non-parallel axes and so does the manipulator's wrist; otherwise the solve is refused with
 /// CalibrationError::kNotIdentifiable instead of returning a confident wrong answer.
+/// One concept: one Ceres problem (paper eqs. 1–3, about 500 lines) with its initialisation from
+/// the samples and the result's figures.
 #pragma once
 
 #include <Eigen/Geometry>

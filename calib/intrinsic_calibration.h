@@ -13,6 +13,8 @@
 /// reprojection error, board poses from bearing vectors (calib/bearing_pose.h), so that views
 /// near and beyond 90° off-axis contribute from the start; each camera is solved alone, then
 /// both together with T_cam_l_cam_r averaged over the views both cameras see.
+/// One concept: one Ceres problem (about 560 lines) — its parameter blocks, residuals, initial
+/// guesses and the result's figures all follow the one layout of cameras and views above.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -12,6 +12,9 @@
 ///        opener is refused with that text. Only the writer marks running trials interrupted, so a
 ///        trial that runs in another console is never touched. openSnapshot() reads a consistent
 ///        copy (VACUUM INTO through a read-only connection) and changes nothing in the file.
+/// One concept: the study's SQLite record (about 650 lines) — the schema, its migration and every
+/// read and write share one connection and one rule (one transaction per event); split, each part
+/// would have to know that rule again.
 #pragma once
 
 #include <QSqlDatabase>

@@ -10,6 +10,9 @@
 ///        ended without layers.
 ///
 /// Threading: create, poll and render on one thread, the one whose GL context is current.
+/// One concept: one XrSession's life (about 550 lines) — instance, system, spaces, swapchains and
+/// the frame loop share their handles and the order in which OpenXR requires them created and
+/// destroyed.
 #pragma once
 
 #include <Eigen/Geometry>

@@ -22,6 +22,8 @@
 ///
 ///        Used by the driver's tests, `telesphere-bench head --arm xarm-sim` and
 ///        `telesphere-xarm-sim` (a lab can rehearse `telesphere-robot --arm xarm` against it).
+/// One concept: the simulated controller (about 530 lines) — both ports serve one state machine
+/// (motors, mode, state, error and warning codes) that a split would have to share.
 #pragma once
 
 #include <array>
