@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief AravisCamera against arv-fake-gv-camera-0.8 over real GigE Vision packets (a veth pair
-///        into a network namespace, set up by tests/robot/aravis_gv_test.sh, which needs root):
+///        into a network namespace, set up by tests/robot/cameras/aravis_gv_test.sh, which needs root):
 ///        streams with the camera dropping packets (its -r option), drops and counts the
 ///        incomplete frames while good ones keep coming; the camera process is killed and
 ///        restarted and AravisCamera re-opens it. Skipped with the reason when not run by the script.
@@ -72,7 +72,7 @@ TEST(AravisCameraGigEVision, StreamsWithPacketLossAndReopensARestartedCamera) {
   const std::string netns = gvEnv("TELESPHERE_ARAVIS_GV_NETNS"), iface = gvEnv("TELESPHERE_ARAVIS_GV_IFACE");
   const std::string serial = gvEnv("TELESPHERE_ARAVIS_GV_SERIAL"), loss = gvEnv("TELESPHERE_ARAVIS_GV_LOSS");
   if (netns.empty() || iface.empty() || serial.empty() || loss.empty())
-    GTEST_SKIP() << "needs the network namespace that tests/robot/aravis_gv_test.sh sets up (as root); "
+    GTEST_SKIP() << "needs the network namespace that tests/robot/cameras/aravis_gv_test.sh sets up (as root); "
                     "ctest runs it as aravis_gv_camera";
   FakeGvCameraProcess camera_process(netns, iface, serial, loss);
   ASSERT_TRUE(camera_process.start());
