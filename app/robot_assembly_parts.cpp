@@ -36,7 +36,6 @@ bool hasStereoMount(const calib::SystemCalibration& c) {
 
 }  // namespace
 
-/// Loads and checks the calibration in use and the true one (the simulation's); false with the reason.
 bool loadCalibrations(RobotAssembly::Parts& p, std::string* error) {
   const RobotOptions& o = p.options;
   auto loaded = calib::loadCalibrationFile(o.calib_path);
@@ -65,7 +64,6 @@ bool loadCalibrations(RobotAssembly::Parts& p, std::string* error) {
   return true;
 }
 
-/// The manipulator with the wrist marker, at the true calibration's mounting when it has one.
 bool makeManipulator(RobotAssembly::Parts& p, std::string* error) {
   const calib::SystemCalibration& truth = p.true_calibration;
   if (truth.T_robot_mount.has_value() != truth.T_wrist_marker.has_value()) {
@@ -80,9 +78,6 @@ bool makeManipulator(RobotAssembly::Parts& p, std::string* error) {
   return p.manipulator.has_value();
 }
 
-/// The head loop: the arm (simulated, or the real xArm started and at the nominal joints),
-/// controller, joint-state buffers (reported, and with the simulated arm the truth). False with
-/// the reason and *exit_code (2: the real arm could not start).
 bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
   robot::head::HeadControllerConfig controller_config;
   controller_config.geometry.T_flange_cam_l = *p.calibration.T_flange_cam_l;
@@ -134,8 +129,6 @@ bool makeHead(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
   return true;
 }
 
-/// Synthetic cameras (rendering at the arm's true pose) or GenICam cameras; started. False with
-/// the reason and *exit_code.
 bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
   const RobotOptions& o = p.options;
   if (o.syntheticCameras()) {
