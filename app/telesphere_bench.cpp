@@ -8,7 +8,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_topic.h"
 
 int main(int argc, char** argv) {
   using telesphere::bench::benchTopics;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief A pose as seven CSV columns — `<prefix>_tx, _ty, _tz` (m) and `_qx, _qy, _qz, _qw` (unit
 ///        quaternion), the link's Pose convention — for the files that record poses beside the link
-///        (the simulation's ground truth, the operator app's projection maps; tests/truth reads them).
+///        (the simulation's ground truth, the operator app's projection maps; app/bench/truth reads them).
 #pragma once
 
 #include <Eigen/Geometry>

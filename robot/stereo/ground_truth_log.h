@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The simulation's ground truth for each stereo frame sent (the end-to-end truth the
-///        experiments and the loop test compare with, tests/truth): where each camera really was
+///        experiments and the loop test compare with, app/bench/truth): where each camera really was
 ///        at its capture time — the simulated arm's noise-free joints through the true
 ///        calibration, whatever the joint-state buffer stamped into the frame — and the nominal
 ///        mapping T_robot_vr in force when the frame went out. CSV, one row per frame, written

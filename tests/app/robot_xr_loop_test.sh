@@ -4,13 +4,13 @@
 #        arm, synthetic cameras) and telesphere-xr offscreen (scripted head, EGL) — checked
 #        against the simulation's ground truth: what each eye pixel showed, followed back into the
 #        scene through the true calibration and the true camera pose at capture, must be where the
-#        eye should have seen it (tests/truth, telesphere-truth-check). At rest (head still, arm
+#        eye should have seen it (app/bench/truth, telesphere-truth-check). At rest (head still, arm
 #        settled, eyes at the cameras) the error is near zero (p99 ≤ 0.05°); with cameras whose
 #        real mounting differs from the calibration the robot uses by 5 mm, the same check must
 #        fail. Also: head targets reach the robot, both programs exit cleanly (the robot on SIGINT).
-# Usage: robot_xr_loop_test.sh BIN_DIR TESTS_BIN_DIR SOURCE_DIR PORT
+# Usage: robot_xr_loop_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
-bin=$1 tests_bin=$2 src=$3 port=$4
+bin=$1 src=$2 port=$3
 out=$(mktemp -d -t telesphere-loop.XXXXXX)
 robot=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
@@ -44,12 +44,12 @@ run() {
 }
 
 run calibrated "$calib"
-"$tests_bin/telesphere-truth-check" --robot-truth "$out/calibrated-robot.csv" --xr-truth "$out/calibrated/truth" \
+"$bin/telesphere-truth-check" --robot-truth "$out/calibrated-robot.csv" --xr-truth "$out/calibrated/truth" \
   --calib "$calib" --max-p99-deg 0.05 --min-frames 5 || fail "the operator's view is not where the scene is"
 
 run mounted_5mm_off "$out/mounted_5mm_off.yaml"
 rc=0
-"$tests_bin/telesphere-truth-check" --robot-truth "$out/mounted_5mm_off-robot.csv" \
+"$bin/telesphere-truth-check" --robot-truth "$out/mounted_5mm_off-robot.csv" \
   --xr-truth "$out/mounted_5mm_off/truth" --calib "$out/mounted_5mm_off.yaml" --max-p99-deg 0.05 \
   --min-frames 5 --quiet || rc=$?
 [ "$rc" -eq 1 ] || fail "a camera 5 mm off its calibration went unnoticed (truth check exit $rc)"

@@ -19,7 +19,7 @@
 #include "calib/calibration_file.h"
 #include "calib/target_detection.h"
 #include "calib/target_render.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 #ifdef TELESPHERE_CALIB_HAS_ROBOT
 #include "robot/arm/xarm6_kinematics.h"
 #endif
@@ -28,6 +28,7 @@ namespace telesphere::test {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace calib::synthetic;  // the simulated lenses, boards and sessions
 
 const std::string kCalibTool = std::string(TELESPHERE_BINARY_DIR) + "/bin/telesphere-calib";
 

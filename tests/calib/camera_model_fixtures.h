@@ -12,11 +12,12 @@
 #include "calib/extended_unified_camera.h"
 #include "calib/kannala_brandt_camera.h"
 #include "calib/pinhole_radtan_camera.h"
+#include "calib/synthetic/typical_lenses.h"
 
 namespace telesphere::test {
 
-inline constexpr int kWidth = 3840;
-inline constexpr int kHeight = 2160;
+inline constexpr int kWidth = calib::synthetic::kTypicalSensorWidthPx;
+inline constexpr int kHeight = calib::synthetic::kTypicalSensorHeightPx;
 
 template <template <typename> class Model>
 struct Lens;
@@ -24,7 +25,7 @@ struct Lens;
 template <>
 struct Lens<calib::DoubleSphereCamera> {
   static Eigen::Matrix<double, 6, 1> typical() {
-    return (Eigen::Matrix<double, 6, 1>() << 930, 931, 1919.5, 1079.5, -0.18, 0.59).finished();
+    return calib::synthetic::TypicalLens<calib::DoubleSphereCamera>::parameters();
   }
   static bool widerThan180() { return true; }
   static Eigen::Matrix<double, 6, 1> random(std::mt19937& rng) {
@@ -44,7 +45,7 @@ struct Lens<calib::DoubleSphereCamera> {
 template <>
 struct Lens<calib::ExtendedUnifiedCamera> {
   static Eigen::Matrix<double, 6, 1> typical() {
-    return (Eigen::Matrix<double, 6, 1>() << 1100, 1101, 1919.5, 1079.5, 0.62, 1.05).finished();
+    return calib::synthetic::TypicalLens<calib::ExtendedUnifiedCamera>::parameters();
   }
   static bool widerThan180() { return true; }
   static Eigen::Matrix<double, 6, 1> random(std::mt19937& rng) {
@@ -61,9 +62,7 @@ struct Lens<calib::ExtendedUnifiedCamera> {
 template <>
 struct Lens<calib::KannalaBrandtCamera> {
   static Eigen::Matrix<double, 8, 1> typical() {
-    return (Eigen::Matrix<double, 8, 1>() << 1080, 1081, 1919.5, 1079.5, 0.02, -0.005, 0.001,
-            -0.0001)
-        .finished();
+    return calib::synthetic::TypicalLens<calib::KannalaBrandtCamera>::parameters();
   }
   static bool widerThan180() { return true; }
   static Eigen::Matrix<double, 8, 1> random(std::mt19937& rng) {
@@ -79,8 +78,7 @@ struct Lens<calib::KannalaBrandtCamera> {
 template <>
 struct Lens<calib::PinholeRadtanCamera> {
   static Eigen::Matrix<double, 8, 1> typical() {
-    return (Eigen::Matrix<double, 8, 1>() << 1800, 1801, 1919.5, 1079.5, -0.2, 0.05, 1e-4, -2e-4)
-        .finished();
+    return calib::synthetic::TypicalLens<calib::PinholeRadtanCamera>::parameters();
   }
   static bool widerThan180() { return false; }
   static Eigen::Matrix<double, 8, 1> random(std::mt19937& rng) {

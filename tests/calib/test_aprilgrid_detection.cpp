@@ -6,13 +6,13 @@
 #include "calib/aprilgrid.h"
 #include "calib/target_detection.h"
 #include "calib/target_render.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 
 namespace telesphere::calib {
 namespace {
 
-using test::lens1280;
-using test::testGrid;
+using calib::synthetic::lens1280;
+using calib::synthetic::testGrid;
 
 TEST(AprilGrid, KalibrCornerKIsOpenCvCornerOneMinusKModFour) {
   EXPECT_EQ(kalibrToOpenCvCorner(0), 1);
@@ -77,7 +77,7 @@ DetectionCheck renderAndDetect(const Eigen::Isometry3d& T_cam_board) {
 }
 
 TEST(AprilGridDetection, CornersMatchKalibrNumberingOnAxis) {
-  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.2, -0.15, 0.1);
+  const Eigen::Isometry3d T = calib::synthetic::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.2, -0.15, 0.1);
   const DetectionCheck check = renderAndDetect(T);
   EXPECT_GE(check.obs.tags_detected, 34);
   EXPECT_GE(check.corners, 136);
@@ -87,7 +87,7 @@ TEST(AprilGridDetection, CornersMatchKalibrNumberingOnAxis) {
 }
 
 TEST(AprilGridDetection, TagZeroIsBottomLeftSeenFromTheFront) {
-  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
+  const Eigen::Isometry3d T = calib::synthetic::boardPoseAt(testGrid(), 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
   const DetectionCheck check = renderAndDetect(T);
   ASSERT_GE(check.corners, 136);
   // Corner 0 (bottom-left of tag 0) lies below the top-left tag's and left of the
@@ -106,7 +106,7 @@ TEST(AprilGridDetection, TagZeroIsBottomLeftSeenFromTheFront) {
 TEST(AprilGridDetection, FindsTheBoardBeyondNinetyDegreesOffAxis) {
   // Board centre 82° off the optical axis, its far half beyond 90°: only a bearing-based
   // pipeline can use such a view.
-  const Eigen::Isometry3d T = test::boardPoseAt(testGrid(), 82.0 * M_PI / 180, 0.0, 0.6, 0.0, 0.0, 0.0);
+  const Eigen::Isometry3d T = calib::synthetic::boardPoseAt(testGrid(), 82.0 * M_PI / 180, 0.0, 0.6, 0.0, 0.0, 0.0);
   const DetectionCheck check = renderAndDetect(T);
   EXPECT_GE(check.corners, 24);
   int behind = 0;
@@ -122,7 +122,7 @@ TEST(AprilGridDetection, TooFewTagsOrBorderCornersYieldNothing) {
   // Board far away and small: fewer tags than required.
   const GrayImage blank(cam.width, cam.height, 128);
   EXPECT_TRUE(detectAprilGrid(blank, grid).empty());
-  const Eigen::Isometry3d T = test::boardPoseAt(grid, 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
+  const Eigen::Isometry3d T = calib::synthetic::boardPoseAt(grid, 0.0, 0.0, 0.55, 0.0, 0.0, 0.0);
   const GrayImage image = renderTarget(cam.camera, cam.width, cam.height, T, aprilGridTexture(grid));
   DetectionOptions strict;
   strict.min_tags = 37;
@@ -142,7 +142,7 @@ TEST(ArucoDetection, FindsTheHandEyeMarkerCorners) {
   const auto cam = lens1280();
   const double size = 0.1;
   const Eigen::Isometry3d T_cam_marker =
-      test::poseOf(Eigen::Vector3d(M_PI + 0.3, 0.2, 0.4), Eigen::Vector3d(0.1, -0.05, 0.4));
+      calib::synthetic::poseOf(Eigen::Vector3d(M_PI + 0.3, 0.2, 0.4), Eigen::Vector3d(0.1, -0.05, 0.4));
   const GrayImage image = renderTarget(cam.camera, cam.width, cam.height, T_cam_marker,
                                        arucoMarkerTexture("DICT_4X4_50", 7, size));
   const auto corners = detectArucoMarker(image, "DICT_4X4_50", 7);

@@ -8,48 +8,48 @@
 #include "calib/camera_resolution.h"
 #include "calib/hand_eye_calibration.h"
 #include "calib/hand_eye_samples.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 
 namespace telesphere::calib {
 namespace {
 
-using test::lens1280;
+using calib::synthetic::lens1280;
 
 SystemCalibration stereoCameras() {
   SystemCalibration system;
   system.cameras.push_back({"cam_l", lens1280(false).camera, 1280, 1024});
   system.cameras.push_back({"cam_r", lens1280(true).camera, 1280, 1024});
-  system.T_cam_l_cam_r = test::trueTCamLCamR();
+  system.T_cam_l_cam_r = calib::synthetic::trueTCamLCamR();
   return system;
 }
 
-void expectRecovered(const HandEyeResult& r, const test::HandEyeTruth& truth, double mm, double deg) {
-  EXPECT_LT(test::translationError(r.T_flange_cam_l, truth.T_flange_cam_l), mm * 1e-3);
-  EXPECT_LT(test::rotationErrorDeg(r.T_flange_cam_l, truth.T_flange_cam_l), deg);
-  EXPECT_LT(test::translationError(r.T_robot_mount, truth.T_robot_mount), mm * 1e-3);
-  EXPECT_LT(test::rotationErrorDeg(r.T_robot_mount, truth.T_robot_mount), deg);
-  EXPECT_LT(test::translationError(r.T_wrist_marker, truth.T_wrist_marker), mm * 1e-3);
-  EXPECT_LT(test::rotationErrorDeg(r.T_wrist_marker, truth.T_wrist_marker), deg);
+void expectRecovered(const HandEyeResult& r, const calib::synthetic::HandEyeTruth& truth, double mm, double deg) {
+  EXPECT_LT(calib::synthetic::translationError(r.T_flange_cam_l, truth.T_flange_cam_l), mm * 1e-3);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(r.T_flange_cam_l, truth.T_flange_cam_l), deg);
+  EXPECT_LT(calib::synthetic::translationError(r.T_robot_mount, truth.T_robot_mount), mm * 1e-3);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(r.T_robot_mount, truth.T_robot_mount), deg);
+  EXPECT_LT(calib::synthetic::translationError(r.T_wrist_marker, truth.T_wrist_marker), mm * 1e-3);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(r.T_wrist_marker, truth.T_wrist_marker), deg);
 }
 
 TEST(HandEyeCalibration, ClosedFormIsExactWithoutNoise) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 20, 0.0, 1);
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 20, 0.0, 1);
   ASSERT_EQ(samples.size(), 20u);
   const auto result = calibrateHandEye(stereoCameras(), 0.1, samples);
   ASSERT_TRUE(result) << result.failure().message;
-  const test::HandEyeTruth init{result->initial[0], result->initial[1], result->initial[2]};
-  EXPECT_LT(test::translationError(init.T_flange_cam_l, truth.T_flange_cam_l), 1e-6);
-  EXPECT_LT(test::rotationErrorDeg(init.T_robot_mount, truth.T_robot_mount), 1e-5);
-  EXPECT_LT(test::translationError(init.T_wrist_marker, truth.T_wrist_marker), 1e-6);
+  const calib::synthetic::HandEyeTruth init{result->initial[0], result->initial[1], result->initial[2]};
+  EXPECT_LT(calib::synthetic::translationError(init.T_flange_cam_l, truth.T_flange_cam_l), 1e-6);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(init.T_robot_mount, truth.T_robot_mount), 1e-5);
+  EXPECT_LT(calib::synthetic::translationError(init.T_wrist_marker, truth.T_wrist_marker), 1e-6);
   expectRecovered(*result, truth, 1e-5, 1e-6);
 }
 
 TEST(HandEyeCalibration, RecoversTransformsFromNoisyCorners) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 50, 0.3, 2);
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 50, 0.3, 2);
   ASSERT_EQ(samples.size(), 50u);
   const auto result = calibrateHandEye(stereoCameras(), 0.1, samples);
   ASSERT_TRUE(result) << result.failure().message;
@@ -60,8 +60,8 @@ TEST(HandEyeCalibration, RecoversTransformsFromNoisyCorners) {
   // 1280×1024 at ~315 px focal length, a 10 cm marker: a few millimetres at most.
   expectRecovered(*result, truth, 3.0, 0.3);
   // The closed form alone is worse than the refined solution.
-  EXPECT_LT(test::translationError(result->T_flange_cam_l, truth.T_flange_cam_l),
-            test::translationError(result->initial[0], truth.T_flange_cam_l) + 1e-4);
+  EXPECT_LT(calib::synthetic::translationError(result->T_flange_cam_l, truth.T_flange_cam_l),
+            calib::synthetic::translationError(result->initial[0], truth.T_flange_cam_l) + 1e-4);
 }
 
 // The standard deviations describe the error: over seeded sessions the error of each transform
@@ -69,13 +69,13 @@ TEST(HandEyeCalibration, RecoversTransformsFromNoisyCorners) {
 // with the sample count: from 12 to 48 samples by at least 1/√4 (more, because a dozen samples
 // also spread the rotations less; 3.8× in this session).
 TEST(HandEyeCalibration, StandardDeviationsDescribeTheError) {
-  const auto truth = test::handEyeTruth();
+  const auto truth = calib::synthetic::handEyeTruth();
   const std::array<Eigen::Isometry3d, 3> T_true{truth.T_flange_cam_l, truth.T_robot_mount, truth.T_wrist_marker};
   std::array<double, 2> sigma_t_mm{};
   for (int run = 0; run < 2; ++run) {
     const int n = run == 0 ? 12 : 48;
-    const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                      test::trueTCamLCamR(), 0.1, n, 0.3, 11 + run);
+    const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                      calib::synthetic::trueTCamLCamR(), 0.1, n, 0.3, 11 + run);
     HandEyeOptions options;
     options.min_samples = 5;
     const auto r = calibrateHandEye(stereoCameras(), 0.1, samples, options);
@@ -108,8 +108,8 @@ TEST(HandEyeCalibration, StandardDeviationsDescribeTheError) {
 
 // A sample whose corners are 15 px off stands out in its fit; the others do not.
 TEST(HandEyeCalibration, SampleFitsShowAnOutlier) {
-  const auto truth = test::handEyeTruth();
-  auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true), test::trueTCamLCamR(),
+  const auto truth = calib::synthetic::handEyeTruth();
+  auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true), calib::synthetic::trueTCamLCamR(),
                                               0.1, 30, 0.3, 13);
   for (auto& px : *samples[7].corners_l) px += Eigen::Vector2d(15.0, -9.0);
   const auto r = calibrateHandEye(stereoCameras(), 0.1, samples);
@@ -128,9 +128,9 @@ TEST(HandEyeCalibration, SampleFitsShowAnOutlier) {
 // says so; with one 1 cm and 2° off (the robot's current calibration) it initialises Z and Y
 // from the marker poses and Ceres recovers all three from 6 samples.
 TEST(HandEyeCalibration, FewSamplesNeedAStartingFlangeCamera) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 6, 0.2, 14);
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 6, 0.2, 14);
   HandEyeOptions options;
   options.min_samples = 5;
   auto r = calibrateHandEye(stereoCameras(), 0.1, samples, options);
@@ -139,22 +139,22 @@ TEST(HandEyeCalibration, FewSamplesNeedAStartingFlangeCamera) {
   EXPECT_NE(r.failure().message.find("needs 10 samples (have 6) or a starting T_flange_cam_l"), std::string::npos)
       << r.failure().message;
   options.T_flange_cam_l_guess =
-      truth.T_flange_cam_l * test::poseOf(Eigen::Vector3d(0.02, -0.025, 0.01), Eigen::Vector3d(0.006, -0.005, 0.006));
+      truth.T_flange_cam_l * calib::synthetic::poseOf(Eigen::Vector3d(0.02, -0.025, 0.01), Eigen::Vector3d(0.006, -0.005, 0.006));
   r = calibrateHandEye(stereoCameras(), 0.1, samples, options);
   ASSERT_TRUE(r) << r.failure().message;
   // Six samples pin the transforms to a few millimetres (5.4 mm for the mount here), in the
   // right basin: the camera much nearer the truth than the start.
   expectRecovered(*r, truth, 10.0, 1.0);
-  EXPECT_LT(test::translationError(r->T_flange_cam_l, truth.T_flange_cam_l),
-            0.3 * test::translationError(*options.T_flange_cam_l_guess, truth.T_flange_cam_l));
+  EXPECT_LT(calib::synthetic::translationError(r->T_flange_cam_l, truth.T_flange_cam_l),
+            0.3 * calib::synthetic::translationError(*options.T_flange_cam_l_guess, truth.T_flange_cam_l));
 }
 
 // A still whose image and joints disagree (the marker 200 px away from where the joints put it)
 // must not make every solve "diverged": the solve fits the rest and the sample stands out, so it
 // can be marked and removed.
 TEST(HandEyeCalibration, AGrossOutlierDoesNotFailTheSolve) {
-  const auto truth = test::handEyeTruth();
-  auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true), test::trueTCamLCamR(),
+  const auto truth = calib::synthetic::handEyeTruth();
+  auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true), calib::synthetic::trueTCamLCamR(),
                                               0.1, 30, 0.3, 15);
   for (auto* corners : {&samples[4].corners_l, &samples[4].corners_r})
     for (auto& px : **corners) px += Eigen::Vector2d(200.0, -120.0);
@@ -197,18 +197,18 @@ TEST(HandEyeCalibration, AClosedFormTrapIsLeftThroughTheSecondStart) {
   const auto result = calibrateHandEye(cameras, file->marker_size, file->samples, options);
   ASSERT_TRUE(result) << result.failure().message;
   EXPECT_LT(std::max(result->rms_px_l, result->rms_px_r), 0.5);
-  EXPECT_LT(test::translationError(result->T_flange_cam_l, *truth->T_flange_cam_l), 3e-3);
-  EXPECT_LT(test::rotationErrorDeg(result->T_flange_cam_l, *truth->T_flange_cam_l), 0.3);
-  EXPECT_LT(test::translationError(result->T_robot_mount, *truth->T_robot_mount), 10e-3);
+  EXPECT_LT(calib::synthetic::translationError(result->T_flange_cam_l, *truth->T_flange_cam_l), 3e-3);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(result->T_flange_cam_l, *truth->T_flange_cam_l), 0.3);
+  EXPECT_LT(calib::synthetic::translationError(result->T_robot_mount, *truth->T_robot_mount), 10e-3);
   // The believed T_flange_cam_l was 11 mm off: the solve moved away from its start.
-  EXPECT_GT(test::translationError(*believed->T_flange_cam_l, *truth->T_flange_cam_l), 5e-3);
+  EXPECT_GT(calib::synthetic::translationError(*believed->T_flange_cam_l, *truth->T_flange_cam_l), 5e-3);
   for (const PoseStddev& sd : result->stddev) EXPECT_TRUE(sd.valid);
 }
 
 TEST(HandEyeCalibration, RefusesHeadRotatingAboutOneAxis) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 30, 0.3, 3,
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 30, 0.3, 3,
                                                     /*head_two_axes=*/false);
   const auto check = checkHandEyeIdentifiability(samples);
   EXPECT_FALSE(check.ok);
@@ -221,12 +221,12 @@ TEST(HandEyeCalibration, RefusesHeadRotatingAboutOneAxis) {
 }
 
 TEST(HandEyeCalibration, RefusesWristRotatingAboutOneAxis) {
-  const auto truth = test::handEyeTruth();
-  auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                              test::trueTCamLCamR(), 0.1, 30, 0.3, 4);
+  const auto truth = calib::synthetic::handEyeTruth();
+  auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                              calib::synthetic::trueTCamLCamR(), 0.1, 30, 0.3, 4);
   // Wrist turning about its z axis only (the corners no longer matter to the check).
   for (std::size_t i = 0; i < samples.size(); ++i)
-    samples[i].T_mount_wrist = test::poseOf(Eigen::Vector3d(0, 0, 0.1 * double(i)), Eigen::Vector3d(0.4, 0, 0.3));
+    samples[i].T_mount_wrist = calib::synthetic::poseOf(Eigen::Vector3d(0, 0, 0.1 * double(i)), Eigen::Vector3d(0.4, 0, 0.3));
   const auto result = calibrateHandEye(stereoCameras(), 0.1, samples);
   ASSERT_FALSE(result);
   EXPECT_EQ(result.failure().code, CalibrationError::kNotIdentifiable);
@@ -234,9 +234,9 @@ TEST(HandEyeCalibration, RefusesWristRotatingAboutOneAxis) {
 }
 
 TEST(HandEyeCalibration, RefusesTooFewSamples) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 5, 0.3, 5);
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, lens1280(false), lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 5, 0.3, 5);
   const auto result = calibrateHandEye(stereoCameras(), 0.1, samples);
   ASSERT_FALSE(result);
   EXPECT_EQ(result.failure().code, CalibrationError::kTooFewViews);

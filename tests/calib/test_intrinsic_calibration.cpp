@@ -7,31 +7,31 @@
 #include <algorithm>
 
 #include "calib/intrinsic_calibration.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 
 namespace telesphere::calib {
 namespace {
 
-using test::lens1280;
-using test::testGrid;
+using calib::synthetic::lens1280;
+using calib::synthetic::testGrid;
 
 constexpr double kNoisePx = 0.3;
 
-CameraViews syntheticViews(const test::SyntheticCamera& cam, const std::vector<Eigen::Isometry3d>& T_cam_board,
+CameraViews syntheticViews(const calib::synthetic::SyntheticCamera& cam, const std::vector<Eigen::Isometry3d>& T_cam_board,
                            std::uint32_t seed, const std::string& label = "cam_l") {
   std::mt19937 rng(seed);
   CameraViews views;
   views.label = label;
   views.width = cam.width;
   views.height = cam.height;
-  for (const auto& T : T_cam_board) views.views.push_back(test::observeBoard(cam, testGrid(), T, kNoisePx, rng));
+  for (const auto& T : T_cam_board) views.views.push_back(calib::synthetic::observeBoard(cam, testGrid(), T, kNoisePx, rng));
   return views;
 }
 
 TEST(IntrinsicCalibration, RecoversDoubleSphereFromPerturbedStart) {
   const auto cam = lens1280();
   std::mt19937 rng(3);
-  const auto poses = test::spreadBoardPoses(cam, testGrid(), 20, 100.0 * M_PI / 180, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam, testGrid(), 20, 100.0 * M_PI / 180, rng);
   ASSERT_EQ(poses.size(), 20u);
   CameraViews views = syntheticViews(cam, poses, 11);
   // At least one corner beyond 90° off-axis is part of the data.
@@ -70,7 +70,7 @@ TEST(IntrinsicCalibration, GoodViewsMeetTheAccuracyGoalsAndAreSeparable) {
   // Views over the whole image, the rim included, strongly tilted; σ = 0.3 px; automatic start.
   const auto cam = lens1280();
   std::mt19937 rng(17);
-  const auto poses = test::spreadBoardPoses(cam, testGrid(), 40, 100.0 * M_PI / 180, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam, testGrid(), 40, 100.0 * M_PI / 180, rng);
   ASSERT_EQ(poses.size(), 40u);
   const auto result = calibrateIntrinsics(testGrid(), {syntheticViews(cam, poses, 19)});
   ASSERT_TRUE(result) << result.failure().message;
@@ -92,7 +92,7 @@ TEST(IntrinsicCalibration, WarnsWhenFocalLengthAndDistortionAreNotSeparable) {
   // explains the corners as well. The solve must say so instead of answering confidently.
   const auto cam = lens1280();
   std::mt19937 rng(23);
-  const auto poses = test::frontoParallelCentreBoardPoses(testGrid(), 12, rng);
+  const auto poses = calib::synthetic::frontoParallelCentreBoardPoses(testGrid(), 12, rng);
   std::vector<std::string> progress;
   IntrinsicOptions options;
   options.progress = [&](const std::string& line) { progress.push_back(line); };
@@ -117,9 +117,9 @@ TEST(IntrinsicCalibration, WarnsWhenFocalLengthAndDistortionAreNotSeparable) {
 
 TEST(IntrinsicCalibration, CalibratesTheStereoPairFromAutomaticInitialisation) {
   const auto cam_l = lens1280(false), cam_r = lens1280(true);
-  const Eigen::Isometry3d T_l_r = test::trueTCamLCamR();
+  const Eigen::Isometry3d T_l_r = calib::synthetic::trueTCamLCamR();
   std::mt19937 rng(5);
-  const auto poses = test::spreadBoardPoses(cam_l, testGrid(), 16, 90.0 * M_PI / 180, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam_l, testGrid(), 16, 90.0 * M_PI / 180, rng);
   std::vector<Eigen::Isometry3d> poses_r;
   for (const auto& T : poses) poses_r.push_back(T_l_r.inverse() * T);
   std::vector<CameraViews> views = {syntheticViews(cam_l, poses, 21, "cam_l"),
@@ -141,8 +141,8 @@ TEST(IntrinsicCalibration, CalibratesTheStereoPairFromAutomaticInitialisation) {
     EXPECT_NEAR(result->cameras[static_cast<std::size_t>(c)].rms_px, kNoisePx * std::sqrt(2.0), 0.06);
   }
   ASSERT_TRUE(result->T_cam_l_cam_r);
-  EXPECT_LT(test::translationError(*result->T_cam_l_cam_r, T_l_r), 1e-3);
-  EXPECT_LT(test::rotationErrorDeg(*result->T_cam_l_cam_r, T_l_r), 0.05);
+  EXPECT_LT(calib::synthetic::translationError(*result->T_cam_l_cam_r, T_l_r), 1e-3);
+  EXPECT_LT(calib::synthetic::rotationErrorDeg(*result->T_cam_l_cam_r, T_l_r), 0.05);
   EXPECT_LT(result->final_cost, result->initial_cost);
   const SystemCalibration system = result->toSystemCalibration();
   EXPECT_FALSE(system.inconsistency()) << system.inconsistency()->second;
@@ -159,7 +159,7 @@ TEST(IntrinsicCalibration, ReportsTargetNeverSeenAndTooFewViews) {
   EXPECT_EQ(result.failure().code, CalibrationError::kTargetNeverSeen);
 
   std::mt19937 rng(7);
-  const auto poses = test::spreadBoardPoses(cam, testGrid(), 2, 0.5, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam, testGrid(), 2, 0.5, rng);
   result = calibrateIntrinsics(testGrid(), {syntheticViews(cam, poses, 1)});
   ASSERT_FALSE(result);
   EXPECT_EQ(result.failure().code, CalibrationError::kTooFewViews);
@@ -169,7 +169,7 @@ TEST(IntrinsicCalibration, ReportsTargetNeverSeenAndTooFewViews) {
 TEST(IntrinsicCalibration, ReportsADivergingSolveForAWrongTarget) {
   const auto cam = lens1280();
   std::mt19937 rng(9);
-  const auto poses = test::spreadBoardPoses(cam, testGrid(), 6, 1.0, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam, testGrid(), 6, 1.0, rng);
   CameraViews views = syntheticViews(cam, poses, 2);
   // Shuffled corner ids within each view: no camera explains these observations.
   for (auto& v : views.views) std::shuffle(v.corner_ids.begin(), v.corner_ids.end(), rng);
@@ -185,7 +185,7 @@ TEST(IntrinsicCalibration, FitsTheSimplerModelsOnTheSameData) {
   // Model selection: EUCM fits the double-sphere lens nearly as well; pinhole cannot (>180°).
   const auto cam = lens1280();
   std::mt19937 rng(13);
-  const auto poses = test::spreadBoardPoses(cam, testGrid(), 12, 95.0 * M_PI / 180, rng);
+  const auto poses = calib::synthetic::spreadBoardPoses(cam, testGrid(), 12, 95.0 * M_PI / 180, rng);
   CameraViews views = syntheticViews(cam, poses, 4);
   IntrinsicOptions options;
   options.covariance = false;

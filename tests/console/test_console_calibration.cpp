@@ -18,7 +18,7 @@
 #include "console/calibration/calibration_change.h"
 #include "calib/target_render.h"
 #include "robot/link/link_pose.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 
 namespace telesphere::console::calibration {
 namespace {
@@ -273,9 +273,9 @@ link::proto::CalibrationStill markerStill(const calib::CameraCalibration& camera
     still.add_head_joints(0.1 * i);
     still.add_manipulator_joints(-0.1 * i);
   }
-  link::toLinkPose(test::poseOf({0.1, 0.2, 0.3}, {0.4, 0.0, 0.45}), still.mutable_t_robot_flange());
-  link::toLinkPose(test::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), still.mutable_t_mount_wrist());
-  const Eigen::Isometry3d T_cam_marker = test::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
+  link::toLinkPose(calib::synthetic::poseOf({0.1, 0.2, 0.3}, {0.4, 0.0, 0.45}), still.mutable_t_robot_flange());
+  link::toLinkPose(calib::synthetic::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), still.mutable_t_mount_wrist());
+  const Eigen::Isometry3d T_cam_marker = calib::synthetic::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
   for (auto* image : {still.mutable_left(), still.mutable_right()}) {
     const calib::GrayImage g =
         with_marker ? calib::renderTarget(camera.camera, camera.width, camera.height, T_cam_marker,
@@ -297,14 +297,14 @@ TEST(HandEyeSample, MarkerCornersAndBothArmsPosesOrTheReasonWhyNot) {
   EXPECT_EQ(sample->width, 960);
   ASSERT_TRUE(sample->sample.corners_l && sample->sample.corners_r);
   // The corners where the camera model puts them (the detector is sub-pixel).
-  const Eigen::Isometry3d T_cam_marker = test::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
+  const Eigen::Isometry3d T_cam_marker = calib::synthetic::poseOf({M_PI, 0.2, 0.0}, {0.05, 0.02, 0.5});
   const auto corners3 = calib::markerCorners(0.1);
   for (std::size_t k = 0; k < 4; ++k) {
     Eigen::Vector2d px;
     ASSERT_TRUE(camera.camera.project(T_cam_marker * corners3[k], px));
     EXPECT_LT(((*sample->sample.corners_l)[k] - px).norm(), 0.5) << k;
   }
-  EXPECT_TRUE(sample->sample.T_mount_wrist.isApprox(test::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), 1e-9));
+  EXPECT_TRUE(sample->sample.T_mount_wrist.isApprox(calib::synthetic::poseOf({0.0, 0.5, 0.0}, {0.3, 0.1, 0.6}), 1e-9));
   EXPECT_EQ(sample->thumbnails[0].width, 160);
 
   auto no_manipulator = markerStill(camera);
@@ -328,9 +328,9 @@ TEST(HandEyeSample, MarkerCornersAndBothArmsPosesOrTheReasonWhyNot) {
 
 calib::SystemCalibration handEyeCameras() {
   calib::SystemCalibration system;
-  system.cameras.push_back({"cam_l", test::lens1280(false).camera, 1280, 1024});
-  system.cameras.push_back({"cam_r", test::lens1280(true).camera, 1280, 1024});
-  system.T_cam_l_cam_r = test::trueTCamLCamR();
+  system.cameras.push_back({"cam_l", calib::synthetic::lens1280(false).camera, 1280, 1024});
+  system.cameras.push_back({"cam_r", calib::synthetic::lens1280(true).camera, 1280, 1024});
+  system.T_cam_l_cam_r = calib::synthetic::trueTCamLCamR();
   return system;
 }
 
@@ -343,9 +343,9 @@ HandEyeStillSample stillSample(const calib::HandEyeSample& s) {
 }
 
 TEST(HandEyeCollector, GatesNearDuplicatesSolvesFromFiveMarksOutliersAndStatesTheRule) {
-  const auto truth = test::handEyeTruth();
-  auto samples = test::simulateHandEyeSession(truth, test::lens1280(false), test::lens1280(true),
-                                              test::trueTCamLCamR(), 0.1, 40, 0.2, 21);
+  const auto truth = calib::synthetic::handEyeTruth();
+  auto samples = calib::synthetic::simulateHandEyeSession(truth, calib::synthetic::lens1280(false), calib::synthetic::lens1280(true),
+                                              calib::synthetic::trueTCamLCamR(), 0.1, 40, 0.2, 21);
   ASSERT_EQ(samples.size(), 40u);
   HandEyeCollectorOptions options;
   options.rule.min_samples = 20;
@@ -392,9 +392,9 @@ TEST(HandEyeCollector, GatesNearDuplicatesSolvesFromFiveMarksOutliersAndStatesTh
 }
 
 TEST(HandEyeCollector, RotationsAboutOneAxisAreRefusedAsDegenerate) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, test::lens1280(false), test::lens1280(true),
-                                                    test::trueTCamLCamR(), 0.1, 20, 0.2, 22, /*head_two_axes=*/false);
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, calib::synthetic::lens1280(false), calib::synthetic::lens1280(true),
+                                                    calib::synthetic::trueTCamLCamR(), 0.1, 20, 0.2, 22, /*head_two_axes=*/false);
   HandEyeCollector c(handEyeCameras(), WristMarker{});
   std::string reason, error;
   for (const auto& s : samples) c.offer(stillSample(s), &reason);

@@ -12,7 +12,7 @@
 
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
-#include "tests/truth/eye_image_truth.h"
+#include "app/bench/truth/eye_image_truth.h"
 #include "xr/render/reference_renderer.h"
 
 namespace telesphere::truth {

@@ -2,7 +2,7 @@
 /// @brief Records, for chosen display frames, what each eye pixel showed — the camera pixel it
 ///        sampled (the projection map, StereoViewRenderer::renderProjectionMap) — beside the head
 ///        pose, the eye geometry, the mapping, the mode and radius and the camera frame shown: all
-///        the ground-truth check (tests/truth) needs to follow every eye pixel back into the scene
+///        the ground-truth check (app/bench/truth) needs to follow every eye pixel back into the scene
 ///        and compare it with what the eye should have seen. Offscreen mode only (--truth-out).
 ///
 /// Files in the folder: `frames.csv`, one row per recorded frame (columns in the header: index,

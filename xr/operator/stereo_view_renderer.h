@@ -63,7 +63,7 @@ class StereoViewRenderer {
 
   /// The same view as renderEye, but each eye pixel gets the camera pixel (x, y) it shows (red,
   /// green) and alpha 1, or alpha 0 where it shows no camera pixel: the projection map that the
-  /// ground-truth check (tests/truth) follows back into the scene. Render into a float target.
+  /// ground-truth check (app/bench/truth) follows back into the scene. Render into a float target.
   bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
                            EyeView view, GLuint framebuffer, std::string* error);
 

@@ -19,7 +19,7 @@
 #include "robot/clock/sim_clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "tests/calib/calib_synthetic.h"
+#include "calib/synthetic/calibration_sessions.h"
 #include "tests/eventually.h"
 
 namespace telesphere::robot {
@@ -199,10 +199,10 @@ TEST(SyntheticCamera, RaysBeyondNinetyDegreesHitTheDefaultScene) {
 }
 
 TEST(SyntheticCamera, RenderedAprilGridIsDetectedWithTheTrueBoardPose) {
-  const auto lens = test::lens1280();
-  const calib::AprilGrid grid = test::testGrid();
+  const auto lens = calib::synthetic::lens1280();
+  const calib::AprilGrid grid = calib::synthetic::testGrid();
   const Eigen::Isometry3d T_world_cam = someCameraPose();
-  const Eigen::Isometry3d T_cam_board = test::boardPoseAt(grid, 0.35, 0.8, 0.6, 0.25, -0.2, 0.1);
+  const Eigen::Isometry3d T_cam_board = calib::synthetic::boardPoseAt(grid, 0.35, 0.8, 0.6, 0.25, -0.2, 0.1);
   // A textured room (moved to enclose this camera) behind the board.
   cameras::SyntheticScene board_scene;
   board_scene.addRoom("room", T_world_cam, Eigen::Vector3d(3, 3, 3), cameras::SurfaceStyle{{205, 185, 150}, true, 1},
@@ -384,7 +384,7 @@ TEST(SyntheticCamera, StopAbandonsAFrameBeingRendered) {
   // returns with that frame unfinished — fewer rows rendered than the frame has (a few chunks of 8
   // here: 24–32 of 1024 measured) — and nothing delivered. Counted in rows, not timed.
   auto scene = std::make_shared<cameras::SyntheticScene>(cameras::defaultScene());
-  const auto lens = test::lens1280();
+  const auto lens = calib::synthetic::lens1280();
   clock::SimClock clock(1);  // the first tick is then tick 1
   std::mutex m;
   std::condition_variable cv;

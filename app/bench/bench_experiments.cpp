@@ -10,7 +10,7 @@
 ///          2. head-movement latency t1 / t2 (operator head speed from the XR app's display
 ///             frames, robot head speed from the measured joint states; paper Fig. 6);
 ///          3. Δs, left eye to left camera at capture, against v_op (paper Fig. 7);
-///          5. the eye images' angular error against the truth (tests/truth) against head speed
+///          5. the eye images' angular error against the truth (app/bench/truth) against head speed
 ///             and radius; at rest it must be near zero.
 ///        And in this process, on the GPU renderer: 4. γ against object distance for a 10 cm eye
 ///        offset at r = 1 m, measured on rendered projection maps, against eq. 4 (paper Fig. 5).
@@ -33,12 +33,12 @@
 #include "robot/link/link_pose.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/child_process.h"
-#include "tests/bench/figure_png.h"
-#include "tests/bench/head_motion_figure.h"
-#include "tests/truth/eye_image_truth.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/child_process.h"
+#include "app/bench/figure_png.h"
+#include "app/bench/head_motion_figure.h"
+#include "app/bench/truth/eye_image_truth.h"
 #include "xr/render/gpu_camera.h"
 #include "xr/render/sphere_geometry.h"
 #include "xr/render/spherical_renderer.h"

@@ -27,10 +27,10 @@
 #include "robot/head/low_pass_filter.h"
 #include "robot/clock/sim_clock.h"
 #include "robot/arm/xarm/controller_simulator.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/figure_png.h"
-#include "tests/bench/head_motion_figure.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/figure_png.h"
+#include "app/bench/head_motion_figure.h"
 
 namespace telesphere::bench {
 namespace {

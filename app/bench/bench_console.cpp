@@ -19,8 +19,8 @@
 
 #include "console/widgets/live_plot.h"
 #include "console/telemetry/series_store.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
 
 namespace telesphere::bench {
 namespace {

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @brief Table printing and the topic registry of telesphere-bench.
-#include "tests/bench/bench_table.h"
+#include "app/bench/bench_table.h"
 
 #include <algorithm>
 #include <cstdio>
 
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_topic.h"
 
 namespace telesphere::bench {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "robot/head/head_motion_trace.h"
-#include "tests/bench/figure_png.h"
+#include "app/bench/figure_png.h"
 
 namespace telesphere::bench {
 

@@ -16,10 +16,10 @@
 #include <thread>
 
 #include "app/operator_stats_json.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/prerendered_frames.h"
-#include "tests/bench/replay_video_source.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/prerendered_frames.h"
+#include "app/bench/replay_video_source.h"
 #include "xr/operator/offscreen_operator.h"
 
 namespace telesphere::bench {

@@ -16,8 +16,9 @@
 #include "calib/generic_camera.h"
 #include "calib/hand_eye_calibration.h"
 #include "calib/intrinsic_calibration.h"
+#include "calib/synthetic/typical_lenses.h"
 
-namespace telesphere::test {
+namespace telesphere::calib::synthetic {
 
 struct SyntheticCamera {
   calib::GenericCamera camera;
@@ -27,9 +28,8 @@ struct SyntheticCamera {
 /// The paper's lens on a 3840×2160 sensor: ds [930, 931, 1919.5, 1079.5, −0.18, 0.59], about
 /// 196° across the image width.
 inline SyntheticCamera lens4k() {
-  Eigen::VectorXd p(6);
-  p << 930, 931, 1919.5, 1079.5, -0.18, 0.59;
-  return {*calib::GenericCamera::create("ds", p), 3840, 2160};
+  const Eigen::VectorXd p = TypicalLens<calib::DoubleSphereCamera>::parameters();
+  return {*calib::GenericCamera::create("ds", p), kTypicalSensorWidthPx, kTypicalSensorHeightPx};
 }
 
 /// The same kind of lens on a 1280×1024 sensor (≈195° across the width); `right` gives the
@@ -225,4 +225,4 @@ inline double translationError(const Eigen::Isometry3d& a, const Eigen::Isometry
   return (a.translation() - b.translation()).norm();
 }
 
-}  // namespace telesphere::test
+}  // namespace telesphere::calib::synthetic

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The geometric check of the operator's eye images (see eye_image_truth.h).
-#include "tests/truth/eye_image_truth.h"
+#include "app/bench/truth/eye_image_truth.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 /// @brief telesphere-truth-check: the ground-truth check of a simulated run (issue: end-to-end
 ///        truth). Reads the robot's truth (telesphere-robot --truth-out) and the operator app's
 ///        projection maps (telesphere-xr offscreen --truth-out), evaluates every recorded frame
-///        (tests/truth/eye_image_truth.h) and prints a table; with --max-p99-deg it fails (exit 1)
+///        (app/bench/truth/eye_image_truth.h) and prints a table; with --max-p99-deg it fails (exit 1)
 ///        when the eye-image error's p99 over all pixels and frames is larger, or when fewer than
 ///        --min-frames frames could be evaluated. Used by the robot+XR loop test and the
 ///        experiments benchmark. Exit codes: 0 ok, 1 the check failed, 2 bad input.
@@ -11,7 +11,7 @@
 #include <iostream>
 
 #include "calib/calibration_file.h"
-#include "tests/truth/eye_image_truth.h"
+#include "app/bench/truth/eye_image_truth.h"
 
 int main(int argc, char** argv) {
   using namespace telesphere;

@@ -9,16 +9,16 @@
 #include <random>
 #include <vector>
 
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/calib/camera_model_fixtures.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "calib/synthetic/typical_lenses.h"
 
 namespace telesphere::bench {
 namespace {
 
-using test::kHeight;
-using test::kWidth;
-using test::Lens;
+using calib::synthetic::TypicalLens;
+constexpr int kWidth = calib::synthetic::kTypicalSensorWidthPx;
+constexpr int kHeight = calib::synthetic::kTypicalSensorHeightPx;
 
 struct Batch {
   std::vector<Eigen::Vector3d> points;
@@ -110,7 +110,7 @@ std::pair<double, double> worstRoundTrip(const Camera& cam, int step) {
 
 template <template <typename> class Model>
 void measure(const BenchContext& ctx, Table& table, nlohmann::json& json) {
-  const Model<double> cam(Lens<Model>::typical());
+  const Model<double> cam(TypicalLens<Model>::parameters());
   const Model<float> cam_f = cam.template cast<float>();
   const std::size_t n = ctx.quick ? 100000 : 1000000;
   const int passes = ctx.quick ? 2 : 5;

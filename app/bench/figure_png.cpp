@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Figures as PNG through QCustomPlot (see figure_png.h).
-#include "tests/bench/figure_png.h"
+#include "app/bench/figure_png.h"
 
 #include <QApplication>
 #include <cstdlib>

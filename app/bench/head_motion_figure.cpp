@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The head-latency figure (see head_motion_figure.h).
-#include "tests/bench/head_motion_figure.h"
+#include "app/bench/head_motion_figure.h"
 
 #include <cmath>
 

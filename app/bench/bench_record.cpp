@@ -19,9 +19,9 @@
 #include "robot/link/link_endpoints.h"
 #include "robot/record/link_recorder.h"
 #include "robot/cameras/synthetic_camera.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/prerendered_frames.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/prerendered_frames.h"
 
 namespace telesphere::bench {
 namespace {

@@ -24,8 +24,8 @@
 
 #include "robot/video/jpeg_encoder.h"
 #include "shaders/png_io.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
 #include "xr/video/decode_pool.h"
 #include "xr/video/jpeg_decoder.h"
 

@@ -28,9 +28,9 @@
 
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/calib/camera_model_fixtures.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "calib/synthetic/typical_lenses.h"
 #include "xr/render/spherical_renderer.h"
 #include "xr/render/upload_ring.h"
 #include "xr/video/decode_pool.h"
@@ -38,8 +38,8 @@
 namespace telesphere::bench {
 namespace {
 
-constexpr int kCamWidth = test::kWidth;    // 3840
-constexpr int kCamHeight = test::kHeight;  // 2160
+constexpr int kCamWidth = calib::synthetic::kTypicalSensorWidthPx;    // 3840
+constexpr int kCamHeight = calib::synthetic::kTypicalSensorHeightPx;  // 2160
 constexpr double kCameraHz = 45.0;         // the paper's cameras
 constexpr double kDisplayHz = 90.0;        // the render loop's pace (Vive Pro Eye)
 constexpr int kEyeWidth = 1440, kEyeHeight = 1600;
@@ -240,7 +240,7 @@ nlohmann::json runUpload(const BenchContext& ctx) {
   const auto context = gl::EglContext::createSurfaceless(&error);
   if (!context) throw std::runtime_error("no OpenGL 4.5 context: " + error);
   const calib::GenericCamera camera(calib::DoubleSphereCamera<double>(
-      test::Lens<calib::DoubleSphereCamera>::typical()));
+      calib::synthetic::TypicalLens<calib::DoubleSphereCamera>::parameters()));
   const double seconds = ctx.quick ? 4.0 : 10.0;
   const int pool_threads = std::clamp(int(std::thread::hardware_concurrency()), 2, 4);
   std::vector<std::vector<std::uint8_t>> jpegs;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief Readers of the ground-truth files (see ground_truth_files.h).
-#include "tests/truth/ground_truth_files.h"
+#include "app/bench/truth/ground_truth_files.h"
 
 #include <fstream>
 #include <sstream>

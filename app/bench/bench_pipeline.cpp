@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "robot/video/jpeg_encoder.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/prerendered_frames.h"
-#include "tests/bench/replay_video_source.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/prerendered_frames.h"
+#include "app/bench/replay_video_source.h"
 #include "xr/video/jpeg_decoder.h"
 #include "xr/video/stereo_frame_decoder.h"
 

@@ -8,7 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_topic.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"telesphere-render-bench: the spherical renderer's paths at headset resolutions (ms per "

@@ -18,7 +18,7 @@
 
 #include "calib/system_calibration.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "tests/truth/ground_truth_files.h"
+#include "app/bench/truth/ground_truth_files.h"
 
 namespace telesphere::truth {
 

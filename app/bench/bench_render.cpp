@@ -16,17 +16,17 @@
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/shader_program.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/calib/camera_model_fixtures.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "calib/synthetic/typical_lenses.h"
 #include "xr/render/reference_renderer.h"
 #include "xr/render/spherical_renderer.h"
 
 namespace telesphere::bench {
 namespace {
 
-constexpr int kCamWidth = test::kWidth;    // 3840
-constexpr int kCamHeight = test::kHeight;  // 2160
+constexpr int kCamWidth = calib::synthetic::kTypicalSensorWidthPx;    // 3840
+constexpr int kCamHeight = calib::synthetic::kTypicalSensorHeightPx;  // 2160
 
 struct EyeSize {
   const char* name;
@@ -100,7 +100,7 @@ nlohmann::json runRender(const BenchContext& ctx) {
   const auto context = gl::EglContext::createSurfaceless(&error);
   if (!context) throw std::runtime_error("no OpenGL 4.5 context: " + error);
   const calib::GenericCamera camera(calib::DoubleSphereCamera<double>(
-      test::Lens<calib::DoubleSphereCamera>::typical()));
+      calib::synthetic::TypicalLens<calib::DoubleSphereCamera>::parameters()));
   const int frames = ctx.quick ? 2 : 20;
   std::vector<EyeSize> sizes = {{"1440x1600", 1440, 1600}, {"2064x2208", 2064, 2208}};
   if (ctx.quick) sizes.resize(1);  // CI smoke run: the paper's headset only

@@ -19,9 +19,9 @@
 #include "console/calibration/calibration_robot.h"
 #include "console/calibration/intrinsics_procedure.h"
 #include "robot/link/link_client.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/bench/child_process.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "app/bench/child_process.h"
 
 namespace telesphere::bench {
 namespace {

@@ -10,9 +10,9 @@
 
 #include "calib/intrinsic_calibration.h"
 #include "calib/target_render.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
-#include "tests/calib/calib_synthetic.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
+#include "calib/synthetic/calibration_sessions.h"
 
 namespace telesphere::bench {
 namespace {
@@ -28,17 +28,17 @@ struct IntrinsicFigures {
 };
 
 /// `degenerate`: all views fronto-parallel at the image centre instead of spread over the image.
-IntrinsicFigures runIntrinsics(const test::SyntheticCamera& cam, int views, std::uint32_t seed,
+IntrinsicFigures runIntrinsics(const calib::synthetic::SyntheticCamera& cam, int views, std::uint32_t seed,
                                const std::string& model = "ds", bool degenerate = false) {
   std::mt19937 rng(seed);
-  const auto grid = test::testGrid();
-  const auto poses = degenerate ? test::frontoParallelCentreBoardPoses(grid, views, rng)
-                                : test::spreadBoardPoses(cam, grid, views, 100.0 * M_PI / 180, rng);
+  const auto grid = calib::synthetic::testGrid();
+  const auto poses = degenerate ? calib::synthetic::frontoParallelCentreBoardPoses(grid, views, rng)
+                                : calib::synthetic::spreadBoardPoses(cam, grid, views, 100.0 * M_PI / 180, rng);
   calib::CameraViews input;
   input.model = model;
   input.width = cam.width;
   input.height = cam.height;
-  for (const auto& T : poses) input.views.push_back(test::observeBoard(cam, grid, T, kNoisePx, rng));
+  for (const auto& T : poses) input.views.push_back(calib::synthetic::observeBoard(cam, grid, T, kNoisePx, rng));
   const auto t0 = std::chrono::steady_clock::now();
   const auto result = calib::calibrateIntrinsics(grid, {input});
   IntrinsicFigures f;
@@ -66,15 +66,15 @@ struct HandEyeFigures {
   bool ok = false;
 };
 
-HandEyeFigures runHandEye(const test::SyntheticCamera& cam_l, const test::SyntheticCamera& cam_r,
+HandEyeFigures runHandEye(const calib::synthetic::SyntheticCamera& cam_l, const calib::synthetic::SyntheticCamera& cam_r,
                           int samples_n, std::uint32_t seed) {
-  const auto truth = test::handEyeTruth();
-  const auto samples = test::simulateHandEyeSession(truth, cam_l, cam_r, test::trueTCamLCamR(), 0.1,
+  const auto truth = calib::synthetic::handEyeTruth();
+  const auto samples = calib::synthetic::simulateHandEyeSession(truth, cam_l, cam_r, calib::synthetic::trueTCamLCamR(), 0.1,
                                                     samples_n, kNoisePx, seed);
   calib::SystemCalibration system;
   system.cameras.push_back({"cam_l", cam_l.camera, cam_l.width, cam_l.height});
   system.cameras.push_back({"cam_r", cam_r.camera, cam_r.width, cam_r.height});
-  system.T_cam_l_cam_r = test::trueTCamLCamR();
+  system.T_cam_l_cam_r = calib::synthetic::trueTCamLCamR();
   const auto t0 = std::chrono::steady_clock::now();
   const auto result = calib::calibrateHandEye(system, 0.1, samples);
   HandEyeFigures f;
@@ -86,14 +86,14 @@ HandEyeFigures runHandEye(const test::SyntheticCamera& cam_l, const test::Synthe
       {result->T_robot_mount, truth.T_robot_mount},
       {result->T_wrist_marker, truth.T_wrist_marker}};
   for (const auto& [a, b] : pairs) {
-    f.mm = std::max(f.mm, 1e3 * test::translationError(a, b));
-    f.deg = std::max(f.deg, test::rotationErrorDeg(a, b));
+    f.mm = std::max(f.mm, 1e3 * calib::synthetic::translationError(a, b));
+    f.deg = std::max(f.deg, calib::synthetic::rotationErrorDeg(a, b));
   }
   return f;
 }
 
 /// A right camera for the 4K lens, like lens1280(true) relative to lens1280().
-test::SyntheticCamera lens4kRight() {
+calib::synthetic::SyntheticCamera lens4kRight() {
   Eigen::VectorXd p(6);
   p << 936, 935.5, 1925.1, 1075.8, -0.16, 0.6;
   return {*calib::GenericCamera::create("ds", p), 3840, 2160};
@@ -101,7 +101,7 @@ test::SyntheticCamera lens4kRight() {
 
 double projectNs(const calib::GenericCamera& camera) {
   std::vector<Eigen::Vector3d> points;
-  for (const auto& d : test::sphereDirectionsForBench()) points.push_back(d);
+  for (const auto& d : calib::synthetic::sphereDirectionsForBench()) points.push_back(d);
   double best = 1e300;
   for (int pass = 0; pass < 3; ++pass) {
     std::size_t valid = 0;
@@ -128,8 +128,8 @@ nlohmann::json runCalib(const BenchContext& ctx) {
   Table intr({"image", "views", "corners", "RMS px", "RMS / (σ√2)", "focal err rel", "cx err px",
               "cy err px", "xi err", "alpha err", "f/dist corr", "warning", "solve s"});
   const std::vector<int> view_counts = ctx.quick ? std::vector<int>{10, 20} : std::vector<int>{10, 20, 50, 100};
-  std::vector<std::pair<std::string, test::SyntheticCamera>> lenses = {{"1280x1024", test::lens1280()}};
-  if (!ctx.quick) lenses.push_back({"3840x2160", test::lens4k()});
+  std::vector<std::pair<std::string, calib::synthetic::SyntheticCamera>> lenses = {{"1280x1024", calib::synthetic::lens1280()}};
+  if (!ctx.quick) lenses.push_back({"3840x2160", calib::synthetic::lens4k()});
   IntrinsicFigures headline;
   for (const auto& [name, cam] : lenses) {
     for (int n : view_counts) {
@@ -154,7 +154,7 @@ nlohmann::json runCalib(const BenchContext& ctx) {
   {
     // The degeneracy check: all views fronto-parallel at the centre must raise the warning.
     ctx.out << "intrinsics: 1280x1024, 20 fronto-parallel centre views (degenerate)...\n";
-    const IntrinsicFigures f = runIntrinsics(test::lens1280(), 20, 900, "ds", true);
+    const IntrinsicFigures f = runIntrinsics(calib::synthetic::lens1280(), 20, 900, "ds", true);
     intr.addRow({"1280x1024 fronto-parallel centre", "20", f.ok ? std::to_string(f.corners) : "-",
                  f.ok ? formatNumber(f.rms_px, 4) : "failed", f.ok ? formatNumber(f.rms_px / expected_rms, 4) : "",
                  formatNumber(f.focal_rel, 2), formatNumber(f.cx_px, 2), formatNumber(f.cy_px, 2),
@@ -171,12 +171,12 @@ nlohmann::json runCalib(const BenchContext& ctx) {
   Table pipeline({"image", "views", "views detected", "corners detected", "detect s", "RMS px", "focal err rel",
                   "cx err px", "xi err", "alpha err", "f/dist corr", "warning", "solve s"});
   {
-    const auto cam = test::lens1280();
-    const auto grid = test::testGrid();
+    const auto cam = calib::synthetic::lens1280();
+    const auto grid = calib::synthetic::testGrid();
     const int n = ctx.quick ? 12 : 24;
     ctx.out << "pipeline: rendering and detecting " << n << " 1280x1024 views...\n";
     std::mt19937 rng(77);
-    const auto poses = test::spreadBoardPoses(cam, grid, n, 100.0 * M_PI / 180, rng);
+    const auto poses = calib::synthetic::spreadBoardPoses(cam, grid, n, 100.0 * M_PI / 180, rng);
     calib::CameraViews input;
     input.width = cam.width;
     input.height = cam.height;
@@ -219,9 +219,9 @@ nlohmann::json runCalib(const BenchContext& ctx) {
   // 3. Hand-eye vs number of samples.
   Table handeye({"image", "samples", "max translation err mm", "max rotation err deg", "solve s"});
   const std::vector<int> sample_counts = ctx.quick ? std::vector<int>{20, 50} : std::vector<int>{10, 20, 50, 100};
-  std::vector<std::tuple<std::string, test::SyntheticCamera, test::SyntheticCamera>> pairs = {
-      {"1280x1024", test::lens1280(false), test::lens1280(true)}};
-  if (!ctx.quick) pairs.push_back({"3840x2160", test::lens4k(), lens4kRight()});
+  std::vector<std::tuple<std::string, calib::synthetic::SyntheticCamera, calib::synthetic::SyntheticCamera>> pairs = {
+      {"1280x1024", calib::synthetic::lens1280(false), calib::synthetic::lens1280(true)}};
+  if (!ctx.quick) pairs.push_back({"3840x2160", calib::synthetic::lens4k(), lens4kRight()});
   for (const auto& [name, cam_l, cam_r] : pairs) {
     for (int n : sample_counts) {
       ctx.out << "hand-eye: " << name << ", " << n << " samples...\n";
@@ -239,14 +239,14 @@ nlohmann::json runCalib(const BenchContext& ctx) {
   // 4. Model selection on the same data.
   Table models({"model", "parameters", "RMS px", "mean px", "project ns", "solve s"});
   {
-    const auto cam = test::lens1280();
+    const auto cam = calib::synthetic::lens1280();
     std::mt19937 rng(31);
-    const auto grid = test::testGrid();
-    const auto poses = test::spreadBoardPoses(cam, grid, 20, 100.0 * M_PI / 180, rng);
+    const auto grid = calib::synthetic::testGrid();
+    const auto poses = calib::synthetic::spreadBoardPoses(cam, grid, 20, 100.0 * M_PI / 180, rng);
     calib::CameraViews input;
     input.width = cam.width;
     input.height = cam.height;
-    for (const auto& T : poses) input.views.push_back(test::observeBoard(cam, grid, T, kNoisePx, rng));
+    for (const auto& T : poses) input.views.push_back(calib::synthetic::observeBoard(cam, grid, T, kNoisePx, rng));
     for (const std::string model : {"ds", "eucm", "kb4", "pinhole"}) {
       ctx.out << "model selection: " << model << "...\n";
       input.model = model;

@@ -18,8 +18,8 @@
 #include "robot/clock/sim_clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "tests/bench/bench_table.h"
-#include "tests/bench/bench_topic.h"
+#include "app/bench/bench_table.h"
+#include "app/bench/bench_topic.h"
 
 namespace telesphere::bench {
 namespace {

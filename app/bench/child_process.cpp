@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief ChildProcess (see child_process.h).
-#include "tests/bench/child_process.h"
+#include "app/bench/child_process.h"
 
 #include <fcntl.h>
 #include <spawn.h>
