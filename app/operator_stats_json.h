@@ -5,11 +5,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_view.h"
 
 namespace telesphere::app {
 
-inline nlohmann::json operatorStatsJson(const xr::OperatorViewStats& s) {
+inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats& s) {
   return {{"render_ms", s.render_ms_p50},
           {"render_ms_p99", s.render_ms_p99},
           {"image_age_p50_ms", s.image_age_p50_ms},

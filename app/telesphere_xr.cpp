@@ -79,7 +79,7 @@ int runStill(const StillOptions& o) {
   const Eigen::Quaterniond q((*pose)[6], (*pose)[3], (*pose)[4], (*pose)[5]);
   if (!(std::abs(q.norm() - 1.0) < 1e-3))
     return fail(1, "--T-cam-eye quaternion is not unit length (|q| = " + std::to_string(q.norm()) + ")");
-  xr::EyeView view;
+  xr::render::EyeView view;
   view.T_cam_eye = Eigen::Isometry3d::Identity();
   view.T_cam_eye.linear() = q.normalized().toRotationMatrix();
   view.T_cam_eye.translation() << (*pose)[0], (*pose)[1], (*pose)[2];
@@ -93,14 +93,14 @@ int runStill(const StillOptions& o) {
     return fail(1, "--size must be WIDTHxHEIGHT, got \"" + o.size + "\"");
 
   std::string settings_error;
-  auto parsed = xr::renderSettingsFromText(o.mode, o.path, o.radius, &settings_error);
+  auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &settings_error);
   if (!parsed) return fail(1, settings_error);
-  xr::RenderSettings settings = *parsed;
+  xr::render::RenderSettings settings = *parsed;
   const auto border = numbers(o.border, 4);
   if (!border) return fail(1, "--border needs 4 numbers \"r g b a\" in 0..1");
   settings.border_rgba << float((*border)[0]), float((*border)[1]), float((*border)[2]), float((*border)[3]);
-  if (auto e = xr::checkEyeView(view)) return fail(1, *e);
-  if (auto e = xr::checkRenderSettings(settings)) return fail(1, *e);
+  if (auto e = xr::render::checkEyeView(view)) return fail(1, *e);
+  if (auto e = xr::render::checkRenderSettings(settings)) return fail(1, *e);
 
   cv::Mat bgr = cv::imread(o.image, cv::IMREAD_COLOR);
   if (bgr.empty()) return fail(1, o.image + ": cannot read the image");
@@ -119,10 +119,10 @@ int runStill(const StillOptions& o) {
   std::string error;
   const auto context = gl::EglContext::createSurfaceless(&error);
   if (!context) return fail(2, "no OpenGL 4.5 context: " + error);
-  xr::GpuCamera gpu(cam.camera, cam.width, cam.height);
-  if (!gpu.upload(xr::SourceImage::rgb8(cam.width, cam.height, std::move(bytes)), &error))
+  xr::render::GpuCamera gpu(cam.camera, cam.width, cam.height);
+  if (!gpu.upload(xr::render::SourceImage::rgb8(cam.width, cam.height, std::move(bytes)), &error))
     return fail(1, error);
-  xr::SphericalRenderer renderer;
+  xr::render::SphericalRenderer renderer;
   gl::OffscreenTarget target(view.width, view.height, GL_RGBA8);
   if (!target.complete()) return fail(3, "cannot create a " + o.size + " offscreen target");
   if (!renderer.render(gpu, view, settings, target.framebuffer(), &error)) return fail(3, error);

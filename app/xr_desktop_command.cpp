@@ -15,11 +15,11 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "xr/operator/eyes_png.h"
+#include "xr/frame_loop/eyes_png.h"
 #include "xr/desktop/desktop_window.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/operator_view.h"
-#include "xr/operator/paced_output.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/operator_view.h"
+#include "xr/frame_loop/paced_output.h"
 #include "xr/desktop/virtual_head.h"
 
 namespace telesphere::app {
@@ -33,9 +33,9 @@ bool desktopParseSize(const std::string& text, int& w, int& h) {
 }
 
 /// The window as the operator loop's output: both eyes presented side by side.
-class DesktopOutput final : public xr::PacedOutput {
+class DesktopOutput final : public xr::frame_loop::PacedOutput {
  public:
-  DesktopOutput(const xr::PacedOutputOptions& options, HeadAt head, xr::DesktopWindow& window)
+  DesktopOutput(const xr::frame_loop::PacedOutputOptions& options, HeadAt head, xr::desktop::DesktopWindow& window)
       : PacedOutput(options, std::move(head)), window_(window) {}
 
  protected:
@@ -45,7 +45,7 @@ class DesktopOutput final : public xr::PacedOutput {
   }
 
  private:
-  xr::DesktopWindow& window_;
+  xr::desktop::DesktopWindow& window_;
 };
 
 }  // namespace
@@ -79,7 +79,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   if (!desktopParseSize(o.window_size, win_w, win_h))
     return fail(1, "--window-size '" + o.window_size + "' is not WxH (1..8192)");
   std::string error;
-  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
   if (!render) return fail(1, error);
   auto calibration = calib::loadCalibrationFile(o.calib);
   if (!calibration) return fail(1, calibration.error().describe());
@@ -90,10 +90,10 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (ec) return fail(1, o.out_dir + ": " + ec.message());
   }
 
-  auto window = xr::DesktopWindow::create(win_w, win_h, "telesphere-xr desktop", &error);
+  auto window = xr::desktop::DesktopWindow::create(win_w, win_h, "telesphere-xr desktop", &error);
   if (!window) return fail(2, error);
-  xr::VirtualHead head;
-  xr::PacedOutputOptions paced;  // about 100° × 104° like the paper's headset, at this aspect
+  xr::desktop::VirtualHead head;
+  xr::frame_loop::PacedOutputOptions paced;  // about 100° × 104° like the paper's headset, at this aspect
   paced.rate_hz = o.rate_hz;
   paced.ipd = o.ipd;
   paced.eye_width = eye_w;
@@ -101,12 +101,12 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   DesktopOutput output(paced, [&](double) { return head.pose(); }, *window);
   if (!output.complete()) return fail(3, "cannot create " + o.eye_size + " eye targets");
 
-  xr::OperatorViewOptions view_options;
+  xr::frame_loop::OperatorViewOptions view_options;
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
-  xr::OperatorView view(*calibration, view_options);
-  xr::OperatorLoop loop(view, output);
+  xr::frame_loop::OperatorView view(*calibration, view_options);
+  xr::frame_loop::OperatorLoop loop(view, output);
   std::cout << "telesphere-xr desktop: W/A/S/D walk, R/F up/down, drag with the left mouse button to look, "
                "N capture the nominal pose, M cycle the mode, +/- sphere radius, Home reset, Esc quit"
             << std::endl;
@@ -125,7 +125,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     window->pollEvents();
     head.step(window->headInput(), std::chrono::duration<double>(now - last).count());
     last = now;
-    const xr::DesktopCommands commands = window->takeCommands();
+    const xr::desktop::DesktopCommands commands = window->takeCommands();
     if (commands.quit) break;
     if (commands.reset_head) head.reset();
     if (commands.capture_nominal) view.requestCaptureNominal();
@@ -140,11 +140,11 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (done - last_title >= std::chrono::seconds(1)) {
       const std::uint64_t frames = loop.stats().frames;
       char title[256];
-      const xr::RenderSettings& s = view.settings();
+      const xr::render::RenderSettings& s = view.settings();
       char robot[64] = "";
       if (!view.hasImage())
         std::snprintf(robot, sizeof robot, " — waiting for the robot");
-      else if (view.secondsWithoutNewFrame() > xr::OperatorView::kSilentRobotS)
+      else if (view.secondsWithoutNewFrame() > xr::frame_loop::OperatorView::kSilentRobotS)
         std::snprintf(robot, sizeof robot, " — robot silent for %.0f s", view.secondsWithoutNewFrame());
       std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m%s",
                     double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
@@ -156,9 +156,9 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   }
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
-  const xr::OperatorLoopStats loop_stats = loop.stats();
+  const xr::frame_loop::OperatorLoopStats loop_stats = loop.stats();
   const std::uint64_t frames = loop_stats.frames, missed = loop_stats.missed_frames;
-  const xr::OperatorViewStats s = view.stats();
+  const xr::frame_loop::OperatorViewStats s = view.stats();
   std::printf("desktop: %llu frames, %.1f fps, render+present ms p50/p99 %.1f/%.1f, %llu missed at %.0f Hz, "
               "%llu camera frames shown, image age p50/p99 %.1f/%.1f ms, %llu head targets sent, nominal from the "
               "robot: %s\n",
@@ -179,7 +179,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
               {"head_pitch", head.pitch()},
               {"last_control", view.lastControlResult()}});
     std::ofstream(o.out_dir + "/stats.json") << j.dump(2) << '\n';
-    if (code == 0 && !xr::writeEyesPng(o.out_dir + "/eyes_last.png", output.left(), output.right(), &error))
+    if (code == 0 && !xr::frame_loop::writeEyesPng(o.out_dir + "/eyes_last.png", output.left(), output.right(), &error))
       code = fail(3, error);
   }
   return code;

@@ -14,7 +14,7 @@
 
 #include "app/operator_stats_json.h"
 #include "calib/calibration_file.h"
-#include "xr/operator/offscreen_operator.h"
+#include "xr/frame_loop/offscreen_operator.h"
 #include "xr/replay/offline_replay.h"
 
 namespace telesphere::app {
@@ -66,7 +66,7 @@ int fail(int code, const std::string& message) {
 }
 
 /// The rows live runs and replays share.
-void printViewTable(const xr::OperatorViewStats& v) {
+void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
   std::printf("| figure | value |\n|---|---:|\n");
   std::printf("| display frames | %llu |\n| render ms p50 / p99 (both eyes) | %.1f / %.1f |\n",
               static_cast<unsigned long long>(v.frames), v.render_ms_p50, v.render_ms_p99);
@@ -76,8 +76,8 @@ void printViewTable(const xr::OperatorViewStats& v) {
 }
 
 int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::SystemCalibration>& calibration,
-              const xr::PacedOutputOptions& display, const xr::RenderSettings& render) {
-  xr::OfflineReplayOptions options;
+              const xr::frame_loop::PacedOutputOptions& display, const xr::render::RenderSettings& render) {
+  xr::replay::OfflineReplayOptions options;
   options.recording = o.replay;
   options.display = display;
   options.render = render;
@@ -94,20 +94,20 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
   };
   std::string error;
   if (!o.trajectory.empty()) {
-    options.trajectory = xr::HeadTrajectory::load(o.trajectory, &error);
+    options.trajectory = xr::frame_loop::HeadTrajectory::load(o.trajectory, &error);
     if (!options.trajectory) return fail(1, error);
   }
   if (!o.views.empty()) {
     if (!o.trajectory.empty()) return fail(1, "--views brings the live run's head poses: not with --trajectory");
     if (o.out_dir.empty()) return fail(1, "--views renders PNGs: give --out DIR");
-    auto views = xr::loadLoggedViews(o.views, &error);
+    auto views = xr::frame_loop::loadLoggedViews(o.views, &error);
     if (!views) return fail(1, error);
     if (views->empty()) return fail(1, o.views + ": no views (was the live run given --png-every?)");
     options.views = std::move(*views);
   }
-  const auto stats = xr::runOfflineReplay(calibration, options, g_offscreen_stop, &error);
+  const auto stats = xr::replay::runOfflineReplay(calibration, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos ? 2 : 3, error);
-  const xr::OperatorViewStats& v = stats->view;
+  const xr::frame_loop::OperatorViewStats& v = stats->view;
   printViewTable(v);
   std::printf("| recording rendered, s | %.2f |\n| recorded frames read / undecodable | %llu / %llu |\n",
               stats->recording_s, static_cast<unsigned long long>(stats->recorded_frames),
@@ -160,12 +160,12 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
     return fail(1, "--calib FILE is needed (a replay takes the recording's own)");
   }
   std::string error;
-  xr::PacedOutputOptions display;
+  xr::frame_loop::PacedOutputOptions display;
   if (std::sscanf(o.eye_size.c_str(), "%dx%d", &display.eye_width, &display.eye_height) != 2 ||
       display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
     return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
   display.rate_hz = o.rate_hz;
-  const auto render = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
   if (!render) return fail(1, error);
   if (!o.out_dir.empty()) {
     std::error_code ec;
@@ -176,11 +176,11 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   std::signal(SIGTERM, onOffscreenSignal);
   if (!o.replay.empty()) return runReplay(o, calibration, display, *render);
 
-  std::optional<xr::HeadTrajectory> trajectory =
-      o.trajectory.empty() ? std::optional<xr::HeadTrajectory>(xr::HeadTrajectory::demo())
-                           : xr::HeadTrajectory::load(o.trajectory, &error);
+  std::optional<xr::frame_loop::HeadTrajectory> trajectory =
+      o.trajectory.empty() ? std::optional<xr::frame_loop::HeadTrajectory>(xr::frame_loop::HeadTrajectory::demo())
+                           : xr::frame_loop::HeadTrajectory::load(o.trajectory, &error);
   if (!trajectory) return fail(1, error);
-  xr::OffscreenOperatorOptions options;
+  xr::frame_loop::OffscreenOperatorOptions options;
   options.endpoints.host = o.host;
   options.endpoints.base_port = o.port;
   options.display = display;
@@ -191,10 +191,10 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.truth_every_frames = o.truth_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
   options.png_dir = o.out_dir;
-  const auto stats = xr::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
+  const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 
-  const xr::OperatorViewStats& v = stats->view;
+  const xr::frame_loop::OperatorViewStats& v = stats->view;
   printViewTable(v);
   std::printf("| fps | %.1f |\n| missed frames at %.0f Hz | %llu |\n", stats->fps, o.rate_hz,
               static_cast<unsigned long long>(stats->missed_frames));

@@ -27,8 +27,8 @@
 #include "xr/openxr/openxr_run.h"
 #include "xr/openxr/openxr_session.h"
 #include "xr/openxr/openxr_test_scene_view.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/operator_view.h"
 
 namespace telesphere::app {
 namespace {
@@ -79,12 +79,12 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
 
 int runOpenXrCommand(const OpenXrCommandOptions& o) {
   std::string error;
-  const auto parsed = xr::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
   if (!parsed) return openXrFail(1, error);
-  xr::OpenXrOptions options;
-  if (o.colour == "auto") options.colour = xr::SwapchainColour::kAuto;
-  else if (o.colour == "srgb") options.colour = xr::SwapchainColour::kSrgb;
-  else if (o.colour == "linear") options.colour = xr::SwapchainColour::kLinear;
+  xr::openxr::OpenXrOptions options;
+  if (o.colour == "auto") options.colour = xr::openxr::SwapchainColour::kAuto;
+  else if (o.colour == "srgb") options.colour = xr::openxr::SwapchainColour::kSrgb;
+  else if (o.colour == "linear") options.colour = xr::openxr::SwapchainColour::kLinear;
   else return openXrFail(1, "--swapchain-colour must be auto, srgb or linear, got \"" + o.colour + "\"");
   if (o.frames < 0) return openXrFail(1, "--frames must be >= 0");
   if (o.test_scene == !o.calib.empty())
@@ -101,12 +101,12 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   if (o.binding != "auto" && o.binding != "egl" && o.binding != "glx")
     return openXrFail(1, "--binding must be auto, egl or glx, got \"" + o.binding + "\"");
   bool glx = o.binding == "glx";
-  if (o.binding == "auto") glx = !xr::openXrRuntimeOffers("XR_MNDX_egl_enable").value_or(true);
-  std::unique_ptr<xr::DesktopWindow> window;
+  if (o.binding == "auto") glx = !xr::openxr::openXrRuntimeOffers("XR_MNDX_egl_enable").value_or(true);
+  std::unique_ptr<xr::desktop::DesktopWindow> window;
   std::unique_ptr<gl::EglContext> context;
   if (o.mirror || glx) {
-    window = xr::DesktopWindow::create(1280, 720, "telesphere-xr openxr — mirror", &error,
-                                       glx ? xr::DesktopContextApi::kGlx : xr::DesktopContextApi::kEgl);
+    window = xr::desktop::DesktopWindow::create(1280, 720, "telesphere-xr openxr — mirror", &error,
+                                       glx ? xr::desktop::DesktopContextApi::kGlx : xr::desktop::DesktopContextApi::kEgl);
     if (!window)
       return openXrFail(2, (glx ? "the GLX binding needs a window: " : "no mirror window: ") + error);
   } else {
@@ -115,27 +115,27 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   }
   OpenXrEyeWork work(o, *parsed);
   if (const int code = work.prepare(&error)) return openXrFail(code, error);
-  xr::OpenXrOutput output([&](const xr::OpenXrEye& eye, std::string* eye_error) { return work.afterEye(eye, eye_error); },
-                          [&](const xr::OpenXrEye& eye) { work.readBack(eye); });
-  xr::OperatorLoop loop(work.scene(), output);
+  xr::openxr::OpenXrOutput output([&](const xr::openxr::OpenXrEye& eye, std::string* eye_error) { return work.afterEye(eye, eye_error); },
+                          [&](const xr::openxr::OpenXrEye& eye) { work.readBack(eye); });
+  xr::frame_loop::OperatorLoop loop(work.scene(), output);
 
-  xr::OpenXrRunOptions run_options;
+  xr::openxr::OpenXrRunOptions run_options;
   run_options.session = options;
   run_options.frames = std::uint64_t(o.frames);
   run_options.exit_timeout_s = o.exit_timeout_s;
   run_options.reconnect_s = o.reconnect_s;
-  xr::OpenXrRunHooks hooks;
+  xr::openxr::OpenXrRunHooks hooks;
   if (window) hooks.between_frames = [&] { return work.betweenFrames(*window); };
   hooks.capture_nominal = [&] {
     if (!work.view()) return;
     std::cout << "controller: capture the nominal pose" << std::endl;
     work.view()->requestCaptureNominal();
   };
-  hooks.session_started = [&](const xr::OpenXrSession& session, int number) {
+  hooks.session_started = [&](const xr::openxr::OpenXrSession& session, int number) {
     work.newSession(number);
     std::cout << "session " << number << ": runtime: " << session.runtimeName() << "; system: " << session.systemName()
               << "; binding: " << session.graphicsBinding() << "; space: " << session.referenceSpace()
-              << "; swapchain: " << xr::glFormatName(session.swapchainFormat().format) << " " << session.eyeWidth()
+              << "; swapchain: " << xr::openxr::glFormatName(session.swapchainFormat().format) << " " << session.eyeWidth()
               << "x" << session.eyeHeight() << " per eye" << std::endl;
   };
   hooks.note = [](const std::string& line, bool is_error) {
@@ -146,15 +146,15 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
   std::signal(SIGINT, onOpenXrInterrupt);
   std::signal(SIGTERM, onOpenXrInterrupt);
   const auto t0 = std::chrono::steady_clock::now();
-  const xr::OpenXrRunResult run = xr::runOpenXrSessions(output, loop, run_options, hooks, g_openxr_stop);
+  const xr::openxr::OpenXrRunResult run = xr::openxr::runOpenXrSessions(output, loop, run_options, hooks, g_openxr_stop);
   std::signal(SIGINT, SIG_DFL);
   std::signal(SIGTERM, SIG_DFL);
   int code = 0;
   switch (run.end) {
-    case xr::OpenXrRunEnd::kFinished: break;
-    case xr::OpenXrRunEnd::kFailed: code = openXrFail(3, run.error); break;
-    case xr::OpenXrRunEnd::kRuntimeGone: code = openXrFail(4, run.error); break;
-    case xr::OpenXrRunEnd::kNoRuntime: code = openXrFail(5, run.error); break;
+    case xr::openxr::OpenXrRunEnd::kFinished: break;
+    case xr::openxr::OpenXrRunEnd::kFailed: code = openXrFail(3, run.error); break;
+    case xr::openxr::OpenXrRunEnd::kRuntimeGone: code = openXrFail(4, run.error); break;
+    case xr::openxr::OpenXrRunEnd::kNoRuntime: code = openXrFail(5, run.error); break;
   }
   if (run.sessions == 0) return code;  // the one message above says why
   std::cout << "frames: requested " << o.frames << ", waited " << run.waited << ", submitted " << run.submitted
@@ -173,8 +173,8 @@ int runOpenXrCommand(const OpenXrCommandOptions& o) {
                       {"fps", run.fps},
                       {"run_s", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                       {"focused", run.focused_ever}};
-  if (xr::OperatorView* view = work.view()) {
-    const xr::OperatorViewStats s = view->stats();
+  if (xr::frame_loop::OperatorView* view = work.view()) {
+    const xr::frame_loop::OperatorViewStats s = view->stats();
     std::cout << "robot frames: " << s.stereo_frames_shown << " shown; image age p50/p99 " << s.image_age_p50_ms
               << "/" << s.image_age_p99_ms << " ms; head-pose → display " << s.pose_to_display_ms_p50
               << " ms; head targets sent " << s.head_targets_sent << "; nominal from the robot "

@@ -291,7 +291,7 @@ nlohmann::json runCodec(const BenchContext& ctx) {
 
   // Encode and decode on one core, at the operating point: quality 90, 4:2:0.
   robot::video::JpegEncoder encoder;
-  xr::JpegDecoder decoder;
+  xr::video::JpegDecoder decoder;
   std::vector<std::uint8_t> jpeg;
   std::string error;
   const auto encode = [&](int quality, bool c444) {
@@ -300,26 +300,26 @@ nlohmann::json runCodec(const BenchContext& ctx) {
   };
   const Rate enc = measure(reps, [&] { encode(90, false); });
   const std::vector<std::uint8_t> jpeg90 = jpeg;
-  xr::YuvPlanes planes;
+  xr::render::YuvPlanes planes;
   const Rate dec = measure(reps, [&] {
-    if (decoder.decode(jpeg90, img.width, img.height, 8192, planes, &error) != xr::JpegDecodeError::kNone)
+    if (decoder.decode(jpeg90, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
       throw std::runtime_error("codec: decode: " + error);
   });
 
   // The pool on all cores: keep every worker busy with the same frame.
-  xr::DecodePool pool;
+  xr::video::DecodePool pool;
   const int pool_jobs = pool.threads() * (ctx.quick ? 3 : 20);
   const auto pool_batch = [&](int n) {
-    std::vector<std::future<xr::DecodeResult>> futures;
+    std::vector<std::future<xr::video::DecodeResult>> futures;
     for (int i = 0; i < n; ++i) {
-      xr::DecodeJob job;
+      xr::video::DecodeJob job;
       job.jpeg = jpeg90;
       job.expected_width = img.width;
       job.expected_height = img.height;
       futures.push_back(pool.submit(job));
     }
     for (auto& f : futures)
-      if (f.get().error != xr::JpegDecodeError::kNone) throw std::runtime_error("codec: pool decode failed");
+      if (f.get().error != xr::video::JpegDecodeError::kNone) throw std::runtime_error("codec: pool decode failed");
   };
   pool_batch(pool.threads());  // warm-up
   const double pw0 = wallSeconds(), pc0 = processCpuSeconds();
@@ -360,7 +360,7 @@ nlohmann::json runCodec(const BenchContext& ctx) {
     for (int q : qualities) {
       const Rate e = measure(qreps, [&] { encode(q, c444); });
       const Rate d = measure(qreps, [&] {
-        if (decoder.decode(jpeg, img.width, img.height, 8192, planes, &error) != xr::JpegDecodeError::kNone)
+        if (decoder.decode(jpeg, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
           throw std::runtime_error("codec: decode: " + error);
       });
       const double psnr_y = psnr(luma.data(), planes.y.data(), luma.size());

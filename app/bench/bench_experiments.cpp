@@ -370,16 +370,16 @@ std::vector<GammaPoint> gammaOnRenderer(const BenchContext& ctx, std::string* er
   const int cw = 1280, ch = 720;
   const auto scaled = calib::atResolution(calibration->cameras[0], cw, ch, error);
   if (!scaled) return {};
-  xr::GpuCamera gpu(scaled->camera, cw, ch);
-  if (!gpu.upload(xr::SourceImage::pixelCoordinates(cw, ch), error)) return {};
-  xr::SphericalRenderer renderer;
-  xr::RenderSettings settings;
+  xr::render::GpuCamera gpu(scaled->camera, cw, ch);
+  if (!gpu.upload(xr::render::SourceImage::pixelCoordinates(cw, ch), error)) return {};
+  xr::render::SphericalRenderer renderer;
+  xr::render::RenderSettings settings;
   settings.radius = kRadius;
   settings.border_rgba.setZero();
-  xr::EyeView view;
+  xr::render::EyeView view;
   view.width = view.height = ctx.quick ? 400 : 800;
   view.fov = {-0.3, 0.3, 0.3, -0.3};
-  view.T_cam_eye = Eigen::Isometry3d(xr::kR_optical_view);
+  view.T_cam_eye = Eigen::Isometry3d(xr::render::kR_optical_view);
   view.T_cam_eye.translation() = Eigen::Vector3d(kDx, 0, 0);
   gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
   if (!renderer.render(gpu, view, settings, target.framebuffer(), error)) return {};
@@ -410,11 +410,11 @@ std::vector<GammaPoint> gammaOnRenderer(const BenchContext& ctx, std::string* er
     J.col(1) = 0.5 * (at(best_col, best_row + 1) - at(best_col, best_row - 1));
     const Eigen::Vector2d step = J.inverse() * (target_px - at(best_col, best_row));
     const Eigen::Vector3d ray_view =
-        xr::eyeRay(view.fov, view.width, view.height, best_col + step.x(), best_row + step.y()).normalized();
+        xr::render::eyeRay(view.fov, view.width, view.height, best_col + step.x(), best_row + step.y()).normalized();
     const Eigen::Vector3d ray_cam = view.T_cam_eye.linear() * ray_view;
     const Eigen::Vector3d truth = (p_cam - view.T_cam_eye.translation()).normalized();
     const double measured = std::atan2(ray_cam.cross(truth).norm(), ray_cam.dot(truth)) * 180.0 / M_PI;
-    points.push_back({d, measured, std::abs(xr::constantDistanceAngularError(d, kDx, kRadius)) * 180.0 / M_PI});
+    points.push_back({d, measured, std::abs(xr::render::constantDistanceAngularError(d, kDx, kRadius)) * 180.0 / M_PI});
   }
   return points;
 }
@@ -549,7 +549,7 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
     measured.points = true;
     for (const auto& g : gamma) measured.x.push_back(g.d_m), measured.y.push_back(g.measured_deg);
     for (double d = 0.3; d <= 30.0; d *= 1.05)
-      eq4.x.push_back(d), eq4.y.push_back(std::abs(xr::constantDistanceAngularError(d, 0.1, 1.0)) * 180.0 / M_PI);
+      eq4.x.push_back(d), eq4.y.push_back(std::abs(xr::render::constantDistanceAngularError(d, 0.1, 1.0)) * 180.0 / M_PI);
     Figure f{"Angular error γ, eye 10 cm off the camera, r = 1 m (experiment 4, paper Fig. 5)", "object distance d (m)",
              "γ (deg)", "", {eq4, measured}};
     f.log_x = true;

@@ -35,9 +35,9 @@ struct PipelineResolution {
 double codecFloorMs(const robot::cameras::CameraFrame& frame, const robot::video::JpegSettings& settings, int reps,
                     std::size_t* jpeg_bytes) {
   robot::video::JpegEncoder encoder;
-  xr::JpegDecoder decoder;
+  xr::video::JpegDecoder decoder;
   std::vector<std::uint8_t> jpeg;
-  xr::YuvPlanes planes;
+  xr::render::YuvPlanes planes;
   std::vector<double> ms;
   std::string error;
   for (int i = 0; i < reps + 1; ++i) {
@@ -56,7 +56,7 @@ struct PipelineRun {
   double rate_hz = 0;
   std::uint64_t sent = 0, decoded_seen = 0, camera_lost = 0, dropped = 0;
   double p50_ms = 0, p99_ms = 0, bandwidth_mb_s = 0;
-  xr::StereoDecodeStats decode;
+  xr::video::StereoDecodeStats decode;
   bool sustained = false;
 };
 
@@ -67,7 +67,7 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
   endpoints.base_port = port;
   ReplayVideoSource robot_side(endpoints, left_frames, right_frames, rate_hz, {}, 300ms);
   link::LinkClient client(endpoints);
-  xr::StereoFrameDecoder decoder(client);
+  xr::video::StereoFrameDecoder decoder(client);
 
   // Warm-up: the first second is not counted (connections, caches, buffer pools).
   const auto warm_end = std::chrono::steady_clock::now() + 300ms + 1s;
@@ -96,7 +96,7 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
   run.camera_lost = robot_side.left.stats().lost + robot_side.right.stats().lost - lost_at_warm;
   run.decoded_seen = latency_ms.size();
   run.dropped = run.sent > run.decoded_seen ? run.sent - run.decoded_seen : 0;
-  const xr::LatencyFigure latency = xr::latencyFigure(latency_ms);
+  const xr::video::LatencyFigure latency = xr::video::latencyFigure(latency_ms);
   run.p50_ms = latency.p50_ms;
   run.p99_ms = latency.p99_ms;
   const double mean_bytes = latency_ms.empty() ? 0.0 : double(bytes) / double(latency_ms.size());
@@ -107,7 +107,7 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
   return run;
 }
 
-std::string ms(const xr::LatencyFigure& f) {
+std::string ms(const xr::video::LatencyFigure& f) {
   return formatNumber(f.p50_ms) + " / " + formatNumber(f.p99_ms);
 }
 

@@ -56,14 +56,14 @@ std::vector<double> interleavedMedianMs(int rounds, const std::vector<std::funct
 
 /// An eye of the given size with a headset-like asymmetric field of view and a head that has
 /// moved 2.5 cm and turned 0.3 rad away from the camera pose.
-xr::EyeView eyeView(int width, int height, double side) {
-  xr::EyeView view;
+xr::render::EyeView eyeView(int width, int height, double side) {
+  xr::render::EyeView view;
   view.fov = {side < 0 ? -0.96 : -0.82, side < 0 ? 0.82 : 0.96, 0.9, -0.92};
   view.width = width;
   view.height = height;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d(0.3, 1, 0).normalized()).toRotationMatrix() *
-               xr::kR_optical_view;
+               xr::render::kR_optical_view;
   T.translation() << 0.015 * side, -0.01, 0.015;
   view.T_cam_eye = T;
   return view;
@@ -71,7 +71,7 @@ xr::EyeView eyeView(int width, int height, double side) {
 
 /// Window pixel (GL, origin bottom left) → normalised texture coordinate of a pinhole camera with
 /// the lens's fx, fy, cx, cy, seen through the eye's rotation.
-Eigen::Matrix3d floorHomography(const xr::EyeView& view, const calib::GenericCamera& camera) {
+Eigen::Matrix3d floorHomography(const xr::render::EyeView& view, const calib::GenericCamera& camera) {
   const Eigen::VectorXd p = camera.params();
   const double tl = std::tan(view.fov.angle_left), tr = std::tan(view.fov.angle_right);
   const double td = std::tan(view.fov.angle_down), tu = std::tan(view.fov.angle_up);
@@ -108,11 +108,11 @@ nlohmann::json runRender(const BenchContext& ctx) {
   const int error_div = ctx.quick ? 4 : 1;
 
   // Two cameras (one per eye), each with its own 4K image, as in the real stereo setup.
-  const xr::SourceImage image = xr::SourceImage::rgb8(kCamWidth, kCamHeight, picture(kCamWidth, kCamHeight));
-  xr::GpuCamera cam_l(camera, kCamWidth, kCamHeight), cam_r(camera, kCamWidth, kCamHeight);
+  const xr::render::SourceImage image = xr::render::SourceImage::rgb8(kCamWidth, kCamHeight, picture(kCamWidth, kCamHeight));
+  xr::render::GpuCamera cam_l(camera, kCamWidth, kCamHeight), cam_r(camera, kCamWidth, kCamHeight);
   if (!cam_l.upload(image, &error) || !cam_r.upload(image, &error)) throw std::runtime_error(error);
-  const xr::SourceImage coordinates = xr::SourceImage::pixelCoordinates(kCamWidth, kCamHeight);
-  xr::GpuCamera cam_coords(camera, kCamWidth, kCamHeight);
+  const xr::render::SourceImage coordinates = xr::render::SourceImage::pixelCoordinates(kCamWidth, kCamHeight);
+  xr::render::GpuCamera cam_coords(camera, kCamWidth, kCamHeight);
   if (!cam_coords.upload(coordinates, &error)) throw std::runtime_error(error);
 
   auto homography = gl::loadProgram("fullscreen.vert", "homography.frag", {}, &error);
@@ -129,7 +129,7 @@ nlohmann::json runRender(const BenchContext& ctx) {
     glTextureSubImage2D(t, 0, 0, 0, kCamWidth, kCamHeight, GL_RGB, GL_UNSIGNED_BYTE, image.bytes.data());
   }
 
-  xr::SphericalRenderer renderer;
+  xr::render::SphericalRenderer renderer;
   Table table({"path", "eye size", "ms / stereo frame", "vs floor", "max err px", "mean err px"});
   nlohmann::json json;
   json["renderer"] = context->renderer();
@@ -138,8 +138,8 @@ nlohmann::json runRender(const BenchContext& ctx) {
 
   for (const EyeSize& size : sizes) {
     gl::OffscreenTarget target_l(size.width, size.height), target_r(size.width, size.height);
-    const xr::EyeView view_l = eyeView(size.width, size.height, -1.0);
-    const xr::EyeView view_r = eyeView(size.width, size.height, 1.0);
+    const xr::render::EyeView view_l = eyeView(size.width, size.height, -1.0);
+    const xr::render::EyeView view_r = eyeView(size.width, size.height, 1.0);
 
     // The floor: the homography a planar timewarp would apply for this eye if the camera were
     // a pinhole with the lens's focal length and principal point (so it samples the texture at
@@ -163,12 +163,12 @@ nlohmann::json runRender(const BenchContext& ctx) {
       glFinish();
       glUseProgram(0);
     });
-    const std::vector<xr::RenderPath> paths = {xr::RenderPath::kExact, xr::RenderPath::kMesh,
-                                               xr::RenderPath::kLut};
+    const std::vector<xr::render::RenderPath> paths = {xr::render::RenderPath::kExact, xr::render::RenderPath::kMesh,
+                                               xr::render::RenderPath::kLut};
     bool ok = true;
-    for (xr::RenderPath path : paths)
+    for (xr::render::RenderPath path : paths)
       variants.push_back([&, path] {
-        xr::RenderSettings settings;
+        xr::render::RenderSettings settings;
         settings.path = path;
         ok &= renderer.render(cam_l, view_l, settings, target_l.framebuffer(), &error);
         ok &= renderer.render(cam_r, view_r, settings, target_r.framebuffer(), &error);
@@ -181,19 +181,19 @@ nlohmann::json runRender(const BenchContext& ctx) {
     json["sizes"][size.name]["floor_ms"] = floor_ms;
 
     for (std::size_t k = 0; k < paths.size(); ++k) {
-      const xr::RenderPath path = paths[k];
+      const xr::render::RenderPath path = paths[k];
       // Accuracy: the projection map of the left eye against the reference.
-      xr::EyeView err_view = eyeView(size.width / error_div, size.height / error_div, -1.0);
-      xr::RenderSettings err_settings;
+      xr::render::EyeView err_view = eyeView(size.width / error_div, size.height / error_div, -1.0);
+      xr::render::RenderSettings err_settings;
       err_settings.path = path;
       err_settings.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
       gl::OffscreenTarget map(err_view.width, err_view.height, GL_RGBA32F);
       if (!renderer.render(cam_coords, err_view, err_settings, map.framebuffer(), &error))
         throw std::runtime_error(error);
-      const xr::ProjectionMapError e =
-          xr::compareProjectionMap(map.readRgbaF(), camera, coordinates, err_view, err_settings);
+      const xr::render::ProjectionMapError e =
+          xr::render::compareProjectionMap(map.readRgbaF(), camera, coordinates, err_view, err_settings);
 
-      const std::string name(xr::renderPathName(path));
+      const std::string name(xr::render::renderPathName(path));
       const double path_ms = ms[k + 1];
       table.addRow({name, size.name, formatNumber(path_ms), formatNumber(path_ms / floor_ms),
                     formatNumber(e.max_px, 2), formatNumber(e.mean_px, 2)});
@@ -202,7 +202,7 @@ nlohmann::json runRender(const BenchContext& ctx) {
                                         {"max_error_px", e.max_px},
                                         {"mean_error_px", e.mean_px},
                                         {"validity_mismatch_pixels", e.validity_mismatch}};
-      if (size.width == 1440 && path == xr::RenderPath::kExact) {
+      if (size.width == 1440 && path == xr::render::RenderPath::kExact) {
         json["exact_max_error_px"] = e.max_px;
         json["exact_cost_vs_warp"] = path_ms / floor_ms;
       }

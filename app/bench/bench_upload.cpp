@@ -88,7 +88,7 @@ std::vector<std::uint8_t> encodeJpeg420(const std::vector<std::uint8_t>& rgb, in
 
 /// A stereo pair being decoded.
 struct PairInFlight {
-  std::future<xr::DecodeResult> left, right;
+  std::future<xr::video::DecodeResult> left, right;
   bool ready() const {
     return left.wait_for(std::chrono::seconds(0)) == std::future_status::ready &&
            right.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
@@ -99,8 +99,8 @@ struct PairInFlight {
 /// that finds them all busy is skipped, as the operator's decoder keeps only the newest).
 class CameraFeed {
  public:
-  CameraFeed(xr::DecodePool& pool, const std::vector<std::vector<std::uint8_t>>& jpegs,
-             std::shared_ptr<xr::UploadSlotSource> slots)
+  CameraFeed(xr::video::DecodePool& pool, const std::vector<std::vector<std::uint8_t>>& jpegs,
+             std::shared_ptr<xr::render::UploadSlotSource> slots)
       : pool_(pool), jpegs_(jpegs), slots_(std::move(slots)), thread_([this] { run(); }) {}
   ~CameraFeed() {
     stop_ = true;
@@ -135,8 +135,8 @@ class CameraFeed {
       pending_.push_back(std::move(pair));
     }
   }
-  xr::DecodeJob job(const std::vector<std::uint8_t>& jpeg) const {
-    xr::DecodeJob j;
+  xr::video::DecodeJob job(const std::vector<std::uint8_t>& jpeg) const {
+    xr::video::DecodeJob j;
     j.jpeg = jpeg;
     j.expected_width = kCamWidth;
     j.expected_height = kCamHeight;
@@ -144,9 +144,9 @@ class CameraFeed {
     return j;
   }
 
-  xr::DecodePool& pool_;
+  xr::video::DecodePool& pool_;
   const std::vector<std::vector<std::uint8_t>>& jpegs_;
-  std::shared_ptr<xr::UploadSlotSource> slots_;
+  std::shared_ptr<xr::render::UploadSlotSource> slots_;
   std::mutex mutex_;
   std::deque<PairInFlight> pending_;
   std::atomic<bool> stop_{false};
@@ -154,13 +154,13 @@ class CameraFeed {
   std::thread thread_;  ///< last: starts once the rest is made
 };
 
-xr::EyeView eyeView(double side) {
-  xr::EyeView view;
+xr::render::EyeView eyeView(double side) {
+  xr::render::EyeView view;
   view.fov = {side < 0 ? -0.96 : -0.82, side < 0 ? 0.82 : 0.96, 0.9, -0.92};
   view.width = kEyeWidth;
   view.height = kEyeHeight;
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = xr::kR_optical_view;
+  T.linear() = xr::render::kR_optical_view;
   T.translation() << 0.032 * side, 0, 0;
   view.T_cam_eye = T;
   return view;
@@ -175,20 +175,20 @@ struct WayFigures {
 WayFigures runWay(const calib::GenericCamera& camera, const std::vector<std::vector<std::uint8_t>>& jpegs,
                   int ring_slots, int pool_threads, double seconds) {
   std::string error;
-  xr::UploadRing ring(ring_slots);  // first: outlives the planes that use its slots
-  xr::SphericalRenderer renderer;
-  std::array<xr::GpuCamera, 2> cameras{xr::GpuCamera(camera, kCamWidth, kCamHeight),
-                                       xr::GpuCamera(camera, kCamWidth, kCamHeight)};
+  xr::render::UploadRing ring(ring_slots);  // first: outlives the planes that use its slots
+  xr::render::SphericalRenderer renderer;
+  std::array<xr::render::GpuCamera, 2> cameras{xr::render::GpuCamera(camera, kCamWidth, kCamHeight),
+                                       xr::render::GpuCamera(camera, kCamWidth, kCamHeight)};
   for (auto& c : cameras)
-    if (!renderer.prepare(c, xr::RenderPath::kExact, &error)) throw std::runtime_error(error);
+    if (!renderer.prepare(c, xr::render::RenderPath::kExact, &error)) throw std::runtime_error(error);
   gl::OffscreenTarget target_l(kEyeWidth, kEyeHeight), target_r(kEyeWidth, kEyeHeight);
-  const xr::EyeView view_l = eyeView(-1), view_r = eyeView(1);
-  const xr::RenderSettings settings;
+  const xr::render::EyeView view_l = eyeView(-1), view_r = eyeView(1);
+  const xr::render::RenderSettings settings;
 
   WayFigures figures;
-  std::array<std::shared_ptr<const xr::YuvPlanes>, 2> shown_planes;  // held while on show, as the renderer's frame
+  std::array<std::shared_ptr<const xr::render::YuvPlanes>, 2> shown_planes;  // held while on show, as the renderer's frame
   {
-    xr::DecodePool pool(pool_threads);
+    xr::video::DecodePool pool(pool_threads);
     CameraFeed feed(pool, jpegs, ring.source());
     const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / kDisplayHz));
     const auto start = Clock::now();
@@ -198,16 +198,16 @@ WayFigures runWay(const calib::GenericCamera& camera, const std::vector<std::vec
       ring.reclaim();
       bool new_image = false;
       if (auto pair = feed.takeNewestReady()) {
-        std::array<xr::DecodeResult, 2> results{pair->left.get(), pair->right.get()};
+        std::array<xr::video::DecodeResult, 2> results{pair->left.get(), pair->right.get()};
         for (const auto& r : results) {
-          if (r.error != xr::JpegDecodeError::kNone) throw std::runtime_error("decode: " + r.message);
+          if (r.error != xr::video::JpegDecodeError::kNone) throw std::runtime_error("decode: " + r.message);
           figures.decode_ms.push_back(r.decode_ms);
           (r.in_upload_slot ? figures.images_in_slots : figures.images_own) += 1;
         }
         if (ring.source() && !ring.prepare(results[0].planes->layout(), &error)) throw std::runtime_error(error);
         const auto tu = Clock::now();
         for (int i = 0; i < 2; ++i) {
-          if (!cameras[std::size_t(i)].upload(xr::SourceImage::yuv(results[std::size_t(i)].planes), &error))
+          if (!cameras[std::size_t(i)].upload(xr::render::SourceImage::yuv(results[std::size_t(i)].planes), &error))
             throw std::runtime_error(error);
           if (results[std::size_t(i)].planes->slot) ring.fenceCopy(*results[std::size_t(i)].planes->slot);
         }

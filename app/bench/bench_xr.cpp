@@ -20,7 +20,7 @@
 #include "app/bench/bench_topic.h"
 #include "app/bench/prerendered_frames.h"
 #include "app/bench/replay_video_source.h"
-#include "xr/operator/offscreen_operator.h"
+#include "xr/frame_loop/offscreen_operator.h"
 
 namespace telesphere::bench {
 namespace {
@@ -76,9 +76,9 @@ nlohmann::json runXrBenchMonado(const BenchContext& ctx, int frames) {
 }
 
 struct XrBenchCase {
-  xr::RenderPath path;
+  xr::render::RenderPath path;
   int eye_width, eye_height;
-  int upload_ring_slots = xr::StereoViewRenderer::kDefaultUploadSlots;  ///< 0: from the decoder's memory
+  int upload_ring_slots = xr::frame_loop::StereoViewRenderer::kDefaultUploadSlots;  ///< 0: from the decoder's memory
 };
 
 nlohmann::json runXrBench(const BenchContext& ctx) {
@@ -90,11 +90,11 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
 
   // The first case is the default (its figures are the JSON's top level); the second is the
   // same without the upload ring, the knob the ring's figures are measured against.
-  std::vector<XrBenchCase> cases = {{xr::RenderPath::kExact, 1440, 1600}, {xr::RenderPath::kExact, 1440, 1600, 0}};
+  std::vector<XrBenchCase> cases = {{xr::render::RenderPath::kExact, 1440, 1600}, {xr::render::RenderPath::kExact, 1440, 1600, 0}};
   if (!ctx.quick) {
-    cases.push_back({xr::RenderPath::kMesh, 1440, 1600});
-    cases.push_back({xr::RenderPath::kLut, 1440, 1600});
-    cases.push_back({xr::RenderPath::kExact, 720, 800});
+    cases.push_back({xr::render::RenderPath::kMesh, 1440, 1600});
+    cases.push_back({xr::render::RenderPath::kLut, 1440, 1600});
+    cases.push_back({xr::render::RenderPath::kExact, 720, 800});
   }
   Table table({"path", "eye px", "new image via", "fps", "render ms p50", "p99", "missed @90 Hz",
                "camera frames shown", "image age p50 ms", "p99", "upload ms (render thread) p50", "p99",
@@ -102,7 +102,7 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
   nlohmann::json json;
   int port = 27600;
   for (const XrBenchCase& c : cases) {
-    ctx.out << "xr: " << xr::renderPathName(c.path) << " " << c.eye_width << "x" << c.eye_height << "…\n"
+    ctx.out << "xr: " << xr::render::renderPathName(c.path) << " " << c.eye_width << "x" << c.eye_height << "…\n"
             << std::flush;
     link::LinkEndpoints endpoints;
     endpoints.base_port = port;
@@ -117,7 +117,7 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
     ReplayVideoSource robot_side(endpoints, left_frames, right_frames, 45.0, poses, std::chrono::milliseconds(0));
     std::string error;
 
-    xr::OffscreenOperatorOptions options;
+    xr::frame_loop::OffscreenOperatorOptions options;
     options.endpoints = endpoints;
     options.display.eye_width = c.eye_width;
     options.display.eye_height = c.eye_height;
@@ -125,16 +125,16 @@ nlohmann::json runXrBench(const BenchContext& ctx) {
     options.render.path = c.path;
     options.upload_ring_slots = c.upload_ring_slots;
     const std::atomic<bool> stop{false};
-    const auto stats = xr::runOffscreenOperator(simulatedRig(cam_w, cam_h), xr::HeadTrajectory::demo(8.0),
+    const auto stats = xr::frame_loop::runOffscreenOperator(simulatedRig(cam_w, cam_h), xr::frame_loop::HeadTrajectory::demo(8.0),
                                                 options, stop, &error);
     if (!stats) {
       ctx.out << "xr: " << error << '\n';
       json["error"] = error;
       continue;
     }
-    const xr::OperatorViewStats& v = stats->view;
+    const xr::frame_loop::OperatorViewStats& v = stats->view;
     const std::string via = c.upload_ring_slots > 0 ? "ring of " + std::to_string(c.upload_ring_slots) : "decoder memory";
-    table.addRow({std::string(xr::renderPathName(c.path)), std::to_string(c.eye_width) + "x" + std::to_string(c.eye_height),
+    table.addRow({std::string(xr::render::renderPathName(c.path)), std::to_string(c.eye_width) + "x" + std::to_string(c.eye_height),
                   via, formatNumber(stats->fps), formatNumber(v.render_ms_p50), formatNumber(v.render_ms_p99),
                   std::to_string(stats->missed_frames), std::to_string(v.stereo_frames_shown),
                   formatNumber(v.image_age_p50_ms), formatNumber(v.image_age_p99_ms),

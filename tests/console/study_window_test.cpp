@@ -28,7 +28,7 @@
 #include "console/widgets/study_panel.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "tests/console/console_rig.h"
-#include "xr/operator/trial_indicator.h"
+#include "xr/frame_loop/trial_indicator.h"
 
 namespace telesphere::console {
 namespace {
@@ -179,7 +179,7 @@ TEST(StudyWindow, AWholeSessionFromModeSwitchToReport) {
     const QString newest_complete = pngs[pngs.size() - 2].filePath();  // the newest may be half written
     const QImage view(newest_complete);
     ASSERT_EQ(view.size(), QSize(480, 240));
-    const xr::TrialIndicatorGeometry g = xr::trialIndicatorGeometry(240, 240);
+    const xr::frame_loop::TrialIndicatorGeometry g = xr::frame_loop::trialIndicatorGeometry(240, 240);
     const int row = 240 - 1 - (g.y + g.height / 2);  // GL rows count from the bottom
     for (int eye = 0; eye < 2; ++eye) {
       const QColor filled = view.pixelColor(eye * 240 + g.x + 1, row);  // the bar's first second

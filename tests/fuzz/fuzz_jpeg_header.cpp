@@ -9,8 +9,8 @@
 #include "xr/video/jpeg_decoder.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static telesphere::xr::JpegDecoder decoder;
-  telesphere::xr::YuvPlanes planes;
+  static telesphere::xr::video::JpegDecoder decoder;
+  telesphere::xr::render::YuvPlanes planes;
   std::string error;
   // 2048 px per side keeps each run fast; the limit logic is the same as for 8192.
   decoder.decode({data, size}, 0, 0, 2048, planes, &error);

@@ -57,14 +57,14 @@ struct TruthRig {
   Eigen::Isometry3d headAtCameras() const {
     Eigen::Isometry3d T_hmd_eye_l = Eigen::Isometry3d::Identity();
     T_hmd_eye_l.translation().x() = -0.5 * frame.ipd_m;
-    return *robot.T_robot_cam_true[0] * Eigen::Isometry3d(xr::kR_optical_view) * T_hmd_eye_l.inverse();
+    return *robot.T_robot_cam_true[0] * Eigen::Isometry3d(xr::render::kR_optical_view) * T_hmd_eye_l.inverse();
   }
 
   /// The maps the renderer would make from the frame's stamped poses (double reference, stored
   /// as float32 like the GPU's).
   std::vector<float> maps() const {
     std::vector<float> out(static_cast<std::size_t>(frame.width) * frame.height * 4, std::nanf(""));
-    xr::RenderSettings settings;
+    xr::render::RenderSettings settings;
     settings.radius = frame.radius_m;
     for (int eye = 0; eye < 2; ++eye) {
       std::string error;
@@ -72,14 +72,14 @@ struct TruthRig {
       EXPECT_TRUE(camera) << error;
       Eigen::Isometry3d T_hmd_eye = Eigen::Isometry3d::Identity();
       T_hmd_eye.translation().x() = (eye == 0 ? -0.5 : 0.5) * frame.ipd_m;
-      xr::EyeView view;
+      xr::render::EyeView view;
       view.fov = frame.fov;
       view.width = frame.width;
       view.height = frame.height;
       view.T_cam_eye = frame.T_robot_cam_stamped[eye].inverse() * frame.T_robot_vr_used * frame.T_vr_hmd * T_hmd_eye;
       for (int row = 0; row < frame.height; ++row)
         for (int col = 0; col < frame.width; ++col) {
-          const auto px = xr::referenceCameraPixel(camera->camera, frame.image_width, frame.image_height, view,
+          const auto px = xr::render::referenceCameraPixel(camera->camera, frame.image_width, frame.image_height, view,
                                                    settings, col, row);
           if (!px) continue;
           const std::size_t i = (static_cast<std::size_t>(eye) * frame.width * frame.height +

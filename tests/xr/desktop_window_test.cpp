@@ -83,7 +83,7 @@ TEST(DesktopWindowNoDisplay, UnsetOrEmptyDisplayGivesTheClearMessage) {
   for (const char* value : {static_cast<const char*>(nullptr), ""}) {
     const ScopedEnv display("DISPLAY", value);
     std::string error;
-    EXPECT_EQ(DesktopWindow::create(640, 400, "no display", &error), nullptr);
+    EXPECT_EQ(desktop::DesktopWindow::create(640, 400, "no display", &error), nullptr);
     EXPECT_EQ(error,
               "no X display (DISPLAY unset): run under Xvfb or use `telesphere-xr offscreen`");
   }
@@ -95,7 +95,7 @@ TEST(DesktopWindowNoDisplay, NoServerAtDisplayGivesGlfwsReason) {
   const std::string name = ":" + std::to_string(*n);
   const ScopedEnv display("DISPLAY", name.c_str());
   std::string error;
-  EXPECT_EQ(DesktopWindow::create(640, 400, "no server", &error), nullptr);
+  EXPECT_EQ(desktop::DesktopWindow::create(640, 400, "no server", &error), nullptr);
   EXPECT_NE(error.find("cannot open the X display \"" + name + "\""), std::string::npos) << error;
   EXPECT_NE(error.find("glfwInit failed: X11: Failed to open display"), std::string::npos)
       << error;
@@ -103,7 +103,7 @@ TEST(DesktopWindowNoDisplay, NoServerAtDisplayGivesGlfwsReason) {
 
 TEST(DesktopWindowNoDisplay, NonPositiveSizeIsRefused) {
   std::string error;
-  EXPECT_EQ(DesktopWindow::create(0, 400, "zero", &error), nullptr);
+  EXPECT_EQ(desktop::DesktopWindow::create(0, 400, "zero", &error), nullptr);
   EXPECT_NE(error.find("must be positive, got 0x400"), std::string::npos) << error;
 }
 
@@ -204,10 +204,10 @@ class DesktopWindowTest : public ::testing::Test {
     ::waitpid(pid, &status, 0);
   }
 
-  static std::unique_ptr<DesktopWindow> makeWindow(int width, int height,
+  static std::unique_ptr<desktop::DesktopWindow> makeWindow(int width, int height,
                                                    const std::string& title) {
     std::string error;
-    auto window = DesktopWindow::create(width, height, title, &error);
+    auto window = desktop::DesktopWindow::create(width, height, title, &error);
     EXPECT_TRUE(window) << error;
     return window;
   }
@@ -231,7 +231,7 @@ class DesktopWindowTest : public ::testing::Test {
 
   /// Polls the window's events until `done()` (true) or 5 s pass (false).
   template <typename Done>
-  static bool pumpUntil(DesktopWindow& window, Done done) {
+  static bool pumpUntil(desktop::DesktopWindow& window, Done done) {
     const auto deadline = Clock::now() + std::chrono::seconds(5);
     while (Clock::now() < deadline) {
       window.pollEvents();
@@ -442,7 +442,7 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
   // Held W: forward while held, not after.
   pressKey(XK_w, true);
   EXPECT_TRUE(pumpUntil(*window, [&] { return window->headInput().forward; }));
-  const VirtualHeadInput held = window->headInput();
+  const desktop::VirtualHeadInput held = window->headInput();
   EXPECT_TRUE(held.forward);
   EXPECT_FALSE(held.back || held.left || held.right || held.up || held.down || held.look);
   pressKey(XK_w, false);
@@ -456,9 +456,9 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
   pressKey(XK_n, true);
   pressKey(XK_n, false);
   int captures = 0;
-  DesktopCommands all;
+  desktop::DesktopCommands all;
   const auto take = [&] {
-    const DesktopCommands commands = window->takeCommands();
+    const desktop::DesktopCommands commands = window->takeCommands();
     captures += commands.capture_nominal ? 1 : 0;
     all.cycle_mode |= commands.cycle_mode;
     all.radius_up |= commands.radius_up;
@@ -482,7 +482,7 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
   XFlush(x_display_);
   double dx = 0, dy = 0;
   const auto accumulate = [&](bool* look = nullptr) {
-    const VirtualHeadInput input = window->headInput();
+    const desktop::VirtualHeadInput input = window->headInput();
     dx += input.mouse_dx_px;
     dy += input.mouse_dy_px;
     if (look != nullptr) *look = input.look;

@@ -18,7 +18,7 @@ namespace telesphere::test {
 
 /// The camera image of the plane z = d (camera frame): RG = the plane point (X, Y) each pixel
 /// sees (0 where it sees no point of the plane).
-inline xr::SourceImage planeImage(const calib::GenericCamera& camera, int w, int h, double d) {
+inline xr::render::SourceImage planeImage(const calib::GenericCamera& camera, int w, int h, double d) {
   std::vector<float> data(static_cast<std::size_t>(w) * h * 2, 0.0f);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -28,12 +28,12 @@ inline xr::SourceImage planeImage(const calib::GenericCamera& camera, int w, int
       data[i] = float(d * ray.x() / ray.z());
       data[i + 1] = float(d * ray.y() / ray.z());
     }
-  return xr::SourceImage::floatImage(w, h, 2, std::move(data));
+  return xr::render::SourceImage::floatImage(w, h, 2, std::move(data));
 }
 
 /// An odd-sized eye at (Δx, 0, 0) whose centre ray points at the sphere point (0, 0, r).
-inline xr::EyeView gammaEye(double dx, double r) {
-  xr::EyeView view;
+inline xr::render::EyeView gammaEye(double dx, double r) {
+  xr::render::EyeView view;
   view.fov = {-0.2, 0.2, 0.2, -0.2};
   view.width = 21;
   view.height = 21;

@@ -70,13 +70,13 @@ inline std::vector<std::uint8_t> withHeaderSize(std::vector<std::uint8_t> jpeg, 
   return jpeg;
 }
 
-/// `jpeg` decoded by a lone JpegDecoder (no size limit below 8192 px): what the pooled and
+/// `jpeg` decoded by a lone video::JpegDecoder (no size limit below 8192 px): what the pooled and
 /// linked decoders must reproduce exactly.
-inline YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
-  JpegDecoder decoder;
-  YuvPlanes planes;
+inline render::YuvPlanes referenceDecode(const std::vector<std::uint8_t>& jpeg) {
+  video::JpegDecoder decoder;
+  render::YuvPlanes planes;
   std::string error;
-  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  EXPECT_EQ(decoder.decode(jpeg, 0, 0, 8192, planes, &error), video::JpegDecodeError::kNone) << error;
   return planes;
 }
 

@@ -46,7 +46,7 @@ inline std::vector<NamedCamera> allTypicalLenses() {
 /// by `R_turn` (in the camera frame).
 inline Eigen::Isometry3d eyePose(const Eigen::Vector3d& t_cam, const Eigen::Matrix3d& R_turn) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = R_turn * xr::kR_optical_view;
+  T.linear() = R_turn * xr::render::kR_optical_view;
   T.translation() = t_cam;
   return T;
 }

@@ -30,10 +30,10 @@ using test::kImageHeight;
 using test::kImageWidth;
 using test::rotation;
 
-using MapError = ProjectionMapError;
+using MapError = render::ProjectionMapError;
 
-EyeView testEye(const Eigen::Isometry3d& T_cam_eye) {
-  EyeView view;
+render::EyeView testEye(const Eigen::Isometry3d& T_cam_eye) {
+  render::EyeView view;
   view.fov = {-0.8, 0.7, 0.75, -0.65};  // asymmetric, like a headset's
   view.width = 96;
   view.height = 80;
@@ -47,35 +47,35 @@ class RendererGl : public ::testing::Test {
   static void TearDownTestSuite() { context_.reset(); }
   void SetUp() override {
     ASSERT_TRUE(context_) << "no GL 4.5 context: " << context_error_;
-    renderer_ = std::make_unique<SphericalRenderer>();
+    renderer_ = std::make_unique<render::SphericalRenderer>();
   }
   void TearDown() override { renderer_.reset(); }
 
   /// Renders the projection map of `view` and compares it with the reference.
-  MapError compare(const GpuCamera& gpu, const SourceImage& image, const EyeView& view,
-                   RenderSettings s) {
+  MapError compare(const render::GpuCamera& gpu, const render::SourceImage& image, const render::EyeView& view,
+                   render::RenderSettings s) {
     s.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
     gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
     EXPECT_TRUE(target.complete());
     std::string error;
     EXPECT_TRUE(renderer_->render(gpu, view, s, target.framebuffer(), &error)) << error;
-    return compareProjectionMap(target.readRgbaF(), gpu.camera(), image, view, s);
+    return render::compareProjectionMap(target.readRgbaF(), gpu.camera(), image, view, s);
   }
 
   static inline std::unique_ptr<gl::EglContext> context_;
   static inline std::string context_error_;
-  std::unique_ptr<SphericalRenderer> renderer_;
+  std::unique_ptr<render::SphericalRenderer> renderer_;
 };
 
 TEST_F(RendererGl, ExactPathMatchesTheReferenceForEveryModelPoseAndMode) {
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
   double worst = 0.0;
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
-    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
     for (const auto& [pose, T] : test::testPoses()) {
       for (link::VisualMode mode : {link::VisualMode::kFull6d, link::VisualMode::kOrientation3d, link::VisualMode::kFixed}) {
-        RenderSettings s;
+        render::RenderSettings s;
         s.mode = mode;
         const MapError e = compare(gpu, coords, testEye(T), s);
         SCOPED_TRACE(lens + " " + pose + " " + std::string(link::visualModeName(mode)));
@@ -89,17 +89,17 @@ TEST_F(RendererGl, ExactPathMatchesTheReferenceForEveryModelPoseAndMode) {
 }
 
 TEST_F(RendererGl, ExactPathAtExtremeRadiiAndEyeOutsideTheSphere) {
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
-    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
     for (double r : {0.01, 0.05, 1000.0}) {
       // Small spheres: the eye 5.1 cm behind the camera, outside them, looking at them.
       // The 1 km sphere: a 7.8 cm head translation, deep inside it.
-      const EyeView view =
+      const render::EyeView view =
           r < 1.0 ? testEye(eyePose({0.01, 0.005, -0.05}, rotation(0.1, {0, 1, 0})))
                   : testEye(eyePose({0.04, -0.03, 0.06}, rotation(0.2, {1, 2, 0})));
-      RenderSettings s;
+      render::RenderSettings s;
       s.radius = r;
       const MapError e = compare(gpu, coords, view, s);
       SCOPED_TRACE(lens + " r=" + std::to_string(r));
@@ -109,39 +109,39 @@ TEST_F(RendererGl, ExactPathAtExtremeRadiiAndEyeOutsideTheSphere) {
     }
     // Eye exactly at the camera.
     const MapError e = compare(gpu, coords, testEye(eyePose({0, 0, 0}, rotation(0.5, {0, 1, 0}))),
-                               RenderSettings{});
+                               render::RenderSettings{});
     EXPECT_LT(e.max_px, 0.05) << lens << " " << e;
   }
 }
 
 TEST_F(RendererGl, EyeOutsideTheSphereShowsTheBorderWhereRaysMiss) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
-  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
   ASSERT_TRUE(gpu.upload(coords));
-  RenderSettings s;
+  render::RenderSettings s;
   s.radius = 0.01;
-  const EyeView view = testEye(eyePose({0, 0, -0.05}, Eigen::Matrix3d::Identity()));
-  for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut}) {
+  const render::EyeView view = testEye(eyePose({0, 0, -0.05}, Eigen::Matrix3d::Identity()));
+  for (render::RenderPath path : {render::RenderPath::kExact, render::RenderPath::kMesh, render::RenderPath::kLut}) {
     s.path = path;
     const MapError e = compare(gpu, coords, view, s);
-    SCOPED_TRACE(renderPathName(path));
+    SCOPED_TRACE(render::renderPathName(path));
     // The disc of half-angle asin(1/5) hits (about 3 % of this view); everything else is border.
     EXPECT_GT(e.compared, e.total / 50) << e;
     EXPECT_LT(e.compared, e.total / 10) << e;
-    EXPECT_LT(e.max_px, path == RenderPath::kMesh ? 1.0 : 0.05) << e;
+    EXPECT_LT(e.max_px, path == render::RenderPath::kMesh ? 1.0 : 0.05) << e;
     EXPECT_LE(e.validity_mismatch, e.total / 50) << e;
   }
 }
 
 TEST_F(RendererGl, MeshPathErrorFallsWithTessellation) {
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
-    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
-    const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
-    RenderSettings coarse, fine;
-    coarse.path = fine.path = RenderPath::kMesh;
+    const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+    render::RenderSettings coarse, fine;
+    coarse.path = fine.path = render::RenderPath::kMesh;
     coarse.mesh_rings = 16;
     coarse.mesh_segments = 32;
     const MapError e_coarse = compare(gpu, coords, view, coarse);
@@ -156,13 +156,13 @@ TEST_F(RendererGl, MeshPathErrorFallsWithTessellation) {
 }
 
 TEST_F(RendererGl, LutPathErrorFallsWithTableSize) {
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
-    GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
-    const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
-    RenderSettings small, large;
-    small.path = large.path = RenderPath::kLut;
+    const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+    render::RenderSettings small, large;
+    small.path = large.path = render::RenderPath::kLut;
     small.lut_size = 128;
     large.lut_size = 1024;
     const MapError e_small = compare(gpu, coords, view, small);
@@ -178,51 +178,51 @@ TEST_F(RendererGl, LutPathErrorFallsWithTableSize) {
 
 TEST_F(RendererGl, EveryPathHandlesEveryMode) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
-  const SourceImage coords = SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
-  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
   ASSERT_TRUE(gpu.upload(coords));
-  for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
+  for (render::RenderPath path : {render::RenderPath::kExact, render::RenderPath::kMesh, render::RenderPath::kLut})
     for (link::VisualMode mode : {link::VisualMode::kFull6d, link::VisualMode::kOrientation3d, link::VisualMode::kFixed})
       for (const auto& [pose, T] : test::testPoses()) {
-        RenderSettings s;
+        render::RenderSettings s;
         s.path = path;
         s.mode = mode;
         s.T_cam_eye_fixed = eyePose({0.0, 0.02, 0.0}, rotation(-0.3, {1, 0, 0}));
         const MapError e = compare(gpu, coords, testEye(T), s);
-        SCOPED_TRACE(std::string(renderPathName(path)) + " " + std::string(link::visualModeName(mode)) +
+        SCOPED_TRACE(std::string(render::renderPathName(path)) + " " + std::string(link::visualModeName(mode)) +
                      " " + pose);
-        EXPECT_LT(e.max_px, path == RenderPath::kExact ? 0.05 : 0.5) << e;
+        EXPECT_LT(e.max_px, path == render::RenderPath::kExact ? 0.05 : 0.5) << e;
         EXPECT_LE(e.validity_mismatch, e.total / 100 + 2) << e;
       }
 }
 
 TEST_F(RendererGl, NonFinitePosesNeverReachTheGpu) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
-  GpuCamera gpu(camera, kImageWidth, kImageHeight);
-  ASSERT_TRUE(gpu.upload(SourceImage::pixelCoordinates(kImageWidth, kImageHeight)));
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  ASSERT_TRUE(gpu.upload(render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight)));
   gl::OffscreenTarget target(32, 24, GL_RGBA32F);
   for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     for (int entry = 0; entry < 12; ++entry) {
-      EyeView view = testEye(Eigen::Isometry3d(kR_optical_view));
+      render::EyeView view = testEye(Eigen::Isometry3d(render::kR_optical_view));
       view.width = 32;
       view.height = 24;
       view.T_cam_eye.matrix()(entry % 3, entry / 3) = bad;
       target.clear(7.0f, 7.0f, 7.0f, 7.0f);
       std::string error;
-      EXPECT_FALSE(renderer_->render(gpu, view, RenderSettings{}, target.framebuffer(), &error));
+      EXPECT_FALSE(renderer_->render(gpu, view, render::RenderSettings{}, target.framebuffer(), &error));
       EXPECT_NE(error.find("T_cam_eye"), std::string::npos) << error;
       for (float v : target.readRgbaF()) ASSERT_EQ(v, 7.0f) << "the target was drawn into";
     }
-    RenderSettings s;
+    render::RenderSettings s;
     s.radius = bad;
-    EyeView view = testEye(Eigen::Isometry3d(kR_optical_view));
+    render::EyeView view = testEye(Eigen::Isometry3d(render::kR_optical_view));
     EXPECT_FALSE(renderer_->render(gpu, view, s, target.framebuffer()));
   }
   // A camera without an image is refused as well.
-  GpuCamera empty(camera, kImageWidth, kImageHeight);
-  EXPECT_FALSE(renderer_->render(empty, testEye(Eigen::Isometry3d(kR_optical_view)),
-                                 RenderSettings{}, target.framebuffer()));
-  EXPECT_FALSE(gpu.upload(SourceImage::pixelCoordinates(10, 10)));
+  render::GpuCamera empty(camera, kImageWidth, kImageHeight);
+  EXPECT_FALSE(renderer_->render(empty, testEye(Eigen::Isometry3d(render::kR_optical_view)),
+                                 render::RenderSettings{}, target.framebuffer()));
+  EXPECT_FALSE(gpu.upload(render::SourceImage::pixelCoordinates(10, 10)));
 }
 
 /// A smooth colourful 8-bit test picture (RGB).
@@ -247,16 +247,16 @@ TEST_F(RendererGl, YuvPlanesAreConvertedInTheShader) {
     for (int x = 0; x < w; ++x) planes[static_cast<std::size_t>(y) * w + x] = std::uint8_t((x + 2 * y) % 256);
   for (std::size_t i = static_cast<std::size_t>(w) * h; i < planes.size(); ++i)
     planes[i] = std::uint8_t(rng() % 256);
-  const SourceImage yuv = SourceImage::yuv(w, h, cw, ch, planes);
-  GpuCamera gpu(camera, w, h);
+  const render::SourceImage yuv = render::SourceImage::yuv(w, h, cw, ch, planes);
+  render::GpuCamera gpu(camera, w, h);
   ASSERT_TRUE(gpu.upload(yuv));
-  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
-  RenderSettings s;
+  const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  render::RenderSettings s;
   s.border_rgba = {1.0f, 0.0f, 1.0f, 1.0f};
   gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
   ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
   const auto out = target.readRgbaF();
-  const auto ref = renderReference(camera, yuv, view, s);
+  const auto ref = render::renderReference(camera, yuv, view, s);
   ASSERT_TRUE(ref);
   double worst = 0.0;
   int mismatched = 0;
@@ -276,20 +276,20 @@ TEST_F(RendererGl, GreyscaleFramesAndTheImageGainMatchTheReference) {
   std::vector<std::uint8_t> grey(static_cast<std::size_t>(w) * h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) grey[static_cast<std::size_t>(y) * w + x] = std::uint8_t((3 * x + y) % 256);
-  const SourceImage image = SourceImage::yuv(w, h, 0, 0, grey);
+  const render::SourceImage image = render::SourceImage::yuv(w, h, 0, 0, grey);
   ASSERT_TRUE(image.consistent());
-  GpuCamera gpu(camera, w, h);
+  render::GpuCamera gpu(camera, w, h);
   std::string error;
   ASSERT_TRUE(gpu.upload(image, &error)) << error;
-  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
   for (const float gain : {1.0f, 0.4f}) {
-    RenderSettings s;
+    render::RenderSettings s;
     s.border_rgba = {1.0f, 0.0f, 1.0f, 1.0f};
     s.image_gain = gain;
     gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
     ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
     const auto out = target.readRgbaF();
-    const auto ref = renderReference(camera, image, view, s);
+    const auto ref = render::renderReference(camera, image, view, s);
     ASSERT_TRUE(ref);
     double worst = 0.0;
     int mismatched = 0, grey_pixels = 0;
@@ -313,24 +313,24 @@ TEST_F(RendererGl, GreyscaleFramesAndTheImageGainMatchTheReference) {
     EXPECT_GT(grey_pixels, int(out.size() / 4 / 2)) << "gain " << gain;
   }
   // A gain outside [0, 1] is refused.
-  RenderSettings bad;
+  render::RenderSettings bad;
   bad.image_gain = 1.5f;
-  EXPECT_TRUE(checkRenderSettings(bad));
+  EXPECT_TRUE(render::checkRenderSettings(bad));
 }
 
 TEST_F(RendererGl, RgbFramesWrittenAsPng) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
-  GpuCamera gpu(camera, kImageWidth, kImageHeight);
-  const SourceImage picture =
-      SourceImage::rgb8(kImageWidth, kImageHeight, testPicture(kImageWidth, kImageHeight));
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  const render::SourceImage picture =
+      render::SourceImage::rgb8(kImageWidth, kImageHeight, testPicture(kImageWidth, kImageHeight));
   ASSERT_TRUE(gpu.upload(picture));
-  const EyeView view = testEye(test::testPoses()[1].T_cam_eye);
-  RenderSettings s;
+  const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  render::RenderSettings s;
   gl::OffscreenTarget target(view.width, view.height, GL_RGBA8);
   ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
   const auto pixels = target.readRgba8();
   // Matches the reference in colour (8-bit rounding and filter precision aside).
-  const auto ref = renderReference(camera, picture, view, s);
+  const auto ref = render::renderReference(camera, picture, view, s);
   ASSERT_TRUE(ref);
   int far_off = 0;
   for (std::size_t i = 0; i < pixels.size(); ++i)
@@ -352,20 +352,20 @@ TEST_F(RendererGl, RgbFramesWrittenAsPng) {
 
 TEST_F(RendererGl, MeasuredAngularErrorMatchesGamma) {
   const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
-  GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
   const double r = 1.0;
   for (double d : {0.3, 0.6, 1.0, 2.5, 10.0}) {
     ASSERT_TRUE(gpu.upload(test::planeImage(camera, kImageWidth, kImageHeight, d)));
     for (double dx : {0.02, 0.1}) {
-      const EyeView view = test::gammaEye(dx, r);
-      RenderSettings s;
+      const render::EyeView view = test::gammaEye(dx, r);
+      render::RenderSettings s;
       s.radius = r;
       gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
       ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
       const auto out = target.readRgbaF();
       const std::size_t centre = (10u * view.width + 10u) * 4u;
       const double measured = test::measuredGamma(out[centre], out[centre + 1], d, dx, r);
-      const double expected = constantDistanceAngularError(d, dx, r);
+      const double expected = render::constantDistanceAngularError(d, dx, r);
       EXPECT_NEAR(measured, expected, 1e-4) << "d " << d << " dx " << dx;
     }
   }
@@ -388,11 +388,11 @@ TEST_F(RendererGl, ShaderErrorsNameFileAndLine) {
   std::filesystem::remove_all(dir);
   // The shipped shaders compile for every model, image format and path.
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
-    GpuCamera gpu(camera, 4, 4);
-    for (const SourceImage& image :
-         {SourceImage::pixelCoordinates(4, 4), SourceImage::yuv(4, 4, 2, 2, std::vector<std::uint8_t>(24, 128))}) {
+    render::GpuCamera gpu(camera, 4, 4);
+    for (const render::SourceImage& image :
+         {render::SourceImage::pixelCoordinates(4, 4), render::SourceImage::yuv(4, 4, 2, 2, std::vector<std::uint8_t>(24, 128))}) {
       ASSERT_TRUE(gpu.upload(image));
-      for (RenderPath path : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
+      for (render::RenderPath path : {render::RenderPath::kExact, render::RenderPath::kMesh, render::RenderPath::kLut})
         EXPECT_TRUE(renderer_->prepare(gpu, path, &error)) << lens << ": " << error;
     }
   }

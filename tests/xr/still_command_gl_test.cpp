@@ -80,19 +80,19 @@ TEST_F(StillCommand, RendersWhatTheReferenceRenders) {
     ASSERT_EQ(png->width, 120);
     ASSERT_EQ(png->height, 100);
 
-    EyeView view;
+    render::EyeView view;
     view.fov = {-0.7, 0.6, 0.65, -0.6};
     view.width = 120;
     view.height = 100;
     view.T_cam_eye = T_cam_eye;
-    RenderSettings s;
+    render::RenderSettings s;
     s.radius = 1.5;
     std::vector<std::uint8_t> rgb;
     for (std::size_t i = 0; i < picture_.size(); ++i)
       if (i % 4 != 3) rgb.push_back(picture_[i]);
     const auto camera = calib::GenericCamera(calib::DoubleSphereCamera<double>(
         (Eigen::Matrix<double, 6, 1>() << 232.5, 232.5, 479.5, 269.5, -0.18, 0.59).finished()));
-    const auto ref = renderReference(camera, SourceImage::rgb8(960, 540, rgb), view, s);
+    const auto ref = render::renderReference(camera, render::SourceImage::rgb8(960, 540, rgb), view, s);
     ASSERT_TRUE(ref);
     int far_off = 0;
     for (std::size_t i = 0; i < png->rgba.size(); ++i)

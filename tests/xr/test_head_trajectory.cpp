@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "xr/operator/head_trajectory.h"
+#include "xr/frame_loop/head_trajectory.h"
 
 namespace telesphere::xr {
 namespace {
@@ -17,7 +17,7 @@ TEST(HeadTrajectory, ParsesAndInterpolates) {
       "0, 0,1.6,0, 0,0,0,1\n"
       "1.0, 1,1.6,0, 0,0.70710678118654752,0,0.70710678118654752\n";
   std::string error;
-  const auto trajectory = HeadTrajectory::parse(csv, "traj.csv", &error);
+  const auto trajectory = frame_loop::HeadTrajectory::parse(csv, "traj.csv", &error);
   ASSERT_TRUE(trajectory) << error;
   EXPECT_EQ(trajectory->samples().size(), 2u);
   EXPECT_DOUBLE_EQ(trajectory->durationS(), 1.0);
@@ -32,7 +32,7 @@ TEST(HeadTrajectory, ParsesAndInterpolates) {
 
 TEST(HeadTrajectory, NormalisesQuaternions) {
   std::string error;
-  const auto trajectory = HeadTrajectory::parse("0 0 0 0 0 0 0 2\n", "q", &error);
+  const auto trajectory = frame_loop::HeadTrajectory::parse("0 0 0 0 0 0 0 2\n", "q", &error);
   ASSERT_TRUE(trajectory) << error;
   EXPECT_TRUE(trajectory->sample(0).rotation().isApprox(Eigen::Matrix3d::Identity(), 1e-12));
 }
@@ -52,16 +52,16 @@ TEST(HeadTrajectory, BadLinesAreReportedWithTheirLineNumber) {
   };
   for (const Case& c : cases) {
     std::string error;
-    EXPECT_FALSE(HeadTrajectory::parse(c.text, "f.csv", &error)) << c.text;
+    EXPECT_FALSE(frame_loop::HeadTrajectory::parse(c.text, "f.csv", &error)) << c.text;
     EXPECT_NE(error.find(c.expected), std::string::npos) << error << " vs " << c.expected;
   }
   std::string error;
-  EXPECT_FALSE(HeadTrajectory::load("/nonexistent/traj.csv", &error));
+  EXPECT_FALSE(frame_loop::HeadTrajectory::load("/nonexistent/traj.csv", &error));
   EXPECT_NE(error.find("cannot open"), std::string::npos);
 }
 
 TEST(HeadTrajectory, DemoMotionStaysInItsRanges) {
-  const HeadTrajectory demo = HeadTrajectory::demo(8.0);
+  const frame_loop::HeadTrajectory demo = frame_loop::HeadTrajectory::demo(8.0);
   EXPECT_NEAR(demo.durationS(), 8.0, 1e-12);
   for (double t = 0; t <= 8.0; t += 0.01) {
     const Eigen::Isometry3d T = demo.sample(t);

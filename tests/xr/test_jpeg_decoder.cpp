@@ -28,12 +28,12 @@ std::vector<std::uint8_t> flatJpeg(int w, int h, std::uint8_t r, std::uint8_t g,
 }
 
 TEST(JpegDecoder, DecodesToNativeYuvPlanes) {
-  JpegDecoder decoder;
-  YuvPlanes planes;
+  video::JpegDecoder decoder;
+  render::YuvPlanes planes;
   std::string error;
   // Pure red: Y = 76, U = 85, V = 255 (JFIF full-range BT.601).
   const auto jpeg = flatJpeg(66, 50, 255, 0, 0, TJSAMP_420);
-  ASSERT_EQ(decoder.decode(jpeg, 66, 50, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  ASSERT_EQ(decoder.decode(jpeg, 66, 50, 8192, planes, &error), video::JpegDecodeError::kNone) << error;
   EXPECT_EQ(planes.subsampling, link::ChromaSubsampling::k420);
   EXPECT_EQ(planes.y.size(), 66u * 50u);
   EXPECT_EQ(planes.chroma_width, 33);
@@ -42,24 +42,24 @@ TEST(JpegDecoder, DecodesToNativeYuvPlanes) {
   EXPECT_NEAR(planes.u[0], 85, 2);
   EXPECT_NEAR(planes.v[0], 255, 2);
   const auto gray = flatJpeg(16, 16, 200, 200, 200, TJSAMP_GRAY);
-  ASSERT_EQ(decoder.decode(gray, 0, 0, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  ASSERT_EQ(decoder.decode(gray, 0, 0, 8192, planes, &error), video::JpegDecodeError::kNone) << error;
   EXPECT_EQ(planes.subsampling, link::ChromaSubsampling::kGray);
   EXPECT_TRUE(planes.u.empty());
   EXPECT_NEAR(planes.y[0], 200, 2);
 }
 
 TEST(JpegDecoder, RefusesBadJpegs) {
-  JpegDecoder decoder;
-  YuvPlanes planes;
+  video::JpegDecoder decoder;
+  render::YuvPlanes planes;
   std::string error;
   const auto jpeg = flatJpeg(64, 48, 10, 200, 30, TJSAMP_420);
   // Truncated: the operator keeps the previous frame rather than half a grey one.
   const std::vector<std::uint8_t> truncated(jpeg.begin(), jpeg.begin() + jpeg.size() / 2);
-  EXPECT_EQ(decoder.decode(truncated, 64, 48, 8192, planes, &error), JpegDecodeError::kCorrupt);
-  EXPECT_EQ(decoder.decode({}, 64, 48, 8192, planes, &error), JpegDecodeError::kCorrupt);
+  EXPECT_EQ(decoder.decode(truncated, 64, 48, 8192, planes, &error), video::JpegDecodeError::kCorrupt);
+  EXPECT_EQ(decoder.decode({}, 64, 48, 8192, planes, &error), video::JpegDecodeError::kCorrupt);
   const std::vector<std::uint8_t> garbage(1000, 0x5a);
-  EXPECT_NE(decoder.decode(garbage, 64, 48, 8192, planes, &error), JpegDecodeError::kNone);
-  EXPECT_EQ(decoder.decode(jpeg, 640, 480, 8192, planes, &error), JpegDecodeError::kSizeMismatch);
+  EXPECT_NE(decoder.decode(garbage, 64, 48, 8192, planes, &error), video::JpegDecodeError::kNone);
+  EXPECT_EQ(decoder.decode(jpeg, 640, 480, 8192, planes, &error), video::JpegDecodeError::kSizeMismatch);
   EXPECT_EQ(error, "JPEG is 64x48, the message said 640x480");
   // A header claiming 60000×60000 is refused before any plane is allocated.
   auto huge = jpeg;
@@ -72,12 +72,12 @@ TEST(JpegDecoder, RefusesBadJpegs) {
       break;
     }
   }
-  planes = YuvPlanes{};
-  EXPECT_EQ(decoder.decode(huge, 0, 0, 8192, planes, &error), JpegDecodeError::kTooLarge);
+  planes = render::YuvPlanes{};
+  EXPECT_EQ(decoder.decode(huge, 0, 0, 8192, planes, &error), video::JpegDecodeError::kTooLarge);
   EXPECT_EQ(error, "JPEG of 60000x60000 exceeds the limit of 8192 px per side");
   EXPECT_TRUE(planes.y.empty());
   // And the decoder still works afterwards.
-  EXPECT_EQ(decoder.decode(jpeg, 64, 48, 8192, planes, &error), JpegDecodeError::kNone) << error;
+  EXPECT_EQ(decoder.decode(jpeg, 64, 48, 8192, planes, &error), video::JpegDecodeError::kNone) << error;
 }
 
 }  // namespace

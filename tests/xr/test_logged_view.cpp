@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief views.csv (xr/operator/logged_view.h): rows appended one at a time read back with the
+/// @brief views.csv (xr/frame_loop/logged_view.h): rows appended one at a time read back with the
 ///        exact poses (17 digits), a header written once, and every kind of bad file refused with
 ///        its line: foreign header, wrong field count, a path for a file name, a negative or
 ///        non-numeric sequence, a non-finite number, a quaternion far from unit length, an empty file.
@@ -11,7 +11,7 @@
 #include <random>
 #include <unistd.h>
 
-#include "xr/operator/logged_view.h"
+#include "xr/frame_loop/logged_view.h"
 
 namespace telesphere::xr {
 namespace {
@@ -37,20 +37,20 @@ TEST_F(LoggedViewTest, RowsAppendedReadBackWithTheExactPoses) {
   const std::string path = (dir_ / "views.csv").string();
   std::mt19937 rng(20261127);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  std::vector<LoggedView> written;
+  std::vector<frame_loop::LoggedView> written;
   for (int i = 0; i < 50; ++i) {
-    LoggedView v;
+    frame_loop::LoggedView v;
     v.png = "eyes_" + std::to_string(10 * (i + 1)) + ".png";
     v.stereo_sequence = i == 49 ? std::uint64_t(18446744073709551615ull) : std::uint64_t(3 * i);
     const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
     v.T_vr_hmd.linear() = q.toRotationMatrix();
     v.T_vr_hmd.translation() = Eigen::Vector3d(u(rng), 1.6 + u(rng), 1e-9 * u(rng));
     std::string error;
-    ASSERT_TRUE(appendLoggedView(path, v, &error)) << error;
+    ASSERT_TRUE(frame_loop::appendLoggedView(path, v, &error)) << error;
     written.push_back(v);
   }
   std::string error;
-  const auto read = loadLoggedViews(path, &error);
+  const auto read = frame_loop::loadLoggedViews(path, &error);
   ASSERT_TRUE(read) << error;
   ASSERT_EQ(read->size(), written.size());
   for (std::size_t i = 0; i < written.size(); ++i) {
@@ -90,22 +90,22 @@ TEST_F(LoggedViewTest, BadFilesAreRefusedWithTheirLine) {
   for (const Case& c : cases) {
     const std::string path = write("bad" + std::to_string(i++) + ".csv", c.text);
     std::string error;
-    EXPECT_FALSE(loadLoggedViews(path, &error)) << c.text;
+    EXPECT_FALSE(frame_loop::loadLoggedViews(path, &error)) << c.text;
     EXPECT_NE(error.find(c.expected), std::string::npos) << "got: " << error << "\nexpected: " << c.expected;
     EXPECT_NE(error.find(path), std::string::npos) << error;
   }
   std::string error;
-  EXPECT_FALSE(loadLoggedViews((dir_ / "absent.csv").string(), &error));
+  EXPECT_FALSE(frame_loop::loadLoggedViews((dir_ / "absent.csv").string(), &error));
   EXPECT_NE(error.find("cannot open"), std::string::npos) << error;
   // A header alone is a file without views (the live run wrote no PNG): read, empty.
-  const auto none = loadLoggedViews(write("none.csv", header), &error);
+  const auto none = frame_loop::loadLoggedViews(write("none.csv", header), &error);
   ASSERT_TRUE(none) << error;
   EXPECT_TRUE(none->empty());
 }
 
 TEST_F(LoggedViewTest, AnUnwritableFileSaysWhy) {
   std::string error;
-  EXPECT_FALSE(appendLoggedView((dir_ / "no-such-dir" / "views.csv").string(), LoggedView{}, &error));
+  EXPECT_FALSE(frame_loop::appendLoggedView((dir_ / "no-such-dir" / "views.csv").string(), frame_loop::LoggedView{}, &error));
   EXPECT_NE(error.find("no-such-dir"), std::string::npos) << error;
 }
 

@@ -12,11 +12,11 @@ namespace {
 XrResult openXrCheckTestReturn(XrResult r) { return r; }
 
 TEST(OpenXrCheck, ResultNamesComeFromTheRegistry) {
-  EXPECT_EQ(xrResultName(XR_SUCCESS), "XR_SUCCESS");
-  EXPECT_EQ(xrResultName(XR_ERROR_SESSION_LOST), "XR_ERROR_SESSION_LOST");
-  EXPECT_EQ(xrResultName(XR_ERROR_RUNTIME_UNAVAILABLE), "XR_ERROR_RUNTIME_UNAVAILABLE");
-  EXPECT_EQ(xrResultName(XR_SESSION_LOSS_PENDING), "XR_SESSION_LOSS_PENDING");
-  EXPECT_EQ(xrResultName(XrResult(-987654)), "XrResult(-987654)");
+  EXPECT_EQ(openxr::xrResultName(XR_SUCCESS), "XR_SUCCESS");
+  EXPECT_EQ(openxr::xrResultName(XR_ERROR_SESSION_LOST), "XR_ERROR_SESSION_LOST");
+  EXPECT_EQ(openxr::xrResultName(XR_ERROR_RUNTIME_UNAVAILABLE), "XR_ERROR_RUNTIME_UNAVAILABLE");
+  EXPECT_EQ(openxr::xrResultName(XR_SESSION_LOSS_PENDING), "XR_SESSION_LOSS_PENDING");
+  EXPECT_EQ(openxr::xrResultName(XrResult(-987654)), "XrResult(-987654)");
 }
 
 TEST(OpenXrCheck, FailureNamesTheCallTheResultAndThePlace) {
@@ -48,39 +48,39 @@ constexpr std::int64_t kTestRgba8 = 0x8058, kTestSrgb8Alpha8 = 0x8C43, kTestRgba
                        kTestRgb10A2 = 0x8059, kTestDepth32f = 0x8CAC, kTestSrgb8 = 0x8C41;
 
 TEST(OpenXrSwapchainFormat, SrgbIsPreferredEvenWhenListedAfterLinearFormats) {
-  const auto c = chooseSwapchainFormat({kTestRgba16f, kTestRgba8, kTestSrgb8Alpha8, kTestDepth32f},
-                                       SwapchainColour::kAuto);
+  const auto c = openxr::chooseSwapchainFormat({kTestRgba16f, kTestRgba8, kTestSrgb8Alpha8, kTestDepth32f},
+                                       openxr::SwapchainColour::kAuto);
   ASSERT_TRUE(c);
   EXPECT_EQ(c->format, kTestSrgb8Alpha8);
   EXPECT_TRUE(c->srgb);
 }
 
 TEST(OpenXrSwapchainFormat, TheRuntimesOrderDecidesWithinAKind) {
-  const auto c = chooseSwapchainFormat({kTestSrgb8, kTestSrgb8Alpha8}, SwapchainColour::kSrgb);
+  const auto c = openxr::chooseSwapchainFormat({kTestSrgb8, kTestSrgb8Alpha8}, openxr::SwapchainColour::kSrgb);
   ASSERT_TRUE(c);
   EXPECT_EQ(c->format, kTestSrgb8);
-  const auto l = chooseSwapchainFormat({kTestRgb10A2, kTestRgba8, kTestSrgb8Alpha8}, SwapchainColour::kLinear);
+  const auto l = openxr::chooseSwapchainFormat({kTestRgb10A2, kTestRgba8, kTestSrgb8Alpha8}, openxr::SwapchainColour::kLinear);
   ASSERT_TRUE(l);
   EXPECT_EQ(l->format, kTestRgb10A2);
   EXPECT_FALSE(l->srgb);
 }
 
 TEST(OpenXrSwapchainFormat, FallsBackToTheOtherKindAndRefusesUnusableLists) {
-  const auto linear_only = chooseSwapchainFormat({kTestDepth32f, kTestRgba8}, SwapchainColour::kSrgb);
+  const auto linear_only = openxr::chooseSwapchainFormat({kTestDepth32f, kTestRgba8}, openxr::SwapchainColour::kSrgb);
   ASSERT_TRUE(linear_only);
   EXPECT_EQ(linear_only->format, kTestRgba8);
   EXPECT_FALSE(linear_only->srgb);
-  const auto srgb_only = chooseSwapchainFormat({kTestSrgb8Alpha8}, SwapchainColour::kLinear);
+  const auto srgb_only = openxr::chooseSwapchainFormat({kTestSrgb8Alpha8}, openxr::SwapchainColour::kLinear);
   ASSERT_TRUE(srgb_only);
   EXPECT_TRUE(srgb_only->srgb);
-  EXPECT_FALSE(chooseSwapchainFormat({kTestDepth32f}, SwapchainColour::kAuto));
-  EXPECT_FALSE(chooseSwapchainFormat({}, SwapchainColour::kAuto));
+  EXPECT_FALSE(openxr::chooseSwapchainFormat({kTestDepth32f}, openxr::SwapchainColour::kAuto));
+  EXPECT_FALSE(openxr::chooseSwapchainFormat({}, openxr::SwapchainColour::kAuto));
 }
 
 TEST(OpenXrSwapchainFormat, FormatNames) {
-  EXPECT_EQ(glFormatName(kTestSrgb8Alpha8), "GL_SRGB8_ALPHA8");
-  EXPECT_EQ(glFormatName(kTestRgba16f), "GL_RGBA16F");
-  EXPECT_EQ(glFormatName(kTestDepth32f), "0x8cac");
+  EXPECT_EQ(openxr::glFormatName(kTestSrgb8Alpha8), "GL_SRGB8_ALPHA8");
+  EXPECT_EQ(openxr::glFormatName(kTestRgba16f), "GL_RGBA16F");
+  EXPECT_EQ(openxr::glFormatName(kTestDepth32f), "0x8cac");
 }
 
 }  // namespace

@@ -22,28 +22,28 @@ XrPosef openXrPoseTestPose(const Eigen::Quaterniond& q, const Eigen::Vector3d& t
 TEST(OpenXrPose, PoseMapsPointsFromTheLocatedSpaceIntoTheBase) {
   // An eye 1.6 m up, turned 90° left (about +y): its forward (−z) points along −x in vr.
   const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
-  const Eigen::Isometry3d T_vr_eye = isometryFromXrPose(openXrPoseTestPose(q, {0.1, 1.6, -0.2}));
+  const Eigen::Isometry3d T_vr_eye = openxr::isometryFromXrPose(openXrPoseTestPose(q, {0.1, 1.6, -0.2}));
   const Eigen::Vector3d p_vr = T_vr_eye * Eigen::Vector3d(0, 0, -1);
   EXPECT_NEAR(p_vr.x(), 0.1 - 1.0, 1e-6);
   EXPECT_NEAR(p_vr.y(), 1.6, 1e-6);
   EXPECT_NEAR(p_vr.z(), -0.2, 1e-6);
-  EXPECT_FALSE(checkPose(T_vr_eye).has_value());
+  EXPECT_FALSE(render::checkPose(T_vr_eye).has_value());
 }
 
 TEST(OpenXrPose, SlightlyDenormalisedQuaternionsAreNormalisedAndZeroOnesRefused) {
   XrPosef p{};
   p.orientation = {0.0f, 0.0f, 0.0f, 1.02f};
-  EXPECT_FALSE(checkPose(isometryFromXrPose(p)).has_value());
+  EXPECT_FALSE(render::checkPose(openxr::isometryFromXrPose(p)).has_value());
   p.orientation = {0.0f, 0.0f, 0.0f, 0.0f};
-  EXPECT_TRUE(checkPose(isometryFromXrPose(p)).has_value()) << "never rendered";
+  EXPECT_TRUE(render::checkPose(openxr::isometryFromXrPose(p)).has_value()) << "never rendered";
 }
 
 TEST(OpenXrPose, ViewsNeedBothOrientationAndPositionValid) {
-  EXPECT_TRUE(viewPoseValid(XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+  EXPECT_TRUE(openxr::viewPoseValid(XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
                             XR_VIEW_STATE_ORIENTATION_TRACKED_BIT));
-  EXPECT_FALSE(viewPoseValid(XR_VIEW_STATE_ORIENTATION_VALID_BIT));
-  EXPECT_FALSE(viewPoseValid(XR_VIEW_STATE_POSITION_VALID_BIT));
-  EXPECT_FALSE(viewPoseValid(0));
+  EXPECT_FALSE(openxr::viewPoseValid(XR_VIEW_STATE_ORIENTATION_VALID_BIT));
+  EXPECT_FALSE(openxr::viewPoseValid(XR_VIEW_STATE_POSITION_VALID_BIT));
+  EXPECT_FALSE(openxr::viewPoseValid(0));
 }
 
 TEST(OpenXrPose, MidpointOfTwoEyesIsTheHmd) {
@@ -51,16 +51,16 @@ TEST(OpenXrPose, MidpointOfTwoEyesIsTheHmd) {
   l.translation() << -0.032, 1.6, 0;
   r.translation() << 0.032, 1.6, 0;
   r.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  const Eigen::Isometry3d m = midpointPose(l, r);
+  const Eigen::Isometry3d m = openxr::midpointPose(l, r);
   EXPECT_LT((m.translation() - Eigen::Vector3d(0, 1.6, 0)).norm(), 1e-12);
   EXPECT_NEAR(Eigen::AngleAxisd(m.linear()).angle(), 0.1, 1e-12);
 }
 
 TEST(OpenXrTestScene, CameraAndImageAreConsistentAndSeeTheCentreCross) {
-  const auto camera = OpenXrTestScene::camera();
-  const SourceImage image = OpenXrTestScene::image();
+  const auto camera = openxr::OpenXrTestScene::camera();
+  const render::SourceImage image = openxr::OpenXrTestScene::image();
   ASSERT_TRUE(image.consistent());
-  EXPECT_EQ(image.width, OpenXrTestScene::kImageWidth);
+  EXPECT_EQ(image.width, openxr::OpenXrTestScene::kImageWidth);
   Eigen::Vector2d px;
   ASSERT_TRUE(camera.project(Eigen::Vector3d(0, 0, 1), px));
   const Eigen::Vector4d centre = image.sample(px);

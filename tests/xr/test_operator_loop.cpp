@@ -10,7 +10,7 @@
 #include <deque>
 #include <vector>
 
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/operator_loop.h"
 
 namespace telesphere::xr {
 namespace {
@@ -22,16 +22,16 @@ struct Scripted {
   bool began = true;
 };
 
-class ScriptedOutput final : public OperatorOutput {
+class ScriptedOutput final : public frame_loop::OperatorOutput {
  public:
   static constexpr std::int64_t kPeriodNs = 10'000'000;
   std::deque<Scripted> script;
-  bool frame(const DrawEye& draw, Shown* shown, std::string*) override {
+  bool frame(const frame_loop::DrawEye& draw, Shown* shown, std::string*) override {
     const Scripted s = script.front();
     script.pop_front();
     shown->began = s.began;
     if (!s.began) return true;
-    DisplayFrame& f = shown->frame;
+    frame_loop::DisplayFrame& f = shown->frame;
     f.index = index_++;
     f.refresh_ns = s.refresh_ns;
     f.display_ns = s.refresh_ns + 1'000'000'000;  // another clock: only refresh_ns counts for misses
@@ -50,7 +50,7 @@ class ScriptedOutput final : public OperatorOutput {
   std::uint64_t index_ = 0;
 };
 
-class RecordingScene final : public OperatorScene {
+class RecordingScene final : public frame_loop::OperatorScene {
  public:
   std::vector<std::string> calls;
   std::vector<std::uint64_t> missed_at_end;
@@ -59,7 +59,7 @@ class RecordingScene final : public OperatorScene {
     calls.push_back("begin " + std::to_string(int(T_vr_hmd.translation().x())) + " " + std::to_string(display_ns));
     return true;
   }
-  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView&, GLuint framebuffer,
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView&, GLuint framebuffer,
                  std::string* error) override {
     if (eye == 1 && fail_right_eye) {
       *error = "right eye failed";
@@ -82,7 +82,7 @@ constexpr std::int64_t P = ScriptedOutput::kPeriodNs;
 TEST(OperatorLoop, DrawsBothEyesAfterOneBeginAndEndsOnlyDrawnFrames) {
   ScriptedOutput output;
   RecordingScene scene;
-  OperatorLoop loop(scene, output);
+  frame_loop::OperatorLoop loop(scene, output);
   output.script = {{1 * P}, {2 * P, false}, {3 * P}, {0, true, false}};
   std::string error;
   for (int i = 0; i < 4; ++i) ASSERT_TRUE(loop.step(&error)) << error;
@@ -98,7 +98,7 @@ TEST(OperatorLoop, DrawsBothEyesAfterOneBeginAndEndsOnlyDrawnFrames) {
 TEST(OperatorLoop, CountsSkippedRefreshesFromTheOutputsDisplayTimesButNotAcrossARestart) {
   ScriptedOutput output;
   RecordingScene scene;
-  OperatorLoop loop(scene, output);
+  frame_loop::OperatorLoop loop(scene, output);
   // 1 → 2: next refresh; 2 → 4: one skipped; 4 → 4.4: rounds to the same period (none);
   // 4.4 → 10: five skipped (5.6 periods round to 6).
   output.script = {{1 * P}, {2 * P}, {4 * P}, {44 * P / 10}, {10 * P}};
@@ -118,7 +118,7 @@ TEST(OperatorLoop, AFailingEyeStopsWithItsReasonAndEndsNothing) {
   ScriptedOutput output;
   RecordingScene scene;
   scene.fail_right_eye = true;
-  OperatorLoop loop(scene, output);
+  frame_loop::OperatorLoop loop(scene, output);
   output.script = {{P}};
   std::string error;
   EXPECT_FALSE(loop.step(&error));
@@ -128,14 +128,14 @@ TEST(OperatorLoop, AFailingEyeStopsWithItsReasonAndEndsNothing) {
 }
 
 TEST(SkippedPeriods, AtItsEdges) {
-  EXPECT_EQ(skippedPeriods(0, 5 * P, P), 0u) << "no previous frame";
-  EXPECT_EQ(skippedPeriods(5 * P, 6 * P, 0), 0u) << "unknown period";
-  EXPECT_EQ(skippedPeriods(5 * P, 6 * P, -P), 0u);
-  EXPECT_EQ(skippedPeriods(6 * P, 5 * P, P), 0u) << "time going backwards";
-  EXPECT_EQ(skippedPeriods(5 * P, 5 * P, P), 0u);
-  EXPECT_EQ(skippedPeriods(P, P + P * 3 / 2 - 1, P), 0u) << "1.5 periods round down";
-  EXPECT_EQ(skippedPeriods(P, P + P * 3 / 2, P), 1u) << "… and up from there";
-  EXPECT_EQ(skippedPeriods(1, std::int64_t(1) << 62, 1), (std::uint64_t(1) << 62) - 2u) << "huge gaps do not overflow";
+  EXPECT_EQ(frame_loop::skippedPeriods(0, 5 * P, P), 0u) << "no previous frame";
+  EXPECT_EQ(frame_loop::skippedPeriods(5 * P, 6 * P, 0), 0u) << "unknown period";
+  EXPECT_EQ(frame_loop::skippedPeriods(5 * P, 6 * P, -P), 0u);
+  EXPECT_EQ(frame_loop::skippedPeriods(6 * P, 5 * P, P), 0u) << "time going backwards";
+  EXPECT_EQ(frame_loop::skippedPeriods(5 * P, 5 * P, P), 0u);
+  EXPECT_EQ(frame_loop::skippedPeriods(P, P + P * 3 / 2 - 1, P), 0u) << "1.5 periods round down";
+  EXPECT_EQ(frame_loop::skippedPeriods(P, P + P * 3 / 2, P), 1u) << "… and up from there";
+  EXPECT_EQ(frame_loop::skippedPeriods(1, std::int64_t(1) << 62, 1), (std::uint64_t(1) << 62) - 2u) << "huge gaps do not overflow";
 }
 
 }  // namespace

@@ -19,10 +19,10 @@
 #include "robot/link/link_server.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
-#include "xr/operator/trial_indicator.h"
+#include "xr/frame_loop/trial_indicator.h"
 #include "shaders/offscreen_target.h"
 #include "tests/xr/jpeg_test_images.h"
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_view.h"
 
 namespace telesphere::xr {
 namespace {
@@ -62,11 +62,11 @@ class OperatorViewTest : public ::testing::Test {
       }
       return reply;
     });
-    OperatorViewOptions options;
+    frame_loop::OperatorViewOptions options;
     options.endpoints = operatorViewEndpoints();
     options.render.border_rgba << 0.0f, 0.0f, 1.0f, 1.0f;
     options.hold_measured_s = 0.3;
-    view_ = std::make_unique<OperatorView>(*calibration, options);
+    view_ = std::make_unique<frame_loop::OperatorView>(*calibration, options);
     target_ = std::make_unique<gl::OffscreenTarget>(32, 32);
     eye_.width = eye_.height = 32;
     eye_.fov = {-0.5, 0.5, 0.5, -0.5};
@@ -121,9 +121,9 @@ class OperatorViewTest : public ::testing::Test {
 
   std::unique_ptr<gl::EglContext> context_;
   std::unique_ptr<link::LinkServer> server_;
-  std::unique_ptr<OperatorView> view_;
+  std::unique_ptr<frame_loop::OperatorView> view_;
   std::unique_ptr<gl::OffscreenTarget> target_;
-  EyeView eye_;
+  render::EyeView eye_;
   Eigen::Isometry3d T_vr_hmd_ = Eigen::Isometry3d::Identity();
   std::uint64_t sequence_ = 0;
   link::SharedBytes jpeg_ = std::make_shared<const std::vector<std::uint8_t>>(test::texturedJpeg(64, 36, 5));
@@ -413,7 +413,7 @@ TEST_F(OperatorViewTest, NewFramesComeThroughTheUploadRingAndLookTheSameAsFromDe
   EXPECT_FALSE(first_in_ring) << "the ring was made at the first frame";
   EXPECT_EQ(renderLeft(), from_memory) << "the same pixels either way";
   view_->endFrame(link::linkNowNs(), 1.0, 0);
-  const OperatorViewStats stats = view_->stats();
+  const frame_loop::OperatorViewStats stats = view_->stats();
   EXPECT_GE(stats.images_in_upload_slots, 2u);
   EXPECT_GE(stats.images_in_own_memory, 2u);
   EXPECT_GT(stats.decode_ms_p50, 0.0);
@@ -432,7 +432,7 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
     return shownFrame() && view_->hasImage();
   }));
   EXPECT_TRUE(view_->showingUnmeasured());
-  EXPECT_FLOAT_EQ(view_->settings().image_gain, OperatorView::kUnmeasuredGain);
+  EXPECT_FLOAT_EQ(view_->settings().image_gain, frame_loop::OperatorView::kUnmeasuredGain);
   const double dimmed = redGreen(renderLeft());
   EXPECT_GE(view_->stats().unmeasured_frames_shown, 1u);
 
@@ -443,7 +443,7 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
   }));
   EXPECT_FLOAT_EQ(view_->settings().image_gain, 1.0f);
   const double bright = redGreen(renderLeft());
-  EXPECT_NEAR(dimmed / bright, OperatorView::kUnmeasuredGain, 0.02);
+  EXPECT_NEAR(dimmed / bright, frame_loop::OperatorView::kUnmeasuredGain, 0.02);
 
   // Unmeasured frames again: the measured frame stays on show for hold_measured_s (0.3 s here),
   // then they are shown, dimmed.
@@ -462,15 +462,15 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
 }
 
 TEST(TrialIndicator, FillAtTheExtremes) {
-  EXPECT_EQ(trialIndicatorFill(0.0, 300.0), 0.0);
-  EXPECT_EQ(trialIndicatorFill(-5.0, 300.0), 0.0);  // a clock that stepped back shows nothing
-  EXPECT_EQ(trialIndicatorFill(std::nan(""), 300.0), 0.0);
-  EXPECT_DOUBLE_EQ(trialIndicatorFill(150.0, 300.0), 0.5);
-  EXPECT_EQ(trialIndicatorFill(1e9, 300.0), 1.0);  // past the limit: full (and red)
-  EXPECT_DOUBLE_EQ(trialIndicatorFill(90.0, 0.0), 0.5);  // no limit: one sweep a minute
-  EXPECT_NEAR(trialIndicatorFill(1e-9, 1e-12), 1.0, 0.0);
+  EXPECT_EQ(frame_loop::trialIndicatorFill(0.0, 300.0), 0.0);
+  EXPECT_EQ(frame_loop::trialIndicatorFill(-5.0, 300.0), 0.0);  // a clock that stepped back shows nothing
+  EXPECT_EQ(frame_loop::trialIndicatorFill(std::nan(""), 300.0), 0.0);
+  EXPECT_DOUBLE_EQ(frame_loop::trialIndicatorFill(150.0, 300.0), 0.5);
+  EXPECT_EQ(frame_loop::trialIndicatorFill(1e9, 300.0), 1.0);  // past the limit: full (and red)
+  EXPECT_DOUBLE_EQ(frame_loop::trialIndicatorFill(90.0, 0.0), 0.5);  // no limit: one sweep a minute
+  EXPECT_NEAR(frame_loop::trialIndicatorFill(1e-9, 1e-12), 1.0, 0.0);
   for (const auto& [w, h] : {std::pair{1, 1}, std::pair{96, 96}, std::pair{2064, 2208}}) {
-    const TrialIndicatorGeometry g = trialIndicatorGeometry(w, h);
+    const frame_loop::TrialIndicatorGeometry g = frame_loop::trialIndicatorGeometry(w, h);
     EXPECT_GE(g.width, 8);
     EXPECT_GE(g.height, 3);
     if (w >= 96) {  // inside the image, centred, small
@@ -493,11 +493,11 @@ TEST(TrialIndicator, DrawsTheElapsedShareAndLeavesTheRestOfTheImage) {
     glViewport(0, 0, w, h);
     glClearColor(0.0f, 0.0f, 1.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    drawTrialIndicator(target.framebuffer(), w, h, elapsed_s, limit_s);
+    frame_loop::drawTrialIndicator(target.framebuffer(), w, h, elapsed_s, limit_s);
     EXPECT_FALSE(glIsEnabled(GL_SCISSOR_TEST));  // no state left behind
     return target.readRgba8();
   };
-  const TrialIndicatorGeometry g = trialIndicatorGeometry(w, h);
+  const frame_loop::TrialIndicatorGeometry g = frame_loop::trialIndicatorGeometry(w, h);
   const int row = h - 1 - (g.y + g.height / 2);  // image rows from the top
   const auto at = [&](const std::vector<std::uint8_t>& p, int x, int y) {
     return std::array<int, 3>{p[std::size_t((y * w + x) * 4)], p[std::size_t((y * w + x) * 4 + 1)],

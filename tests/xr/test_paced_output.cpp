@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "shaders/egl_context.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/paced_output.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/paced_output.h"
 
 namespace telesphere::xr {
 namespace {
 
-class NullScene final : public OperatorScene {
+class NullScene final : public frame_loop::OperatorScene {
  public:
   std::vector<std::int64_t> display_ns, shown_ns;
   std::vector<double> head_x;
@@ -25,7 +25,7 @@ class NullScene final : public OperatorScene {
     head_x.push_back(T_vr_hmd.translation().x());
     return true;
   }
-  bool renderEye(int, const Eigen::Isometry3d&, const EyeView&, GLuint, std::string*) override { return true; }
+  bool renderEye(int, const Eigen::Isometry3d&, const render::EyeView&, GLuint, std::string*) override { return true; }
   void endFrame(std::int64_t shown, double, std::uint64_t) override { shown_ns.push_back(shown); }
   std::optional<Eigen::Isometry3d> T_cam_eye(int, const Eigen::Isometry3d&) const override { return std::nullopt; }
 };
@@ -35,13 +35,13 @@ TEST(PacedOutput, OnASimulatedClockFramesFallExactlyOnePeriodApartAndOverrunsSki
   auto context = gl::EglContext::createSurfaceless(&error);
   ASSERT_TRUE(context && context->makeCurrent()) << error;
   constexpr std::int64_t kStart = 5'000'000'000, kPeriod = 10'000'000;  // 100 Hz
-  SimulatedFrameClock clock(kStart);
-  PacedOutputOptions options;
+  frame_loop::SimulatedFrameClock clock(kStart);
+  frame_loop::PacedOutputOptions options;
   options.rate_hz = 100.0;
   options.eye_width = 8;
   options.eye_height = 8;
   options.ipd = 0.06;
-  OffscreenOutput output(options, [](double display_s) {
+  frame_loop::OffscreenOutput output(options, [](double display_s) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation().x() = display_s;  // the head's x is the time it was sampled for
     return T;
@@ -51,30 +51,30 @@ TEST(PacedOutput, OnASimulatedClockFramesFallExactlyOnePeriodApartAndOverrunsSki
   EXPECT_DOUBLE_EQ(output.T_hmd_eye(0).translation().x(), -0.03);
   EXPECT_DOUBLE_EQ(output.T_hmd_eye(1).translation().x(), 0.03);
   NullScene scene;
-  OperatorLoop loop(scene, output);
+  frame_loop::OperatorLoop loop(scene, output);
   for (int i = 0; i < 3; ++i) ASSERT_TRUE(loop.step(&error)) << error;
   EXPECT_EQ(output.nextStartNs(), kStart + 3 * kPeriod);
   // The fourth frame's work takes 2.5 periods: it is shown when done, the next starts at the
   // refresh after that, and the two refreshes in between are missed.
   clock.sleepUntilNs(kStart + 3 * kPeriod);
-  class SlowScene final : public OperatorScene {
+  class SlowScene final : public frame_loop::OperatorScene {
    public:
-    SlowScene(OperatorScene& inner, SimulatedFrameClock& clock) : inner_(inner), clock_(clock) {}
+    SlowScene(frame_loop::OperatorScene& inner, frame_loop::SimulatedFrameClock& clock) : inner_(inner), clock_(clock) {}
     bool beginFrame(const Eigen::Isometry3d& T, std::int64_t d, bool v, std::string* e) override {
       clock_.sleepUntilNs(clock_.nowNs() + 25'000'000);
       return inner_.beginFrame(T, d, v, e);
     }
-    bool renderEye(int eye, const Eigen::Isometry3d& T, const EyeView& view, GLuint fb, std::string* e) override {
+    bool renderEye(int eye, const Eigen::Isometry3d& T, const render::EyeView& view, GLuint fb, std::string* e) override {
       return inner_.renderEye(eye, T, view, fb, e);
     }
     void endFrame(std::int64_t s, double r, std::uint64_t m) override { inner_.endFrame(s, r, m); }
     std::optional<Eigen::Isometry3d> T_cam_eye(int, const Eigen::Isometry3d&) const override { return std::nullopt; }
 
    private:
-    OperatorScene& inner_;
-    SimulatedFrameClock& clock_;
+    frame_loop::OperatorScene& inner_;
+    frame_loop::SimulatedFrameClock& clock_;
   } slow(scene, clock);
-  OperatorLoop slow_loop(slow, output);
+  frame_loop::OperatorLoop slow_loop(slow, output);
   ASSERT_TRUE(slow_loop.step(&error)) << error;
   EXPECT_EQ(scene.shown_ns.back(), kStart + 3 * kPeriod + 25'000'000);  // later than its display time
   EXPECT_EQ(output.nextStartNs(), kStart + 6 * kPeriod);

@@ -11,11 +11,11 @@
 namespace telesphere::xr {
 namespace {
 
-using S = SessionState;
-using A = SessionAction;
+using S = openxr::SessionState;
+using A = openxr::SessionAction;
 
 TEST(SessionStateMachine, FullLifeCycleAsksForBeginAndEndAndFinishesOnExiting) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   EXPECT_FALSE(m.running());
   EXPECT_FALSE(m.shouldSyncFrames());
   EXPECT_EQ(m.onStateChanged(S::kIdle), A::kNone);
@@ -52,7 +52,7 @@ TEST(SessionStateMachine, FullLifeCycleAsksForBeginAndEndAndFinishesOnExiting) {
 }
 
 TEST(SessionStateMachine, ASecondReadyCycleBeginsAgain) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   ASSERT_EQ(m.onStateChanged(S::kReady), A::kBeginSession);
   m.onSessionBegun();
   ASSERT_EQ(m.onStateChanged(S::kStopping), A::kEndSession);
@@ -62,7 +62,7 @@ TEST(SessionStateMachine, ASecondReadyCycleBeginsAgain) {
 }
 
 TEST(SessionStateMachine, ExitRequestWhileRunningAsksTheRuntimeAndFinishesAfterStopping) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   m.onStateChanged(S::kReady);
   m.onSessionBegun();
   m.onStateChanged(S::kFocused);
@@ -81,7 +81,7 @@ TEST(SessionStateMachine, ExitRequestWhileRunningAsksTheRuntimeAndFinishesAfterS
 }
 
 TEST(SessionStateMachine, ExitRequestBeforeTheSessionRunsFinishesAtOnce) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   m.onStateChanged(S::kIdle);
   EXPECT_EQ(m.requestExit(), A::kDestroySession);
   EXPECT_TRUE(m.finished());
@@ -90,7 +90,7 @@ TEST(SessionStateMachine, ExitRequestBeforeTheSessionRunsFinishesAtOnce) {
 
 TEST(SessionStateMachine, ReadyAfterAnExitRequestIsNotBegun) {
   // A runtime that skips IDLE and offers READY again: the user still wants out.
-  SessionStateMachine n;
+  openxr::SessionStateMachine n;
   n.onStateChanged(S::kReady);
   n.onSessionBegun();
   ASSERT_EQ(n.requestExit(), A::kRequestExit);
@@ -101,7 +101,7 @@ TEST(SessionStateMachine, ReadyAfterAnExitRequestIsNotBegun) {
 }
 
 TEST(SessionStateMachine, FailedBeginLeavesTheSessionNotRunning) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   ASSERT_EQ(m.onStateChanged(S::kReady), A::kBeginSession);
   m.onSessionBeginFailed();
   EXPECT_FALSE(m.running());
@@ -109,7 +109,7 @@ TEST(SessionStateMachine, FailedBeginLeavesTheSessionNotRunning) {
 }
 
 TEST(SessionStateMachine, LossPendingEndsTheRunAndAsksForRecreation) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   m.onStateChanged(S::kReady);
   m.onSessionBegun();
   m.onStateChanged(S::kFocused);
@@ -123,7 +123,7 @@ TEST(SessionStateMachine, LossPendingEndsTheRunAndAsksForRecreation) {
 }
 
 TEST(SessionStateMachine, InstanceLossStopsFramesAtOnce) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   m.onStateChanged(S::kReady);
   m.onSessionBegun();
   m.onStateChanged(S::kVisible);
@@ -134,12 +134,12 @@ TEST(SessionStateMachine, InstanceLossStopsFramesAtOnce) {
 }
 
 TEST(SessionStateMachine, StoppingWithoutARunningSessionNeedsNoEnd) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   EXPECT_EQ(m.onStateChanged(S::kStopping), A::kNone);
 }
 
 TEST(SessionStateMachine, RepeatedStatesAreCollapsedInTheHistory) {
-  SessionStateMachine m;
+  openxr::SessionStateMachine m;
   m.onStateChanged(S::kIdle);
   m.onStateChanged(S::kIdle);
   m.onStateChanged(S::kReady);
@@ -151,14 +151,14 @@ TEST(SessionStateMachine, XrStateValuesAndNames) {
       {1, "IDLE"},     {2, "READY"},    {3, "SYNCHRONIZED"}, {4, "VISIBLE"},
       {5, "FOCUSED"},  {6, "STOPPING"}, {7, "LOSS_PENDING"}, {8, "EXITING"}};
   for (const auto& [value, name] : known) {
-    EXPECT_EQ(sessionStateName(sessionStateFromXr(value)), name) << value;
+    EXPECT_EQ(openxr::sessionStateName(openxr::sessionStateFromXr(value)), name) << value;
   }
-  EXPECT_EQ(sessionStateFromXr(0), S::kUnknown);
-  EXPECT_EQ(sessionStateFromXr(9), S::kUnknown);
-  EXPECT_EQ(sessionStateFromXr(0x7FFFFFFF), S::kUnknown);
-  EXPECT_EQ(sessionStateName(S::kUnknown), "UNKNOWN");
-  EXPECT_EQ(sessionActionName(A::kBeginSession), "begin session");
-  EXPECT_EQ(sessionActionName(A::kRecreateSession), "recreate session");
+  EXPECT_EQ(openxr::sessionStateFromXr(0), S::kUnknown);
+  EXPECT_EQ(openxr::sessionStateFromXr(9), S::kUnknown);
+  EXPECT_EQ(openxr::sessionStateFromXr(0x7FFFFFFF), S::kUnknown);
+  EXPECT_EQ(openxr::sessionStateName(S::kUnknown), "UNKNOWN");
+  EXPECT_EQ(openxr::sessionActionName(A::kBeginSession), "begin session");
+  EXPECT_EQ(openxr::sessionActionName(A::kRecreateSession), "recreate session");
 }
 
 // Invariants over seeded random sequences of runtime states, call results and user requests,
@@ -167,13 +167,13 @@ TEST(SessionStateMachine, RandomEventSequencesKeepTheInvariants) {
   std::mt19937 rng(20261122);
   std::uniform_int_distribution<int> pick(0, 11);
   for (int run = 0; run < 2000; ++run) {
-    SessionStateMachine m;
+    openxr::SessionStateMachine m;
     for (int step = 0; step < 40; ++step) {
       const int e = pick(rng);
       const bool was_running = m.running();
       const bool was_finished = m.finished();
       A a = A::kNone;
-      if (e <= 8) a = m.onStateChanged(sessionStateFromXr(e));
+      if (e <= 8) a = m.onStateChanged(openxr::sessionStateFromXr(e));
       else if (e == 9) a = m.requestExit();
       else if (e == 10) a = m.onLost();
       else a = A::kNone;

@@ -18,8 +18,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 TEST(ConstantDistanceAngularError, ZeroAtTheSphereAndWithoutTranslation) {
   for (double r : {0.01, 0.5, 1.0, 1000.0}) {
-    EXPECT_EQ(constantDistanceAngularError(r, 0.1, r), 0.0);
-    EXPECT_EQ(constantDistanceAngularError(3.0 * r, 0.0, r), 0.0);  // atan2(·, 0) = π/2
+    EXPECT_EQ(render::constantDistanceAngularError(r, 0.1, r), 0.0);
+    EXPECT_EQ(render::constantDistanceAngularError(3.0 * r, 0.0, r), 0.0);  // atan2(·, 0) = π/2
   }
 }
 
@@ -28,21 +28,21 @@ TEST(ConstantDistanceAngularError, MatchesThePaperFigure) {
   for (double d : {0.1, 0.3, 1.7, 40.0})
     for (double dx : {0.01, 0.1, 0.5})
       for (double r : {0.5, 1.0, 3.0})
-        EXPECT_NEAR(constantDistanceAngularError(d, dx, r), std::atan2(d, dx) - std::atan2(r, dx),
+        EXPECT_NEAR(render::constantDistanceAngularError(d, dx, r), std::atan2(d, dx) - std::atan2(r, dx),
                     1e-15);
   // Paper Fig. 5: Δx = 10 cm, r = 1 m.
-  EXPECT_NEAR(constantDistanceAngularError(0.3, 0.1, 1.0), std::atan(3.0) - std::atan(10.0), 1e-15);
-  EXPECT_NEAR(constantDistanceAngularError(0.3, 0.1, 1.0) * 180 / M_PI, -12.72, 0.01);
-  EXPECT_GT(constantDistanceAngularError(2.0, 0.1, 1.0), 0.0);  // beyond the sphere: positive
-  EXPECT_LT(constantDistanceAngularError(0.5, 0.1, 1.0), 0.0);  // nearer: negative
+  EXPECT_NEAR(render::constantDistanceAngularError(0.3, 0.1, 1.0), std::atan(3.0) - std::atan(10.0), 1e-15);
+  EXPECT_NEAR(render::constantDistanceAngularError(0.3, 0.1, 1.0) * 180 / M_PI, -12.72, 0.01);
+  EXPECT_GT(render::constantDistanceAngularError(2.0, 0.1, 1.0), 0.0);  // beyond the sphere: positive
+  EXPECT_LT(render::constantDistanceAngularError(0.5, 0.1, 1.0), 0.0);  // nearer: negative
   // Saturation for large d: π/2 − atan2(r, Δx).
-  EXPECT_NEAR(constantDistanceAngularError(1e12, 0.1, 1.0), M_PI / 2 - std::atan2(1.0, 0.1), 1e-12);
+  EXPECT_NEAR(render::constantDistanceAngularError(1e12, 0.1, 1.0), M_PI / 2 - std::atan2(1.0, 0.1), 1e-12);
 }
 
 TEST(ConstantDistanceAngularError, StableAsTranslationVanishes) {
   double previous = kInf;
   for (double dx = 1e-2; dx > 1e-300; dx *= 1e-3) {
-    const double g = constantDistanceAngularError(2.0, dx, 1.0);
+    const double g = render::constantDistanceAngularError(2.0, dx, 1.0);
     ASSERT_TRUE(std::isfinite(g)) << dx;
     EXPECT_GE(g, 0.0);
     EXPECT_LE(g, previous);
@@ -56,7 +56,7 @@ TEST(ConstantDistanceAngularError, StableAsTranslationVanishes) {
 
 TEST(SphereFarHit, EyeAtTheCentreHitsAtRadius) {
   for (double r : {0.01, 1.0, 1000.0}) {
-    const auto t = sphereFarHit(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0.6, 0.8), -r * r);
+    const auto t = render::sphereFarHit(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0.6, 0.8), -r * r);
     ASSERT_TRUE(t);
     EXPECT_NEAR(*t, r, 1e-15 * r);
   }
@@ -66,7 +66,7 @@ TEST(SphereFarHit, InsideTheHitLiesOnTheSphereAhead) {
   const Eigen::Vector3d o(0.04, -0.03, 0.06);
   for (const auto& d : test::sphereDirections(500)) {
     for (double r : {0.1, 1.0, 1000.0}) {
-      const auto t = sphereFarHit(o, d, o.squaredNorm() - r * r);
+      const auto t = render::sphereFarHit(o, d, o.squaredNorm() - r * r);
       ASSERT_TRUE(t) << d.transpose();
       EXPECT_GT(*t, 0.0);
       EXPECT_NEAR((o + *t * d).norm(), r, 1e-13 * r);
@@ -78,21 +78,21 @@ TEST(SphereFarHit, OutsideTakesTheFarSideOrMisses) {
   const double r = 0.01;
   const Eigen::Vector3d o(0, 0, -0.05);  // 5 cm behind the camera, sphere of 1 cm
   // Towards the centre: both roots ahead (0.04 and 0.06); the far one.
-  auto t = sphereFarHit(o, Eigen::Vector3d(0, 0, 1), o.squaredNorm() - r * r);
+  auto t = render::sphereFarHit(o, Eigen::Vector3d(0, 0, 1), o.squaredNorm() - r * r);
   ASSERT_TRUE(t);
   EXPECT_NEAR(*t, 0.06, 1e-16);
   // Tangent limit: sin(half-angle) = r/|o| = 0.2. Just inside hits, just outside misses.
   const double edge = std::asin(0.2);
   for (double a : {edge - 1e-6, edge + 1e-6}) {
     const Eigen::Vector3d d(std::sin(a), 0, std::cos(a));
-    t = sphereFarHit(o, d, o.squaredNorm() - r * r);
+    t = render::sphereFarHit(o, d, o.squaredNorm() - r * r);
     EXPECT_EQ(bool(t), a < edge) << a;
     if (t) {
       EXPECT_NEAR((o + *t * d).norm(), r, 1e-15);
     }
   }
   // Sphere behind the eye: no hit.
-  EXPECT_FALSE(sphereFarHit(o, Eigen::Vector3d(0, 0, -1), o.squaredNorm() - r * r));
+  EXPECT_FALSE(render::sphereFarHit(o, Eigen::Vector3d(0, 0, -1), o.squaredNorm() - r * r));
 }
 
 TEST(SphereFarHit, NoCancellationForHugeRadius) {
@@ -101,33 +101,33 @@ TEST(SphereFarHit, NoCancellationForHugeRadius) {
   const Eigen::Vector3d o(1e-3, 2e-3, -1e-3);
   const Eigen::Vector3d d = Eigen::Vector3d(0.3, -0.2, -0.9).normalized();
   const double r = 1000.0;
-  const auto t = sphereFarHit(o, d, o.squaredNorm() - r * r);
+  const auto t = render::sphereFarHit(o, d, o.squaredNorm() - r * r);
   ASSERT_TRUE(t);
   EXPECT_NEAR((o + *t * d).norm(), r, 1e-12);
   // Eye on the surface looking outwards: the hit is the eye itself (continuous from inside).
   const Eigen::Vector3d on(0, 0, 1);
-  const auto t0 = sphereFarHit(on, Eigen::Vector3d(0, 0, 1), 0.0);
+  const auto t0 = render::sphereFarHit(on, Eigen::Vector3d(0, 0, 1), 0.0);
   ASSERT_TRUE(t0);
   EXPECT_EQ(*t0, 0.0);
 }
 
 TEST(EyeRay, FollowsTheXrFovAngles) {
-  const Fov fov{-0.6, 0.4, 0.5, -0.3};
+  const render::Fov fov{-0.6, 0.4, 0.5, -0.3};
   const int w = 101, h = 51;
   // Left and right image edges at col −0.5 and w − 0.5.
-  EXPECT_NEAR(eyeRay(fov, w, h, -0.5, 25).x(), std::tan(-0.6), 1e-15);
-  EXPECT_NEAR(eyeRay(fov, w, h, w - 0.5, 25).x(), std::tan(0.4), 1e-15);
-  EXPECT_NEAR(eyeRay(fov, w, h, 50, -0.5).y(), std::tan(0.5), 1e-15);  // top row is up
-  EXPECT_NEAR(eyeRay(fov, w, h, 50, h - 0.5).y(), std::tan(-0.3), 1e-15);
-  EXPECT_EQ(eyeRay(fov, w, h, 3, 4).z(), -1.0);
-  const Fov symmetric{-0.5, 0.5, 0.5, -0.5};
-  EXPECT_NEAR(eyeRay(symmetric, w, h, 50, 25).head<2>().norm(), 0.0, 1e-15);
+  EXPECT_NEAR(render::eyeRay(fov, w, h, -0.5, 25).x(), std::tan(-0.6), 1e-15);
+  EXPECT_NEAR(render::eyeRay(fov, w, h, w - 0.5, 25).x(), std::tan(0.4), 1e-15);
+  EXPECT_NEAR(render::eyeRay(fov, w, h, 50, -0.5).y(), std::tan(0.5), 1e-15);  // top row is up
+  EXPECT_NEAR(render::eyeRay(fov, w, h, 50, h - 0.5).y(), std::tan(-0.3), 1e-15);
+  EXPECT_EQ(render::eyeRay(fov, w, h, 3, 4).z(), -1.0);
+  const render::Fov symmetric{-0.5, 0.5, 0.5, -0.5};
+  EXPECT_NEAR(render::eyeRay(symmetric, w, h, 50, 25).head<2>().norm(), 0.0, 1e-15);
 }
 
 TEST(ClipFromEye, FrustumEdgesMapToNdcBounds) {
-  const Fov fov{-0.6, 0.4, 0.5, -0.3};
+  const render::Fov fov{-0.6, 0.4, 0.5, -0.3};
   const double near = 0.05;
-  const Eigen::Matrix4d P = clipFromEye(fov, near);
+  const Eigen::Matrix4d P = render::clipFromEye(fov, near);
   const auto ndc = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector4d c = P * p.homogeneous();
     return Eigen::Vector3d(c.head<3>() / c.w());
@@ -142,83 +142,83 @@ TEST(ClipFromEye, FrustumEdgesMapToNdcBounds) {
 }
 
 TEST(Checks, RejectNonFiniteAndMalformedPoses) {
-  EXPECT_FALSE(checkPose(Eigen::Isometry3d::Identity()));
-  EXPECT_FALSE(checkPose(test::eyePose({0, 0, 0}, test::rotation(M_PI, {0, 0, 1}))));
-  EXPECT_FALSE(checkPose(test::eyePose({0, 0, 0}, test::rotation(1e-5, {1, 0, 0}))));
+  EXPECT_FALSE(render::checkPose(Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(render::checkPose(test::eyePose({0, 0, 0}, test::rotation(M_PI, {0, 0, 1}))));
+  EXPECT_FALSE(render::checkPose(test::eyePose({0, 0, 0}, test::rotation(1e-5, {1, 0, 0}))));
   for (double bad : {kNaN, kInf, -kInf}) {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
     T.translation().y() = bad;
-    EXPECT_TRUE(checkPose(T)) << bad;
+    EXPECT_TRUE(render::checkPose(T)) << bad;
     T = Eigen::Isometry3d::Identity();
     T.linear()(1, 2) = bad;
-    EXPECT_TRUE(checkPose(T)) << bad;
+    EXPECT_TRUE(render::checkPose(T)) << bad;
   }
   Eigen::Isometry3d scaled = Eigen::Isometry3d::Identity();
   scaled.linear() *= 1.01;
-  EXPECT_TRUE(checkPose(scaled));
+  EXPECT_TRUE(render::checkPose(scaled));
   Eigen::Isometry3d mirrored = Eigen::Isometry3d::Identity();
   mirrored.linear()(0, 0) = -1;
-  EXPECT_TRUE(checkPose(mirrored));
+  EXPECT_TRUE(render::checkPose(mirrored));
 }
 
 TEST(Checks, RejectBadViewsAndSettings) {
-  EyeView view;
+  render::EyeView view;
   view.width = 64;
   view.height = 48;
-  EXPECT_FALSE(checkEyeView(view));
-  EyeView bad = view;
+  EXPECT_FALSE(render::checkEyeView(view));
+  render::EyeView bad = view;
   bad.width = 0;
-  EXPECT_TRUE(checkEyeView(bad));
+  EXPECT_TRUE(render::checkEyeView(bad));
   bad = view;
   bad.fov.angle_left = 0.8;  // left > right
-  EXPECT_TRUE(checkEyeView(bad));
+  EXPECT_TRUE(render::checkEyeView(bad));
   bad = view;
   bad.fov.angle_up = M_PI / 2;
-  EXPECT_TRUE(checkEyeView(bad));
+  EXPECT_TRUE(render::checkEyeView(bad));
   bad = view;
   bad.fov.angle_down = kNaN;
-  EXPECT_TRUE(checkEyeView(bad));
+  EXPECT_TRUE(render::checkEyeView(bad));
   bad = view;
   bad.T_cam_eye.translation().x() = kNaN;
-  ASSERT_TRUE(checkEyeView(bad));
-  EXPECT_NE(checkEyeView(bad)->find("T_cam_eye"), std::string::npos);
+  ASSERT_TRUE(render::checkEyeView(bad));
+  EXPECT_NE(render::checkEyeView(bad)->find("T_cam_eye"), std::string::npos);
 
-  RenderSettings s;
-  EXPECT_FALSE(checkRenderSettings(s));
+  render::RenderSettings s;
+  EXPECT_FALSE(render::checkRenderSettings(s));
   for (double r : {0.0, -1.0, kNaN, kInf}) {
     s.radius = r;
-    EXPECT_TRUE(checkRenderSettings(s)) << r;
+    EXPECT_TRUE(render::checkRenderSettings(s)) << r;
   }
-  s = RenderSettings{};
+  s = render::RenderSettings{};
   s.T_cam_eye_fixed.translation().z() = kInf;
-  EXPECT_TRUE(checkRenderSettings(s));
-  s = RenderSettings{};
+  EXPECT_TRUE(render::checkRenderSettings(s));
+  s = render::RenderSettings{};
   s.mesh_rings = 1;
-  EXPECT_TRUE(checkRenderSettings(s));
+  EXPECT_TRUE(render::checkRenderSettings(s));
 }
 
 TEST(Modes, PickThePoseTheyUse) {
-  EyeView view;
+  render::EyeView view;
   view.T_cam_eye = test::eyePose({0.1, 0.2, 0.3}, test::rotation(0.4, {1, 1, 0}));
-  RenderSettings s;
+  render::RenderSettings s;
   s.T_cam_eye_fixed = test::eyePose({0, 0, 0.01}, test::rotation(-0.785, {1, 0, 0}));
   s.mode = link::VisualMode::kFull6d;
-  EXPECT_TRUE(effectiveT_cam_eye(view, s).isApprox(view.T_cam_eye));
+  EXPECT_TRUE(render::effectiveT_cam_eye(view, s).isApprox(view.T_cam_eye));
   s.mode = link::VisualMode::kOrientation3d;
-  EXPECT_TRUE(effectiveT_cam_eye(view, s).linear().isApprox(view.T_cam_eye.linear()));
-  EXPECT_EQ(effectiveT_cam_eye(view, s).translation(), Eigen::Vector3d::Zero());
+  EXPECT_TRUE(render::effectiveT_cam_eye(view, s).linear().isApprox(view.T_cam_eye.linear()));
+  EXPECT_EQ(render::effectiveT_cam_eye(view, s).translation(), Eigen::Vector3d::Zero());
   s.mode = link::VisualMode::kFixed;
-  EXPECT_TRUE(effectiveT_cam_eye(view, s).isApprox(s.T_cam_eye_fixed));
-  for (auto p : {RenderPath::kExact, RenderPath::kMesh, RenderPath::kLut})
-    EXPECT_EQ(parseRenderPath(renderPathName(p)), p);
-  EXPECT_FALSE(parseRenderPath("fast"));
+  EXPECT_TRUE(render::effectiveT_cam_eye(view, s).isApprox(s.T_cam_eye_fixed));
+  for (auto p : {render::RenderPath::kExact, render::RenderPath::kMesh, render::RenderPath::kLut})
+    EXPECT_EQ(render::parseRenderPath(render::renderPathName(p)), p);
+  EXPECT_FALSE(render::parseRenderPath("fast"));
 }
 
 TEST(Frames, OpticalFromViewFlipsYAndZ) {
-  EXPECT_TRUE((kR_optical_view * kR_optical_view).isIdentity());
-  EXPECT_EQ(kR_optical_view * Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0, 1));  // forward
-  EXPECT_EQ(kR_optical_view * Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, -1, 0));  // up
-  EXPECT_EQ(kR_optical_view * Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0, 0));   // right
+  EXPECT_TRUE((render::kR_optical_view * render::kR_optical_view).isIdentity());
+  EXPECT_EQ(render::kR_optical_view * Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(0, 0, 1));  // forward
+  EXPECT_EQ(render::kR_optical_view * Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, -1, 0));  // up
+  EXPECT_EQ(render::kR_optical_view * Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 0, 0));   // right
 }
 
 }  // namespace

@@ -48,18 +48,18 @@ link::proto::StereoFrame message(std::uint64_t sequence, int w, int h) {
 
 using test::referenceDecode;
 
-bool samePlanes(const YuvPlanes& a, const YuvPlanes& b) {
+bool samePlanes(const render::YuvPlanes& a, const render::YuvPlanes& b) {
   return a.width == b.width && a.height == b.height && a.y == b.y && a.u == b.u && a.v == b.v;
 }
 
 struct Rig {
-  explicit Rig(int n, StereoFrameDecoder::Options options = {})
+  explicit Rig(int n, video::StereoFrameDecoder::Options options = {})
       : server(stereoEndpoints(n)), client(stereoEndpoints(n)), decoder(client, options) {}
 
   /// Publishes good frames (sequence 1, 2, …) until one is decoded (a PUB drops what it sends
   /// before the SUB has joined), then one more and waits for exactly that one: frames arrive in
   /// order, so once it is out, no earlier frame is still on its way. Returns it.
-  std::shared_ptr<const DecodedStereoFrame> connect() {
+  std::shared_ptr<const video::DecodedStereoFrame> connect() {
     for (int i = 0; i < 500; ++i) {
       server.publishStereoFrame(message(++sequence, 64, 48), left, right);
       if (decoder.waitNewer(0, 20ms)) return good();
@@ -69,7 +69,7 @@ struct Rig {
 
   /// Publishes a good frame and waits for it to come out decoded (sent again, same sequence,
   /// if the PUB socket lost it: what is tested here is the decoder, not ZeroMQ's delivery).
-  std::shared_ptr<const DecodedStereoFrame> good() {
+  std::shared_ptr<const video::DecodedStereoFrame> good() {
     const std::uint64_t s = ++sequence;
     for (int attempt = 0; attempt < 20; ++attempt) {
       server.publishStereoFrame(message(s, 64, 48), left, right);
@@ -80,7 +80,7 @@ struct Rig {
 
   link::LinkServer server;
   link::LinkClient client;
-  StereoFrameDecoder decoder;
+  video::StereoFrameDecoder decoder;
   std::uint64_t sequence = 0;
   std::vector<std::uint8_t> left_jpeg = test::texturedJpeg(64, 48, 11);
   std::vector<std::uint8_t> right_jpeg = test::texturedJpeg(64, 48, 12, TJSAMP_444);
@@ -88,7 +88,7 @@ struct Rig {
 };
 
 TEST(StereoFrameDecoder, DecodesBothImagesAsAReferenceDecoderDoes) {
-  StereoFrameDecoder::Options options;
+  video::StereoFrameDecoder::Options options;
   options.threads = 2;
   Rig rig(0, options);
   ASSERT_TRUE(rig.connect());
@@ -103,7 +103,7 @@ TEST(StereoFrameDecoder, DecodesBothImagesAsAReferenceDecoderDoes) {
   EXPECT_GE(st.received_ns(), st.sent_ns());  // one clock on loopback
   EXPECT_GE(st.decoded_ns(), st.received_ns());
   // The renderer's hand-over: the same planes, not a copy.
-  const SourceImage image = SourceImage::yuv(f->left);
+  const render::SourceImage image = render::SourceImage::yuv(f->left);
   EXPECT_EQ(image.planes.get(), f->left.get());
   EXPECT_EQ(image.planes->y.data(), f->left->y.data());
   EXPECT_TRUE(image.consistent());
@@ -119,18 +119,18 @@ TEST(StereoFrameDecoder, BadFramesAreDroppedWithTheirReasonAndTheStreamResumes) 
     const char* name;
     std::vector<std::uint8_t> jpeg;
     int message_w, message_h;
-    FrameDropReason reason;
+    video::FrameDropReason reason;
   };
   std::vector<std::uint8_t> corrupt = good;
   for (std::size_t i = corrupt.size() / 3; i < corrupt.size() - 2; ++i)
     corrupt[i] = static_cast<std::uint8_t>(i * 37);  // entropy data and EOI overwritten
   const std::vector<Case> cases = {
-      {"truncated", std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2)), 64, 48, FrameDropReason::kCorrupt},
-      {"garbage", std::vector<std::uint8_t>(900, 0x5a), 64, 48, FrameDropReason::kCorrupt},
-      {"corrupt", corrupt, 64, 48, FrameDropReason::kCorrupt},
-      {"60000x60000 header", test::withHeaderSize(good, 60000, 60000), 64, 48, FrameDropReason::kTooLarge},
-      {"message says 80x48", good, 80, 48, FrameDropReason::kSizeMismatch},
-      {"4:1:1", test::texturedJpeg(64, 48, 13, TJSAMP_411), 64, 48, FrameDropReason::kUnsupported},
+      {"truncated", std::vector<std::uint8_t>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2)), 64, 48, video::FrameDropReason::kCorrupt},
+      {"garbage", std::vector<std::uint8_t>(900, 0x5a), 64, 48, video::FrameDropReason::kCorrupt},
+      {"corrupt", corrupt, 64, 48, video::FrameDropReason::kCorrupt},
+      {"60000x60000 header", test::withHeaderSize(good, 60000, 60000), 64, 48, video::FrameDropReason::kTooLarge},
+      {"message says 80x48", good, 80, 48, video::FrameDropReason::kSizeMismatch},
+      {"4:1:1", test::texturedJpeg(64, 48, 13, TJSAMP_411), 64, 48, video::FrameDropReason::kUnsupported},
   };
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
@@ -161,7 +161,7 @@ TEST(StereoFrameDecoder, BadFramesAreDroppedWithTheirReasonAndTheStreamResumes) 
 class StereoFrameDecoderThreads : public ::testing::TestWithParam<int> {};
 
 TEST_P(StereoFrameDecoderThreads, ASlowConsumerSeesOnlyNewerFramesAndNothingQueues) {
-  StereoFrameDecoder::Options options;
+  video::StereoFrameDecoder::Options options;
   options.threads = GetParam();
   Rig rig(GetParam() == 1 ? 2 : 4, options);
   ASSERT_TRUE(rig.connect());
@@ -171,7 +171,7 @@ TEST_P(StereoFrameDecoderThreads, ASlowConsumerSeesOnlyNewerFramesAndNothingQueu
   const auto big_right = test::texturedJpeg(kW, kH, 22);
   const Bytes l = share(big_left), r = share(big_right);
   const auto held = rig.decoder.newest();  // a consumer that keeps an old frame meanwhile
-  const YuvPlanes held_copy = *held->left;
+  const render::YuvPlanes held_copy = *held->left;
   constexpr int kBurst = 40;
   for (int i = 0; i < kBurst; ++i) rig.server.publishStereoFrame(message(++rig.sequence, kW, kH), l, r);
   const std::uint64_t last = rig.sequence;
@@ -195,7 +195,7 @@ TEST_P(StereoFrameDecoderThreads, ASlowConsumerSeesOnlyNewerFramesAndNothingQueu
   const auto s = rig.decoder.stats();
   // Frames that arrived while a pair was decoding were superseded (or replaced unread), not
   // queued: decoding one pair takes far longer than publishing the burst.
-  EXPECT_GT(s.dropped(FrameDropReason::kSuperseded) + s.replaced_unread, 0u);
+  EXPECT_GT(s.dropped(video::FrameDropReason::kSuperseded) + s.replaced_unread, 0u);
   // Plane sets stay bounded (slot + held + in flight + free), and the held frame is intact.
   // (4 threads: a second pair in flight, two more sets.)
   EXPECT_LE(rig.decoder.pool().planesAllocated(), GetParam() == 1 ? 10u : 12u);
@@ -226,9 +226,9 @@ TEST(StereoFrameDecoder, StatsCoverEveryStage) {
   EXPECT_GT(s.received_to_decoded.p50_ms, 0.0);  // one clock: decoding after receiving takes time
   EXPECT_GE(s.capture_to_decoded.n, 5u);
   EXPECT_GE(s.capture_to_decoded.p50_ms, 7.0 - half_rtt_ms - 2.0);
-  for (int r = 0; r < static_cast<int>(FrameDropReason::kCount); ++r) {
-    if (static_cast<FrameDropReason>(r) == FrameDropReason::kSuperseded) continue;
-    EXPECT_EQ(s.dropped_by_reason[static_cast<std::size_t>(r)], 0u) << frameDropReasonName(static_cast<FrameDropReason>(r));
+  for (int r = 0; r < static_cast<int>(video::FrameDropReason::kCount); ++r) {
+    if (static_cast<video::FrameDropReason>(r) == video::FrameDropReason::kSuperseded) continue;
+    EXPECT_EQ(s.dropped_by_reason[static_cast<std::size_t>(r)], 0u) << video::frameDropReasonName(static_cast<video::FrameDropReason>(r));
   }
 }
 

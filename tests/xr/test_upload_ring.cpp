@@ -21,7 +21,7 @@
 namespace telesphere::xr {
 namespace {
 
-constexpr PlaneLayout k420{64, 36, 32, 18};
+constexpr render::PlaneLayout k420{64, 36, 32, 18};
 
 class UploadRingTest : public ::testing::Test {
  protected:
@@ -37,15 +37,15 @@ class UploadRingTest : public ::testing::Test {
   }
 
   /// Planes of `layout` in a slot, filled with seeded noise.
-  static std::shared_ptr<const YuvPlanes> fillSlot(std::shared_ptr<const UploadSlot> slot, std::uint32_t seed) {
+  static std::shared_ptr<const render::YuvPlanes> fillSlot(std::shared_ptr<const render::UploadSlot> slot, std::uint32_t seed) {
     std::mt19937 rng(seed);
-    const PlaneLayout& l = slot->layout;
+    const render::PlaneLayout& l = slot->layout;
     for (std::size_t i = 0; i < l.lumaBytes(); ++i) slot->y[i] = std::uint8_t(rng());
     for (std::size_t i = 0; i < l.chromaBytes(); ++i) {
       slot->u[i] = std::uint8_t(rng());
       slot->v[i] = std::uint8_t(rng());
     }
-    auto planes = std::make_shared<YuvPlanes>();
+    auto planes = std::make_shared<render::YuvPlanes>();
     planes->width = l.width;
     planes->height = l.height;
     planes->chroma_width = l.chroma_width;
@@ -56,8 +56,8 @@ class UploadRingTest : public ::testing::Test {
   }
 
   /// The same bytes in the planes' own memory.
-  static std::shared_ptr<const YuvPlanes> ownCopy(const YuvPlanes& in) {
-    auto out = std::make_shared<YuvPlanes>();
+  static std::shared_ptr<const render::YuvPlanes> ownCopy(const render::YuvPlanes& in) {
+    auto out = std::make_shared<render::YuvPlanes>();
     out->width = in.width;
     out->height = in.height;
     out->chroma_width = in.chroma_width;
@@ -71,7 +71,7 @@ class UploadRingTest : public ::testing::Test {
   }
 
   /// Texture unit `unit`'s bytes after GpuCamera::bindImage.
-  static std::vector<std::uint8_t> texture(const GpuCamera& camera, int unit, std::size_t bytes) {
+  static std::vector<std::uint8_t> texture(const render::GpuCamera& camera, int unit, std::size_t bytes) {
     camera.bindImage();
     glActiveTexture(GLenum(GL_TEXTURE0 + unit));
     GLint id = 0;
@@ -88,14 +88,14 @@ class UploadRingTest : public ::testing::Test {
 };
 
 TEST_F(UploadRingTest, SlotsAreGivenOutOnlyForTheSizeTheRingIsMadeForAndNeverTwice) {
-  UploadRing ring(3);
+  render::UploadRing ring(3);
   auto source = ring.source();
   ASSERT_TRUE(source);
   EXPECT_FALSE(source->take(k420)) << "no ring before prepare";
   std::string error;
   ASSERT_TRUE(ring.prepare(k420, &error)) << error;
   EXPECT_FALSE(source->take({64, 36, 64, 36})) << "another layout";
-  std::vector<std::shared_ptr<const UploadSlot>> held;
+  std::vector<std::shared_ptr<const render::UploadSlot>> held;
   for (int i = 0; i < 3; ++i) {
     held.push_back(source->take(k420));
     ASSERT_TRUE(held.back());
@@ -120,16 +120,16 @@ TEST_F(UploadRingTest, SlotsAreGivenOutOnlyForTheSizeTheRingIsMadeForAndNeverTwi
   const auto again = source->take(k420);
   ASSERT_TRUE(again);
   EXPECT_EQ(again->index, index);
-  EXPECT_FALSE(UploadRing(0).source()) << "0 slots: the ring is off";
+  EXPECT_FALSE(render::UploadRing(0).source()) << "0 slots: the ring is off";
 }
 
 TEST_F(UploadRingTest, ACopiedSlotComesBackOnlyAfterItsLastHolderAndItsFence) {
-  UploadRing ring(1);
+  render::UploadRing ring(1);
   std::string error;
   ASSERT_TRUE(ring.prepare(k420, &error)) << error;
   auto planes = fillSlot(ring.source()->take(k420), 1);
-  GpuCamera camera(*camera_, 64, 36);
-  ASSERT_TRUE(camera.upload(SourceImage::yuv(planes), &error)) << error;
+  render::GpuCamera camera(*camera_, 64, 36);
+  ASSERT_TRUE(camera.upload(render::SourceImage::yuv(planes), &error)) << error;
   ring.fenceCopy(*planes->slot);
   ring.reclaim();
   EXPECT_EQ(ring.occupancy().held, 1) << "held by the planes, whatever the fence says";
@@ -143,9 +143,9 @@ TEST_F(UploadRingTest, ACopiedSlotComesBackOnlyAfterItsLastHolderAndItsFence) {
 }
 
 TEST_F(UploadRingTest, TexturesFromASlotHoldTheSameBytesAsFromOwnMemory) {
-  for (const PlaneLayout layout : {k420, PlaneLayout{64, 36, 0, 0}}) {
+  for (const render::PlaneLayout layout : {k420, render::PlaneLayout{64, 36, 0, 0}}) {
     SCOPED_TRACE(layout.chroma_width == 0 ? "greyscale" : "4:2:0");
-    UploadRing ring(2);
+    render::UploadRing ring(2);
     std::string error;
     ASSERT_TRUE(ring.prepare(layout, &error)) << error;
     const auto in_slot = fillSlot(ring.source()->take(layout), 7);
@@ -153,10 +153,10 @@ TEST_F(UploadRingTest, TexturesFromASlotHoldTheSameBytesAsFromOwnMemory) {
       EXPECT_FALSE(in_slot->slot->u);
     }
     const auto in_memory = ownCopy(*in_slot);
-    GpuCamera from_slot(*camera_, 64, 36), from_memory(*camera_, 64, 36);
-    ASSERT_TRUE(from_slot.upload(SourceImage::yuv(in_slot), &error)) << error;
+    render::GpuCamera from_slot(*camera_, 64, 36), from_memory(*camera_, 64, 36);
+    ASSERT_TRUE(from_slot.upload(render::SourceImage::yuv(in_slot), &error)) << error;
     ring.fenceCopy(*in_slot->slot);
-    ASSERT_TRUE(from_memory.upload(SourceImage::yuv(in_memory), &error)) << error;
+    ASSERT_TRUE(from_memory.upload(render::SourceImage::yuv(in_memory), &error)) << error;
     const std::vector<std::uint8_t> y = texture(from_slot, 0, layout.lumaBytes());
     EXPECT_EQ(y, texture(from_memory, 0, layout.lumaBytes()));
     EXPECT_TRUE(std::equal(y.begin(), y.end(), in_memory->y.begin()));
@@ -167,17 +167,17 @@ TEST_F(UploadRingTest, TexturesFromASlotHoldTheSameBytesAsFromOwnMemory) {
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
     // The CPU's double reference reads the slot's bytes too.
     const Eigen::Vector2d px(10.3, 7.8);
-    EXPECT_EQ(SourceImage::yuv(in_slot).sample(px), SourceImage::yuv(in_memory).sample(px));
+    EXPECT_EQ(render::SourceImage::yuv(in_slot).sample(px), render::SourceImage::yuv(in_memory).sample(px));
   }
 }
 
 TEST_F(UploadRingTest, ASizeChangeRetiresTheOldBufferOnceItsSlotsAreBack) {
-  UploadRing ring(2);
+  render::UploadRing ring(2);
   std::string error;
   ASSERT_TRUE(ring.prepare(k420, &error)) << error;
   auto old_planes = fillSlot(ring.source()->take(k420), 3);
   const std::vector<std::uint8_t> old_bytes(old_planes->yPlane().begin(), old_planes->yPlane().end());
-  const PlaneLayout bigger{128, 72, 64, 36};
+  const render::PlaneLayout bigger{128, 72, 64, 36};
   ASSERT_TRUE(ring.prepare(bigger, &error)) << error;
   EXPECT_TRUE(ring.preparedFor(bigger));
   EXPECT_FALSE(ring.source()->take(k420)) << "the old size is retired";
@@ -196,9 +196,9 @@ TEST_F(UploadRingTest, ASizeChangeRetiresTheOldBufferOnceItsSlotsAreBack) {
 }
 
 TEST_F(UploadRingTest, PlanesHeldWhenTheRingGoesStayReadable) {
-  std::shared_ptr<const YuvPlanes> planes;
+  std::shared_ptr<const render::YuvPlanes> planes;
   {
-    UploadRing ring(1);
+    render::UploadRing ring(1);
     std::string error;
     ASSERT_TRUE(ring.prepare(k420, &error)) << error;
     planes = fillSlot(ring.source()->take(k420), 9);
@@ -209,29 +209,29 @@ TEST_F(UploadRingTest, PlanesHeldWhenTheRingGoesStayReadable) {
 }
 
 TEST_F(UploadRingTest, TheDecodePoolDecodesIntoSlotsAndFallsBackWhenNoneIsFree) {
-  UploadRing ring(2);
+  render::UploadRing ring(2);
   std::string error;
   const auto jpeg = test::texturedJpeg(64, 36, 11);
-  const YuvPlanes reference = test::referenceDecode(jpeg);
+  const render::YuvPlanes reference = test::referenceDecode(jpeg);
   ASSERT_TRUE(ring.prepare(reference.layout(), &error)) << error;
-  DecodePool pool(2);
-  DecodeJob job;
+  video::DecodePool pool(2);
+  video::DecodeJob job;
   job.jpeg = jpeg;
   job.upload_slots = ring.source();
-  const auto same = [&](const YuvPlanes& p) {
+  const auto same = [&](const render::YuvPlanes& p) {
     return std::ranges::equal(p.yPlane(), reference.y) && std::ranges::equal(p.uPlane(), reference.u) &&
            std::ranges::equal(p.vPlane(), reference.v) && p.subsampling == reference.subsampling;
   };
-  DecodeResult a = pool.submit(job).get();
-  DecodeResult b = pool.submit(job).get();
-  ASSERT_EQ(a.error, JpegDecodeError::kNone) << a.message;
-  ASSERT_EQ(b.error, JpegDecodeError::kNone) << b.message;
+  video::DecodeResult a = pool.submit(job).get();
+  video::DecodeResult b = pool.submit(job).get();
+  ASSERT_EQ(a.error, video::JpegDecodeError::kNone) << a.message;
+  ASSERT_EQ(b.error, video::JpegDecodeError::kNone) << b.message;
   EXPECT_TRUE(a.in_upload_slot && a.planes->slot);
   EXPECT_TRUE(b.in_upload_slot && b.planes->slot);
   EXPECT_TRUE(same(*a.planes));
   EXPECT_TRUE(same(*b.planes));
-  DecodeResult c = pool.submit(job).get();  // both slots held: the pool's own memory
-  ASSERT_EQ(c.error, JpegDecodeError::kNone) << c.message;
+  video::DecodeResult c = pool.submit(job).get();  // both slots held: the pool's own memory
+  ASSERT_EQ(c.error, video::JpegDecodeError::kNone) << c.message;
   EXPECT_FALSE(c.in_upload_slot);
   EXPECT_FALSE(c.planes->slot);
   EXPECT_TRUE(same(*c.planes));
@@ -242,15 +242,15 @@ TEST_F(UploadRingTest, TheDecodePoolDecodesIntoSlotsAndFallsBackWhenNoneIsFree) 
   std::vector<std::uint8_t> corrupt = jpeg;
   corrupt.resize(corrupt.size() / 2);
   job.jpeg = corrupt;
-  const DecodeResult d = pool.submit(job).get();
-  EXPECT_EQ(d.error, JpegDecodeError::kCorrupt);
+  const video::DecodeResult d = pool.submit(job).get();
+  EXPECT_EQ(d.error, video::JpegDecodeError::kCorrupt);
   EXPECT_FALSE(d.planes);
   EXPECT_EQ(ring.occupancy().free, 1) << "the slot the corrupt decode took is back";
   // A header the ring is not made for: the pool's memory, counted.
   const auto other = test::texturedJpeg(32, 18, 12);
   job.jpeg = other;
-  const DecodeResult e = pool.submit(job).get();
-  ASSERT_EQ(e.error, JpegDecodeError::kNone) << e.message;
+  const video::DecodeResult e = pool.submit(job).get();
+  ASSERT_EQ(e.error, video::JpegDecodeError::kNone) << e.message;
   EXPECT_FALSE(e.in_upload_slot);
   EXPECT_GE(ring.source()->counts().other_layout, 1u);
 }

@@ -15,22 +15,22 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Eigen::Vector3d viewDirection(const VirtualHead& head) {
+Eigen::Vector3d viewDirection(const desktop::VirtualHead& head) {
   return head.pose().linear() * Eigen::Vector3d(0, 0, -1);  // hmd −z in vr
 }
 
 TEST(VirtualHead, StartsStandingAndLookingAlongMinusZ) {
-  const VirtualHead head;
+  const desktop::VirtualHead head;
   const Eigen::Isometry3d T_vr_hmd = head.pose();
   EXPECT_TRUE(T_vr_hmd.translation().isApprox(Eigen::Vector3d(0, 1.6, 0), 1e-15));
   EXPECT_TRUE(T_vr_hmd.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-15));
-  const VirtualHead seated(VirtualHeadSettings{.start_height = 0.0});
+  const desktop::VirtualHead seated(desktop::VirtualHeadSettings{.start_height = 0.0});
   EXPECT_TRUE(seated.pose().translation().isZero(0.0));
 }
 
 TEST(VirtualHead, ForwardIsWhereItLooksAndOppositeKeysCancel) {
-  VirtualHead head;
-  VirtualHeadInput input;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput input;
   input.forward = true;
   ASSERT_TRUE(head.step(input, 0.1));  // 0.5 m/s · 0.1 s
   EXPECT_TRUE(head.position().isApprox(Eigen::Vector3d(0, 1.6, -0.05), 1e-12));
@@ -46,8 +46,8 @@ TEST(VirtualHead, ForwardIsWhereItLooksAndOppositeKeysCancel) {
 }
 
 TEST(VirtualHead, TurningLeft90DegreesThenForwardMovesAlongMinusX) {
-  VirtualHead head;
-  VirtualHeadInput turn;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput turn;
   turn.turn_left = true;  // 1 rad/s
   const int steps = 100;
   for (int i = 0; i < steps; ++i) ASSERT_TRUE(head.step(turn, kPi / 2.0 / steps));
@@ -55,13 +55,13 @@ TEST(VirtualHead, TurningLeft90DegreesThenForwardMovesAlongMinusX) {
   EXPECT_TRUE(viewDirection(head).isApprox(Eigen::Vector3d(-1, 0, 0), 1e-12));
 
   // Looking down as well must not make "forward" dig into the floor.
-  VirtualHeadInput look_down;
+  desktop::VirtualHeadInput look_down;
   look_down.look = true;
   look_down.mouse_dy_px = 100.0;  // 0.3 rad down
   ASSERT_TRUE(head.step(look_down, 0.0));
   EXPECT_NEAR(head.pitch(), -0.3, 1e-12);
 
-  VirtualHeadInput walk;
+  desktop::VirtualHeadInput walk;
   walk.forward = true;
   ASSERT_TRUE(head.step(walk, 0.1));
   EXPECT_TRUE(head.position().isApprox(Eigen::Vector3d(-0.05, 1.6, 0), 1e-12));
@@ -72,8 +72,8 @@ TEST(VirtualHead, TurningLeft90DegreesThenForwardMovesAlongMinusX) {
 }
 
 TEST(VirtualHead, MouseRightTurnsRightAndOnlyWhileLooking) {
-  VirtualHead head;
-  VirtualHeadInput input;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput input;
   input.mouse_dx_px = 100.0;
   ASSERT_TRUE(head.step(input, 0.0));  // button not held: ignored
   EXPECT_EQ(head.yaw(), 0.0);
@@ -89,26 +89,26 @@ TEST(VirtualHead, MouseRightTurnsRightAndOnlyWhileLooking) {
 }
 
 TEST(VirtualHead, PitchIsClampedAtTheExtremes) {
-  VirtualHead head;
-  VirtualHeadInput input;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput input;
   input.look = true;
   input.mouse_dy_px = -1e9;  // a huge upward mouse flick
   ASSERT_TRUE(head.step(input, 0.0));
-  EXPECT_EQ(head.pitch(), VirtualHead::kMaxPitch);
+  EXPECT_EQ(head.pitch(), desktop::VirtualHead::kMaxPitch);
   EXPECT_NEAR(viewDirection(head).y(), std::sin(89.0 * kPi / 180.0), 1e-12);
   EXPECT_LT(viewDirection(head).z(), 0.0);  // not flipped over the pole
   input.mouse_dy_px = 1e9;
   ASSERT_TRUE(head.step(input, 0.0));
-  EXPECT_EQ(head.pitch(), -VirtualHead::kMaxPitch);
+  EXPECT_EQ(head.pitch(), -desktop::VirtualHead::kMaxPitch);
   input = {};
   input.look_down = true;  // keys cannot push past the clamp either
   ASSERT_TRUE(head.step(input, 0.1));
-  EXPECT_EQ(head.pitch(), -VirtualHead::kMaxPitch);
+  EXPECT_EQ(head.pitch(), -desktop::VirtualHead::kMaxPitch);
 }
 
 TEST(VirtualHead, YawWrapsIntoMinusPiToPi) {
-  VirtualHead head;
-  VirtualHeadInput input;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput input;
   input.look = true;
   input.mouse_dx_px = -(2.5 * kPi) / 0.003;  // 450° to the left
   ASSERT_TRUE(head.step(input, 0.0));
@@ -121,8 +121,8 @@ TEST(VirtualHead, YawWrapsIntoMinusPiToPi) {
 }
 
 TEST(VirtualHead, BadTimeStepsAreRefusedAndHugeOnesClamped) {
-  VirtualHead head;
-  VirtualHeadInput input;
+  desktop::VirtualHead head;
+  desktop::VirtualHeadInput input;
   input.forward = true;
   input.look = true;
   input.mouse_dx_px = 10.0;
@@ -130,23 +130,23 @@ TEST(VirtualHead, BadTimeStepsAreRefusedAndHugeOnesClamped) {
   const double inf = std::numeric_limits<double>::infinity();
   for (const double dt_s : {nan, inf, -inf, -0.01}) {
     EXPECT_FALSE(head.step(input, dt_s)) << dt_s;
-    EXPECT_TRUE(head.pose().isApprox(VirtualHead().pose(), 0.0)) << "changed by dt " << dt_s;
+    EXPECT_TRUE(head.pose().isApprox(desktop::VirtualHead().pose(), 0.0)) << "changed by dt " << dt_s;
   }
-  VirtualHeadInput bad_mouse = input;
+  desktop::VirtualHeadInput bad_mouse = input;
   bad_mouse.mouse_dy_px = nan;
   EXPECT_FALSE(head.step(bad_mouse, 0.01));
   bad_mouse.mouse_dy_px = 0.0;
   bad_mouse.mouse_dx_px = std::numeric_limits<double>::max();
   EXPECT_TRUE(head.step(bad_mouse, 0.0));  // max · 0.003 rad/px is finite: accepted, wrapped
   EXPECT_TRUE(std::isfinite(head.yaw()));
-  VirtualHead sensitive(VirtualHeadSettings{.mouse_sensitivity_rad_px = 10.0});
+  desktop::VirtualHead sensitive(desktop::VirtualHeadSettings{.mouse_sensitivity_rad_px = 10.0});
   EXPECT_FALSE(sensitive.step(bad_mouse, 0.0));  // max · 10 rad/px overflows: refused
   EXPECT_EQ(sensitive.yaw(), 0.0);
   head.reset();
 
   input.look = false;
   ASSERT_TRUE(head.step(input, 3600.0));  // a stalled window: one kMaxStepS step at most
-  EXPECT_NEAR(head.position().z(), -0.5 * VirtualHead::kMaxStepS, 1e-12);
+  EXPECT_NEAR(head.position().z(), -0.5 * desktop::VirtualHead::kMaxStepS, 1e-12);
 }
 
 TEST(VirtualHead, RotationStaysOrthonormalOverALongRandomWalk) {
@@ -154,9 +154,9 @@ TEST(VirtualHead, RotationStaysOrthonormalOverALongRandomWalk) {
   std::uniform_int_distribution<int> bit(0, 1);
   std::uniform_real_distribution<double> mouse(-300.0, 300.0);
   std::uniform_real_distribution<double> dt(0.0, 0.2);
-  VirtualHead head;
+  desktop::VirtualHead head;
   for (int i = 0; i < 100000; ++i) {
-    VirtualHeadInput input;
+    desktop::VirtualHeadInput input;
     input.forward = bit(rng);
     input.back = bit(rng);
     input.left = bit(rng);
@@ -175,18 +175,18 @@ TEST(VirtualHead, RotationStaysOrthonormalOverALongRandomWalk) {
   EXPECT_TRUE((R.transpose() * R).isApprox(Eigen::Matrix3d::Identity(), 1e-12));
   EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
   EXPECT_NEAR((R * Eigen::Vector3d::UnitX()).y(), 0.0, 1e-12);  // never any roll
-  EXPECT_LE(std::abs(head.pitch()), VirtualHead::kMaxPitch);
+  EXPECT_LE(std::abs(head.pitch()), desktop::VirtualHead::kMaxPitch);
   EXPECT_TRUE(T_vr_hmd.translation().allFinite());
 }
 
 TEST(VirtualHead, ResetReturnsToTheStartPose) {
-  VirtualHead head(VirtualHeadSettings{.speed_m_s = 2.0, .start_height = 1.2});
-  VirtualHeadInput input;
+  desktop::VirtualHead head(desktop::VirtualHeadSettings{.speed_m_s = 2.0, .start_height = 1.2});
+  desktop::VirtualHeadInput input;
   input.forward = input.left = input.down = input.look = true;
   input.mouse_dx_px = 123.0;
   input.mouse_dy_px = -45.0;
   ASSERT_TRUE(head.step(input, 0.05));
-  ASSERT_FALSE(head.pose().isApprox(VirtualHead(head.settings()).pose(), 1e-6));
+  ASSERT_FALSE(head.pose().isApprox(desktop::VirtualHead(head.settings()).pose(), 1e-6));
   head.reset();
   EXPECT_TRUE(head.position().isApprox(Eigen::Vector3d(0, 1.2, 0), 0.0));
   EXPECT_EQ(head.yaw(), 0.0);

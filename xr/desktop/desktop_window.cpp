@@ -18,7 +18,7 @@
 #define GLFW_EXPOSE_NATIVE_EGL
 #include <GLFW/glfw3native.h>
 
-namespace telesphere::xr {
+namespace telesphere::xr::desktop {
 namespace {
 
 // GLFW reports errors through one process-wide callback, on the thread that made the call.
@@ -332,4 +332,4 @@ void DesktopWindow::setTitle(const std::string& title) {
   glfwSetWindowTitle(window_, title.c_str());
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::desktop

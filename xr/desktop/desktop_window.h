@@ -27,7 +27,7 @@
 
 struct GLFWwindow;
 
-namespace telesphere::xr {
+namespace telesphere::xr::desktop {
 
 /// How the window's OpenGL context is made: through EGL (on X11; what the rest of the app and
 /// OpenXR's XR_MNDX_egl_enable use) or GLX (the Xlib binding of XR_KHR_opengl_enable, which
@@ -122,4 +122,4 @@ class DesktopWindow {
   double drag_dx_px_ = 0.0, drag_dy_px_ = 0.0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::desktop

@@ -7,7 +7,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::desktop {
 namespace {
 
 constexpr double kVirtualHeadPi = 3.14159265358979323846;
@@ -80,4 +80,4 @@ Eigen::Isometry3d VirtualHead::pose() const {
   return T_vr_hmd;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::desktop

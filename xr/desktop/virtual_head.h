@@ -13,7 +13,7 @@
 
 #include <Eigen/Geometry>
 
-namespace telesphere::xr {
+namespace telesphere::xr::desktop {
 
 /// What the operator holds or moves during one step. Mouse deltas in window screen coordinates
 /// (pixels on X11), x to the right, y downwards (window convention), accumulated since the last
@@ -75,4 +75,4 @@ class VirtualHead {
   double pitch_ = 0.0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::desktop

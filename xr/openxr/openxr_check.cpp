@@ -4,7 +4,7 @@
 
 #include <openxr/openxr_reflection.h>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 std::string xrResultName(XrResult result) {
   switch (result) {
@@ -41,4 +41,4 @@ bool checkXr(XrResult result, const char* call, const char* file, int line,
   return false;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

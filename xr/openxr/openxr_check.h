@@ -9,7 +9,7 @@
 
 #include <string>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 /// The XrResult's enumerant name ("XR_ERROR_SESSION_LOST"), or "XrResult(<value>)" for values
 /// this header version does not know (runtimes may return newer codes).
@@ -24,13 +24,13 @@ std::string describeXrFailure(XrResult result, const char* call, const char* fil
 bool checkXr(XrResult result, const char* call, const char* file, int line,
              std::string* out_error, XrResult* out_result = nullptr);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr
 
 /// Evaluates the OpenXR call `call` and checks it with its own source text; an expression of
 /// type bool. Example: `if (!TELESPHERE_CHECK_XR(xrEndSession(session), &error)) return false;`
 #define TELESPHERE_CHECK_XR(call, out_error) \
-  ::telesphere::xr::checkXr((call), #call, __FILE__, __LINE__, (out_error))
+  ::telesphere::xr::openxr::checkXr((call), #call, __FILE__, __LINE__, (out_error))
 
 /// The same, also storing the XrResult in *out_result (to react to XR_ERROR_SESSION_LOST etc.).
 #define TELESPHERE_CHECK_XR_RESULT(call, out_error, out_result) \
-  ::telesphere::xr::checkXr((call), #call, __FILE__, __LINE__, (out_error), (out_result))
+  ::telesphere::xr::openxr::checkXr((call), #call, __FILE__, __LINE__, (out_error), (out_result))

@@ -10,7 +10,7 @@
 #include <openxr/openxr.h>
 #include <openxr/openxr_platform.h>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 bool glxContextCurrent() { return glXGetCurrentContext() != nullptr; }
 
@@ -54,4 +54,4 @@ void restoreGlxContext(const std::shared_ptr<const void>& binding) {
     glXMakeCurrent(b->xDisplay, b->glxDrawable, b->glxContext);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

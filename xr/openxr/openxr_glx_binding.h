@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 /// A GLX context is current on the calling thread.
 bool glxContextCurrent();
@@ -21,4 +21,4 @@ std::shared_ptr<const void> makeGlxSessionBinding(std::string* error);
 /// creates the session).
 void restoreGlxContext(const std::shared_ptr<const void>& binding);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

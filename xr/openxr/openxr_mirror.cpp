@@ -3,7 +3,7 @@
 
 #include "shaders/png_io.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 void OpenXrMirror::copyEye(const OpenXrEye& eye) {
   auto& target = eyes_[std::size_t(eye.eye)];
@@ -16,13 +16,13 @@ void OpenXrMirror::copyEye(const OpenXrEye& eye) {
   glDisable(GL_FRAMEBUFFER_SRGB);
 }
 
-bool OpenXrMirror::present(DesktopWindow& window, std::string* error) {
+bool OpenXrMirror::present(desktop::DesktopWindow& window, std::string* error) {
   if (!ready()) return true;
   return window.present(eyes_[0]->framebuffer(), eyes_[1]->framebuffer(), eyes_[0]->width(), eyes_[0]->height(),
                         error);
 }
 
-bool OpenXrMirror::save(DesktopWindow& window, const std::string& path, std::string* error) {
+bool OpenXrMirror::save(desktop::DesktopWindow& window, const std::string& path, std::string* error) {
   if (!ready()) {
     *error = "the mirror never got an eye image";
     return false;
@@ -34,4 +34,4 @@ bool OpenXrMirror::save(DesktopWindow& window, const std::string& path, std::str
   return gl::writePng(path, window.framebufferWidth(), window.framebufferHeight(), 4, pixels.data(), error);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -14,7 +14,7 @@
 #include "xr/desktop/desktop_window.h"
 #include "xr/openxr/openxr_session.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 class OpenXrMirror {
  public:
@@ -24,13 +24,13 @@ class OpenXrMirror {
   /// Both eyes have been copied at least once.
   bool ready() const { return eyes_[0] && eyes_[1]; }
   /// Shows the newest copies in `window` (nothing before ready()); false with the reason.
-  bool present(DesktopWindow& window, std::string* error);
+  bool present(desktop::DesktopWindow& window, std::string* error);
   /// What the window shows now, as a PNG at `path`; false with the reason (never ready: "the
   /// mirror never got an eye image").
-  bool save(DesktopWindow& window, const std::string& path, std::string* error);
+  bool save(desktop::DesktopWindow& window, const std::string& path, std::string* error);
 
  private:
   std::array<std::unique_ptr<gl::OffscreenTarget>, 2> eyes_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -2,14 +2,14 @@
 /// @brief OpenXrOutput: one OpenXR frame as a DisplayFrame, eyes drawn through the loop's callback.
 #include "xr/openxr/openxr_output.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
-bool OpenXrOutput::frame(const DrawEye& draw, Shown* shown, std::string* error) {
+bool OpenXrOutput::frame(const frame_loop::DrawEye& draw, Shown* shown, std::string* error) {
   if (!session_) {
     *error = "no OpenXR session";
     return false;
   }
-  DisplayFrame& f = shown->frame;
+  frame_loop::DisplayFrame& f = shown->frame;
   bool eye_failed = false;
   const OpenXrRenderEye render = [&](const OpenXrEye& eye) {
     const auto e = std::size_t(eye.eye);
@@ -46,4 +46,4 @@ bool OpenXrOutput::frame(const DrawEye& draw, Shown* shown, std::string* error) 
   return true;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

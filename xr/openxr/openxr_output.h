@@ -10,11 +10,11 @@
 #include <functional>
 
 #include "xr/openxr/openxr_session.h"
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/operator_loop.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
-class OpenXrOutput final : public OperatorOutput {
+class OpenXrOutput final : public frame_loop::OperatorOutput {
  public:
   /// After an eye was drawn, before its image is converted or released (e.g. a log of the pose it
   /// was drawn with); false (reason in *error) ends the frame and the run.
@@ -26,7 +26,7 @@ class OpenXrOutput final : public OperatorOutput {
   /// The session frames come from (must outlive its use; null: none).
   void setSession(OpenXrSession* session) { session_ = session; }
   /// One OpenXrSession::frame. began false when the session does not sync frames now.
-  bool frame(const DrawEye& draw, Shown* shown, std::string* error) override;
+  bool frame(const frame_loop::DrawEye& draw, Shown* shown, std::string* error) override;
   /// What the last frame's OpenXrSession::frame reported (e.g. capture_nominal_pressed).
   const OpenXrFrameResult& lastResult() const { return result_; }
 
@@ -37,4 +37,4 @@ class OpenXrOutput final : public OperatorOutput {
   OpenXrFrameResult result_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

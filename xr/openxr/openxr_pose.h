@@ -11,7 +11,7 @@
 
 #include "xr/render/eye_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 /// T_base_space from the XrPosef that xrLocateSpace/xrLocateViews returned for `space` in `base`
 /// (maps points from the located space into the base space). The quaternion is normalised; a
@@ -27,8 +27,8 @@ inline Eigen::Isometry3d isometryFromXrPose(const XrPosef& pose) {
   return T;
 }
 
-inline Fov fovFromXr(const XrFovf& fov) {
-  return Fov{fov.angleLeft, fov.angleRight, fov.angleUp, fov.angleDown};
+inline render::Fov fovFromXr(const XrFovf& fov) {
+  return render::Fov{fov.angleLeft, fov.angleRight, fov.angleUp, fov.angleDown};
 }
 
 /// The midpoint pose of two eyes (positions averaged, orientation slerped halfway): the HMD
@@ -48,4 +48,4 @@ inline bool viewPoseValid(XrViewStateFlags flags) {
          (flags & XR_VIEW_STATE_POSITION_VALID_BIT) != 0;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

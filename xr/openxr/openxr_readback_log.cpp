@@ -10,7 +10,7 @@
 #include "shaders/png_io.h"
 #include "xr/render/yuv_planes_file.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 std::unique_ptr<OpenXrReadbackLog> OpenXrReadbackLog::open(const std::string& folder, std::string* error) {
   std::error_code ec;
@@ -39,8 +39,8 @@ std::string OpenXrReadbackLog::imageName(const OpenXrEye& eye) const {
   return name;
 }
 
-bool OpenXrReadbackLog::eyeDrawn(const OpenXrEye& eye, const OperatorScene& scene, const OperatorView* view,
-                                 const RenderSettings& settings, std::string* error) {
+bool OpenXrReadbackLog::eyeDrawn(const OpenXrEye& eye, const frame_loop::OperatorScene& scene, const frame_loop::OperatorView* view,
+                                 const render::RenderSettings& settings, std::string* error) {
   std::uint64_t sequence = 0;
   if (view && view->frame()) {
     const auto& frame = view->frame();
@@ -48,7 +48,7 @@ bool OpenXrReadbackLog::eyeDrawn(const OpenXrEye& eye, const OperatorScene& scen
     if (saved_planes_.insert({sequence, eye.eye}).second) {
       char name[80];
       std::snprintf(name, sizeof name, "/planes_%06llu_eye%d.yuv", static_cast<unsigned long long>(sequence), eye.eye);
-      if (!writeYuvPlanes(folder_ + name, *(eye.eye == 0 ? frame->left : frame->right), error)) return false;
+      if (!render::writeYuvPlanes(folder_ + name, *(eye.eye == 0 ? frame->left : frame->right), error)) return false;
     }
   }
   const Eigen::Isometry3d T_cam_eye = scene.T_cam_eye(eye.eye, eye.T_vr_eye).value_or(Eigen::Isometry3d::Identity());
@@ -72,4 +72,4 @@ bool OpenXrReadbackLog::saveImage(const OpenXrEye& eye, std::string* error) cons
   return gl::writePng(folder_ + "/" + imageName(eye), eye.width, eye.height, 4, pixels.data(), error);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -14,10 +14,10 @@
 #include <utility>
 
 #include "xr/openxr/openxr_session.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/operator_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 class OpenXrReadbackLog {
  public:
@@ -31,8 +31,8 @@ class OpenXrReadbackLog {
   /// After eye `eye` was drawn: its row in poses.csv, with the pose `scene` rendered it with; and,
   /// when `view` (null for the test scene) showed a camera frame not saved yet for this eye, its
   /// planes. `settings` are those the eye was drawn with. False with the reason on a write error.
-  bool eyeDrawn(const OpenXrEye& eye, const OperatorScene& scene, const OperatorView* view,
-                const RenderSettings& settings, std::string* error);
+  bool eyeDrawn(const OpenXrEye& eye, const frame_loop::OperatorScene& scene, const frame_loop::OperatorView* view,
+                const render::RenderSettings& settings, std::string* error);
 
   /// The eye's swapchain image as it was released (sRGB bytes) as PNG; false with the reason.
   bool saveImage(const OpenXrEye& eye, std::string* error) const;
@@ -48,4 +48,4 @@ class OpenXrReadbackLog {
   int session_ = 0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

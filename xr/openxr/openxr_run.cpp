@@ -5,7 +5,7 @@
 #include <sstream>
 #include <thread>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -42,7 +42,7 @@ struct RunState {
 };
 
 /// Runs one session until it ends; the reason in result.error when it failed.
-SessionEnd runSession(OpenXrSession& session, OpenXrOutput& output, OperatorLoop& loop, RunState& run) {
+SessionEnd runSession(OpenXrSession& session, OpenXrOutput& output, frame_loop::OperatorLoop& loop, RunState& run) {
   std::string error;
   std::optional<Clock::time_point> exit_asked;
   output.setSession(&session);
@@ -90,7 +90,7 @@ SessionEnd runSession(OpenXrSession& session, OpenXrOutput& output, OperatorLoop
       run.result.error = error;
       return SessionEnd::kFailed;
     }
-    const OperatorOutput::Shown& shown = loop.last();
+    const frame_loop::OperatorOutput::Shown& shown = loop.last();
     if (shown.began) ++run.result.waited;
     if (shown.drawn) {
       ++run.result.submitted;
@@ -105,7 +105,7 @@ SessionEnd runSession(OpenXrSession& session, OpenXrOutput& output, OperatorLoop
 
 }  // namespace
 
-OpenXrRunResult runOpenXrSessions(OpenXrOutput& output, OperatorLoop& loop, const OpenXrRunOptions& options,
+OpenXrRunResult runOpenXrSessions(OpenXrOutput& output, frame_loop::OperatorLoop& loop, const OpenXrRunOptions& options,
                                   const OpenXrRunHooks& hooks, const std::atomic<bool>& stop) {
   OpenXrRunResult result;
   RunState run{result, options, hooks, stop, false, {}, {}};
@@ -160,4 +160,4 @@ OpenXrRunResult runOpenXrSessions(OpenXrOutput& output, OperatorLoop& loop, cons
   return result;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

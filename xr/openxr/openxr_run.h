@@ -17,9 +17,9 @@
 
 #include "xr/openxr/openxr_output.h"
 #include "xr/openxr/openxr_session.h"
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/operator_loop.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 struct OpenXrRunOptions {
   OpenXrOptions session;
@@ -58,7 +58,7 @@ struct OpenXrRunResult {
 };
 
 /// Runs sessions until finished; needs the GL context the output's frames render with current.
-OpenXrRunResult runOpenXrSessions(OpenXrOutput& output, OperatorLoop& loop, const OpenXrRunOptions& options,
+OpenXrRunResult runOpenXrSessions(OpenXrOutput& output, frame_loop::OperatorLoop& loop, const OpenXrRunOptions& options,
                                   const OpenXrRunHooks& hooks, const std::atomic<bool>& stop);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

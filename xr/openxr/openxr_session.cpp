@@ -23,7 +23,7 @@
 #include "xr/openxr/openxr_pose.h"
 #include "xr/openxr/openxr_struct.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 namespace {
 
 constexpr XrViewConfigurationType kOpenXrViewConfig = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
@@ -546,4 +546,4 @@ bool OpenXrSession::frame(const OpenXrRenderEye& render, const OpenXrReadEye& re
   return true;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -28,7 +28,7 @@
 #include "xr/openxr/openxr_swapchain_format.h"
 #include "xr/openxr/session_state_machine.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 /// Why OpenXrSession::create failed.
 enum class OpenXrFailure {
@@ -52,7 +52,7 @@ struct OpenXrEye {
   std::int64_t predicted_display_steady_ns = 0;  ///< the same instant in the link's steady clock
   Eigen::Isometry3d T_vr_eye;       ///< eye pose in the reference space (OpenXR view frame)
   Eigen::Isometry3d T_vr_hmd;       ///< midpoint of both eyes' poses this frame
-  Fov fov;                          ///< the eye's XrFovf
+  render::Fov fov;                          ///< the eye's XrFovf
   int width = 0, height = 0;        ///< image size, px
   GLuint framebuffer = 0;           ///< draw into viewport (0, 0, width, height) of this FBO
   bool srgb_swapchain = true;       ///< false: the FBO is an sRGB staging texture (see format)
@@ -146,4 +146,4 @@ std::optional<bool> openXrRuntimeOffers(const char* name);
 /// without a headset.
 std::string noRuntimeHelp();
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

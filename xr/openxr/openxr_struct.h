@@ -5,7 +5,7 @@
 
 #include <openxr/openxr.h>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 template <typename T>
 T xrStruct(XrStructureType type) {
@@ -14,4 +14,4 @@ T xrStruct(XrStructureType type) {
   return value;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

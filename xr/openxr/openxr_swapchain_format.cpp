@@ -6,7 +6,7 @@
 #include <array>
 #include <sstream>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 namespace {
 
 // GL internal formats (glcorearb.h values; spelled out to keep this file free of GL headers).
@@ -57,4 +57,4 @@ std::optional<SwapchainFormatChoice> chooseSwapchainFormat(const std::vector<std
   return std::nullopt;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 enum class SwapchainColour { kAuto, kSrgb, kLinear };
 
@@ -33,4 +33,4 @@ std::string glFormatName(std::int64_t format);
 std::optional<SwapchainFormatChoice> chooseSwapchainFormat(const std::vector<std::int64_t>& offered,
                                                            SwapchainColour wanted);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

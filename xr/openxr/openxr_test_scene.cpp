@@ -8,7 +8,7 @@
 #include <vector>
 
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 calib::GenericCamera OpenXrTestScene::camera() {
   // The simulated head's lens (calib/data/sim_calibration.yaml) at a quarter of 3840×2160.
@@ -19,7 +19,7 @@ calib::GenericCamera OpenXrTestScene::camera() {
   return *camera;
 }
 
-SourceImage OpenXrTestScene::image() {
+render::SourceImage OpenXrTestScene::image() {
   constexpr int w = kImageWidth, h = kImageHeight, square = 40;
   std::vector<std::uint8_t> rgb(std::size_t(w) * h * 3);
   for (int y = 0; y < h; ++y)
@@ -32,7 +32,7 @@ SourceImage OpenXrTestScene::image() {
       rgb[i + 1] = cross ? 255 : std::uint8_t(y * 255 / (h - 1));
       rgb[i + 2] = cross ? 255 : (odd ? 192 : 64);
     }
-  return SourceImage::rgb8(w, h, std::move(rgb));
+  return render::SourceImage::rgb8(w, h, std::move(rgb));
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

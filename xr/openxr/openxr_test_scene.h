@@ -7,7 +7,7 @@
 /// Mapping (DESIGN.md §2 with the camera in place of the robot head): at the first valid frame
 /// the HMD pose (midpoint of the eyes) with pitch and roll removed (link::withoutPitchAndRoll)
 /// becomes T_vr_nom; then
-/// T_cam_eye = T_cam_nom · T_vr_nom⁻¹ · T_vr_eye with T_cam_nom = kR_optical_view (the nominal
+/// T_cam_eye = T_cam_nom · T_vr_nom⁻¹ · T_vr_eye with T_cam_nom = render::kR_optical_view (the nominal
 /// view looks along the camera's optical axis).
 #pragma once
 
@@ -16,7 +16,7 @@
 #include "calib/generic_camera.h"
 #include "xr/render/source_image.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 struct OpenXrTestScene {
   static constexpr int kImageWidth = 960;
@@ -26,7 +26,7 @@ struct OpenXrTestScene {
   static calib::GenericCamera camera();
   /// The checkerboard: 40 px squares, red rising left → right, green top → bottom, blue
   /// alternating 64/192 between squares, plus a white cross at the image centre.
-  static SourceImage image();
+  static render::SourceImage image();
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

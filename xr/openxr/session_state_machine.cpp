@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 std::string_view sessionStateName(SessionState state) {
   switch (state) {
@@ -121,4 +121,4 @@ bool SessionStateMachine::reached(SessionState state) const {
   return std::find(history_.begin(), history_.end(), state) != history_.end();
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -16,7 +16,7 @@
 #include <string_view>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::openxr {
 
 /// XrSessionState, plus kUnknown for values this code does not know.
 enum class SessionState : std::uint8_t {
@@ -94,4 +94,4 @@ class SessionStateMachine {
   std::vector<SessionState> history_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::openxr

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 std::string_view renderPathName(RenderPath path) {
   switch (path) {
@@ -111,4 +111,4 @@ std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std:
   return settings;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -17,7 +17,7 @@
 
 #include "robot/link/visual_mode.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
 /// with the same origin and viewing direction (x right, y down, z forward): p_optical =
@@ -92,4 +92,4 @@ std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std:
 /// (orientation3d), or T_cam_eye_fixed (fixed).
 Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& settings);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

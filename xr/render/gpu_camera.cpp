@@ -8,7 +8,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -237,4 +237,4 @@ GLuint GpuCamera::lut(int size) const {
   return lut_.id();
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

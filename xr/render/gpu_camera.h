@@ -13,7 +13,7 @@
 #include "shaders/gl_objects.h"
 #include "xr/render/source_image.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 class GpuCamera {
  public:
@@ -70,4 +70,4 @@ class GpuCamera {
   mutable int lut_size_ = 0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -6,7 +6,7 @@
 
 #include "xr/render/sphere_geometry.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 std::optional<Eigen::Vector2d> referenceCameraPixel(const calib::GenericCamera& camera,
                                                     int image_width, int image_height,
@@ -87,4 +87,4 @@ ProjectionMapError compareProjectionMap(const std::vector<float>& rgba,
   return e;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -14,7 +14,7 @@
 #include "xr/render/eye_view.h"
 #include "xr/render/source_image.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// RGBA float pixels, rows top first.
 struct RgbaImage {
@@ -65,4 +65,4 @@ ProjectionMapError compareProjectionMap(const std::vector<float>& rgba,
                                         const SourceImage& coordinates, const EyeView& view,
                                         const RenderSettings& settings);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 namespace {
 
 /// Bilinear weights and clamped texel indices for normalised coordinate s over n texels.
@@ -164,4 +164,4 @@ Eigen::Vector4d SourceImage::sample(const Eigen::Vector2d& px) const {
   return out;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -13,7 +13,7 @@
 
 #include "xr/render/yuv_planes.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 struct SourceImage {
   enum class Format { kRgb8, kFloat, kYuv };
@@ -50,4 +50,4 @@ struct SourceImage {
   Eigen::Vector4d sample(const Eigen::Vector2d& px) const;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 double constantDistanceAngularError(double d, double dx, double r) {
   // atan2(d, Δx) − atan2(r, Δx) is the angle from (Δx, r) to (Δx, d); as one atan2 of their
@@ -45,4 +45,4 @@ Eigen::Matrix4d clipFromEye(const Fov& fov, double near) {
   return P;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

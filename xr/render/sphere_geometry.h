@@ -9,7 +9,7 @@
 
 #include "xr/render/eye_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// γ(d, Δx, r) = atan2(d, Δx) − atan2(r, Δx) (paper eq. 4): the angle (rad) by which an object at
 /// distance d (m) straight ahead of the camera appears displaced when the eye is translated by
@@ -39,4 +39,4 @@ std::optional<double> sphereFarHit(const Eigen::Vector3d& o, const Eigen::Vector
 /// depth). Column vectors, right-multiplied by eye-frame points (OpenXR view convention).
 Eigen::Matrix4d clipFromEye(const Fov& fov, double near);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -8,7 +8,7 @@
 #include "shaders/shader_program.h"
 #include "xr/render/sphere_geometry.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 SphericalRenderer::SphericalRenderer() : empty_vao_(gl::createVertexArray()) {}
 
@@ -122,4 +122,4 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
   return true;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

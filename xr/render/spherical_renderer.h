@@ -17,7 +17,7 @@
 #include "xr/render/eye_view.h"
 #include "xr/render/gpu_camera.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 class SphericalRenderer {
  public:
@@ -44,4 +44,4 @@ class SphericalRenderer {
   gl::GlVertexArray empty_vao_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -7,7 +7,7 @@
 
 #include "shaders/gl_api.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 namespace {
 
 /// Slot starts (and the planes in them) on this boundary: page-aligned copy sources.
@@ -188,4 +188,4 @@ UploadRing::Occupancy UploadRing::occupancy() const {
   return o;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -20,7 +20,7 @@
 
 #include "xr/render/upload_slot.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 class UploadRing;
 
@@ -94,4 +94,4 @@ class UploadRing {
   std::shared_ptr<UploadSlotSource> source_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -9,7 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// The sizes of one image's planes: what a slot is made for.
 struct PlaneLayout {
@@ -32,4 +32,4 @@ struct UploadSlot {
   int index = 0;  ///< in its ring buffer
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

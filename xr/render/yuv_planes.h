@@ -16,7 +16,7 @@
 #include "robot/link/chroma_subsampling.h"
 #include "xr/render/upload_slot.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// Planes with rows tightly packed (stride = width). For kGray, u and v are empty.
 struct YuvPlanes {
@@ -44,4 +44,4 @@ struct YuvPlanes {
   }
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -12,7 +12,7 @@
 
 #include "xr/render/yuv_planes.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::render {
 
 /// The header's SUBSAMPLING for planes not from a JPEG.
 inline constexpr int kNotFromJpeg = 4;
@@ -65,4 +65,4 @@ inline std::optional<YuvPlanes> readYuvPlanes(const std::string& path, std::stri
   return planes;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::render

@@ -10,12 +10,12 @@
 #include "robot/link/link_pose.h"
 #include "robot/record/recording_reader.h"
 #include "shaders/egl_context.h"
-#include "xr/operator/eyes_png.h"
-#include "xr/operator/frame_clock.h"
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/eyes_png.h"
+#include "xr/frame_loop/frame_clock.h"
+#include "xr/frame_loop/operator_loop.h"
 #include "xr/replay/recorded_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::replay {
 
 std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::SystemCalibration>& given,
                                                    const OfflineReplayOptions& options,
@@ -86,9 +86,9 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     return std::nullopt;
   }
 
-  SimulatedFrameClock clock(std::numeric_limits<std::int64_t>::min());
+  frame_loop::SimulatedFrameClock clock(std::numeric_limits<std::int64_t>::min());
   Eigen::Isometry3d T_vr_hmd_recorded = Eigen::Isometry3d::Identity();
-  OffscreenOutput output(
+  frame_loop::OffscreenOutput output(
       options.display,
       [&](double display_s) {
         return options.trajectory ? options.trajectory->sample(display_s, options.loop_trajectory) : T_vr_hmd_recorded;
@@ -100,7 +100,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     return std::nullopt;
   }
   RecordedView view(calibration, options.render, options.follow_recorded_settings, !given, first_generation);
-  OperatorLoop loop(view, output);
+  frame_loop::OperatorLoop loop(view, output);
   OfflineReplayStats stats;
 
   // Display frames start at the first frame's log time, one period apart; a frame is drawn once
@@ -109,7 +109,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   bool taken_since_drawn = false, failed = false, ended = false;
   const auto draw = [&] {
     if (!loop.step(error)) return false;
-    if (!writeEveryNthEyesPng(options.png_dir, loop.stats().frames, options.png_every_frames, output.left(),
+    if (!frame_loop::writeEveryNthEyesPng(options.png_dir, loop.stats().frames, options.png_every_frames, output.left(),
                               output.right(), error))
       return false;
     next_start_ns = output.nextStartNs();
@@ -128,8 +128,8 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   };
   record::RecordedSessionVisitor visitor;
   // Views mode: the live run's views by the camera frame they show, each drawn once that frame is in.
-  std::multimap<std::uint64_t, const LoggedView*> views_by_sequence;
-  for (const LoggedView& v : options.views) views_by_sequence.emplace(v.stereo_sequence, &v);
+  std::multimap<std::uint64_t, const frame_loop::LoggedView*> views_by_sequence;
+  for (const frame_loop::LoggedView& v : options.views) views_by_sequence.emplace(v.stereo_sequence, &v);
   const auto drawViewsOf = [&](std::uint64_t sequence) {
     const auto [begin, end] = views_by_sequence.equal_range(sequence);
     for (auto it = begin; it != end; ++it) {
@@ -140,7 +140,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
                  " did not decode (see above)";
         return false;
       }
-      if (!writeEyesPng(options.png_dir + "/" + it->second->png, output.left(), output.right(), error)) return false;
+      if (!frame_loop::writeEyesPng(options.png_dir + "/" + it->second->png, output.left(), output.right(), error)) return false;
       ++stats.views_rendered;
     }
     views_by_sequence.erase(begin, end);
@@ -222,9 +222,9 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   stats.recording_s = double((views_mode ? clock.nowNs() : *next_start_ns) - *first_start_ns) * 1e-9;
   stats.calibration = calibration_source;
   if (!views_mode && !options.png_dir.empty() &&
-      !writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
+      !frame_loop::writeEyesPng(options.png_dir + "/eyes_last.png", output.left(), output.right(), error))
     return std::nullopt;
   return stats;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::replay

@@ -22,20 +22,20 @@
 #include <vector>
 
 #include "calib/system_calibration.h"
-#include "xr/operator/head_trajectory.h"
-#include "xr/operator/logged_view.h"
-#include "xr/operator/operator_view.h"
-#include "xr/operator/paced_output.h"
+#include "xr/frame_loop/head_trajectory.h"
+#include "xr/frame_loop/logged_view.h"
+#include "xr/frame_loop/operator_view.h"
+#include "xr/frame_loop/paced_output.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::replay {
 
 struct OfflineReplayOptions {
   std::string recording;       ///< the MCAP file
-  PacedOutputOptions display;  ///< display rate, eye size and field of view, ipd
-  RenderSettings render;       ///< until a recorded state says otherwise
+  frame_loop::PacedOutputOptions display;  ///< display rate, eye size and field of view, ipd
+  render::RenderSettings render;       ///< until a recorded state says otherwise
   bool follow_recorded_settings = true;  ///< the recorded mode and radius (off: `render`'s stay)
   /// Head poses from this trajectory (time from the first frame) instead of the recorded head targets.
-  std::optional<HeadTrajectory> trajectory;
+  std::optional<frame_loop::HeadTrajectory> trajectory;
   bool loop_trajectory = true;
   double duration_s = 0;  ///< recording time to render from the first frame; 0: to the end
   std::string png_dir;    ///< when set: eyes_last.png at the end
@@ -44,14 +44,14 @@ struct OfflineReplayOptions {
   /// (its views.csv), each rendered once the recording's frame it shows has been read (with what
   /// was logged before it), its head pose given, into png_dir under the live PNG's name. Not
   /// with a trajectory.
-  std::vector<LoggedView> views;
+  std::vector<frame_loop::LoggedView> views;
   /// Called after each display frame with the recording seconds rendered and the recording's
   /// length (from its first frame to its last message, or to duration_s), for a progress line.
   std::function<void(double rendered_s, double total_s)> progress;
 };
 
 struct OfflineReplayStats {
-  OperatorViewStats view;            ///< frames, camera frames shown, render and decode figures
+  frame_loop::OperatorViewStats view;            ///< frames, camera frames shown, render and decode figures
   std::uint64_t recorded_frames = 0;  ///< stereo frames read from the recording
   std::uint64_t head_targets = 0;     ///< recorded head targets taken (0 with a trajectory)
   std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs did not decode
@@ -74,4 +74,4 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
                                                    const OfflineReplayOptions& options,
                                                    const std::atomic<bool>& stop, std::string* error);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::replay

@@ -9,27 +9,27 @@
 #include "robot/link/link_pose.h"
 #include "robot/link/link_schema.h"
 #include "calib/calibration_file.h"
-#include "xr/operator/robot_view_state.h"
-#include "xr/operator/trial_indicator.h"
+#include "xr/frame_loop/robot_view_state.h"
+#include "xr/frame_loop/trial_indicator.h"
 #include "xr/video/latency_figure.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::replay {
 namespace {
 
 /// Both JPEGs of `recorded` into planes of their own; nothing (the reason in *error) when one fails.
-std::shared_ptr<const DecodedStereoFrame> decodePair(JpegDecoder& decoder, record::RecordedFrame& recorded,
+std::shared_ptr<const video::DecodedStereoFrame> decodePair(video::JpegDecoder& decoder, record::RecordedFrame& recorded,
                                                      std::string* error) {
-  auto decoded = std::make_shared<DecodedStereoFrame>();
+  auto decoded = std::make_shared<video::DecodedStereoFrame>();
   const link::proto::CameraImage* images[2] = {&recorded.frame.left(), &recorded.frame.right()};
   const std::vector<std::uint8_t>* jpegs[2] = {recorded.left.get(), recorded.right.get()};
   for (int side = 0; side < 2; ++side) {
-    auto planes = std::make_shared<YuvPlanes>();
+    auto planes = std::make_shared<render::YuvPlanes>();
     const auto result = decoder.decode(*jpegs[side], static_cast<int>(images[side]->width()),
                                        static_cast<int>(images[side]->height()),
                                        static_cast<int>(link::kMaxImageSide), *planes, error);
-    if (result != JpegDecodeError::kNone) {
+    if (result != video::JpegDecodeError::kNone) {
       *error = std::string(side == 0 ? "left" : "right") + " image of frame " +
-               std::to_string(recorded.frame.sequence()) + ": " + jpegDecodeErrorName(result) + ": " + *error;
+               std::to_string(recorded.frame.sequence()) + ": " + video::jpegDecodeErrorName(result) + ": " + *error;
       return nullptr;
     }
     (side == 0 ? decoded->left : decoded->right) = std::move(planes);
@@ -40,7 +40,7 @@ std::shared_ptr<const DecodedStereoFrame> decodePair(JpegDecoder& decoder, recor
 
 }  // namespace
 
-RecordedView::RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render,
+RecordedView::RecordedView(const calib::SystemCalibration& calibration, const render::RenderSettings& render,
                            bool follow_recorded_settings, bool follow_recorded_calibrations,
                            std::uint64_t calibration_generation)
     : renderer_(calibration, render, 0),
@@ -75,7 +75,7 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
   if (state_ && follow_settings_) {
-    const RenderSettings settings = withRobotSettings(renderer_.settings(), *state_);
+    const render::RenderSettings settings = frame_loop::withRobotSettings(renderer_.settings(), *state_);
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
       renderer_.setSettings(settings);
       ++stats_.settings_changes;
@@ -103,9 +103,9 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
       stats_.calibration_generation = generation;
     }
   }
-  RenderSettings settings = renderer_.settings();
-  const bool measured = cameraPosesMeasured(decoded->frame);
-  settings.image_gain = measured ? 1.0f : OperatorView::kUnmeasuredGain;
+  render::RenderSettings settings = renderer_.settings();
+  const bool measured = frame_loop::cameraPosesMeasured(decoded->frame);
+  settings.image_gain = measured ? 1.0f : frame_loop::OperatorView::kUnmeasuredGain;
   renderer_.setSettings(settings);
   if (!measured) ++stats_.unmeasured_frames_shown;
   if (!renderer_.setFrame(decoded, error)) return false;
@@ -114,15 +114,15 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
   return true;
 }
 
-bool RecordedView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view, GLuint framebuffer,
+bool RecordedView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view, GLuint framebuffer,
                              std::string* error) {
   if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
-    T_robot_vr_stand_in_ = standInT_robot_vr(renderer_.frame()->frame, T_vr_eye);
+    T_robot_vr_stand_in_ = frame_loop::standInT_robot_vr(renderer_.frame()->frame, T_vr_eye);
     T_robot_vr_ = *T_robot_vr_stand_in_;
   }
   if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
   if (state_ && state_->trial().running())
-    drawTrialIndicator(framebuffer, view.width, view.height, state_->trial().elapsed_s(), state_->trial().time_limit_s());
+    frame_loop::drawTrialIndicator(framebuffer, view.width, view.height, state_->trial().elapsed_s(), state_->trial().time_limit_s());
   return true;
 }
 
@@ -139,10 +139,10 @@ void RecordedView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
   }
 }
 
-OperatorViewStats RecordedView::stats() const {
-  OperatorViewStats out = stats_;
-  const LatencyFigure render = latencyFigure(render_ms_), age = latencyFigure(age_ms_);
-  const LatencyFigure upload = latencyFigure(upload_ms_), decode = latencyFigure(decode_ms_);
+frame_loop::OperatorViewStats RecordedView::stats() const {
+  frame_loop::OperatorViewStats out = stats_;
+  const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
+  const video::LatencyFigure upload = video::latencyFigure(upload_ms_), decode = video::latencyFigure(decode_ms_);
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;
   out.image_age_p50_ms = age.p50_ms;
@@ -153,4 +153,4 @@ OperatorViewStats RecordedView::stats() const {
   return out;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::replay

@@ -4,7 +4,7 @@
 ///        frame's start are handed in (takeFrame, takeState); beginFrame decodes the newest frame
 ///        on the render thread (both JPEGs, synchronously) and uploads it; the recorded mode,
 ///        sphere radius and nominal mapping are followed as the live view follows the robot's
-///        (xr/operator/robot_view_state.h, the stand-in before a nominal pose included); the
+///        (xr/frame_loop/robot_view_state.h, the stand-in before a nominal pose included); the
 ///        study's trial indicator is drawn. Nothing depends on wall time or on threads, so the same
 ///        inputs give the same pixels.
 ///
@@ -27,17 +27,17 @@
 
 #include "calib/system_calibration.h"
 #include "robot/record/recording_reader.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/operator_view.h"
-#include "xr/operator/stereo_view_renderer.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/operator_view.h"
+#include "xr/frame_loop/stereo_view_renderer.h"
 #include "xr/video/jpeg_decoder.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::replay {
 
-class RecordedView final : public OperatorScene {
+class RecordedView final : public frame_loop::OperatorScene {
  public:
   /// `render` holds until a recorded state says otherwise (follow_recorded_settings).
-  RecordedView(const calib::SystemCalibration& calibration, const RenderSettings& render, bool follow_recorded_settings,
+  RecordedView(const calib::SystemCalibration& calibration, const render::RenderSettings& render, bool follow_recorded_settings,
                bool follow_recorded_calibrations = false, std::uint64_t calibration_generation = 0);
 
   /// A calibration the recording attached (kept by generation for the frames stamped with it).
@@ -49,7 +49,7 @@ class RecordedView final : public OperatorScene {
   void takeState(const link::proto::RobotState& state) { state_ = state; }
 
   bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid, std::string* error) override;
-  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view, GLuint framebuffer,
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view, GLuint framebuffer,
                  std::string* error) override;
   void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) override;
   std::optional<Eigen::Isometry3d> T_cam_eye(int eye, const Eigen::Isometry3d& T_vr_eye) const override {
@@ -57,28 +57,28 @@ class RecordedView final : public OperatorScene {
   }
 
   /// The frame on the GPU (nothing before the first).
-  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
+  const std::shared_ptr<const video::DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   /// The live view's figures where they apply (times on the robot's clock: the recording's).
-  OperatorViewStats stats() const;
+  frame_loop::OperatorViewStats stats() const;
   /// Frames whose JPEGs did not decode (the previous frame stayed on show).
   std::uint64_t undecodable() const { return undecodable_; }
   /// Frames replaced by a newer one before a display frame began (logged within one display period).
   std::uint64_t replacedUnshown() const { return replaced_unshown_; }
 
  private:
-  StereoViewRenderer renderer_;
+  frame_loop::StereoViewRenderer renderer_;
   bool follow_settings_;
   bool follow_calibrations_;
   std::map<std::uint64_t, calib::SystemCalibration> calibrations_;  ///< by generation
-  JpegDecoder decoder_;
+  video::JpegDecoder decoder_;
   std::optional<record::RecordedFrame> pending_;
   std::optional<link::proto::RobotState> state_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
   bool uploaded_this_frame_ = false;
   std::uint64_t undecodable_ = 0, replaced_unshown_ = 0;
-  OperatorViewStats stats_;
+  frame_loop::OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, decode_ms_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::replay

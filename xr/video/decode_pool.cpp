@@ -5,38 +5,38 @@
 #include <algorithm>
 #include <chrono>
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 /// Plane sets no longer held by anyone, kept for reuse (at most kMaxFree of them).
 struct DecodePool::Recycler {
   static constexpr std::size_t kMaxFree = 16;
   mutable std::mutex mutex;
-  std::vector<std::unique_ptr<YuvPlanes>> free;
+  std::vector<std::unique_ptr<render::YuvPlanes>> free;
   std::uint64_t allocated = 0;
 
-  std::unique_ptr<YuvPlanes> take() {
+  std::unique_ptr<render::YuvPlanes> take() {
     std::lock_guard lock(mutex);
     if (free.empty()) {
       ++allocated;
-      return std::make_unique<YuvPlanes>();
+      return std::make_unique<render::YuvPlanes>();
     }
     auto p = std::move(free.back());
     free.pop_back();
     return p;
   }
 
-  void give(std::unique_ptr<YuvPlanes> p) {
+  void give(std::unique_ptr<render::YuvPlanes> p) {
     std::lock_guard lock(mutex);
     if (free.size() < kMaxFree) free.push_back(std::move(p));
   }
 
   /// Wraps p in a shared pointer that returns it here when the last holder lets go (or frees
   /// it when the pool is gone by then).
-  static std::shared_ptr<const YuvPlanes> share(std::unique_ptr<YuvPlanes> p,
+  static std::shared_ptr<const render::YuvPlanes> share(std::unique_ptr<render::YuvPlanes> p,
                                                 const std::shared_ptr<Recycler>& recycler) {
     std::weak_ptr<Recycler> weak = recycler;
-    return std::shared_ptr<const YuvPlanes>(p.release(), [weak](const YuvPlanes* raw) {
-      std::unique_ptr<YuvPlanes> owned(const_cast<YuvPlanes*>(raw));
+    return std::shared_ptr<const render::YuvPlanes>(p.release(), [weak](const render::YuvPlanes* raw) {
+      std::unique_ptr<render::YuvPlanes> owned(const_cast<render::YuvPlanes*>(raw));
       if (auto r = weak.lock()) r->give(std::move(owned));
     });
   }
@@ -86,7 +86,7 @@ bool DecodePool::decodeIntoSlot(JpegDecoder& decoder, const DecodeJob& job, Deco
   if (result.error != JpegDecodeError::kNone) return true;  // refused: no memory of any kind needed
   auto slot = job.upload_slots->take(header.layout);
   if (!slot) return false;  // none free (or not this size): the pool's own memory
-  auto planes = std::make_shared<YuvPlanes>();
+  auto planes = std::make_shared<render::YuvPlanes>();
   planes->width = header.layout.width;
   planes->height = header.layout.height;
   planes->chroma_width = header.layout.chroma_width;
@@ -114,7 +114,7 @@ void DecodePool::work() {
     DecodeResult result;
     const auto t0 = std::chrono::steady_clock::now();
     if (!decodeIntoSlot(decoder, task.job, result)) {
-      std::unique_ptr<YuvPlanes> planes = recycler_->take();
+      std::unique_ptr<render::YuvPlanes> planes = recycler_->take();
       result.error = decoder.decode(task.job.jpeg, task.job.expected_width, task.job.expected_height,
                                     task.job.max_side, *planes, &result.message);
       if (result.error == JpegDecodeError::kNone)
@@ -129,4 +129,4 @@ void DecodePool::work() {
   }
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

@@ -24,7 +24,7 @@
 #include "xr/video/jpeg_decoder.h"
 #include "xr/render/upload_ring.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 struct DecodeJob {
   std::span<const std::uint8_t> jpeg;  ///< must stay valid until the result is ready
@@ -32,13 +32,13 @@ struct DecodeJob {
   int expected_width = 0;   ///< px, as the message said; 0 accepts any size
   int expected_height = 0;  ///< px
   int max_side = 8192;      ///< px; larger headers are refused before anything is allocated
-  std::shared_ptr<UploadSlotSource> upload_slots;  ///< decode into a slot of it when one is free
+  std::shared_ptr<render::UploadSlotSource> upload_slots;  ///< decode into a slot of it when one is free
 };
 
 struct DecodeResult {
   JpegDecodeError error = JpegDecodeError::kNone;
   std::string message;                      ///< why, when error != kNone
-  std::shared_ptr<const YuvPlanes> planes;  ///< set when error == kNone
+  std::shared_ptr<const render::YuvPlanes> planes;  ///< set when error == kNone
   double decode_ms = 0;                     ///< wall time of the decode on its worker
   bool in_upload_slot = false;              ///< the planes are in GL buffer memory (planes->slot)
 };
@@ -81,4 +81,4 @@ class DecodePool {
   std::vector<std::thread> workers_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

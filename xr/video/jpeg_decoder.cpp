@@ -6,7 +6,7 @@
 
 #include <stdexcept>
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 JpegDecoder::JpegDecoder() : handle_(tjInitDecompress()) {
   if (!handle_) throw std::runtime_error(std::string("tjInitDecompress: ") + tjGetErrorStr2(nullptr));
@@ -60,7 +60,7 @@ JpegDecodeError JpegDecoder::readHeader(std::span<const std::uint8_t> jpeg, int 
 
 JpegDecodeError JpegDecoder::decodeInto(std::span<const std::uint8_t> jpeg, const JpegHeader& header,
                                         std::uint8_t* y, std::uint8_t* u, std::uint8_t* v, std::string* error) {
-  const PlaneLayout& l = header.layout;
+  const render::PlaneLayout& l = header.layout;
   const bool gray = header.subsampling == link::ChromaSubsampling::kGray;
   unsigned char* planes[3] = {y, gray ? nullptr : u, gray ? nullptr : v};
   int strides[3] = {l.width, l.chroma_width, l.chroma_width};
@@ -75,7 +75,7 @@ JpegDecodeError JpegDecoder::decodeInto(std::span<const std::uint8_t> jpeg, cons
 }
 
 JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expected_width,
-                                    int expected_height, int max_side, YuvPlanes& out,
+                                    int expected_height, int max_side, render::YuvPlanes& out,
                                     std::string* error) {
   JpegHeader header;
   if (const auto e = readHeader(jpeg, expected_width, expected_height, max_side, &header, error);
@@ -93,4 +93,4 @@ JpegDecodeError JpegDecoder::decode(std::span<const std::uint8_t> jpeg, int expe
   return decodeInto(jpeg, header, out.y.data(), out.u.data(), out.v.data(), error);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

@@ -11,7 +11,7 @@
 
 #include "xr/render/yuv_planes.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 enum class JpegDecodeError { kNone, kCorrupt, kTooLarge, kSizeMismatch, kUnsupported };
 
@@ -20,7 +20,7 @@ const char* jpegDecodeErrorName(JpegDecodeError error);
 
 /// What a JPEG header says, checked: the planes' sizes and the subsampling.
 struct JpegHeader {
-  PlaneLayout layout;
+  render::PlaneLayout layout;
   link::ChromaSubsampling subsampling = link::ChromaSubsampling::k420;
 };
 
@@ -35,7 +35,7 @@ class JpegDecoder {
   /// expected_height (as the link message said; 0 accepts any size up to max_side) and no side
   /// larger than max_side. On failure out is left unspecified and *error says why.
   JpegDecodeError decode(std::span<const std::uint8_t> jpeg, int expected_width, int expected_height,
-                         int max_side, YuvPlanes& out, std::string* error);
+                         int max_side, render::YuvPlanes& out, std::string* error);
 
   /// The two halves of decode(), for a caller that chooses the planes' memory by their size:
   /// readHeader checks as decode() does (nothing allocated); decodeInto writes the planes of
@@ -49,4 +49,4 @@ class JpegDecoder {
   void* handle_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

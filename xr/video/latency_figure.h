@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 /// Median and 99th percentile (ms); n = 0 when there were no samples.
 struct LatencyFigure {
@@ -31,4 +31,4 @@ inline LatencyFigure latencyFigure(std::vector<double> samples_ms) {
   return f;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 namespace {
 
 enum StereoSample { kDecodeMs, kCaptureEncoded, kEncodedSent, kSentReceived, kReceivedDecoded, kCaptureDecoded };
@@ -253,4 +253,4 @@ StereoDecodeStats StereoFrameDecoder::stats() const {
   return s;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

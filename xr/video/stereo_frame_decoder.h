@@ -29,12 +29,12 @@
 #include "xr/video/decode_pool.h"
 #include "xr/video/latency_figure.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::video {
 
 /// One decoded stereo pair; immutable once published, shared with every reader.
 struct DecodedStereoFrame {
   link::proto::StereoFrame frame;  ///< as received, stamps.decoded_ns set (client clock)
-  std::shared_ptr<const YuvPlanes> left, right;
+  std::shared_ptr<const render::YuvPlanes> left, right;
 };
 
 /// Why a stereo frame never reached the renderer (operator side, after the link's own checks).
@@ -78,7 +78,7 @@ class StereoFrameDecoder {
     std::size_t stats_window = 512;      ///< samples kept per latency figure
     /// The renderer's upload ring: images are decoded into its GL buffer memory when a slot is
     /// free (null: always into the pool's own memory).
-    std::shared_ptr<UploadSlotSource> upload_slots;
+    std::shared_ptr<render::UploadSlotSource> upload_slots;
   };
 
   /// Starts the receive thread on `client`, which must outlive this object.
@@ -140,4 +140,4 @@ class StereoFrameDecoder {
   std::thread receiver_, publisher_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::video

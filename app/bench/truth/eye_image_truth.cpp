@@ -79,7 +79,7 @@ std::optional<FrameEyeError> evaluateEyeImages(const XrTruthFrame& frame, const 
         }
         const Eigen::Vector3d p_robot_scene = T_robot_cam * (hit.distance * d_cam);
         const Eigen::Vector3d d_eye =
-            T_robot_eye.linear() * xr::eyeRay(frame.fov, frame.width, frame.height, col, row).normalized();
+            T_robot_eye.linear() * xr::render::eyeRay(frame.fov, frame.width, frame.height, col, row).normalized();
         const Eigen::Vector3d to_scene = (p_robot_scene - T_robot_eye.translation()).normalized();
         out.error_deg.push_back(std::atan2(d_eye.cross(to_scene).norm(), d_eye.dot(to_scene)) * 180.0 / M_PI);
       }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief Readers of the two ground-truth files of a simulated run: the robot's per-frame truth
 ///        (robot/stereo/ground_truth_log.h, `telesphere-robot --truth-out`) and the operator app's
-///        projection maps (xr/operator/projection_map_recorder.h, `telesphere-xr offscreen --truth-out`).
+///        projection maps (xr/frame_loop/projection_map_recorder.h, `telesphere-xr offscreen --truth-out`).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -36,7 +36,7 @@ struct XrTruthFrame {
   std::int64_t capture_ns = 0;  ///< robot clock
   std::string mode;
   double radius_m = 0, ipd_m = 0;
-  xr::Fov fov;
+  xr::render::Fov fov;
   int width = 0, height = 0;              ///< per eye, px
   int image_width = 0, image_height = 0;  ///< camera, px
   Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();

@@ -155,7 +155,7 @@ struct LoggedEye {
   int session = 0;
   long long frame = 0;
   int eye = 0;
-  xr::EyeView view;
+  xr::render::EyeView view;
   bool srgb = true;
   std::string png;
   unsigned long long sequence = 0;  ///< the robot's stereo frame shown (0: test scene / none)
@@ -213,11 +213,11 @@ ImageDifference monadoCompare(const std::string& dir, const std::vector<LoggedEy
   const auto context = gl::EglContext::createSurfaceless(&error);
   EXPECT_TRUE(context) << error;
   if (!context) return {255, 255, 1};
-  xr::GpuCamera camera(xr::OpenXrTestScene::camera(), xr::OpenXrTestScene::kImageWidth,
-                       xr::OpenXrTestScene::kImageHeight);
-  EXPECT_TRUE(camera.upload(xr::OpenXrTestScene::image(), &error)) << error;
-  xr::SphericalRenderer renderer;
-  const xr::RenderSettings settings;  // the command's defaults: full6d, exact, r = 1 m
+  xr::render::GpuCamera camera(xr::openxr::OpenXrTestScene::camera(), xr::openxr::OpenXrTestScene::kImageWidth,
+                       xr::openxr::OpenXrTestScene::kImageHeight);
+  EXPECT_TRUE(camera.upload(xr::openxr::OpenXrTestScene::image(), &error)) << error;
+  xr::render::SphericalRenderer renderer;
+  const xr::render::RenderSettings settings;  // the command's defaults: full6d, exact, r = 1 m
   double sum = 0;
   std::size_t count = 0, over = 0;
   for (const LoggedEye& e : eyes) {
@@ -530,18 +530,18 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
   std::string error;
   const auto context = gl::EglContext::createSurfaceless(&error);
   ASSERT_TRUE(context) << error;
-  xr::SphericalRenderer renderer;
+  xr::render::SphericalRenderer renderer;
   for (const LoggedEye& e : sample) {
     ASSERT_GT(e.sequence, 0u) << e.png;
     char name[80];
     std::snprintf(name, sizeof name, "planes_%06llu_eye%d.yuv", e.sequence, e.eye);
-    auto planes = xr::readYuvPlanes((dir / name).string(), &error);
+    auto planes = xr::render::readYuvPlanes((dir / name).string(), &error);
     ASSERT_TRUE(planes) << error;
     const auto camera = calib::atResolution(calibration->cameras[std::size_t(e.eye)], planes->width, planes->height, &error);
     ASSERT_TRUE(camera) << error;
-    xr::GpuCamera gpu(camera->camera, planes->width, planes->height);
-    ASSERT_TRUE(gpu.upload(xr::SourceImage::yuv(std::make_shared<const xr::YuvPlanes>(std::move(*planes))), &error)) << error;
-    xr::RenderSettings settings;
+    xr::render::GpuCamera gpu(camera->camera, planes->width, planes->height);
+    ASSERT_TRUE(gpu.upload(xr::render::SourceImage::yuv(std::make_shared<const xr::render::YuvPlanes>(std::move(*planes))), &error)) << error;
+    xr::render::RenderSettings settings;
     settings.mode = telesphere::link::parseVisualMode(e.mode).value();
     settings.radius = e.radius;
     ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;

@@ -10,17 +10,17 @@
 #include <memory>
 
 #include "shaders/offscreen_target.h"
-#include "xr/operator/frame_clock.h"
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/frame_clock.h"
+#include "xr/frame_loop/operator_loop.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct PacedOutputOptions {
   double rate_hz = 90.0;   ///< display rate, (0, 1000]
   double ipd = 0.064;      ///< m
   int eye_width = 1440;    ///< px per eye (the paper's Vive Pro Eye)
   int eye_height = 1600;
-  Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
+  render::Fov fov{-0.87, 0.87, 0.90, -0.90};  ///< rad, about 100° × 104°
 };
 
 class PacedOutput : public OperatorOutput {
@@ -75,4 +75,4 @@ class OffscreenOutput final : public PacedOutput {
   bool present(std::string*) override;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -25,7 +25,7 @@
 #include "xr/render/upload_ring.h"
 #include "xr/video/stereo_frame_decoder.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 class StereoViewRenderer {
  public:
@@ -36,7 +36,7 @@ class StereoViewRenderer {
 
   /// `calibration` needs two cameras; their models are rescaled to the frames' resolution.
   /// `upload_slots` 0: no ring, every image is uploaded from the decoder's memory.
-  StereoViewRenderer(const calib::SystemCalibration& calibration, const RenderSettings& settings,
+  StereoViewRenderer(const calib::SystemCalibration& calibration, const render::RenderSettings& settings,
                      int upload_slots = kDefaultUploadSlots);
   ~StereoViewRenderer();
   StereoViewRenderer(const StereoViewRenderer&) = delete;
@@ -44,36 +44,36 @@ class StereoViewRenderer {
 
   /// Uploads `frame` unless it is the one already on the GPU (the same object); false with the
   /// reason when its size cannot be matched to the calibration or an upload fails.
-  bool setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame, std::string* error);
+  bool setFrame(const std::shared_ptr<const video::DecodedStereoFrame>& frame, std::string* error);
   /// The frame on the GPU (null before the first), and when its upload finished (steady ns).
-  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return frame_; }
+  const std::shared_ptr<const video::DecodedStereoFrame>& frame() const { return frame_; }
   std::int64_t uploadedNs() const { return uploaded_ns_; }
   /// The render thread's time in the last setFrame that took a new frame (the copies issued,
   /// or the uploads from client memory done), ms.
   double lastUploadMs() const { return last_upload_ms_; }
   /// What the decoder takes slots from (null when the ring is off).
-  std::shared_ptr<UploadSlotSource> uploadSlots() const { return ring_.source(); }
-  const UploadRing& uploadRing() const { return ring_; }
+  std::shared_ptr<render::UploadSlotSource> uploadSlots() const { return ring_.source(); }
+  const render::UploadRing& uploadRing() const { return ring_; }
 
   /// Renders eye `eye` (0 left, 1 right) into `framebuffer` (width×height of `view`): `view`'s
   /// T_cam_eye is ignored and computed from T_robot_vr and T_vr_eye. Border colour where there
   /// is no frame yet. False with the reason on bad input or a GL failure.
   bool renderEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
-                 EyeView view, GLuint framebuffer, std::string* error);
+                 render::EyeView view, GLuint framebuffer, std::string* error);
 
   /// The same view as renderEye, but each eye pixel gets the camera pixel (x, y) it shows (red,
   /// green) and alpha 1, or alpha 0 where it shows no camera pixel: the projection map that the
   /// ground-truth check (app/bench/truth) follows back into the scene. Render into a float target.
   bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
-                           EyeView view, GLuint framebuffer, std::string* error);
+                           render::EyeView view, GLuint framebuffer, std::string* error);
 
   /// Renders with `calibration`'s camera models from the next setFrame on (a calibration applied
   /// live): the cameras are prepared again and the frame on the GPU is dropped, so that next
   /// setFrame uploads even the same frame again. Needs two cameras (false with the reason).
   bool setCalibration(const calib::SystemCalibration& calibration, std::string* error);
 
-  void setSettings(const RenderSettings& settings) { settings_ = settings; }
-  const RenderSettings& settings() const { return settings_; }
+  void setSettings(const render::RenderSettings& settings) { settings_ = settings; }
+  const render::RenderSettings& settings() const { return settings_; }
 
   /// T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye, the eye in the camera of the frame on the
   /// GPU (T_robot_cam carried by that frame): the one place it is composed. Nothing without a frame.
@@ -82,18 +82,18 @@ class StereoViewRenderer {
 
  private:
   /// view->T_cam_eye = cameraFromEye(…) (needs a frame); false with the reason when that is not a pose.
-  bool placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye, EyeView* view,
+  bool placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye, render::EyeView* view,
                 std::string* error) const;
 
-  UploadRing ring_;  ///< first: destroyed after the frame and cameras that use its slots
+  render::UploadRing ring_;  ///< first: destroyed after the frame and cameras that use its slots
   calib::SystemCalibration calibration_;
-  RenderSettings settings_;
-  SphericalRenderer renderer_;
-  std::array<std::unique_ptr<GpuCamera>, 2> cameras_;
-  std::array<std::unique_ptr<GpuCamera>, 2> coordinates_;  ///< pixel-coordinate images, made on demand
-  std::shared_ptr<const DecodedStereoFrame> frame_;
+  render::RenderSettings settings_;
+  render::SphericalRenderer renderer_;
+  std::array<std::unique_ptr<render::GpuCamera>, 2> cameras_;
+  std::array<std::unique_ptr<render::GpuCamera>, 2> coordinates_;  ///< pixel-coordinate images, made on demand
+  std::shared_ptr<const video::DecodedStereoFrame> frame_;
   std::int64_t uploaded_ns_ = 0;
   double last_upload_ms_ = 0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief views.csv: written a row at a time by the live run, read whole by the replay.
-#include "xr/operator/logged_view.h"
+#include "xr/frame_loop/logged_view.h"
 
 #include <cerrno>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 namespace {
 
 constexpr const char* kHeader = "png,stereo_sequence,px,py,pz,qx,qy,qz,qw";
@@ -92,4 +92,4 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
   return views;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief HeadTrajectory: CSV parsing with line-numbered errors; lerp + slerp sampling.
-#include "xr/operator/head_trajectory.h"
+#include "xr/frame_loop/head_trajectory.h"
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +10,7 @@
 
 #include "calib/debug_assert.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 HeadTrajectory::HeadTrajectory(std::vector<HeadPoseSample> samples) : samples_(std::move(samples)) {
   TS_ASSERT(!samples_.empty());
@@ -114,4 +114,4 @@ HeadTrajectory HeadTrajectory::demo(double duration_s) {
   return HeadTrajectory(std::move(samples));
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

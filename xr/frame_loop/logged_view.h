@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct LoggedView {
   std::string png;                   ///< file name beside views.csv, e.g. eyes_00010.png
@@ -33,4 +33,4 @@ bool appendLoggedView(const std::string& path, const LoggedView& view, std::stri
 /// quaternion far from unit length).
 std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, std::string* error);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

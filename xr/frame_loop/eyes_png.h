@@ -12,7 +12,7 @@
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 /// Writes left | right (equal sizes, RGBA8) to `path`; false with the reason.
 inline bool writeEyesPng(const std::string& path, const gl::OffscreenTarget& left, const gl::OffscreenTarget& right,
@@ -45,4 +45,4 @@ inline bool writeEveryNthEyesPng(const std::string& dir, std::uint64_t frames, i
   return writeEyesPng(dir + "/" + name, left, right, error);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief OperatorView: head target out, newest frame up, robot settings followed, eyes rendered.
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_view.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,15 +12,15 @@
 #include "robot/link/link_pose.h"
 #include "robot/link/proto_enums.h"
 #include "robot/link/sphere_radius.h"
-#include "xr/operator/robot_view_state.h"
+#include "xr/frame_loop/robot_view_state.h"
 #include "xr/video/latency_figure.h"
-#include "xr/operator/trial_indicator.h"
+#include "xr/frame_loop/trial_indicator.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 namespace {
 
-StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
-  StereoFrameDecoder::Options options;
+video::StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
+  video::StereoFrameDecoder::Options options;
   options.upload_slots = renderer.uploadSlots();
   return options;
 }
@@ -69,7 +69,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   trial_ = state ? state->trial() : link::proto::TrialIndicator();
   if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
   if (state && options_.follow_robot_settings) {
-    const RenderSettings settings = withRobotSettings(renderer_.settings(), *state);
+    const render::RenderSettings settings = withRobotSettings(renderer_.settings(), *state);
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
       spdlog::info("operator view: mode {} radius {} m (from the robot; was {} {} m)",
                    link::visualModeName(settings.mode), settings.radius,
@@ -146,7 +146,7 @@ void OperatorView::followRobotCalibration(const link::proto::RobotState& state) 
   });
 }
 
-bool OperatorView::takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error) {
+bool OperatorView::takeFetchedCalibration(const video::DecodedStereoFrame* frame, std::string* error) {
   std::optional<FetchedCalibration> fetched;
   {
     std::lock_guard lock(control_result_mutex_);
@@ -166,7 +166,7 @@ bool OperatorView::takeFetchedCalibration(const DecodedStereoFrame* frame, std::
   return true;
 }
 
-std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
+std::shared_ptr<const video::DecodedStereoFrame> OperatorView::frameToShow() {
   auto newest = decoder_.newest();
   const auto& current = renderer_.frame();
   if (!newest || newest == current) return newest;
@@ -175,7 +175,7 @@ std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
       spdlog::info("operator view: camera poses are measured again (joint states from the robot)");
     unmeasured_since_ns_ = -1;
     holding_measured_ = showing_unmeasured_ = false;
-    RenderSettings settings = renderer_.settings();
+    render::RenderSettings settings = renderer_.settings();
     settings.image_gain = 1.0f;
     renderer_.setSettings(settings);
     return newest;
@@ -198,13 +198,13 @@ std::shared_ptr<const DecodedStereoFrame> OperatorView::frameToShow() {
   holding_measured_ = false;
   showing_unmeasured_ = true;
   ++stats_.unmeasured_frames_shown;
-  RenderSettings settings = renderer_.settings();
+  render::RenderSettings settings = renderer_.settings();
   settings.image_gain = kUnmeasuredGain;
   renderer_.setSettings(settings);
   return newest;
 }
 
-bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view,
                              GLuint framebuffer, std::string* error) {
   if (!stats_.nominal_from_robot && !T_robot_vr_stand_in_ && eye == 0 && renderer_.frame()) {
     // No nominal pose yet: the left eye looks along the left camera's axis from its centre.
@@ -278,9 +278,9 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     link::proto::XrStats xr_stats;
     xr_stats.set_t_ns(now);
     xr_stats.set_fps(double(stats_.frames - frames_at_last_stats_) / (double(now - last_stats_ns_) * 1e-9));
-    const LatencyFigure age = latencyFigure({age_ms_.begin() + std::ptrdiff_t(age_at_last_stats_), age_ms_.end()});
-    const LatencyFigure render =
-        latencyFigure({render_ms_.begin() + std::ptrdiff_t(render_at_last_stats_), render_ms_.end()});
+    const video::LatencyFigure age = video::latencyFigure({age_ms_.begin() + std::ptrdiff_t(age_at_last_stats_), age_ms_.end()});
+    const video::LatencyFigure render =
+        video::latencyFigure({render_ms_.begin() + std::ptrdiff_t(render_at_last_stats_), render_ms_.end()});
     xr_stats.set_render_ms(render.p50_ms);
     xr_stats.set_missed_frames(missed_frames);
     xr_stats.set_image_age_p50_ms(age.p50_ms);
@@ -295,19 +295,19 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
 
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
-  const LatencyFigure render = latencyFigure(render_ms_), age = latencyFigure(age_ms_);
+  const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;
   out.image_age_p50_ms = age.p50_ms;
   out.image_age_p99_ms = age.p99_ms;
-  const LatencyFigure upload = latencyFigure(upload_ms_);
+  const video::LatencyFigure upload = video::latencyFigure(upload_ms_);
   out.upload_ms_render_thread_p50 = upload.p50_ms;
   out.upload_ms_render_thread_p99 = upload.p99_ms;
-  const StereoDecodeStats decoded = decoder_.stats();
+  const video::StereoDecodeStats decoded = decoder_.stats();
   out.decode_ms_p50 = decoded.decode.p50_ms;
   out.images_in_upload_slots = decoded.images_in_upload_slots;
   out.images_in_own_memory = decoded.images_in_own_memory;
-  out.pose_to_display_ms_p50 = latencyFigure(pose_lead_ms_).p50_ms;
+  out.pose_to_display_ms_p50 = video::latencyFigure(pose_lead_ms_).p50_ms;
   return out;
 }
 
@@ -361,4 +361,4 @@ void OperatorView::sendControl(link::proto::ControlRequest request, std::string 
   });
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @brief OperatorLoop: one display frame through the view and the output; missed periods.
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/operator_loop.h"
 
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 std::uint64_t skippedPeriods(std::int64_t previous_display_ns, std::int64_t display_ns, std::int64_t period_ns) {
   if (previous_display_ns == 0 || period_ns <= 0 || display_ns <= previous_display_ns) return 0;
@@ -45,4 +45,4 @@ OperatorLoopStats OperatorLoop::stats() const {
   return s;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

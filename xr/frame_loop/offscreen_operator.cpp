@@ -1,20 +1,20 @@
 // SPDX-License-Identifier: MIT
 /// @brief runOffscreenOperator: the operator loop on an EGL surfaceless context, paced by the clock.
-#include "xr/operator/offscreen_operator.h"
+#include "xr/frame_loop/offscreen_operator.h"
 
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
 
 #include "shaders/egl_context.h"
-#include "xr/operator/eyes_png.h"
-#include "xr/operator/logged_view.h"
-#include "xr/operator/operator_loop.h"
-#include "xr/operator/operator_view.h"
-#include "xr/operator/paced_output.h"
-#include "xr/operator/projection_map_recorder.h"
+#include "xr/frame_loop/eyes_png.h"
+#include "xr/frame_loop/logged_view.h"
+#include "xr/frame_loop/operator_loop.h"
+#include "xr/frame_loop/operator_view.h"
+#include "xr/frame_loop/paced_output.h"
+#include "xr/frame_loop/projection_map_recorder.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 std::optional<OffscreenOperatorStats> runOffscreenOperator(
     const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
@@ -97,4 +97,4 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   return stats;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

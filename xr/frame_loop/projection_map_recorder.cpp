@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief ProjectionMapRecorder (see projection_map_recorder.h).
-#include "xr/operator/projection_map_recorder.h"
+#include "xr/frame_loop/projection_map_recorder.h"
 
 #include <cerrno>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "robot/link/link_pose.h"
 #include "robot/link/pose_csv.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 std::unique_ptr<ProjectionMapRecorder> ProjectionMapRecorder::open(const std::string& dir, int eye_width,
                                                                    int eye_height, std::string* error) {
   std::error_code ec;
@@ -40,7 +40,7 @@ ProjectionMapRecorder::ProjectionMapRecorder(std::string dir, std::ofstream csv,
     : dir_(std::move(dir)), csv_(std::move(csv)), target_(width, height, GL_RGBA32F) {}
 
 bool ProjectionMapRecorder::record(OperatorView& view, std::int64_t display_ns, const Eigen::Isometry3d& T_vr_hmd,
-                                   const Eigen::Isometry3d T_hmd_eye[2], double ipd, const EyeView& eye,
+                                   const Eigen::Isometry3d T_hmd_eye[2], double ipd, const render::EyeView& eye,
                                    std::string* error) {
   const auto& frame = view.frame();
   if (!frame) return true;
@@ -63,7 +63,7 @@ bool ProjectionMapRecorder::record(OperatorView& view, std::int64_t display_ns, 
     *error = "cannot write " + map_path;
     return false;
   }
-  const RenderSettings& s = view.settings();
+  const render::RenderSettings& s = view.settings();
   csv_ << index_ << ',' << display_ns << ',' << frame->frame.sequence() << ',' << frame->frame.stamps().capture_ns()
        << ',' << link::visualModeName(s.mode) << ',' << s.radius << ',' << ipd << ',' << eye.fov.angle_left << ','
        << eye.fov.angle_right << ',' << eye.fov.angle_up << ',' << eye.fov.angle_down << ',' << eye.width << ','
@@ -82,4 +82,4 @@ bool ProjectionMapRecorder::record(OperatorView& view, std::int64_t display_ns, 
   return true;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

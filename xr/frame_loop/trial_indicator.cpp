@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @brief The trial indicator bar (see trial_indicator.h).
-#include "xr/operator/trial_indicator.h"
+#include "xr/frame_loop/trial_indicator.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 TrialIndicatorGeometry trialIndicatorGeometry(int width, int height) {
   TrialIndicatorGeometry g;
@@ -52,4 +52,4 @@ void drawTrialIndicator(GLuint framebuffer, int width, int height, double elapse
   glDisable(GL_SCISSOR_TEST);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -10,7 +10,7 @@
 
 #include "shaders/gl_api.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct TrialIndicatorGeometry {
   int x = 0, y = 0, width = 0, height = 0;  ///< GL window coordinates (origin bottom left)
@@ -25,4 +25,4 @@ double trialIndicatorFill(double elapsed_s, double time_limit_s);
 /// Draws the bar into `framebuffer`.
 void drawTrialIndicator(GLuint framebuffer, int width, int height, double elapsed_s, double time_limit_s);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

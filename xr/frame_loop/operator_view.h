@@ -49,17 +49,17 @@
 #include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_endpoints.h"
-#include "xr/operator/operator_loop.h"
+#include "xr/frame_loop/operator_loop.h"
 #include "xr/render/eye_view.h"
 #include "xr/video/stereo_frame_decoder.h"
-#include "xr/operator/stereo_view_renderer.h"
+#include "xr/frame_loop/stereo_view_renderer.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct OperatorViewOptions {
   link::LinkEndpoints endpoints;
   /// Until the robot's state says otherwise: mode and radius are then the robot's.
-  RenderSettings render;
+  render::RenderSettings render;
   /// Follow the mode and radius the robot publishes (off: the command line's stay).
   bool follow_robot_settings = true;
   /// How long the last measured frame is held while only unmeasured ones arrive, s.
@@ -112,10 +112,10 @@ class OperatorView final : public OperatorScene {
                   std::string* error) override;
   /// Renders eye `eye` (0 left, 1 right) whose pose in the VR frame is `T_vr_eye` into
   /// `framebuffer` (fov and size from `view`). Border colour before the first frame.
-  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+  bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view,
                  GLuint framebuffer, std::string* error) override;
   /// The projection map of eye `eye` for the same pose (StereoViewRenderer::renderProjectionMap).
-  bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view,
+  bool renderProjectionMap(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view,
                            GLuint framebuffer, std::string* error) {
     return renderer_.renderProjectionMap(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error);
   }
@@ -148,8 +148,8 @@ class OperatorView final : public OperatorScene {
   static constexpr float kUnmeasuredGain = 0.4f;
   /// Whether the frame on show has no measured camera pose (it is dimmed).
   bool showingUnmeasured() const { return showing_unmeasured_; }
-  const std::shared_ptr<const DecodedStereoFrame>& frame() const { return renderer_.frame(); }
-  const RenderSettings& settings() const { return renderer_.settings(); }
+  const std::shared_ptr<const video::DecodedStereoFrame>& frame() const { return renderer_.frame(); }
+  const render::RenderSettings& settings() const { return renderer_.settings(); }
   const Eigen::Isometry3d& T_robot_vr() const { return T_robot_vr_; }
   /// The pose an eye at T_vr_eye is rendered with in the frame on the GPU (T_cam_eye); nothing
   /// before the first frame.
@@ -162,21 +162,21 @@ class OperatorView final : public OperatorScene {
   bool calibrationPending() const;
 
   link::LinkClient& client() { return client_; }
-  StereoFrameDecoder& decoder() { return decoder_; }
+  video::StereoFrameDecoder& decoder() { return decoder_; }
   OperatorViewStats stats() const;
 
  private:
   void sendControl(link::proto::ControlRequest request, std::string what);
   /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
-  std::shared_ptr<const DecodedStereoFrame> frameToShow();
+  std::shared_ptr<const video::DecodedStereoFrame> frameToShow();
   /// Asks for the robot's calibration when its state names one this view does not render with.
   void followRobotCalibration(const link::proto::RobotState& state);
   /// Takes the fetched calibration once `frame` is stamped with it (or there is no frame).
-  bool takeFetchedCalibration(const DecodedStereoFrame* frame, std::string* error);
+  bool takeFetchedCalibration(const video::DecodedStereoFrame* frame, std::string* error);
 
   link::LinkClient client_;
   StereoViewRenderer renderer_;  ///< before the decoder: its upload ring outlives the decoder's frames
-  StereoFrameDecoder decoder_;
+  video::StereoFrameDecoder decoder_;
   OperatorViewOptions options_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
@@ -215,4 +215,4 @@ class OperatorView final : public OperatorScene {
   link::ControlQueue control_;  ///< after what its replies write to: it stops first
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

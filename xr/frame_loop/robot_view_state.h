@@ -11,16 +11,16 @@
 #include "xr/render/eye_view.h"
 #include "xr/render/spherical_renderer.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 /// Both cameras' poses came from joint states at capture time (link POSE_SOURCE_JOINT_BUFFER).
 bool cameraPosesMeasured(const link::proto::StereoFrame& frame);
 
 /// `settings` with the visual mode and sphere radius of the robot's state, where they are valid.
-RenderSettings withRobotSettings(RenderSettings settings, const link::proto::RobotState& state);
+render::RenderSettings withRobotSettings(render::RenderSettings settings, const link::proto::RobotState& state);
 
 /// T_robot_vr before a nominal pose exists: the VR frame placed so that the left eye at
 /// T_vr_left_eye sits at the left camera's centre of `frame`, looking along its optical axis.
 Eigen::Isometry3d standInT_robot_vr(const link::proto::StereoFrame& frame, const Eigen::Isometry3d& T_vr_left_eye);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

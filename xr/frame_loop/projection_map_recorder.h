@@ -21,9 +21,9 @@
 
 #include "shaders/offscreen_target.h"
 #include "xr/render/eye_view.h"
-#include "xr/operator/operator_view.h"
+#include "xr/frame_loop/operator_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 class ProjectionMapRecorder {
  public:
@@ -35,7 +35,7 @@ class ProjectionMapRecorder {
   /// Records the frame the view just rendered for these eye poses (T_vr_hmd · T_hmd_eye); false
   /// with the reason on a GL or file error. Frames before the first camera image are skipped.
   bool record(OperatorView& view, std::int64_t display_ns, const Eigen::Isometry3d& T_vr_hmd,
-              const Eigen::Isometry3d T_hmd_eye[2], double ipd, const EyeView& eye, std::string* error);
+              const Eigen::Isometry3d T_hmd_eye[2], double ipd, const render::EyeView& eye, std::string* error);
   std::uint64_t recorded() const { return index_; }
 
  private:
@@ -47,4 +47,4 @@ class ProjectionMapRecorder {
   std::uint64_t index_ = 0;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

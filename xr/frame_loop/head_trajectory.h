@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct HeadPoseSample {
   double t_s = 0.0;
@@ -45,4 +45,4 @@ class HeadTrajectory {
   std::vector<HeadPoseSample> samples_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 /// @brief PacedOutput: pacing by a FrameClock, head and eye poses, two eye targets.
-#include "xr/operator/paced_output.h"
+#include "xr/frame_loop/paced_output.h"
 
 #include <algorithm>
 #include <chrono>
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 PacedOutput::PacedOutput(const PacedOutputOptions& options, HeadAt head, FrameClock* clock)
     : options_(options),
@@ -61,4 +61,4 @@ bool OffscreenOutput::present(std::string*) {
   return true;
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief StereoViewRenderer: per-frame upload of both cameras' planes, per-eye render.
-#include "xr/operator/stereo_view_renderer.h"
+#include "xr/frame_loop/stereo_view_renderer.h"
 
 #include <chrono>
 
@@ -8,10 +8,10 @@
 #include "robot/link/link_endpoints.h"
 #include "robot/link/link_pose.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 StereoViewRenderer::StereoViewRenderer(const calib::SystemCalibration& calibration,
-                                       const RenderSettings& settings, int upload_slots)
+                                       const render::RenderSettings& settings, int upload_slots)
     : ring_(upload_slots), calibration_(calibration), settings_(settings) {}
 
 StereoViewRenderer::~StereoViewRenderer() = default;
@@ -28,7 +28,7 @@ bool StereoViewRenderer::setCalibration(const calib::SystemCalibration& calibrat
   return true;
 }
 
-bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame>& frame,
+bool StereoViewRenderer::setFrame(const std::shared_ptr<const video::DecodedStereoFrame>& frame,
                                   std::string* error) {
   ring_.reclaim();  // slots whose copies are done go back to the decoder
   // The same decoded frame object: already up. (Not compared by sequence number: a restarted
@@ -48,7 +48,7 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
         cameras_[i]->imageHeight() != planes->height) {
       const auto scaled = calib::atResolution(calibration_.cameras[i], planes->width, planes->height, error);
       if (!scaled) return false;
-      cameras_[i] = std::make_unique<GpuCamera>(scaled->camera, planes->width, planes->height);
+      cameras_[i] = std::make_unique<render::GpuCamera>(scaled->camera, planes->width, planes->height);
       if (!renderer_.prepare(*cameras_[i], settings_.path, error)) return false;
     }
   }
@@ -58,8 +58,8 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
     return false;
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < 2; ++i) {
-    const YuvPlanes& planes = *(i == 0 ? frame->left : frame->right);
-    if (!cameras_[i]->upload(SourceImage::yuv(i == 0 ? frame->left : frame->right), error)) return false;
+    const render::YuvPlanes& planes = *(i == 0 ? frame->left : frame->right);
+    if (!cameras_[i]->upload(render::SourceImage::yuv(i == 0 ? frame->left : frame->right), error)) return false;
     if (planes.slot) ring_.fenceCopy(*planes.slot);
   }
   last_upload_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -69,7 +69,7 @@ bool StereoViewRenderer::setFrame(const std::shared_ptr<const DecodedStereoFrame
 }
 
 bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
-                                   const Eigen::Isometry3d& T_vr_eye, EyeView view,
+                                   const Eigen::Isometry3d& T_vr_eye, render::EyeView view,
                                    GLuint framebuffer, std::string* error) {
   if (eye < 0 || eye > 1) {
     *error = "eye must be 0 (left) or 1 (right)";
@@ -95,9 +95,9 @@ std::optional<Eigen::Isometry3d> StereoViewRenderer::cameraFromEye(int eye, cons
 }
 
 bool StereoViewRenderer::placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, const Eigen::Isometry3d& T_vr_eye,
-                                  EyeView* view, std::string* error) const {
+                                  render::EyeView* view, std::string* error) const {
   view->T_cam_eye = *cameraFromEye(eye, T_robot_vr, T_vr_eye);
-  if (const auto why = checkPose(view->T_cam_eye)) {
+  if (const auto why = render::checkPose(view->T_cam_eye)) {
     *error = "eye pose: " + *why;
     return false;
   }
@@ -105,24 +105,24 @@ bool StereoViewRenderer::placeEye(int eye, const Eigen::Isometry3d& T_robot_vr, 
 }
 
 bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T_robot_vr,
-                                             const Eigen::Isometry3d& T_vr_eye, EyeView view,
+                                             const Eigen::Isometry3d& T_vr_eye, render::EyeView view,
                                              GLuint framebuffer, std::string* error) {
   if (eye < 0 || eye > 1 || !frame_ || !cameras_[eye]) {
     *error = "no camera frame to map yet";
     return false;
   }
-  const GpuCamera& camera = *cameras_[eye];
+  const render::GpuCamera& camera = *cameras_[eye];
   if (!coordinates_[eye] || coordinates_[eye]->imageWidth() != camera.imageWidth() ||
       coordinates_[eye]->imageHeight() != camera.imageHeight()) {
-    coordinates_[eye] = std::make_unique<GpuCamera>(camera.camera(), camera.imageWidth(), camera.imageHeight());
-    if (!coordinates_[eye]->upload(SourceImage::pixelCoordinates(camera.imageWidth(), camera.imageHeight()), error))
+    coordinates_[eye] = std::make_unique<render::GpuCamera>(camera.camera(), camera.imageWidth(), camera.imageHeight());
+    if (!coordinates_[eye]->upload(render::SourceImage::pixelCoordinates(camera.imageWidth(), camera.imageHeight()), error))
       return false;
   }
   if (!placeEye(eye, T_robot_vr, T_vr_eye, &view, error)) return false;
-  RenderSettings settings = settings_;
+  render::RenderSettings settings = settings_;
   settings.border_rgba.setZero();  // alpha 0: no camera pixel
   settings.image_gain = 1.0f;      // coordinates, not colours
   return renderer_.render(*coordinates_[eye], view, settings, framebuffer, error);
 }
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

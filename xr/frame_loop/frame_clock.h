@@ -12,7 +12,7 @@
 
 #include "robot/link/link_endpoints.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 class FrameClock {
  public:
@@ -45,4 +45,4 @@ class SimulatedFrameClock final : public FrameClock {
   std::int64_t now_ns_;
 };
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -21,7 +21,7 @@
 #include "shaders/gl_api.h"
 #include "xr/render/eye_view.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 /// What the loop draws: the robot's camera frames (OperatorView) or a scene of its own (the
 /// headset's test scene). Frame protocol on the thread whose GL context is current:
@@ -34,7 +34,7 @@ class OperatorScene {
   virtual bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid,
                           std::string* error) = 0;
   /// Eye `eye` (0 left, 1 right) at T_vr_eye into `framebuffer` (fov and size from `view`).
-  virtual bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const EyeView& view, GLuint framebuffer,
+  virtual bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view, GLuint framebuffer,
                          std::string* error) = 0;
   /// End of the frame: shown at shown_ns, render_ms the work of both eyes, missed_frames so far.
   virtual void endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) = 0;
@@ -54,7 +54,7 @@ struct DisplayFrame {
   Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();  ///< head pose predicted for display_ns
   bool head_valid = true;
   std::array<Eigen::Isometry3d, 2> T_vr_eye{Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()};
-  std::array<EyeView, 2> views;    ///< fov and size per eye (T_cam_eye is the renderer's to compute)
+  std::array<render::EyeView, 2> views;    ///< fov and size per eye (T_cam_eye is the renderer's to compute)
 };
 
 /// Draws eye `eye` (0 left, 1 right) of `frame` into `framebuffer`; false ends the frame.
@@ -110,4 +110,4 @@ class OperatorLoop {
 /// refreshes, n when n refreshes passed without a frame (a gap rounded to whole periods).
 std::uint64_t skippedPeriods(std::int64_t previous_display_ns, std::int64_t display_ns, std::int64_t period_ns);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop

@@ -14,21 +14,21 @@
 #include "calib/system_calibration.h"
 #include "robot/link/link_endpoints.h"
 #include "xr/render/eye_view.h"
-#include "xr/operator/head_trajectory.h"
-#include "xr/operator/operator_view.h"
-#include "xr/operator/paced_output.h"
+#include "xr/frame_loop/head_trajectory.h"
+#include "xr/frame_loop/operator_view.h"
+#include "xr/frame_loop/paced_output.h"
 
-namespace telesphere::xr {
+namespace telesphere::xr::frame_loop {
 
 struct OffscreenOperatorOptions {
   link::LinkEndpoints endpoints;
   PacedOutputOptions display;  ///< rate the loop paces at, eye size and field of view, ipd
   double duration_s = 10.0;           ///< 0: until `stop`
   bool loop_trajectory = true;
-  RenderSettings render;
+  render::RenderSettings render;
   int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;  ///< 0: upload from the decoder's memory
   /// When set: eyes_last.png (side by side) at the end, and views.csv with the camera frame and
-  /// head pose of each PNG (xr/operator/logged_view.h).
+  /// head pose of each PNG (xr/frame_loop/logged_view.h).
   std::string png_dir;
   int png_every_frames = 0;  ///< > 0: also eyes_NNNNN.png every this many frames
   std::chrono::milliseconds wait_first_frame{10000};  ///< give up when no frame arrives
@@ -52,4 +52,4 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     const calib::SystemCalibration& calibration, const HeadTrajectory& trajectory,
     const OffscreenOperatorOptions& options, const std::atomic<bool>& stop, std::string* error);
 
-}  // namespace telesphere::xr
+}  // namespace telesphere::xr::frame_loop
