@@ -33,8 +33,11 @@ OfferResult ImpairedPath::offer(std::vector<std::uint8_t> bytes, std::int64_t no
   const std::uint64_t index = next_index_++;
   ++stats_.offered;
   stats_.bytes_offered += static_cast<std::uint64_t>(size);
-  while (!in_bottleneck_.empty() && in_bottleneck_.front().first <= now_ns) in_bottleneck_.pop_front();
-  if (queuedBytesAt(now_ns) + size > options_.queue_limit_bytes) {
+  while (!in_bottleneck_.empty() && in_bottleneck_.front().first <= now_ns) {
+    bottleneck_bytes_ -= in_bottleneck_.front().second;
+    in_bottleneck_.pop_front();
+  }
+  if (bottleneck_bytes_ + size > options_.queue_limit_bytes) {
     ++stats_.dropped_queue;
     return OfferResult::kDroppedQueue;
   }
@@ -42,6 +45,7 @@ OfferResult ImpairedPath::offer(std::vector<std::uint8_t> bytes, std::int64_t no
   const std::int64_t left_ns = options_.rate.serialisedBy(start_ns, 8.0 * static_cast<double>(size));
   bottleneck_free_ns_ = left_ns;
   in_bottleneck_.emplace_back(left_ns, size);
+  bottleneck_bytes_ += size;
   stats_.max_queue_delay_ns = std::max(stats_.max_queue_delay_ns, left_ns - now_ns);
   // Lost on the wire after the bottleneck: it still used the bottleneck's capacity.
   if (loss_.nextLost()) {

@@ -76,6 +76,7 @@ class ImpairedPath {
   std::mt19937_64 jitter_rng_;
   std::int64_t bottleneck_free_ns_ = 0;  ///< when the last accepted packet leaves the bottleneck
   std::deque<std::pair<std::int64_t, std::int64_t>> in_bottleneck_;  ///< (leaves_ns, bytes)
+  std::int64_t bottleneck_bytes_ = 0;  ///< the sum of in_bottleneck_'s bytes (offer runs per packet)
   std::vector<PathPacket> in_flight_;    ///< sorted by (arrives_ns, index)
   std::int64_t last_arrival_ns_ = 0;
   std::uint64_t next_index_ = 0;
