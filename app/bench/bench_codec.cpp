@@ -382,6 +382,39 @@ nlohmann::json runCodec(const BenchContext& ctx) {
          "tjDecompress2 with fancy upsampling):\n";
   knob.print(out);
 
+  // Restart markers: the Internet link slices a frame into bands along them (DESIGN.md §9). A
+  // shorter band costs less when a packet is lost and a few bytes more per marker.
+  Table restarts({"restart every", "bands", "bytes", "overhead (bytes)", "overhead (%)", "bytes/band",
+                  "image rows/band", "encode ms (CPU)", "decode ms (CPU)"});
+  nlohmann::json restart_json = nlohmann::json::array();
+  const std::size_t plain_bytes = jpeg90.size();
+  const int mcu_rows = (img.height + 15) / 16;
+  for (int every : {0, 1, 2, 4, 8}) {
+    robot::video::JpegSettings s = settingsFor(90, false);
+    s.restart_mcu_rows = every;
+    const Rate e = measure(qreps, [&] {
+      if (!encoder.encodeRgb(img.rgb.data(), img.width, img.height, img.width * 3, s, jpeg, &error))
+        throw std::runtime_error("codec: encode: " + error);
+    });
+    const Rate d = measure(qreps, [&] {
+      if (decoder.decode(jpeg, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
+        throw std::runtime_error("codec: decode: " + error);
+    });
+    const int bands = every == 0 ? 1 : (mcu_rows + every - 1) / every;
+    const double overhead = static_cast<double>(jpeg.size()) - static_cast<double>(plain_bytes);
+    restarts.addRow({every == 0 ? std::string("never") : std::to_string(every) + " MCU rows", std::to_string(bands),
+                     std::to_string(jpeg.size()), formatNumber(overhead),
+                     formatNumber(100.0 * overhead / static_cast<double>(plain_bytes), 3),
+                     formatNumber(static_cast<double>(jpeg.size()) / bands),
+                     std::to_string(every == 0 ? img.height : 16 * every), formatNumber(e.ms_per_frame_cpu),
+                     formatNumber(d.ms_per_frame_cpu)});
+    restart_json.push_back({{"restart_mcu_rows", every}, {"bands", bands}, {"bytes", jpeg.size()},
+                            {"overhead_bytes", overhead}, {"encode_ms", e.ms_per_frame_cpu},
+                            {"decode_ms", d.ms_per_frame_cpu}});
+  }
+  out << "\nRestart markers (q90 4:2:0; a band is what one lost packet costs the Internet link):\n";
+  restarts.print(out);
+
   nlohmann::json j = {{"image", {{"width", img.width}, {"height", img.height}, {"source", img.source}}},
                       {"cores", cores},
                       {"jpeg_bytes_q90_420", jpeg90.size()},
@@ -393,7 +426,8 @@ nlohmann::json runCodec(const BenchContext& ctx) {
                       {"pool_threads", pool.threads()},
                       {"pool_cpu_s_per_frame", pool_cpu / pool_jobs},
                       {"goal_decode_fps", kCodecGoalFps},
-                      {"quality_table", knob_json}};
+                      {"quality_table", knob_json},
+                      {"restart_table", restart_json}};
   if (tj) {
     j["tjbench"] = {{"compress_fps", tj->compress_fps},
                     {"decompress_to_yuv_fps", tj->decompress_yuv_fps},

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
-/// @brief JPEG encoding of camera images with libjpeg-turbo's TurboJPEG API (DESIGN.md §4).
-///        Quality and chroma subsampling are the speed/size/fidelity knobs; one encoder per
-///        thread (a TurboJPEG handle is not thread-safe), so both cameras encode in parallel.
+/// @brief JPEG encoding of camera images with libjpeg-turbo (its libjpeg API, DESIGN.md §4).
+///        Quality and chroma subsampling are the speed/size/fidelity knobs; restart markers
+///        after every few MCU rows let the Internet link slice a frame into bands that decode
+///        on their own (DESIGN.md §9). One encoder per thread (a compressor is not thread-safe),
+///        so both cameras encode in parallel.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +21,11 @@ using ChromaSubsampling = link::ChromaSubsampling;  ///< the video path's one ch
 struct JpegSettings {
   int quality = 90;  ///< 1..100
   ChromaSubsampling subsampling = ChromaSubsampling::k420;
+  /// A restart marker (RSTn) after every this many MCU rows (an MCU row is 16 image rows at
+  /// 4:2:0, 8 otherwise); 0: none. Restarts change no pixel: each band's entropy-coded data
+  /// then starts afresh, so a band lost on the network costs that band, not the rest of the
+  /// image. Costs about 2.5 bytes per marker. 0..65535.
+  int restart_mcu_rows = 0;
 };
 
 class JpegEncoder {
@@ -44,7 +52,8 @@ class JpegEncoder {
               const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
               std::string* error);
 
-  void* handle_;
+  struct Compressor;
+  std::unique_ptr<Compressor> compressor_;
 };
 
 }  // namespace telesphere::robot::video

@@ -5,6 +5,7 @@
 #include <turbojpeg.h>
 
 #include <cmath>
+#include <random>
 
 #include "robot/video/jpeg_encoder.h"
 
@@ -75,6 +76,62 @@ TEST(JpegEncoder, EverySubsamplingDecodes) {
   tjDestroy(d);
 }
 
+// The markers in a JPEG's entropy-coded data: RST0..RST7 (0xFFD0..0xFFD7) after the SOS segment.
+int countRestartMarkers(const std::vector<std::uint8_t>& jpeg) {
+  std::size_t i = 2;
+  while (i + 4 <= jpeg.size() && !(jpeg[i] == 0xFF && jpeg[i + 1] == 0xDA))
+    i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);  // skip a header segment
+  if (i + 4 > jpeg.size()) return -1;
+  i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);
+  int n = 0;
+  for (; i + 1 < jpeg.size(); ++i)
+    if (jpeg[i] == 0xFF && jpeg[i + 1] >= 0xD0 && jpeg[i + 1] <= 0xD7) ++n;
+  return n;
+}
+
+TEST(JpegEncoder, RestartMarkersAfterEveryFewMcuRowsChangeNoPixel) {
+  // 64 × 50 at 4:2:0: four MCU rows of 16 (the last one partial); 4:4:4 and grey: seven of 8.
+  const int w = 64, h = 50;
+  const auto rgb = testImage(w, h);
+  video::JpegEncoder encoder;
+  std::string error;
+  struct Case { video::ChromaSubsampling s; int rows_per_mcu; };
+  for (auto [s, rows_per_mcu] : {Case{video::ChromaSubsampling::k420, 16}, Case{video::ChromaSubsampling::k444, 8},
+                                 Case{video::ChromaSubsampling::kGray, 8}}) {
+    const int mcu_rows = (h + rows_per_mcu - 1) / rows_per_mcu;
+    std::vector<std::uint8_t> plain, every_row, every_two;
+    ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {90, s, 0}, plain, &error)) << error;
+    ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {90, s, 1}, every_row, &error)) << error;
+    ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {90, s, 2}, every_two, &error)) << error;
+    EXPECT_EQ(countRestartMarkers(plain), 0);
+    EXPECT_EQ(countRestartMarkers(every_row), mcu_rows - 1);
+    EXPECT_EQ(countRestartMarkers(every_two), (mcu_rows + 1) / 2 - 1);
+    EXPECT_GT(every_row.size(), plain.size());
+    EXPECT_LT(every_row.size(), plain.size() + 8 * static_cast<std::size_t>(mcu_rows));
+    EXPECT_EQ(decodeRgb(every_row, w, h), decodeRgb(plain, w, h)) << "restarts changed pixels";
+    EXPECT_EQ(decodeRgb(every_two, w, h), decodeRgb(plain, w, h)) << "restarts changed pixels";
+  }
+}
+
+TEST(JpegEncoder, OutgrowsItsFirstGuessAtTheExtremes) {
+  // Noise at quality 100, 4:4:4 costs more than the half byte per sample the buffer starts at.
+  const int w = 96, h = 64;
+  std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
+  std::mt19937 rng(7);
+  for (auto& v : rgb) v = static_cast<std::uint8_t>(rng());
+  video::JpegEncoder encoder;
+  std::vector<std::uint8_t> jpeg;
+  std::string error;
+  ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, h, w * 3, {100, video::ChromaSubsampling::k444, 1}, jpeg, &error)) << error;
+  EXPECT_GT(jpeg.size(), rgb.size() / 2 + 4096);
+  EXPECT_GT(psnr(rgb, decodeRgb(jpeg, w, h)), 40.0);
+  // Quality 1 on a 1 × 1 image, and a single-row image with restarts: still valid JPEGs.
+  ASSERT_TRUE(encoder.encodeRgb(rgb.data(), 1, 1, 3, {1, video::ChromaSubsampling::k420, 1}, jpeg, &error)) << error;
+  EXPECT_EQ(decodeRgb(jpeg, 1, 1).size(), 3u);
+  ASSERT_TRUE(encoder.encodeRgb(rgb.data(), w, 1, w * 3, {75, video::ChromaSubsampling::k420, 1}, jpeg, &error)) << error;
+  EXPECT_EQ(countRestartMarkers(jpeg), 0);
+}
+
 TEST(JpegEncoder, RefusesBadInput) {
   video::JpegEncoder encoder;
   std::vector<std::uint8_t> jpeg, rgb(300);
@@ -84,6 +141,10 @@ TEST(JpegEncoder, RefusesBadInput) {
   EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 20, {}, jpeg, &error));  // stride too short
   EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 30, {101, video::ChromaSubsampling::k420}, jpeg, &error));
   EXPECT_EQ(error, "JPEG quality 101 is outside 1..100");
+  EXPECT_FALSE(encoder.encodeRgb(rgb.data(), 10, 10, 30, {90, video::ChromaSubsampling::k420, -1}, jpeg, &error));
+  EXPECT_EQ(error, "JPEG restart interval of -1 MCU rows is outside 0..65535");
+  // After a refusal the same encoder still encodes.
+  EXPECT_TRUE(encoder.encodeRgb(rgb.data(), 10, 10, 30, {}, jpeg, &error)) << error;
 }
 
 }  // namespace
