@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+/// @brief FrameAssembler: placing chunks, giving up, and building JPEGs with filled bands.
+#include "robot/link/media/frame_assembler.h"
+
+#include <algorithm>
+#include <string>
+
+#include "robot/link/link_schema.h"
+#include "robot/link/media/jpeg_bands.h"
+
+namespace telesphere::link::media {
+namespace {
+
+/// Serial-number order (RFC 1982) on 32-bit frame numbers: a is newer than b.
+bool newer(std::uint32_t a, std::uint32_t b) { return static_cast<std::int32_t>(a - b) > 0; }
+
+/// Are all chunks that hold bytes [begin, end) of the frame present?
+bool present(const std::vector<bool>& have, std::size_t chunk_bytes, std::uint64_t begin, std::uint64_t end) {
+  if (begin >= end) return true;
+  for (std::uint64_t i = begin / chunk_bytes; i <= (end - 1) / chunk_bytes; ++i)
+    if (!have[i]) return false;
+  return true;
+}
+
+void addLostRows(std::vector<LostRows>& lost, std::pair<int, int> rows) {
+  if (!lost.empty() && lost.back().end >= rows.first) lost.back().end = std::max(lost.back().end, rows.second);
+  else lost.push_back({rows.first, rows.second});
+}
+
+/// One eye's JPEG from the frame's bytes [offset, offset + size): copied when whole, otherwise
+/// its header, its present bands and a filler for each missing one. False when its header is
+/// missing or does not match the layout.
+bool assembleEye(const std::vector<std::uint8_t>& bytes, const std::vector<bool>& have, std::size_t chunk_bytes,
+                 std::uint64_t offset, std::uint64_t size, const proto::MediaJpegLayout& layout,
+                 std::vector<std::uint8_t>& jpeg, std::vector<LostRows>& lost, std::uint32_t* bands_lost) {
+  const auto* base = bytes.data() + offset;
+  if (present(have, chunk_bytes, offset, offset + size)) {
+    jpeg.assign(base, base + size);
+    return true;
+  }
+  if (!present(have, chunk_bytes, offset, offset + layout.header_bytes())) return false;
+  const std::span<const std::uint8_t> header(base, layout.header_bytes());
+  std::string error;
+  const auto geometry = readJpegBandGeometry(header, &error);
+  if (!geometry || geometry->header_bytes != layout.header_bytes() ||
+      geometry->bandCount() != static_cast<std::size_t>(layout.band_bytes_size()))
+    return false;
+  jpeg.assign(header.begin(), header.end());
+  std::uint64_t at = layout.header_bytes();
+  for (int b = 0; b < layout.band_bytes_size(); ++b) {
+    const std::uint64_t n = layout.band_bytes(b);
+    if (present(have, chunk_bytes, offset + at, offset + at + n)) {
+      jpeg.insert(jpeg.end(), base + at, base + at + n);
+    } else {
+      if (!appendFillerBand(header, *geometry, static_cast<std::size_t>(b), jpeg, &error)) return false;
+      addLostRows(lost, geometry->bandRows(static_cast<std::size_t>(b)));
+      ++*bands_lost;
+    }
+    at += n;
+  }
+  if (present(have, chunk_bytes, offset + at, offset + size)) {
+    jpeg.insert(jpeg.end(), base + at, base + size);
+  } else {
+    jpeg.push_back(0xFF);
+    jpeg.push_back(0xD9);
+  }
+  return true;
+}
+
+std::uint64_t layoutBytes(const proto::MediaJpegLayout& layout) {
+  std::uint64_t n = std::uint64_t{layout.header_bytes()} + layout.trailer_bytes();
+  for (const std::uint32_t b : layout.band_bytes()) n += b;
+  return n;
+}
+
+}  // namespace
+
+std::size_t FrameAssembler::bytesPending() const {
+  std::size_t n = 0;
+  for (const Pending& p : pending_) n += p.bytes.size();
+  return n;
+}
+
+void FrameAssembler::add(std::span<const std::uint8_t> datagram, std::int64_t arrival_ns,
+                         std::vector<AssembledFrame>& out) {
+  MediaDropReason why{};
+  const auto packet = parseMediaPacket(datagram, &why);
+  if (!packet) return drop(why);
+  const MediaPacketHeader& h = packet->header;
+  if (h.stream != stream_) {
+    if (stream_ != 0 && arrival_ns - stream_last_ns_ < config_.stream_switch_ns) return drop(MediaDropReason::kOtherStream);
+    if (stream_ != 0) ++stats_.stream_changes;
+    stream_ = h.stream;
+    pending_.clear();
+    newest_done_.reset();
+  }
+  stream_last_ns_ = arrival_ns;
+  if (newest_done_ && !newer(h.frame, *newest_done_)) return drop(MediaDropReason::kLate);
+
+  auto it = std::find_if(pending_.begin(), pending_.end(), [&](const Pending& p) { return p.first.frame == h.frame; });
+  if (it == pending_.end()) {
+    if (h.frame_bytes > config_.max_bytes_pending) return drop(MediaDropReason::kTooLarge);
+    // Room for it: give up the oldest frames first.
+    while (!pending_.empty() &&
+           (pending_.size() >= config_.max_frames_pending || bytesPending() + h.frame_bytes > config_.max_bytes_pending)) {
+      Pending oldest = std::move(pending_.front());
+      pending_.pop_front();
+      finish(std::move(oldest), out);
+    }
+    if (newest_done_ && !newer(h.frame, *newest_done_)) return drop(MediaDropReason::kLate);
+    Pending p;
+    p.first = h;
+    p.bytes.resize(h.frame_bytes);
+    p.have.assign(h.chunkCount(), false);
+    p.first_ns = arrival_ns;
+    // Keep pending_ oldest first.
+    const auto at = std::find_if(pending_.begin(), pending_.end(), [&](const Pending& q) { return newer(q.first.frame, h.frame); });
+    it = pending_.insert(at, std::move(p));
+  }
+  Pending& p = *it;
+  if (h.frame_bytes != p.first.frame_bytes || h.chunk_bytes != p.first.chunk_bytes || h.meta_bytes != p.first.meta_bytes)
+    return drop(MediaDropReason::kInconsistent);
+  const bool repeat = (h.flags & MediaPacketHeader::kFlagRepeat) != 0;
+  if (p.have[h.chunk_index]) {
+    if (repeat) ++stats_.repeats_unneeded;
+    else drop(MediaDropReason::kDuplicate);
+    return;
+  }
+  if (repeat) ++stats_.repeats_used;
+  std::copy(packet->payload.begin(), packet->payload.end(),
+            p.bytes.begin() + static_cast<std::ptrdiff_t>(std::size_t{h.chunk_index} * h.chunk_bytes));
+  p.have[h.chunk_index] = true;
+  ++p.chunks_have;
+  p.last_ns = arrival_ns;
+  ++stats_.datagrams;
+  if (p.chunks_have == p.have.size()) {
+    Pending whole = std::move(p);
+    pending_.erase(it);
+    finish(std::move(whole), out);
+  }
+}
+
+void FrameAssembler::expire(std::int64_t now_ns, std::vector<AssembledFrame>& out) {
+  // The newest silent frame decides: it is given up, everything older with it.
+  std::optional<std::size_t> newest_silent;
+  for (std::size_t i = 0; i < pending_.size(); ++i)
+    if (now_ns - pending_[i].last_ns >= config_.reorder_grace_ns) newest_silent = i;
+  if (!newest_silent) return;
+  Pending p = std::move(pending_[*newest_silent]);
+  pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(*newest_silent));
+  finish(std::move(p), out);
+}
+
+void FrameAssembler::supersedeOlderThan(std::uint32_t frame) {
+  while (!pending_.empty() && newer(frame, pending_.front().first.frame)) {
+    pending_.pop_front();
+    ++stats_.frames_superseded;
+  }
+}
+
+void FrameAssembler::finish(Pending pending, std::vector<AssembledFrame>& out) {
+  const std::uint32_t frame = pending.first.frame;
+  supersedeOlderThan(frame);
+  if (!newest_done_ || newer(frame, *newest_done_)) newest_done_ = frame;
+  std::optional<AssembledFrame> built = build(pending);
+  if (!built) return;
+  if (built->whole()) ++stats_.frames_whole;
+  else ++stats_.frames_concealed;
+  stats_.bands_lost += built->bands_lost;
+  out.push_back(std::move(*built));
+}
+
+std::optional<AssembledFrame> FrameAssembler::build(const Pending& p) {
+  const MediaPacketHeader& h = p.first;
+  const std::size_t chunk = h.chunk_bytes;
+  if (!present(p.have, chunk, 0, h.meta_bytes)) {
+    ++stats_.frames_lost;
+    return std::nullopt;
+  }
+  proto::MediaFrameMeta meta;
+  const auto malformed = [&]() -> std::optional<AssembledFrame> {
+    ++stats_.frames_malformed;
+    return std::nullopt;
+  };
+  if (!meta.ParseFromArray(p.bytes.data(), h.meta_bytes)) return malformed();
+  const std::uint64_t left = meta.frame().left().jpeg_bytes(), right = meta.frame().right().jpeg_bytes();
+  if (std::uint64_t{h.meta_bytes} + left + right != h.frame_bytes || layoutBytes(meta.left()) != left ||
+      layoutBytes(meta.right()) != right || checkStereoFrame(meta.frame(), left, right))
+    return malformed();
+  AssembledFrame f;
+  f.stream = h.stream;
+  f.frame = h.frame;
+  f.first_arrival_ns = p.first_ns;
+  f.last_arrival_ns = p.last_ns;
+  f.chunks_missing = static_cast<std::uint32_t>(p.have.size() - p.chunks_have);
+  if (!assembleEye(p.bytes, p.have, chunk, h.meta_bytes, left, meta.left(), f.left_jpeg, f.left_lost, &f.bands_lost) ||
+      !assembleEye(p.bytes, p.have, chunk, h.meta_bytes + left, right, meta.right(), f.right_jpeg, f.right_lost,
+                   &f.bands_lost)) {
+    ++stats_.frames_lost;
+    return std::nullopt;
+  }
+  f.stereo = std::move(*meta.mutable_frame());
+  f.stereo.mutable_left()->set_jpeg_bytes(static_cast<std::uint32_t>(f.left_jpeg.size()));
+  f.stereo.mutable_right()->set_jpeg_bytes(static_cast<std::uint32_t>(f.right_jpeg.size()));
+  return f;
+}
+
+}  // namespace telesphere::link::media

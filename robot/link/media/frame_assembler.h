@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+/// @brief The receiving half of the media path's framing (DESIGN.md §9): datagrams in any order,
+///        duplicated, forged or truncated, become whole stereo frames or frames with lost bands
+///        filled (mid grey, valid JPEG) and named by their image rows, so the operator side
+///        paints them from the previous frame and counts them: a lost packet costs a band,
+///        never shows as garbage. Latest wins: a frame a newer complete one overtook is dropped,
+///        never repaired. A frame whose packets stopped coming for `reorder_grace_ns` is given
+///        up: delivered with its lost bands filled, or counted lost when its meta or a JPEG
+///        header is missing. Memory is bounded (frames pending, bytes pending).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "robot/link/media/media_packet.h"
+#include "robot/link/telesphere_link.pb.h"
+
+namespace telesphere::link::media {
+
+/// Image rows [first, end) of one eye that hold a filler band instead of the picture.
+struct LostRows {
+  int first = 0, end = 0;
+  bool operator==(const LostRows&) const = default;
+};
+
+struct AssembledFrame {
+  std::uint32_t stream = 0, frame = 0;
+  proto::StereoFrame stereo;  ///< as sent; jpeg_bytes are the assembled JPEGs' sizes
+  std::vector<std::uint8_t> left_jpeg, right_jpeg;
+  std::vector<LostRows> left_lost, right_lost;  ///< merged, in order; empty when whole
+  std::uint32_t chunks_missing = 0;
+  std::uint32_t bands_lost = 0;
+  std::int64_t first_arrival_ns = 0, last_arrival_ns = 0;
+  bool whole() const { return chunks_missing == 0; }
+};
+
+struct FrameAssemblerStats {
+  std::uint64_t datagrams = 0;           ///< taken (placed in a frame)
+  std::uint64_t frames_whole = 0;        ///< delivered with every chunk
+  std::uint64_t frames_concealed = 0;    ///< delivered with filled bands
+  std::uint64_t frames_lost = 0;         ///< given up without their meta or a JPEG header
+  std::uint64_t frames_malformed = 0;    ///< complete enough, but meta and sizes disagree
+  std::uint64_t frames_superseded = 0;   ///< incomplete when a newer frame was delivered
+  std::uint64_t bands_lost = 0;          ///< filled in delivered frames
+  std::uint64_t repeats_used = 0;        ///< repeated header chunks that filled a gap
+  std::uint64_t repeats_unneeded = 0;    ///< repeated header chunks already held
+  std::uint64_t stream_changes = 0;      ///< the sender restarted (a new stream taken over)
+  std::array<std::uint64_t, static_cast<int>(MediaDropReason::kCount)> dropped_by_reason{};
+  std::uint64_t dropped(MediaDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
+};
+
+class FrameAssembler {
+ public:
+  struct Config {
+    std::int64_t reorder_grace_ns = 30'000'000;     ///< silence after which a frame is given up
+    std::int64_t stream_switch_ns = 500'000'000;    ///< silence of the current stream before another is taken
+    std::size_t max_frames_pending = 8;
+    std::size_t max_bytes_pending = std::size_t{256} << 20;
+  };
+  FrameAssembler() : FrameAssembler(Config{}) {}
+  explicit FrameAssembler(Config config) : config_(config) {}
+
+  /// Takes one datagram that arrived at arrival_ns (steady clock). Frames it completes are
+  /// appended to `out`.
+  void add(std::span<const std::uint8_t> datagram, std::int64_t arrival_ns, std::vector<AssembledFrame>& out);
+  /// Gives up on frames silent for reorder_grace_ns: appended to `out` with filled bands, or lost.
+  void expire(std::int64_t now_ns, std::vector<AssembledFrame>& out);
+
+  const FrameAssemblerStats& stats() const { return stats_; }
+  std::size_t framesPending() const { return pending_.size(); }
+
+ private:
+  struct Pending {
+    MediaPacketHeader first;
+    std::vector<std::uint8_t> bytes;
+    std::vector<bool> have;
+    std::uint32_t chunks_have = 0;
+    std::int64_t first_ns = 0, last_ns = 0;
+  };
+  void drop(MediaDropReason reason) { ++stats_.dropped_by_reason[static_cast<int>(reason)]; }
+  /// Delivers or counts a frame taken out of pending_; marks it and everything older done.
+  void finish(Pending pending, std::vector<AssembledFrame>& out);
+  void supersedeOlderThan(std::uint32_t frame);
+  std::optional<AssembledFrame> build(const Pending& pending);
+  std::size_t bytesPending() const;
+
+  Config config_;
+  FrameAssemblerStats stats_;
+  std::uint32_t stream_ = 0;
+  std::int64_t stream_last_ns_ = 0;
+  std::optional<std::uint32_t> newest_done_;
+  std::deque<Pending> pending_;  ///< oldest frame first
+};
+
+}  // namespace telesphere::link::media

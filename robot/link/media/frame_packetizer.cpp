@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: MIT
+/// @brief FramePacketizer: meta, chunks, the repeated header chunks.
+#include "robot/link/media/frame_packetizer.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "robot/link/media/jpeg_bands.h"
+
+namespace telesphere::link::media {
+namespace {
+
+bool layoutOf(std::span<const std::uint8_t> jpeg, const char* eye, proto::MediaJpegLayout* layout, std::string* error) {
+  std::string why;
+  const auto bands = findJpegBands(jpeg, &why);
+  if (!bands) {
+    *error = std::string(eye) + " JPEG: " + why;
+    return false;
+  }
+  layout->set_header_bytes(bands->header_bytes);
+  for (const std::uint32_t b : bands->band_bytes) layout->add_band_bytes(b);
+  layout->set_trailer_bytes(bands->trailer_bytes);
+  return true;
+}
+
+}  // namespace
+
+FramePacketizer::FramePacketizer(std::uint32_t stream, Config config) : stream_(stream), config_(config) {
+  if (stream_ == 0) throw std::invalid_argument("FramePacketizer: stream 0 is not a stream");
+  if (config_.chunk_bytes < 1 || config_.chunk_bytes > kMaxChunkBytes)
+    throw std::invalid_argument("FramePacketizer: chunk_bytes " + std::to_string(config_.chunk_bytes) +
+                                " outside 1.." + std::to_string(kMaxChunkBytes));
+}
+
+bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::uint8_t> left_jpeg,
+                                std::span<const std::uint8_t> right_jpeg, PacketizedFrame* out,
+                                std::string* error) {
+  proto::MediaFrameMeta meta;
+  frame.mutable_left()->set_jpeg_bytes(static_cast<std::uint32_t>(left_jpeg.size()));
+  frame.mutable_right()->set_jpeg_bytes(static_cast<std::uint32_t>(right_jpeg.size()));
+  *meta.mutable_frame() = std::move(frame);
+  if (!layoutOf(left_jpeg, "left", meta.mutable_left(), error) ||
+      !layoutOf(right_jpeg, "right", meta.mutable_right(), error))
+    return false;
+  const std::string meta_bytes = meta.SerializeAsString();
+  const std::uint64_t total = meta_bytes.size() + left_jpeg.size() + right_jpeg.size();
+  const std::uint64_t chunks = (total + config_.chunk_bytes - 1) / config_.chunk_bytes;
+  if (meta_bytes.size() > 0xFFFF || total > kMaxMediaFrameBytes || chunks > 65536) {
+    *error = "a frame of " + std::to_string(total) + " bytes (meta " + std::to_string(meta_bytes.size()) +
+             ") is beyond the media path's limits";
+    return false;
+  }
+  // The frame's payload in one piece, then cut.
+  std::vector<std::uint8_t> payload;
+  payload.reserve(total);
+  payload.insert(payload.end(), meta_bytes.begin(), meta_bytes.end());
+  payload.insert(payload.end(), left_jpeg.begin(), left_jpeg.end());
+  payload.insert(payload.end(), right_jpeg.begin(), right_jpeg.end());
+
+  MediaPacketHeader h;
+  h.stream = stream_;
+  h.frame = next_frame_++;
+  h.frame_bytes = static_cast<std::uint32_t>(total);
+  h.chunk_bytes = static_cast<std::uint16_t>(config_.chunk_bytes);
+  h.meta_bytes = static_cast<std::uint16_t>(meta_bytes.size());
+  out->frame = h.frame;
+  out->frame_bytes = h.frame_bytes;
+  out->datagrams.clear();
+  out->datagrams.reserve(chunks + 4);
+  const auto chunkAt = [&](std::uint64_t index, std::uint8_t flags) {
+    MediaPacketHeader c = h;
+    c.chunk_index = static_cast<std::uint16_t>(index);
+    c.flags = flags;
+    const std::size_t begin = index * config_.chunk_bytes;
+    const std::size_t end = std::min<std::size_t>(payload.size(), begin + config_.chunk_bytes);
+    std::vector<std::uint8_t> datagram;
+    writeMediaPacket(c, std::span(payload).subspan(begin, end - begin), datagram);
+    out->datagrams.push_back(std::move(datagram));
+  };
+  for (std::uint64_t i = 0; i < chunks; ++i) chunkAt(i, 0);
+  if (config_.repeat_headers) {
+    // The chunks holding [0, meta + left header) and the right header, once more at the end.
+    const std::uint64_t right_start = meta_bytes.size() + left_jpeg.size();
+    const std::uint64_t first_end = meta_bytes.size() + meta.left().header_bytes();
+    std::vector<std::uint64_t> repeat;
+    for (std::uint64_t i = 0; i * config_.chunk_bytes < first_end; ++i) repeat.push_back(i);
+    for (std::uint64_t i = right_start / config_.chunk_bytes;
+         i * config_.chunk_bytes < right_start + meta.right().header_bytes(); ++i)
+      if (repeat.empty() || repeat.back() < i) repeat.push_back(i);
+    for (const std::uint64_t i : repeat) chunkAt(i, MediaPacketHeader::kFlagRepeat);
+  }
+  return true;
+}
+
+void stampForSending(std::vector<std::uint8_t>& d, std::uint32_t packet_seq, std::uint32_t send_us) {
+  if (d.size() < kMediaHeaderBytes) return;
+  for (int i = 0; i < 4; ++i) {
+    d[10 + i] = static_cast<std::uint8_t>(packet_seq >> (24 - 8 * i));
+    d[14 + i] = static_cast<std::uint8_t>(send_us >> (24 - 8 * i));
+  }
+}
+
+}  // namespace telesphere::link::media

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+/// @brief The sending half of the media path's framing (DESIGN.md §9): a stereo frame and its two
+///        JPEGs become datagrams [MediaFrameMeta | left | right] in equal chunks, the meta saying
+///        where each JPEG's bands lie. The chunks that hold the meta and the two JPEG headers are
+///        sent twice (optional): without them no band of the frame can be used.
+///        packet_seq and send_us are left 0; the pacer stamps them as it sends (stampForSending).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "robot/link/media/media_packet.h"
+#include "robot/link/telesphere_link.pb.h"
+
+namespace telesphere::link::media {
+
+struct PacketizedFrame {
+  std::uint32_t frame = 0;
+  std::uint32_t frame_bytes = 0;  ///< meta and both JPEGs
+  std::vector<std::vector<std::uint8_t>> datagrams;  ///< in the order to send them
+};
+
+class FramePacketizer {
+ public:
+  struct Config {
+    std::size_t chunk_bytes = kMaxChunkBytes;  ///< 1..kMaxChunkBytes
+    bool repeat_headers = true;                ///< send the meta's and the JPEG headers' chunks twice
+  };
+  /// stream: random per sending process (newLinkInstanceId's low 32 bits, never 0).
+  FramePacketizer(std::uint32_t stream, Config config);
+
+  /// Cuts one frame; sets the images' jpeg_bytes in `frame`. False with *error when a JPEG is
+  /// not a baseline JPEG whose bands can be found, or the frame exceeds kMaxMediaFrameBytes.
+  bool packetize(proto::StereoFrame frame, std::span<const std::uint8_t> left_jpeg,
+                 std::span<const std::uint8_t> right_jpeg, PacketizedFrame* out, std::string* error);
+
+  std::uint32_t stream() const { return stream_; }
+
+ private:
+  std::uint32_t stream_;
+  Config config_;
+  std::uint32_t next_frame_ = 0;
+};
+
+/// Writes the transport fields into a datagram built by FramePacketizer, at the moment it is sent.
+void stampForSending(std::vector<std::uint8_t>& datagram, std::uint32_t packet_seq, std::uint32_t send_us);
+
+}  // namespace telesphere::link::media

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: MIT
+/// @brief The media datagram's header: writing and checked parsing.
+#include "robot/link/media/media_packet.h"
+
+namespace telesphere::link::media {
+namespace {
+
+void put16(std::vector<std::uint8_t>& out, std::uint16_t v) {
+  out.push_back(static_cast<std::uint8_t>(v >> 8));
+  out.push_back(static_cast<std::uint8_t>(v));
+}
+void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
+  put16(out, static_cast<std::uint16_t>(v >> 16));
+  put16(out, static_cast<std::uint16_t>(v));
+}
+std::uint16_t get16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
+std::uint32_t get32(const std::uint8_t* p) { return std::uint32_t{get16(p)} << 16 | get16(p + 2); }
+
+}  // namespace
+
+std::uint32_t MediaPacketHeader::chunkPayloadBytes() const {
+  if (chunk_bytes == 0) return 0;
+  const std::uint64_t start = std::uint64_t{chunk_index} * chunk_bytes;
+  if (start >= frame_bytes) return 0;
+  const std::uint64_t left = frame_bytes - start;
+  return static_cast<std::uint32_t>(left < chunk_bytes ? left : chunk_bytes);
+}
+
+std::string_view mediaDropReasonName(MediaDropReason reason) {
+  switch (reason) {
+    case MediaDropReason::kMalformed: return "malformed";
+    case MediaDropReason::kWrongVersion: return "wrong_version";
+    case MediaDropReason::kTooLarge: return "too_large";
+    case MediaDropReason::kDuplicate: return "duplicate";
+    case MediaDropReason::kInconsistent: return "inconsistent";
+    case MediaDropReason::kLate: return "late";
+    case MediaDropReason::kOtherStream: return "other_stream";
+    case MediaDropReason::kCount: break;
+  }
+  return "unknown";
+}
+
+void writeMediaPacket(const MediaPacketHeader& h, std::span<const std::uint8_t> payload,
+                      std::vector<std::uint8_t>& out) {
+  out.reserve(out.size() + kMediaHeaderBytes + payload.size());
+  put16(out, kMediaMagic);
+  out.push_back(kMediaVersion);
+  out.push_back(static_cast<std::uint8_t>(h.kind));
+  out.push_back(h.flags);
+  out.push_back(0);  // reserved
+  put32(out, h.stream);
+  put32(out, h.packet_seq);
+  put32(out, h.send_us);
+  put32(out, h.frame);
+  put32(out, h.frame_bytes);
+  put16(out, h.chunk_index);
+  put16(out, h.chunk_bytes);
+  put16(out, h.meta_bytes);
+  out.insert(out.end(), payload.begin(), payload.end());
+}
+
+std::optional<MediaPacketView> parseMediaPacket(std::span<const std::uint8_t> d, MediaDropReason* why) {
+  const auto refuse = [&](MediaDropReason r) -> std::optional<MediaPacketView> {
+    *why = r;
+    return std::nullopt;
+  };
+  if (d.size() < kMediaHeaderBytes || get16(d.data()) != kMediaMagic) return refuse(MediaDropReason::kMalformed);
+  if (d[2] != kMediaVersion) return refuse(MediaDropReason::kWrongVersion);
+  if (d.size() > kMaxMediaDatagramBytes) return refuse(MediaDropReason::kTooLarge);
+  MediaPacketView v;
+  MediaPacketHeader& h = v.header;
+  if (d[3] != static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk)) return refuse(MediaDropReason::kMalformed);
+  h.kind = MediaPacketKind::kFrameChunk;
+  h.flags = d[4];
+  if ((h.flags & ~MediaPacketHeader::kFlagRepeat) != 0 || d[5] != 0) return refuse(MediaDropReason::kMalformed);
+  h.stream = get32(&d[6]);
+  h.packet_seq = get32(&d[10]);
+  h.send_us = get32(&d[14]);
+  h.frame = get32(&d[18]);
+  h.frame_bytes = get32(&d[22]);
+  h.chunk_index = get16(&d[26]);
+  h.chunk_bytes = get16(&d[28]);
+  h.meta_bytes = get16(&d[30]);
+  if (h.frame_bytes > kMaxMediaFrameBytes) return refuse(MediaDropReason::kTooLarge);
+  if (h.frame_bytes == 0 || h.chunk_bytes == 0 || h.chunk_bytes > kMaxChunkBytes || h.meta_bytes == 0 ||
+      h.meta_bytes > h.frame_bytes || h.chunk_index >= h.chunkCount() || h.chunkCount() > 65536u)
+    return refuse(MediaDropReason::kMalformed);
+  v.payload = d.subspan(kMediaHeaderBytes);
+  if (v.payload.size() != h.chunkPayloadBytes()) return refuse(MediaDropReason::kMalformed);
+  return v;
+}
+
+}  // namespace telesphere::link::media

@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+/// @brief libFuzzer target: what arrives on the media path. The first byte picks the part:
+///        even: the rest is a sequence of datagrams, each behind a 2-byte big-endian length, fed
+///        to a FrameAssembler (with a clock that advances, so frames are given up and filled);
+///        odd: the rest is a JPEG for findJpegBands, and every band found is filled. Neither
+///        may crash, read out of bounds or hold more memory than its limits; every frame the
+///        assembler delivers must have two JPEGs whose bands can be found again.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "robot/link/media/frame_assembler.h"
+#include "robot/link/media/jpeg_bands.h"
+
+namespace {
+
+using namespace telesphere::link::media;
+
+void fuzzAssembler(const std::uint8_t* data, std::size_t size) {
+  FrameAssembler::Config config;
+  config.max_bytes_pending = 16u << 20;
+  FrameAssembler assembler(config);
+  std::vector<AssembledFrame> out;
+  std::int64_t now = 0;
+  std::size_t at = 0;
+  while (at + 2 <= size) {
+    const std::size_t n = std::size_t{data[at]} << 8 | data[at + 1];
+    at += 2;
+    const std::size_t take = n < size - at ? n : size - at;
+    assembler.add({data + at, take}, now, out);
+    at += take;
+    now += 7'000'000;
+    assembler.expire(now, out);
+  }
+  assembler.expire(now + 1'000'000'000, out);
+  for (const AssembledFrame& f : out) {
+    std::string error;
+    // A delivered frame's JPEGs are what the sender's layout said, with fillers: they parse.
+    if (!findJpegBands(f.left_jpeg, &error) || !findJpegBands(f.right_jpeg, &error)) std::abort();
+  }
+}
+
+void fuzzBands(const std::uint8_t* data, std::size_t size) {
+  std::string error;
+  const auto bands = findJpegBands({data, size}, &error);
+  if (!bands || bands->header_bytes > size) return;
+  std::vector<std::uint8_t> out;
+  for (std::size_t b = 0; b < bands->bands() && b < 64; ++b) {
+    out.clear();
+    if (!appendFillerBand({data, bands->header_bytes}, *bands, b, out, &error)) return;
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 1) return 0;
+  if (data[0] % 2 == 0) fuzzAssembler(data + 1, size - 1);
+  else fuzzBands(data + 1, size - 1);
+  return 0;
+}

@@ -1,0 +1,385 @@
+// SPDX-License-Identifier: MIT
+/// @brief The media datagram and the frame assembler: headers round-trip and refuse what does
+///        not add up; stereo frames of real JPEGs come back byte-identical in any order, with
+///        duplicates; a lost chunk costs the bands it held (filled grey, the JPEG valid, every
+///        other pixel identical), a lost meta costs the frame unless its repeat arrives; latest
+///        wins; a restarted sender is taken over; memory stays bounded under forged frames.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "robot/link/media/frame_assembler.h"
+#include "robot/link/media/frame_packetizer.h"
+#include "robot/link/media/jpeg_bands.h"
+#include "tests/robot/link/media_test_jpegs.h"
+
+namespace telesphere::link::media {
+namespace {
+
+constexpr std::int64_t kMs = 1'000'000;
+
+MediaPacketHeader sampleHeader() {
+  MediaPacketHeader h;
+  h.flags = MediaPacketHeader::kFlagRepeat;
+  h.stream = 0xDEADBEEF;
+  h.packet_seq = 0xFFFFFFFF;
+  h.send_us = 123456789;
+  h.frame = 0x80000001;
+  h.frame_bytes = 3000;
+  h.chunk_index = 2;
+  h.chunk_bytes = 1200;
+  h.meta_bytes = 100;
+  return h;
+}
+
+TEST(MediaPacket, HeaderRoundTripsAndStampsInPlace) {
+  const MediaPacketHeader h = sampleHeader();
+  const std::vector<std::uint8_t> payload(600, 7);  // 3000 - 2 × 1200
+  std::vector<std::uint8_t> d;
+  writeMediaPacket(h, payload, d);
+  ASSERT_EQ(d.size(), kMediaHeaderBytes + payload.size());
+  MediaDropReason why{};
+  auto v = parseMediaPacket(d, &why);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->header.stream, h.stream);
+  EXPECT_EQ(v->header.packet_seq, h.packet_seq);
+  EXPECT_EQ(v->header.send_us, h.send_us);
+  EXPECT_EQ(v->header.frame, h.frame);
+  EXPECT_EQ(v->header.frame_bytes, h.frame_bytes);
+  EXPECT_EQ(v->header.chunk_index, h.chunk_index);
+  EXPECT_EQ(v->header.chunk_bytes, h.chunk_bytes);
+  EXPECT_EQ(v->header.meta_bytes, h.meta_bytes);
+  EXPECT_EQ(v->header.flags, h.flags);
+  EXPECT_TRUE(std::equal(v->payload.begin(), v->payload.end(), payload.begin(), payload.end()));
+  stampForSending(d, 42, 4'000'000'000u);
+  v = parseMediaPacket(d, &why);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->header.packet_seq, 42u);
+  EXPECT_EQ(v->header.send_us, 4'000'000'000u);
+}
+
+TEST(MediaPacket, RefusesFieldsThatDoNotAddUp) {
+  const auto parsed = [](MediaPacketHeader h, std::size_t payload_bytes, MediaDropReason expected) {
+    std::vector<std::uint8_t> d;
+    writeMediaPacket(h, std::vector<std::uint8_t>(payload_bytes), d);
+    MediaDropReason why{};
+    EXPECT_FALSE(parseMediaPacket(d, &why));
+    EXPECT_EQ(why, expected) << mediaDropReasonName(why);
+  };
+  MediaPacketHeader h = sampleHeader();
+  parsed(h, 599, MediaDropReason::kMalformed);   // a payload one byte short of what the fields say
+  parsed(h, 601, MediaDropReason::kMalformed);
+  h.chunk_index = 3;  // beyond the last chunk
+  parsed(h, 0, MediaDropReason::kMalformed);
+  h = sampleHeader();
+  h.meta_bytes = 0;
+  parsed(h, 600, MediaDropReason::kMalformed);
+  h = sampleHeader();
+  h.meta_bytes = 3001;
+  parsed(h, 600, MediaDropReason::kMalformed);
+  h = sampleHeader();
+  h.chunk_bytes = kMaxChunkBytes + 1;
+  parsed(h, 0, MediaDropReason::kMalformed);
+  h = sampleHeader();
+  h.frame_bytes = kMaxMediaFrameBytes + 1;
+  parsed(h, 600, MediaDropReason::kTooLarge);
+  h = sampleHeader();
+  h.flags = 2;
+  parsed(h, 600, MediaDropReason::kMalformed);
+  h = sampleHeader();
+  h.chunk_index = 0;
+  parsed(h, kMaxChunkBytes + 1, MediaDropReason::kTooLarge);  // a datagram beyond the limit
+
+  std::vector<std::uint8_t> d;
+  writeMediaPacket(sampleHeader(), std::vector<std::uint8_t>(600), d);
+  MediaDropReason why{};
+  auto bad = d;
+  bad[2] = 2;
+  EXPECT_FALSE(parseMediaPacket(bad, &why));
+  EXPECT_EQ(why, MediaDropReason::kWrongVersion);
+  bad = d;
+  bad[0] = 'X';
+  EXPECT_FALSE(parseMediaPacket(bad, &why));
+  EXPECT_EQ(why, MediaDropReason::kMalformed);
+  for (std::size_t n = 0; n < kMediaHeaderBytes; ++n) {
+    EXPECT_FALSE(parseMediaPacket({d.data(), n}, &why));
+    EXPECT_EQ(why, MediaDropReason::kMalformed);
+  }
+}
+
+/// A stereo frame of two real JPEGs (restart every MCU row), and what the packetizer made of it.
+struct SentFrame {
+  proto::StereoFrame stereo;
+  std::vector<std::uint8_t> left, right;
+  PacketizedFrame packets;
+};
+
+SentFrame sendFrame(FramePacketizer& packetizer, int width, int height, int seed, std::uint64_t sequence) {
+  SentFrame f;
+  f.left = test::encodeJpeg(width, height, ChromaSubsampling::k420, 1, 85, seed);
+  f.right = test::encodeJpeg(width, height, ChromaSubsampling::k420, 1, 85, seed + 1000);
+  f.stereo.set_sequence(sequence);
+  for (auto* image : {f.stereo.mutable_left(), f.stereo.mutable_right()}) {
+    image->set_width(static_cast<std::uint32_t>(width));
+    image->set_height(static_cast<std::uint32_t>(height));
+    image->set_capture_ns(1000 + static_cast<std::int64_t>(sequence));
+  }
+  f.stereo.mutable_stamps()->set_sent_ns(77);
+  std::string error;
+  EXPECT_TRUE(packetizer.packetize(f.stereo, f.left, f.right, &f.packets, &error)) << error;
+  f.stereo.mutable_left()->set_jpeg_bytes(static_cast<std::uint32_t>(f.left.size()));
+  f.stereo.mutable_right()->set_jpeg_bytes(static_cast<std::uint32_t>(f.right.size()));
+  return f;
+}
+
+std::vector<std::vector<std::uint8_t>> withoutRepeats(const PacketizedFrame& p) {
+  std::vector<std::vector<std::uint8_t>> out;
+  for (const auto& d : p.datagrams)
+    if ((d[4] & MediaPacketHeader::kFlagRepeat) == 0) out.push_back(d);
+  return out;
+}
+
+TEST(FrameAssembler, WholeFramesComeBackByteIdenticalInAnyOrderWithDuplicates) {
+  FramePacketizer packetizer(0x1234, {});
+  const SentFrame sent = sendFrame(packetizer, 320, 240, 1, 5);
+  ASSERT_GT(sent.packets.datagrams.size(), 10u);
+  for (int order = 0; order < 3; ++order) {
+    SCOPED_TRACE("order " + std::to_string(order));
+    auto datagrams = withoutRepeats(sent.packets);
+    std::mt19937 rng(static_cast<unsigned>(order));
+    if (order == 1) std::reverse(datagrams.begin(), datagrams.end());
+    if (order == 2) {
+      std::shuffle(datagrams.begin(), datagrams.end(), rng);
+      datagrams.insert(datagrams.begin() + 3, datagrams[1]);  // a duplicate before the frame completes
+    }
+    FrameAssembler assembler;
+    std::vector<AssembledFrame> out;
+    for (const auto& d : datagrams) assembler.add(d, 0, out);
+    ASSERT_EQ(out.size(), 1u);
+    const AssembledFrame& f = out[0];
+    EXPECT_TRUE(f.whole());
+    EXPECT_EQ(f.stream, 0x1234u);
+    EXPECT_EQ(f.frame, sent.packets.frame);
+    EXPECT_EQ(f.left_jpeg, sent.left);
+    EXPECT_EQ(f.right_jpeg, sent.right);
+    EXPECT_EQ(f.stereo.SerializeAsString(), sent.stereo.SerializeAsString());
+    EXPECT_EQ(assembler.stats().frames_whole, 1u);
+    EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kDuplicate), order == 2 ? 1u : 0u);
+    EXPECT_EQ(assembler.framesPending(), 0u);
+  }
+}
+
+TEST(FrameAssembler, ALostChunkCostsItsBandsFilledGreyEverythingElseIntact) {
+  FramePacketizer packetizer(7, {});
+  const SentFrame sent = sendFrame(packetizer, 640, 480, 2, 1);
+  const auto datagrams = withoutRepeats(sent.packets);
+  std::string error;
+  const auto left_bands = findJpegBands(sent.left, &error);
+  ASSERT_TRUE(left_bands) << error;
+  // Lose the chunk holding the middle of the left image's band 10.
+  const std::size_t meta_bytes = sent.packets.frame_bytes - sent.left.size() - sent.right.size();
+  const std::size_t lost_byte = meta_bytes + left_bands->bandOffset(10) + left_bands->band_bytes[10] / 2;
+  const std::size_t lost_chunk = lost_byte / kMaxChunkBytes;
+  FrameAssembler assembler;
+  std::vector<AssembledFrame> out;
+  for (std::size_t i = 0; i < datagrams.size(); ++i)
+    if (i != lost_chunk) assembler.add(datagrams[i], static_cast<std::int64_t>(i) * kMs / 10, out);
+  EXPECT_TRUE(out.empty()) << "an incomplete frame is held until its grace passes";
+  assembler.expire(20 * kMs, out);
+  EXPECT_TRUE(out.empty());
+  assembler.expire(200 * kMs, out);
+  ASSERT_EQ(out.size(), 1u);
+  const AssembledFrame& f = out[0];
+  EXPECT_FALSE(f.whole());
+  EXPECT_EQ(f.chunks_missing, 1u);
+  EXPECT_EQ(f.right_jpeg, sent.right);
+  EXPECT_TRUE(f.right_lost.empty());
+  // The bands the chunk touched, and only those.
+  const std::size_t chunk_begin = lost_chunk * kMaxChunkBytes - meta_bytes;
+  const std::size_t chunk_end = chunk_begin + kMaxChunkBytes;
+  std::vector<LostRows> expected;
+  std::uint32_t bands_touched = 0;
+  for (std::size_t b = 0; b < left_bands->bands(); ++b) {
+    const std::size_t begin = left_bands->bandOffset(b), end = begin + left_bands->band_bytes[b];
+    if (begin < chunk_end && end > chunk_begin) {
+      ++bands_touched;
+      const auto rows = left_bands->bandRows(b);
+      if (!expected.empty() && expected.back().end == rows.first) expected.back().end = rows.second;
+      else expected.push_back({rows.first, rows.second});
+    }
+  }
+  EXPECT_EQ(f.left_lost, expected);
+  EXPECT_EQ(f.bands_lost, bands_touched);
+  EXPECT_EQ(assembler.stats().bands_lost, bands_touched);
+  EXPECT_EQ(assembler.stats().frames_concealed, 1u);
+  EXPECT_EQ(f.stereo.left().jpeg_bytes(), f.left_jpeg.size());
+  const test::Planes original = test::decodePlanes(sent.left), got = test::decodePlanes(f.left_jpeg);
+  ASSERT_TRUE(got.ok) << "the assembled JPEG must decode without a warning";
+  for (int y = 0; y < 480; ++y) {
+    const bool lost = std::any_of(expected.begin(), expected.end(), [&](const LostRows& r) { return y >= r.first && y < r.end; });
+    for (int x = 0; x < 640; x += 7) {
+      const std::size_t i = static_cast<std::size_t>(y) * 640 + x;
+      if (lost) {
+        ASSERT_EQ(got.y[i], 128);
+      } else {
+        ASSERT_EQ(got.y[i], original.y[i]);
+      }
+    }
+  }
+  // A chunk of that frame arriving now is late.
+  assembler.add(datagrams[lost_chunk], 300 * kMs, out);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kLate), 1u);
+}
+
+TEST(FrameAssembler, TheMetaChunkLostCostsTheFrameUnlessItsRepeatArrives) {
+  for (bool repeat : {true, false}) {
+    SCOPED_TRACE(repeat ? "repeated headers" : "no repeats");
+    FramePacketizer packetizer(9, {kMaxChunkBytes, repeat});
+    const SentFrame sent = sendFrame(packetizer, 320, 240, 3, 1);
+    FrameAssembler assembler;
+    std::vector<AssembledFrame> out;
+    for (std::size_t i = 1; i < sent.packets.datagrams.size(); ++i) assembler.add(sent.packets.datagrams[i], 0, out);
+    assembler.expire(100 * kMs, out);
+    if (repeat) {
+      ASSERT_EQ(out.size(), 1u);
+      EXPECT_TRUE(out[0].whole());
+      EXPECT_EQ(assembler.stats().repeats_used, 1u);
+      // The right header's repeat comes after the frame is whole: late, not held.
+      const std::size_t repeats = sent.packets.datagrams.size() - withoutRepeats(sent.packets).size();
+      EXPECT_GE(repeats, 2u);
+      EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kLate), repeats - 1);
+    } else {
+      EXPECT_TRUE(out.empty());
+      EXPECT_EQ(assembler.stats().frames_lost, 1u);
+    }
+  }
+}
+
+TEST(FrameAssembler, LatestWinsAndAnOvertakenFrameIsNeverRepaired) {
+  FramePacketizer packetizer(11, {kMaxChunkBytes, false});
+  const SentFrame f0 = sendFrame(packetizer, 320, 240, 4, 0);
+  const SentFrame f1 = sendFrame(packetizer, 320, 240, 5, 1);
+  FrameAssembler assembler;
+  std::vector<AssembledFrame> out;
+  // Half of frame 0, all of frame 1, then the rest of frame 0.
+  const std::size_t half = f0.packets.datagrams.size() / 2;
+  for (std::size_t i = 0; i < half; ++i) assembler.add(f0.packets.datagrams[i], 0, out);
+  for (const auto& d : f1.packets.datagrams) assembler.add(d, 1 * kMs, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].frame, f1.packets.frame);
+  EXPECT_EQ(assembler.stats().frames_superseded, 1u);
+  for (std::size_t i = half; i < f0.packets.datagrams.size(); ++i) assembler.add(f0.packets.datagrams[i], 2 * kMs, out);
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kLate), f0.packets.datagrams.size() - half);
+  EXPECT_EQ(assembler.framesPending(), 0u);
+}
+
+TEST(FrameAssembler, ARestartedSenderIsTakenOverAfterTheOldStreamFallsSilent) {
+  FramePacketizer old_sender(21, {kMaxChunkBytes, false}), new_sender(22, {kMaxChunkBytes, false});
+  const SentFrame a = sendFrame(old_sender, 160, 120, 6, 0);
+  const SentFrame b = sendFrame(new_sender, 160, 120, 7, 0);
+  FrameAssembler assembler;
+  std::vector<AssembledFrame> out;
+  for (const auto& d : a.packets.datagrams) assembler.add(d, 0, out);
+  for (const auto& d : b.packets.datagrams) assembler.add(d, 100 * kMs, out);  // both alive: ignored
+  EXPECT_EQ(out.size(), 1u);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kOtherStream), b.packets.datagrams.size());
+  for (const auto& d : b.packets.datagrams) assembler.add(d, 700 * kMs, out);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[1].stream, 22u);
+  EXPECT_EQ(out[1].frame, 0u) << "frame numbers start again with the new stream";
+  EXPECT_EQ(assembler.stats().stream_changes, 1u);
+}
+
+TEST(FrameAssembler, ForgedAndInconsistentChunksAreCountedAndMemoryStaysBounded) {
+  FrameAssembler::Config config;
+  config.max_bytes_pending = 8u << 20;
+  FrameAssembler assembler(config);
+  std::vector<AssembledFrame> out;
+  // Chunk 0 of 100 different frames, each claiming 3 MiB: never more than 8 MiB held.
+  for (std::uint32_t frame = 0; frame < 100; ++frame) {
+    MediaPacketHeader h;
+    h.stream = 5;
+    h.frame = frame;
+    h.frame_bytes = 3u << 20;
+    h.chunk_bytes = kMaxChunkBytes;
+    h.meta_bytes = 10;
+    std::vector<std::uint8_t> d;
+    writeMediaPacket(h, std::vector<std::uint8_t>(kMaxChunkBytes, 0xAB), d);
+    assembler.add(d, frame * kMs, out);
+    ASSERT_LE(assembler.framesPending(), 2u);
+  }
+  EXPECT_TRUE(out.empty());
+  // Chunk 0 held garbage where the meta belongs: the given-up frames are malformed, not lost.
+  EXPECT_EQ(assembler.stats().frames_malformed + assembler.stats().frames_superseded, 98u);
+  // A chunk of a pending frame that disagrees with its frame's size.
+  MediaPacketHeader h;
+  h.stream = 5;
+  h.frame = 99;
+  h.frame_bytes = 2u << 20;
+  h.chunk_bytes = kMaxChunkBytes;
+  h.meta_bytes = 10;
+  h.chunk_index = 1;
+  std::vector<std::uint8_t> d;
+  writeMediaPacket(h, std::vector<std::uint8_t>(kMaxChunkBytes), d);
+  assembler.add(d, 200 * kMs, out);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kInconsistent), 1u);
+  // A frame beyond what may be pending is refused before anything is allocated.
+  h.frame = 200;
+  h.frame_bytes = 9u << 20;
+  d.clear();
+  writeMediaPacket(h, std::vector<std::uint8_t>(kMaxChunkBytes), d);
+  assembler.add(d, 201 * kMs, out);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kTooLarge), 1u);
+}
+
+TEST(FrameAssembler, SeededRandomLossAndReorderingNeverYieldAnInvalidJpeg) {
+  FramePacketizer packetizer(31, {});
+  FrameAssembler assembler;
+  std::mt19937 rng(2026);
+  std::bernoulli_distribution lose(0.03);
+  std::vector<AssembledFrame> out;
+  std::vector<SentFrame> sent;
+  std::int64_t now = 0;
+  for (int frame = 0; frame < 12; ++frame) {
+    sent.push_back(sendFrame(packetizer, 480, 320, 10 + frame, static_cast<std::uint64_t>(frame)));
+    auto datagrams = sent.back().packets.datagrams;
+    // Local reordering: swap neighbours now and then.
+    for (std::size_t i = 1; i < datagrams.size(); ++i)
+      if (rng() % 5 == 0) std::swap(datagrams[i - 1], datagrams[i]);
+    for (const auto& d : datagrams) {
+      now += 100'000;
+      if (!lose(rng)) assembler.add(d, now, out);
+    }
+    now += 40 * kMs;  // the next frame comes a frame period later
+    assembler.expire(now, out);
+  }
+  ASSERT_GE(out.size(), 8u);
+  std::size_t concealed = 0;
+  for (const AssembledFrame& f : out) {
+    const SentFrame& s = sent[f.frame];
+    for (int eye = 0; eye < 2; ++eye) {
+      const auto& jpeg = eye == 0 ? f.left_jpeg : f.right_jpeg;
+      const auto& lost = eye == 0 ? f.left_lost : f.right_lost;
+      const test::Planes got = test::decodePlanes(jpeg), original = test::decodePlanes(eye == 0 ? s.left : s.right);
+      ASSERT_TRUE(got.ok) << "frame " << f.frame << " eye " << eye;
+      for (int y = 0; y < 320; ++y) {
+        const bool in_lost = std::any_of(lost.begin(), lost.end(), [&](const LostRows& r) { return y >= r.first && y < r.end; });
+        if (!in_lost) {
+          ASSERT_TRUE(std::equal(got.y.begin() + y * 480, got.y.begin() + (y + 1) * 480, original.y.begin() + y * 480))
+              << "frame " << f.frame << " eye " << eye << " row " << y;
+        }
+      }
+    }
+    if (!f.whole()) ++concealed;
+  }
+  const auto& st = assembler.stats();
+  EXPECT_EQ(st.frames_whole + st.frames_concealed, out.size());
+  EXPECT_EQ(st.frames_whole + st.frames_concealed + st.frames_lost + st.frames_superseded + st.frames_malformed, 12u);
+  EXPECT_EQ(st.frames_malformed, 0u);
+  EXPECT_GT(concealed, 0u) << "3 % loss over ~100 chunks a frame must conceal some band";
+}
+
+}  // namespace
+}  // namespace telesphere::link::media
