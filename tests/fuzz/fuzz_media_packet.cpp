@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-/// @brief libFuzzer target: what arrives on the media path. The first byte picks the part:
-///        even: the rest is a sequence of datagrams, each behind a 2-byte big-endian length, fed
+/// @brief libFuzzer target: what arrives on the media path. The first byte modulo 3 picks the part:
+///        0: the rest is a sequence of datagrams, each behind a 2-byte big-endian length, fed
 ///        to a FrameAssembler (with a clock that advances, so frames are given up and filled);
-///        odd: the rest is a JPEG for findJpegBands, and every band found is filled. Neither
+///        1: the rest is a JPEG for findJpegBands, and every band found is filled;
+///        2: datagrams as in 0, parsed as receiver reports and fed to a SendRateController that
+///        sent datagrams 0..999 (the sender's side of the path). None
 ///        may crash, read out of bounds or hold more memory than its limits; every frame the
 ///        assembler delivers says its JPEGs' true sizes. (Whether a forged JPEG decodes is the
 ///        decoder's question, fuzzed in fuzz_jpeg_header.)
@@ -14,6 +16,8 @@
 
 #include "robot/link/media/frame_assembler.h"
 #include "robot/link/media/jpeg_bands.h"
+#include "robot/link/media/receiver_report.h"
+#include "robot/link/media/send_rate_controller.h"
 
 namespace {
 
@@ -52,11 +56,36 @@ void fuzzBands(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+void fuzzReports(const std::uint8_t* data, std::size_t size) {
+  SendRateController controller;
+  for (std::uint32_t seq = 0; seq < 1000; ++seq) controller.onPacketSent(seq, std::int64_t{seq} * 100'000, 1228);
+  ArrivalClock clock;
+  std::int64_t now = 100'000'000;
+  std::size_t at = 0;
+  while (at + 2 <= size) {
+    const std::size_t n = std::size_t{data[at]} << 8 | data[at + 1];
+    at += 2;
+    const std::size_t take = n < size - at ? n : size - at;
+    MediaDropReason why{};
+    if (const auto report = parseReceiverDatagram({data + at, take}, &why)) {
+      std::vector<PacketReport> reports;
+      for (const ReportEntry& e : report->entries) reports.push_back({e.seq, clock.unwrapNs(e.arrival_us)});
+      controller.onFeedback(reports, now);
+      if (!(controller.targetBps() > 0)) std::abort();
+    }
+    at += take;
+    now += 25'000'000;
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  if (data[0] % 2 == 0) fuzzAssembler(data + 1, size - 1);
-  else fuzzBands(data + 1, size - 1);
+  switch (data[0] % 3) {
+    case 0: fuzzAssembler(data + 1, size - 1); break;
+    case 1: fuzzBands(data + 1, size - 1); break;
+    default: fuzzReports(data + 1, size - 1); break;
+  }
   return 0;
 }

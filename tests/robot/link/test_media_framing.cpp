@@ -12,6 +12,7 @@
 #include "robot/link/media/frame_assembler.h"
 #include "robot/link/media/frame_packetizer.h"
 #include "robot/link/media/jpeg_bands.h"
+#include "robot/link/media/receiver_report.h"
 #include "tests/robot/link/media_test_jpegs.h"
 
 namespace telesphere::link::media {
@@ -106,6 +107,65 @@ TEST(MediaPacket, RefusesFieldsThatDoNotAddUp) {
     EXPECT_FALSE(parseMediaPacket({d.data(), n}, &why));
     EXPECT_EQ(why, MediaDropReason::kMalformed);
   }
+}
+
+TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
+  ReceiverDatagram report;
+  report.stream = 0xABCDEF01;
+  report.receiver = 77;
+  for (std::uint32_t i = 0; i < kMaxReportEntries + 5; ++i) report.entries.push_back({0xFFFFFFF0u + i, i * 1000});
+  std::vector<std::uint8_t> bytes;
+  writeReceiverDatagram(report, bytes);
+  ASSERT_LE(bytes.size(), kMaxMediaDatagramBytes);
+  MediaDropReason why{};
+  auto parsed = parseReceiverDatagram(bytes, &why);
+  ASSERT_TRUE(parsed);
+  EXPECT_FALSE(parsed->hello);
+  EXPECT_EQ(parsed->stream, report.stream);
+  EXPECT_EQ(parsed->receiver, 77u);
+  ASSERT_EQ(parsed->entries.size(), kMaxReportEntries) << "the rest goes in the next datagram";
+  EXPECT_EQ(parsed->entries.back().seq, static_cast<std::uint32_t>(0xFFFFFFF0u + kMaxReportEntries - 1));
+  EXPECT_EQ(parsed->entries.back().arrival_us, static_cast<std::uint32_t>((kMaxReportEntries - 1) * 1000));
+
+  ReceiverDatagram hello;
+  hello.hello = true;
+  hello.receiver = 5;
+  bytes.clear();
+  writeReceiverDatagram(hello, bytes);
+  parsed = parseReceiverDatagram(bytes, &why);
+  ASSERT_TRUE(parsed);
+  EXPECT_TRUE(parsed->hello);
+  EXPECT_TRUE(parsed->entries.empty());
+
+  auto refused = [&](std::vector<std::uint8_t> b, MediaDropReason expected) {
+    EXPECT_FALSE(parseReceiverDatagram(b, &why));
+    EXPECT_EQ(why, expected) << mediaDropReasonName(why);
+  };
+  bytes.clear();
+  report.entries.resize(3);
+  writeReceiverDatagram(report, bytes);
+  refused(std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 1), MediaDropReason::kMalformed);  // a torn entry
+  auto b = bytes;
+  b[15] = 4;  // says 4 entries, holds 3
+  refused(b, MediaDropReason::kMalformed);
+  b = bytes;
+  b[3] = 1;  // a frame chunk's kind
+  refused(b, MediaDropReason::kMalformed);
+  b = bytes;
+  b[2] = 9;
+  refused(b, MediaDropReason::kWrongVersion);
+  b = bytes;
+  b[10] = b[11] = b[12] = b[13] = 0;  // receiver 0
+  refused(b, MediaDropReason::kMalformed);
+  refused({}, MediaDropReason::kMalformed);
+}
+
+TEST(ReceiverReport, ArrivalStampsUnwrapAcrossTheirWrap) {
+  ArrivalClock clock;
+  EXPECT_EQ(clock.unwrapNs(0xFFFFFF00u), 0);
+  EXPECT_EQ(clock.unwrapNs(0xFFFFFFFFu), 255'000);
+  EXPECT_EQ(clock.unwrapNs(0x00000010u), 272'000);  // wrapped: 17 µs later
+  EXPECT_EQ(clock.unwrapNs(0x00000008u), 264'000);  // a stamp slightly older (reordered)
 }
 
 /// A stereo frame of two real JPEGs (restart every MCU row), and what the packetizer made of it.

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: MIT
+/// @brief MediaReceiver: socket, reassembly, reports and the hand-over on one thread.
+#include "robot/link/media/media_receiver.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "robot/link/link_schema.h"
+
+namespace telesphere::link::media {
+namespace {
+
+std::int64_t steadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+std::unique_ptr<MediaReceiver> MediaReceiver::start(const MediaReceiverOptions& options, std::string* error) {
+  sockaddr_in sender{};
+  sender.sin_family = AF_INET;
+  sender.sin_port = htons(options.sender_port);
+  if (::inet_pton(AF_INET, options.sender_address.c_str(), &sender.sin_addr) != 1) {
+    *error = "media receiver: '" + options.sender_address + "' is not an IPv4 address";
+    return nullptr;
+  }
+  if (options.sender_port == 0) {
+    *error = "media receiver: no sender port";
+    return nullptr;
+  }
+  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  if (fd < 0) {
+    *error = std::string("media receiver: socket: ") + std::strerror(errno);
+    return nullptr;
+  }
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &options.receive_buffer_bytes, sizeof options.receive_buffer_bytes);
+  // Connected: only the sender's datagrams come in, and send() goes to it.
+  if (::connect(fd, reinterpret_cast<const sockaddr*>(&sender), sizeof sender) != 0) {
+    *error = "media receiver: connect " + options.sender_address + ":" + std::to_string(options.sender_port) + ": " +
+             std::strerror(errno);
+    ::close(fd);
+    return nullptr;
+  }
+  return std::unique_ptr<MediaReceiver>(new MediaReceiver(options, fd));
+}
+
+MediaReceiver::MediaReceiver(const MediaReceiverOptions& options, int fd)
+    : options_(options),
+      fd_(fd),
+      id_(static_cast<std::uint32_t>(newLinkInstanceId()) | 1u),
+      assembler_(options.assembler) {
+  thread_ = std::thread([this] { run(); });
+}
+
+MediaReceiver::~MediaReceiver() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+  ::close(fd_);
+}
+
+std::optional<AssembledFrame> MediaReceiver::waitNewest(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  frame_ready_.wait_for(lock, timeout, [&] { return newest_.has_value(); });
+  std::optional<AssembledFrame> f = std::move(newest_);
+  newest_.reset();
+  return f;
+}
+
+MediaReceiverStats MediaReceiver::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void MediaReceiver::sendReports(std::int64_t now_ns) {
+  std::vector<std::uint8_t> out;
+  const auto send = [&](bool hello) {
+    if (::send(fd_, out.data(), out.size(), 0) < 0) {
+      std::lock_guard lock(mutex_);
+      ++stats_.send_errors;
+      return;
+    }
+    last_sent_ns_ = now_ns;
+    std::lock_guard lock(mutex_);
+    ++(hello ? stats_.hellos_sent : stats_.reports_sent);
+  };
+  std::size_t at = 0;
+  while (at < pending_entries_.size()) {
+    ReceiverDatagram d;
+    d.stream = pending_stream_;
+    d.receiver = id_;
+    const std::size_t n = std::min(kMaxReportEntries, pending_entries_.size() - at);
+    d.entries.assign(pending_entries_.begin() + static_cast<std::ptrdiff_t>(at),
+                     pending_entries_.begin() + static_cast<std::ptrdiff_t>(at + n));
+    at += n;
+    out.clear();
+    writeReceiverDatagram(d, out);
+    send(false);
+  }
+  pending_entries_.clear();
+  last_report_ns_ = now_ns;
+  if (last_sent_ns_ == 0 || now_ns - last_sent_ns_ >= options_.hello_interval_ns) {
+    ReceiverDatagram hello;
+    hello.hello = true;
+    hello.stream = pending_stream_;
+    hello.receiver = id_;
+    out.clear();
+    writeReceiverDatagram(hello, out);
+    send(true);
+  }
+}
+
+void MediaReceiver::run() {
+  std::vector<std::uint8_t> buffer(kMaxMediaDatagramBytes + 1);
+  std::vector<AssembledFrame> frames;
+  while (!stop_) {
+    const std::int64_t now_ns = steadyNowNs();
+    if (now_ns - last_report_ns_ >= options_.report_interval_ns) sendReports(now_ns);
+    const std::int64_t wait_ns =
+        std::clamp<std::int64_t>(last_report_ns_ + options_.report_interval_ns - now_ns, 0, 5'000'000);
+    pollfd fd{fd_, POLLIN, 0};
+    const timespec wait{0, static_cast<long>(wait_ns)};
+    ::ppoll(&fd, 1, &wait, nullptr);
+    frames.clear();
+    while (true) {
+      const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), 0);
+      if (n < 0) break;  // EAGAIN, or ECONNREFUSED while nobody listens yet
+      const std::int64_t arrival_ns = steadyNowNs();
+      const std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
+      MediaDropReason why{};
+      if (const auto packet = parseMediaPacket(datagram, &why)) {
+        if (packet->header.stream != pending_stream_ && !pending_entries_.empty()) sendReports(arrival_ns);
+        pending_stream_ = packet->header.stream;
+        pending_entries_.push_back({packet->header.packet_seq, static_cast<std::uint32_t>(arrival_ns / 1000)});
+      }
+      assembler_.add(datagram, arrival_ns, frames);
+      std::lock_guard lock(mutex_);
+      ++stats_.datagrams;
+      stats_.bytes += static_cast<std::uint64_t>(n);
+    }
+    assembler_.expire(steadyNowNs(), frames);
+    std::lock_guard lock(mutex_);
+    stats_.assembler = assembler_.stats();
+    for (AssembledFrame& f : frames) {
+      if (newest_) ++stats_.frames_replaced_unread;
+      newest_ = std::move(f);
+      ++stats_.frames_delivered;
+    }
+    if (!frames.empty()) frame_ready_.notify_all();
+  }
+}
+
+}  // namespace telesphere::link::media

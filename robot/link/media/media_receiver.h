@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator's end of the media path (DESIGN.md §9): says hello to the robot's
+///        MediaSender, takes its datagrams, reassembles frames (FrameAssembler: lost bands
+///        filled and named) and reports every datagram's arrival back every report_interval_ns,
+///        which is all the sender's rate controller learns of the path. The newest frame waits
+///        in a one-slot hand-over (latest wins, replaced frames counted). One thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "robot/link/media/frame_assembler.h"
+#include "robot/link/media/receiver_report.h"
+
+namespace telesphere::link::media {
+
+struct MediaReceiverOptions {
+  std::string sender_address = "127.0.0.1";
+  std::uint16_t sender_port = 0;
+  FrameAssembler::Config assembler;
+  std::int64_t report_interval_ns = 25'000'000;
+  std::int64_t hello_interval_ns = 500'000'000;
+  int receive_buffer_bytes = 4 << 20;  ///< SO_RCVBUF asked for (the kernel may give less)
+};
+
+struct MediaReceiverStats {
+  std::uint64_t datagrams = 0, bytes = 0;
+  std::uint64_t frames_delivered = 0;     ///< handed over (whole or with filled bands)
+  std::uint64_t frames_replaced_unread = 0;
+  std::uint64_t reports_sent = 0, hellos_sent = 0, send_errors = 0;
+  FrameAssemblerStats assembler;
+};
+
+class MediaReceiver {
+ public:
+  /// Opens a socket towards the sender and starts; nothing, with the reason in *error.
+  static std::unique_ptr<MediaReceiver> start(const MediaReceiverOptions& options, std::string* error);
+  ~MediaReceiver();
+  MediaReceiver(const MediaReceiver&) = delete;
+  MediaReceiver& operator=(const MediaReceiver&) = delete;
+
+  /// The newest frame not yet taken, waiting up to `timeout` for one.
+  std::optional<AssembledFrame> waitNewest(std::chrono::milliseconds timeout);
+  MediaReceiverStats stats() const;
+
+ private:
+  MediaReceiver(const MediaReceiverOptions& options, int fd);
+  void run();
+  void sendReports(std::int64_t now_ns);
+
+  MediaReceiverOptions options_;
+  int fd_ = -1;
+  std::uint32_t id_;
+  FrameAssembler assembler_;
+  std::vector<ReportEntry> pending_entries_;
+  std::uint32_t pending_stream_ = 0;
+  std::int64_t last_report_ns_ = 0, last_sent_ns_ = 0;
+  mutable std::mutex mutex_;
+  std::condition_variable frame_ready_;
+  std::optional<AssembledFrame> newest_;
+  MediaReceiverStats stats_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace telesphere::link::media

@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: MIT
+/// @brief MediaSender: the socket, the pacer and the receiver's reports on one thread.
+#include "robot/link/media/media_sender.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+#include "robot/link/link_schema.h"
+#include "robot/link/media/receiver_report.h"
+
+namespace telesphere::link::media {
+namespace {
+
+std::int64_t steadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+struct MediaSender::Receiver {
+  sockaddr_storage address{};
+  socklen_t address_length = 0;
+  std::uint32_t id = 0;
+  std::int64_t last_heard_ns = 0;
+  ArrivalClock arrivals;
+};
+
+std::unique_ptr<MediaSender> MediaSender::start(const MediaSenderOptions& options, std::string* error) {
+  if (const std::string why = checkSendRateOptions(options.rate); !why.empty()) {
+    *error = "media sender: " + why;
+    return nullptr;
+  }
+  if (!(options.pacing_gain >= 1.0)) {
+    *error = "media sender: pacing_gain must be at least 1";
+    return nullptr;
+  }
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(options.port);
+  if (::inet_pton(AF_INET, options.bind_address.c_str(), &address.sin_addr) != 1) {
+    *error = "media sender: '" + options.bind_address + "' is not an IPv4 address";
+    return nullptr;
+  }
+  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
+  if (fd < 0) {
+    *error = std::string("media sender: socket: ") + std::strerror(errno);
+    return nullptr;
+  }
+  if (::bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    *error = "media sender: bind " + options.bind_address + ":" + std::to_string(options.port) + ": " +
+             std::strerror(errno);
+    ::close(fd);
+    return nullptr;
+  }
+  sockaddr_in bound{};
+  socklen_t length = sizeof bound;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&bound), &length);
+  const int wake_fd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (wake_fd < 0) {
+    *error = std::string("media sender: eventfd: ") + std::strerror(errno);
+    ::close(fd);
+    return nullptr;
+  }
+  return std::unique_ptr<MediaSender>(new MediaSender(options, fd, wake_fd, ntohs(bound.sin_port)));
+}
+
+MediaSender::MediaSender(const MediaSenderOptions& options, int fd, int wake_fd, std::uint16_t port)
+    : options_(options),
+      fd_(fd),
+      wake_fd_(wake_fd),
+      port_(port),
+      packetizer_(static_cast<std::uint32_t>(newLinkInstanceId()) | 1u, options.packetizer),
+      rate_(options.rate) {
+  stats_.rate = rate_.stats();
+  thread_ = std::thread([this] { run(); });
+}
+
+MediaSender::~MediaSender() {
+  stop_ = true;
+  const std::uint64_t one = 1;
+  (void)!::write(wake_fd_, &one, sizeof one);
+  if (thread_.joinable()) thread_.join();
+  ::close(fd_);
+  ::close(wake_fd_);
+}
+
+bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std::uint8_t> left_jpeg,
+                            std::span<const std::uint8_t> right_jpeg, std::string* error) {
+  PacketizedFrame packets;
+  std::lock_guard lock(mutex_);
+  ++stats_.frames_offered;
+  if (!packetizer_.packetize(frame, left_jpeg, right_jpeg, &packets, error)) {
+    ++stats_.frames_refused;
+    return false;
+  }
+  if (!receiver_) {
+    ++stats_.frames_without_receiver;
+    return true;
+  }
+  if (waiting_) ++stats_.frames_superseded;
+  waiting_ = std::move(packets);
+  const std::uint64_t one = 1;
+  (void)!::write(wake_fd_, &one, sizeof one);
+  return true;
+}
+
+double MediaSender::targetBps() const {
+  std::lock_guard lock(mutex_);
+  return rate_.targetBps();
+}
+
+void MediaSender::setCapBps(double cap_bps) {
+  std::lock_guard lock(mutex_);
+  rate_.setCapBps(cap_bps);
+}
+
+bool MediaSender::hasReceiver() const {
+  std::lock_guard lock(mutex_);
+  return receiver_ != nullptr;
+}
+
+MediaSenderStats MediaSender::stats() const {
+  std::lock_guard lock(mutex_);
+  MediaSenderStats s = stats_;
+  s.rate = rate_.stats();
+  s.pacing_bps = options_.pacing_gain * rate_.targetBps();
+  return s;
+}
+
+void MediaSender::readReceiver(std::int64_t now_ns) {
+  std::vector<std::uint8_t> buffer(2048);
+  while (true) {
+    sockaddr_storage from{};
+    socklen_t length = sizeof from;
+    const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
+    if (n < 0) return;  // EAGAIN: nothing more
+    MediaDropReason why{};
+    const auto datagram = parseReceiverDatagram({buffer.data(), static_cast<std::size_t>(n)}, &why);
+    std::lock_guard lock(mutex_);
+    if (!datagram) {
+      ++stats_.receiver_datagrams_refused;
+      continue;
+    }
+    if (!receiver_ || receiver_->id != datagram->receiver) {
+      // A new receiver (or the first): its path is new, so is what we know of it.
+      if (receiver_) ++stats_.receiver_changes;
+      receiver_ = std::make_unique<Receiver>();
+      receiver_->id = datagram->receiver;
+      rate_ = SendRateController(options_.rate);
+    }
+    std::memcpy(&receiver_->address, &from, length);
+    receiver_->address_length = length;
+    receiver_->last_heard_ns = now_ns;
+    if (datagram->hello || datagram->stream != packetizer_.stream()) continue;
+    ++stats_.reports_received;
+    std::vector<PacketReport> reports;
+    reports.reserve(datagram->entries.size());
+    for (const ReportEntry& e : datagram->entries) reports.push_back({e.seq, receiver_->arrivals.unwrapNs(e.arrival_us)});
+    rate_.onFeedback(reports, now_ns);
+  }
+}
+
+void MediaSender::sendDue(std::int64_t now_ns) {
+  std::lock_guard lock(mutex_);
+  if (receiver_ && now_ns - receiver_->last_heard_ns > options_.receiver_timeout_ns) {
+    receiver_.reset();
+    current_.reset();
+    waiting_.reset();
+  }
+  if (!receiver_) return;
+  // No credit for idle time beyond 2 ms: a frame after a pause does not leave as one burst.
+  next_send_ns_ = std::max(next_send_ns_, now_ns - 2'000'000);
+  while (next_send_ns_ <= now_ns) {
+    if (!current_ || next_datagram_ >= current_->datagrams.size()) {
+      if (current_) ++stats_.frames_sent;
+      current_.reset();
+      if (!waiting_) return;
+      current_ = std::move(waiting_);
+      waiting_.reset();
+      next_datagram_ = 0;
+    }
+    std::vector<std::uint8_t>& d = current_->datagrams[next_datagram_++];
+    const std::uint32_t seq = next_seq_++;
+    stampForSending(d, seq, static_cast<std::uint32_t>(now_ns / 1000));
+    if (::sendto(fd_, d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&receiver_->address),
+                 receiver_->address_length) < 0) {
+      ++stats_.send_errors;
+    } else {
+      ++stats_.datagrams_sent;
+      stats_.bytes_sent += d.size();
+    }
+    rate_.onPacketSent(seq, now_ns, d.size() + 28);  // with the IPv4 and UDP headers
+    next_send_ns_ += static_cast<std::int64_t>(8.0 * static_cast<double>(d.size() + 28) * 1e9 /
+                                               (options_.pacing_gain * rate_.targetBps()));
+  }
+}
+
+void MediaSender::run() {
+  while (!stop_) {
+    const std::int64_t now_ns = steadyNowNs();
+    readReceiver(now_ns);
+    sendDue(now_ns);
+    std::int64_t wait_ns = 20'000'000;
+    {
+      std::lock_guard lock(mutex_);
+      const bool has_data = receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || waiting_);
+      if (has_data) wait_ns = std::clamp<std::int64_t>(next_send_ns_ - steadyNowNs(), 0, wait_ns);
+    }
+    pollfd fds[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
+    const timespec wait{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
+    ::ppoll(fds, 2, &wait, nullptr);
+    if (fds[1].revents & POLLIN) {
+      std::uint64_t count = 0;
+      (void)!::read(wake_fd_, &count, sizeof count);
+    }
+  }
+}
+
+}  // namespace telesphere::link::media

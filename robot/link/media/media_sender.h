@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+/// @brief The robot's end of the media path (DESIGN.md §9): a UDP socket the operator's receiver
+///        says hello to; stereo frames sent to it as paced datagrams, the pace set by the
+///        SendRateController from the receiver's reports. At most one frame waits while another
+///        is on its way: a newer frame replaces the waiting one (counted), so no queue of stale
+///        video forms here, in the kernel or, paced below the path's rate, in the network.
+///        One thread; sendFrame() never blocks on the network.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <thread>
+
+#include "robot/link/media/frame_packetizer.h"
+#include "robot/link/media/send_rate_controller.h"
+#include "robot/link/telesphere_link.pb.h"
+
+namespace telesphere::link::media {
+
+struct MediaSenderOptions {
+  std::string bind_address = "0.0.0.0";
+  std::uint16_t port = 0;  ///< 0: any free port (see MediaSender::port)
+  FramePacketizer::Config packetizer;
+  SendRateOptions rate;
+  /// Datagrams leave at pacing_gain × the target rate, so a frame sized for the target leaves
+  /// within 1 / pacing_gain of a frame period and the path sees no burst.
+  double pacing_gain = 1.25;
+  /// A receiver silent this long is forgotten (frames wait for the next hello).
+  std::int64_t receiver_timeout_ns = 3'000'000'000;
+};
+
+struct MediaSenderStats {
+  std::uint64_t frames_offered = 0;
+  std::uint64_t frames_sent = 0;             ///< every datagram out
+  std::uint64_t frames_superseded = 0;       ///< replaced while waiting by a newer one
+  std::uint64_t frames_refused = 0;          ///< the packetizer refused them (not a baseline JPEG)
+  std::uint64_t frames_without_receiver = 0; ///< dropped: nobody had said hello
+  std::uint64_t datagrams_sent = 0, bytes_sent = 0, send_errors = 0;
+  std::uint64_t reports_received = 0, receiver_datagrams_refused = 0, receiver_changes = 0;
+  double pacing_bps = 0;
+  SendRateStats rate;
+};
+
+class MediaSender {
+ public:
+  /// Binds and starts; nothing, with the reason in *error (the port, errno's text).
+  static std::unique_ptr<MediaSender> start(const MediaSenderOptions& options, std::string* error);
+  ~MediaSender();
+  MediaSender(const MediaSender&) = delete;
+  MediaSender& operator=(const MediaSender&) = delete;
+
+  std::uint16_t port() const { return port_; }
+  /// Queues one frame (replacing a frame still waiting). False with *error when it cannot be
+  /// cut into datagrams.
+  bool sendFrame(const proto::StereoFrame& frame, std::span<const std::uint8_t> left_jpeg,
+                 std::span<const std::uint8_t> right_jpeg, std::string* error);
+  /// What the encoder should aim at (bits/s): the controller's target.
+  double targetBps() const;
+  /// The supervisor's cap (0: none).
+  void setCapBps(double cap_bps);
+  bool hasReceiver() const;
+  MediaSenderStats stats() const;
+
+ private:
+  MediaSender(const MediaSenderOptions& options, int fd, int wake_fd, std::uint16_t port);
+  void run();
+  void readReceiver(std::int64_t now_ns);
+  void sendDue(std::int64_t now_ns);
+
+  MediaSenderOptions options_;
+  int fd_ = -1, wake_fd_ = -1;
+  std::uint16_t port_ = 0;
+  FramePacketizer packetizer_;
+  mutable std::mutex mutex_;
+  std::optional<PacketizedFrame> waiting_;
+  std::optional<PacketizedFrame> current_;
+  std::size_t next_datagram_ = 0;
+  SendRateController rate_;
+  MediaSenderStats stats_;
+  struct Receiver;
+  std::unique_ptr<Receiver> receiver_;
+  std::int64_t next_send_ns_ = 0;
+  std::uint32_t next_seq_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace telesphere::link::media
