@@ -25,7 +25,16 @@ inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats&
           {"nominal_from_robot", s.nominal_from_robot},
           {"settings_changes", s.settings_changes},
           {"calibration_generation", s.calibration_generation},
-          {"calibration_changes", s.calibration_changes}};
+          {"calibration_changes", s.calibration_changes},
+          {"video_link", s.video_link},
+          {"media_datagrams", s.media_datagrams},
+          {"media_frames_whole", s.media_frames_whole},
+          {"media_frames_concealed", s.media_frames_concealed},
+          {"media_frames_lost", s.media_frames_lost},
+          {"media_bands_lost", s.media_bands_lost},
+          {"frames_concealed", s.frames_concealed},
+          {"rows_concealed", s.rows_concealed},
+          {"rows_grey", s.rows_grey}};
 }
 
 }  // namespace telesphere::app

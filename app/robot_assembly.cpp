@@ -91,6 +91,21 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   p->stills = std::make_unique<robot::stereo::StereoStillTaker>(*p->joints, p->clock,
                                                         p->manipulator ? &p->manipulator_reports : nullptr);
   robot::video::VideoStreamerConfig video_config;
+  if (o.media) {
+    link::media::MediaSenderOptions media_options;
+    media_options.port = static_cast<std::uint16_t>(o.port + link::LinkEndpoints::kMedia);
+    media_options.rate.initial_bps = std::max(o.media_start_mbit * 1e6, media_options.rate.min_bps);
+    p->media = link::media::MediaSender::start(media_options, error);
+    if (!p->media) {
+      *error = "cannot open the media path on UDP port " + std::to_string(media_options.port) + " (--no-media runs without): " +
+               *error;
+      *exit_code = 1;
+      return nullptr;
+    }
+    if (o.media_cap_mbit > 0) p->media->setCapBps(o.media_cap_mbit * 1e6);
+    video_config.media = p->media.get();
+    video_config.adaptive.nominal_fps = o.fps;
+  }
   video_config.jpeg.quality = o.quality;
   video_config.jpeg.subsampling = o.subsampling == "444"   ? robot::video::ChromaSubsampling::k444
                                   : o.subsampling == "422" ? robot::video::ChromaSubsampling::k422
@@ -134,7 +149,8 @@ std::string RobotAssembly::describe() const {
   return (o.realArm() ? "xArm 6 at " + o.arm_address : std::string("simulated arm")) +
          (o.syntheticCameras() ? ", synthetic cameras " : ", cameras ") +
          std::to_string(o.width) + "x" + std::to_string(o.height) + " at " + rate + " Hz, link on port " +
-         std::to_string(o.port);
+         std::to_string(o.port) +
+         (parts_->media ? ", media path on UDP port " + std::to_string(parts_->media->port()) : std::string());
 }
 
 std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
@@ -176,6 +192,17 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
                    static_cast<unsigned long long>(pairs.dropped[0].total() + pairs.dropped[1].total()),
                    static_cast<unsigned long long>(v.poses_from_joints), static_cast<unsigned long long>(v.poses_fixed),
                    static_cast<long long>(p.loop->targetsSent()));
+      if (p.media) {
+        const auto m = p.media->stats();
+        std::fprintf(stderr,
+                     "telesphere-robot: media path: %s, target %.1f Mbit/s, delivered %.1f Mbit/s, loss %.1f %%, "
+                     "queue %.0f ms; stream %s%.0f Hz, scale %.2f, q%d (%s); frames sent %llu, superseded %llu\n",
+                     p.media->hasReceiver() ? "receiver" : "no receiver", m.rate.target_bps * 1e-6,
+                     m.rate.delivered_bps * 1e-6, 100 * m.rate.loss_fraction, m.rate.queue_delay_ms,
+                     v.stream_adapted ? "" : "nominal ", v.stream.fps, v.stream.scale, v.stream.quality,
+                     robot::video::streamLimitedByName(v.stream.limited_by),
+                     static_cast<unsigned long long>(m.frames_sent), static_cast<unsigned long long>(m.frames_superseded));
+      }
       frames_before = v.frames_sent;
       next_stats += std::chrono::duration<double>(o.stats_period_s);
     }

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/robot_assembly.h"
+#include "robot/link/media/media_sender.h"
 #include "calib/system_calibration.h"
 #include "robot/arm/head_arm.h"
 #include "robot/cameras/camera_source.h"
@@ -47,6 +48,7 @@ struct RobotAssembly::Parts {
   std::string arm_description;          ///< for the console's health view
   std::unique_ptr<robot::head::JointStateBuffer> joints;  ///< the arm's reports, with the calibration in use
   std::unique_ptr<link::LinkServer> server;
+  std::unique_ptr<link::media::MediaSender> media;  ///< the UDP media path (null: --no-media)
   std::unique_ptr<robot::services::RecordingSwitch> recording;  ///< --record, --record-dir, the console's requests
   std::unique_ptr<robot::head::CalibrationInUse> calibration_in_use;
   robot::telemetry::TelemetryBatcher telemetry;

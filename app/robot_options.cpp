@@ -12,8 +12,16 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
                  "with --calib FILE keeps it (default: not saved; the console warns)");
   app.add_option("--calib", o.calib_path, "system calibration (YAML, kalibr camchain or Basalt JSON)")
       ->capture_default_str();
-  app.add_option("--port", o.port, "link base port (frames, state, uplink, control: port..port+3)")
-      ->capture_default_str()->check(CLI::Range(1024, 65532));
+  app.add_option("--port", o.port,
+                 "link base port (frames, state, uplink, control: port..port+3; the UDP media path: port+4)")
+      ->capture_default_str()->check(CLI::Range(1024, 65531));
+  app.add_flag("!--no-media", o.media,
+               "no UDP media path on port+4 (frames then go over the ZeroMQ link only, at the nominal settings)");
+  app.add_option("--media-cap-mbit", o.media_cap_mbit,
+                 "cap on the media path's rate, Mbit/s (0: none; the link's estimate decides)")
+      ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
+  app.add_option("--media-start-mbit", o.media_start_mbit, "the media path's rate before the first reports, Mbit/s")
+      ->capture_default_str()->check(CLI::Range(0.5, 100000.0));
   app.add_option("--size", o.size, "camera image size WxH (synthetic cameras; the calibration is scaled)")
       ->capture_default_str();
   app.add_option("--fps", o.fps, "camera frame rate, Hz")->capture_default_str()->check(CLI::Range(0.1, 1000.0));

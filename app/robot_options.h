@@ -48,6 +48,9 @@ struct RobotOptions {
   std::string replay_path;       ///< serve this recording on the link instead of a robot
   double replay_rate = 1.0;      ///< --replay: pace (2: twice as fast)
   bool replay_loop = false;      ///< --replay: start again at the end
+  bool media = true;             ///< the UDP media path on port + 4 (DESIGN.md §9)
+  double media_cap_mbit = 0;     ///< the supervisor's cap on its rate (0: none)
+  double media_start_mbit = 8;   ///< its rate before the first reports
 
   bool syntheticCameras() const { return camera_left.empty(); }
   bool realArm() const { return arm == "xarm"; }

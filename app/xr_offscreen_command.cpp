@@ -32,6 +32,10 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
                  "system calibration (two cameras); with --replay it overrides the calibrations the recording holds");
   c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
   c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  c->add_option("--video-link", o.video_link,
+                 "how frames come: zmq (the ZeroMQ link, port) or udp (the paced media path, port+4, lost bands "
+                 "painted from the previous frame)")
+      ->capture_default_str()->check(CLI::IsMember({"zmq", "udp"}));
   c->add_option("--trajectory", o.trajectory, "head poses CSV: t,px,py,pz,qx,qy,qz,qw (default: demo motion)");
   c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
   c->add_option("--rate", o.rate_hz, "display rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
@@ -73,6 +77,13 @@ void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
   std::printf("| camera frames shown | %llu |\n", static_cast<unsigned long long>(v.stereo_frames_shown));
   std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", v.image_age_p50_ms,
               v.image_age_p99_ms);
+  if (v.video_link == "udp")
+    std::printf("| media path: datagrams, frames whole / with lost bands / lost | %llu, %llu / %llu / %llu |\n"
+                "| lost bands; rows painted from the previous frame / left grey | %llu; %llu / %llu |\n",
+                static_cast<unsigned long long>(v.media_datagrams), static_cast<unsigned long long>(v.media_frames_whole),
+                static_cast<unsigned long long>(v.media_frames_concealed),
+                static_cast<unsigned long long>(v.media_frames_lost), static_cast<unsigned long long>(v.media_bands_lost),
+                static_cast<unsigned long long>(v.rows_concealed), static_cast<unsigned long long>(v.rows_grey));
 }
 
 int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::SystemCalibration>& calibration,
@@ -191,6 +202,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.truth_every_frames = o.truth_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
   options.png_dir = o.out_dir;
+  options.media_link = o.video_link == "udp";
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

@@ -31,6 +31,7 @@ struct OffscreenCommandOptions {
   int truth_every = 10;
   std::string replay;  ///< a recording (MCAP) to render offline instead of the robot
   std::string views;   ///< with replay: a live run's views.csv, rendered instead of display frames
+  std::string video_link = "zmq";  ///< zmq: the ZeroMQ link; udp: the media path (port + 4)
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

@@ -27,6 +27,9 @@ struct ReceivedFrame {
   std::span<const std::uint8_t> left_jpeg;
   std::span<const std::uint8_t> right_jpeg;
   std::shared_ptr<const void> storage;
+  /// Image rows [first, end) the link could not deliver and filled mid grey (the media path's
+  /// lost bands; never on the ZeroMQ link): the operator side paints them from the last frame.
+  std::vector<std::pair<int, int>> left_lost_rows, right_lost_rows;
 };
 
 /// A received preview frame (small JPEGs of both cameras); spans valid while `storage` lives.

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @brief Where the link's four sockets live: base_port + 0 stereo frames (PUB), + 1 robot state
 ///        and republished XR stats (PUB), + 2 uplink of head targets and XR stats (PULL on the
-///        robot), + 3 control requests and pings (ROUTER on the robot). The robot binds; the XR
-///        app and the console connect, in any order, and reconnect on their own.
+///        robot), + 3 control requests and pings (ROUTER on the robot), and + 4 the UDP media
+///        path (frames paced to the link's rate). The robot binds; the XR app and the console
+///        connect, in any order, and reconnect on their own.
 #pragma once
 
 #include <chrono>
@@ -22,6 +23,8 @@ struct LinkEndpoints {
   static constexpr int kState = 1;
   static constexpr int kUplink = 2;
   static constexpr int kControl = 3;
+  /// UDP, not ZeroMQ: the media path of the Internet link (robot/link/media, DESIGN.md §9).
+  static constexpr int kMedia = 4;
 };
 
 /// The steady clock every stamp of this process uses, in ns.

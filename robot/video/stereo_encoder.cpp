@@ -130,7 +130,11 @@ JpegSettings StereoEncoder::settings() const {
 
 bool StereoEncoder::encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right, EncodedPair& out,
                            std::string* error) {
-  const JpegSettings s = settings();
+  return encode(left, right, settings(), out, error);
+}
+
+bool StereoEncoder::encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right,
+                           const JpegSettings& s, EncodedPair& out, std::string* error) {
   out.settings = s;
   {
     std::lock_guard lock(impl_->mutex);

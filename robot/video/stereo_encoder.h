@@ -38,6 +38,10 @@ class StereoEncoder {
   /// False with the reason in *error when either fails; `out` is then unspecified.
   bool encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right, EncodedPair& out,
               std::string* error);
+  /// The same with `settings` for this pair only (the link's rate control sets quality and
+  /// restart markers per frame; settings() stays as it was).
+  bool encode(const cameras::CameraFrame& left, const cameras::CameraFrame& right, const JpegSettings& settings,
+              EncodedPair& out, std::string* error);
 
   /// Takes effect from the next encode(). Quality outside 1..100 makes encode() fail.
   void setSettings(const JpegSettings& settings);

@@ -5,6 +5,7 @@
 #include "robot/link/proto_enums.h"
 
 #include "robot/link/link_pose.h"
+#include "robot/video/frame_scaler.h"
 
 #include <algorithm>
 #include <iostream>
@@ -53,9 +54,38 @@ void VideoStreamer::run() {
 
 bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   const std::int64_t start_ns = clock_.nowNs();
+  JpegSettings jpeg = encoder_.settings();
+  StreamSettings stream;
+  stream.fps = config_.adaptive.nominal_fps;
+  stream.quality = jpeg.quality;
+  const bool adapted = config_.media && config_.media->hasReceiver();
+  cameras::CameraFrame left = pair.left, right = pair.right;
+  if (config_.media) jpeg.restart_mcu_rows = 1;
+  if (adapted) {
+    if (!stream_settings_) {
+      StreamSettingsLimits limits = config_.adaptive;
+      limits.pixels_per_frame = static_cast<double>(pair.left.width) * pair.left.height +
+                                static_cast<double>(pair.right.width) * pair.right.height;
+      limits.nominal_quality = jpeg.quality;
+      limits.min_quality = std::min(limits.min_quality, jpeg.quality);
+      stream_settings_.emplace(limits);
+    }
+    stream = stream_settings_->decide(config_.media->payloadBudgetBps(), start_ns);
+    // The cameras' period, less half of it: a 45 Hz camera asked for 15 Hz sends every third pair.
+    const double period_ns = 1e9 / stream.fps - 0.5e9 / config_.adaptive.nominal_fps;
+    if (last_sent_ns_ != 0 && static_cast<double>(start_ns - last_sent_ns_) < period_ns) {
+      std::lock_guard lock(stats_mutex_);
+      ++stats_.frames_skipped_for_rate;
+      return true;
+    }
+    jpeg.quality = stream.quality;
+    left = scaleFrame(pair.left, stream.scale);
+    right = scaleFrame(pair.right, stream.scale);
+  }
+  last_sent_ns_ = start_ns;
   EncodedPair encoded;
   std::string error;
-  if (!encoder_.encode(pair.left, pair.right, encoded, &error)) {
+  if (!encoder_.encode(left, right, jpeg, encoded, &error)) {
     std::lock_guard lock(stats_mutex_);
     if (stats_.encode_failures++ % 100 == 0)  // one line per 100, not one per frame
       std::cerr << "telesphere-robot: frame dropped, encode failed: " << error << '\n';
@@ -86,14 +116,26 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     }
     link::toLinkPose(left ? poses.T_robot_cam_l : poses.T_robot_cam_r, image->mutable_t_robot_cam());
   };
-  describe(pair.left, cameras::CameraSide::kLeft, message.mutable_left());
-  describe(pair.right, cameras::CameraSide::kRight, message.mutable_right());
+  describe(left, cameras::CameraSide::kLeft, message.mutable_left());
+  describe(right, cameras::CameraSide::kRight, message.mutable_right());
   // The pair is as old as its older image; it is encoded when both are.
   message.mutable_stamps()->set_capture_ns(std::min(pair.left.capture_ns, pair.right.capture_ns));
   message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));
   const std::int64_t capture_ns = message.stamps().capture_ns();
   const std::int64_t encoded_ns = message.stamps().encoded_ns();
   const std::uint64_t sequence = message.sequence();
+  bool media_refused = false;
+  if (config_.media) {
+    link::proto::StereoFrame media_message = message;
+    media_message.mutable_stamps()->set_sent_ns(link::linkNowNs());
+    std::string media_error;
+    if (!config_.media->sendFrame(media_message, *encoded.left.jpeg, *encoded.right.jpeg, &media_error)) {
+      media_refused = true;
+      error = media_error;
+    }
+  }
+  const std::size_t jpeg_bytes = encoded.left.jpeg->size() + encoded.right.jpeg->size();
+  if (adapted) stream_settings_->observeFrame(stream, jpeg_bytes);
   const std::int64_t link_sent_ns =
       server_.publishStereoFrame(std::move(message), encoded.left.jpeg, encoded.right.jpeg);
 
@@ -117,8 +159,15 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   stats_.capture_to_sent_ns_last = sent_ns - capture_ns;
   stats_.exposure_us_last[0] = pair.left.exposure_us;
   stats_.exposure_us_last[1] = pair.right.exposure_us;
-  stats_.width = pair.left.width;
-  stats_.height = pair.left.height;
+  stats_.width = left.width;
+  stats_.height = left.height;
+  stats_.stream = stream;
+  stats_.stream_adapted = adapted;
+  if (stream_settings_) stats_.stream_decisions = stream_settings_->stats();
+  if (media_refused) {
+    if (stats_.media_refused++ % 100 == 0) std::cerr << "telesphere-robot: the media path refused a frame: " << error << '\n';
+    stats_.last_error = error;
+  }
   return true;
 }
 

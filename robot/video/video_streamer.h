@@ -19,7 +19,9 @@
 #include "robot/clock/clock.h"
 #include "robot/head/joint_state_buffer.h"
 #include "robot/link/link_server.h"
+#include "robot/link/media/media_sender.h"
 #include "robot/video/stereo_encoder.h"
+#include "robot/video/stream_settings_controller.h"
 #include "robot/stereo/stereo_pairer.h"
 #include "robot/telemetry/telemetry_batcher.h"
 
@@ -34,6 +36,14 @@ struct VideoStreamerConfig {
   telemetry::TelemetryBatcher* telemetry = nullptr;
   /// Called with every pair sent and its sequence (the console's preview); must not block.
   std::function<void(const stereo::StereoFrame&, std::uint64_t sequence)> on_sent;
+  /// The Internet link's media path (null: the ZeroMQ link only). Every JPEG then carries a
+  /// restart marker per MCU row, and every frame goes to both links; while the media path has a
+  /// receiver, frame rate, scale and quality follow its send rate (StreamSettingsController,
+  /// never above `jpeg.quality` or the cameras' rate).
+  link::media::MediaSender* media = nullptr;
+  /// For the adaptation: nominal_fps (the cameras'), the scales, the quality floor;
+  /// pixels_per_frame and nominal_quality are taken from the first pair and `jpeg`.
+  StreamSettingsLimits adaptive;
 };
 
 struct VideoStreamerStats {
@@ -44,8 +54,13 @@ struct VideoStreamerStats {
   double encode_ms_last = 0.0;          ///< wall time of the last pair's (parallel) encode
   std::int64_t capture_to_sent_ns_last = 0;
   std::uint32_t exposure_us_last[2] = {0, 0};  ///< [left, right], of the last pair sent
-  int width = 0, height = 0;                   ///< of the last pair's images
+  int width = 0, height = 0;                   ///< of the last pair's images (as sent)
   std::string last_error;
+  std::uint64_t frames_skipped_for_rate = 0;   ///< pairs not sent: the link's rate asked for fewer
+  std::uint64_t media_refused = 0;             ///< frames the media path could not take
+  StreamSettings stream;                       ///< the last pair's settings (fps, scale, quality, why)
+  bool stream_adapted = false;                 ///< stream is the media path's, not the nominal one
+  StreamSettingsStats stream_decisions;
 };
 
 class VideoStreamer {
@@ -76,6 +91,8 @@ class VideoStreamer {
   StereoPosesAt poses_;
   VideoStreamerConfig config_;
   StereoEncoder encoder_;
+  std::optional<StreamSettingsController> stream_settings_;
+  std::int64_t last_sent_ns_ = 0;
   std::uint64_t sequence_ = 0;
   mutable std::mutex stats_mutex_;
   VideoStreamerStats stats_;

@@ -6,6 +6,8 @@
 ///        counted and plane memory stays bounded; per-stage latency figures are filled.
 #include <gtest/gtest.h>
 
+#include <deque>
+#include <mutex>
 #include <thread>
 
 #include "tests/eventually.h"
@@ -230,6 +232,83 @@ TEST(StereoFrameDecoder, StatsCoverEveryStage) {
     if (static_cast<video::FrameDropReason>(r) == video::FrameDropReason::kSuperseded) continue;
     EXPECT_EQ(s.dropped_by_reason[static_cast<std::size_t>(r)], 0u) << video::frameDropReasonName(static_cast<video::FrameDropReason>(r));
   }
+}
+
+}  // namespace
+}  // namespace telesphere::xr
+
+namespace telesphere::xr {
+namespace {
+
+TEST(StereoFrameDecoder, RowsTheMediaPathLostArePaintedFromThePreviousFrame) {
+  // Frames from a frame source (as the media path hands them over), no ZeroMQ frame at all: the
+  // first whole, the second with rows [16, 32) of the left image and [40, 48) of the right lost.
+  const auto a_left = test::texturedJpeg(64, 48, 21), a_right = test::texturedJpeg(64, 48, 22);
+  const auto b_left = test::texturedJpeg(64, 48, 23), b_right = test::texturedJpeg(64, 48, 24);
+  std::mutex mutex;
+  std::deque<link::ReceivedFrame> queue;
+  const auto push = [&](std::uint64_t sequence, const std::vector<std::uint8_t>& l, const std::vector<std::uint8_t>& r,
+                        std::vector<std::pair<int, int>> l_lost, std::vector<std::pair<int, int>> r_lost) {
+    link::ReceivedFrame f;
+    f.frame = message(sequence, 64, 48);
+    f.frame.mutable_stamps()->set_received_ns(link::linkNowNs());
+    f.left_jpeg = l;
+    f.right_jpeg = r;
+    f.left_lost_rows = std::move(l_lost);
+    f.right_lost_rows = std::move(r_lost);
+    std::lock_guard lock(mutex);
+    queue.push_back(std::move(f));
+  };
+  video::StereoFrameDecoder::Options options;
+  options.frame_source = [&](std::chrono::milliseconds timeout) -> std::optional<link::ReceivedFrame> {
+    {
+      std::lock_guard lock(mutex);
+      if (!queue.empty()) {
+        auto f = std::move(queue.front());
+        queue.pop_front();
+        return f;
+      }
+    }
+    std::this_thread::sleep_for(std::min(timeout, std::chrono::milliseconds(5)));
+    return std::nullopt;
+  };
+  link::LinkClient client(stereoEndpoints(7));  // nobody serves it: the frames come from the source
+  video::StereoFrameDecoder decoder(client, options);
+  push(1, a_left, a_right, {}, {});
+  const auto first = decoder.waitNewer(0, 2000ms);
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->rows_concealed, 0);
+  push(2, b_left, b_right, {{16, 32}}, {{40, 60}});  // the right range runs past the image: clamped
+  const auto second = decoder.waitNewer(1, 2000ms);
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->rows_concealed, 16 + 8);
+  EXPECT_EQ(second->rows_grey, 0);
+  const render::YuvPlanes ra = referenceDecode(a_left), rb = referenceDecode(b_left);
+  const auto row = [](const render::YuvPlanes& p, int y) {
+    return std::vector<std::uint8_t>(p.y.begin() + y * p.width, p.y.begin() + (y + 1) * p.width);
+  };
+  const render::YuvPlanes& got = *second->left;
+  for (int y = 0; y < 48; ++y) EXPECT_EQ(row(got, y), row(y >= 16 && y < 32 ? ra : rb, y)) << "row " << y;
+  // 4:2:0: chroma rows 8..16 come from the first frame too.
+  const auto chroma_row = [](const render::YuvPlanes& p, int y) {
+    return std::vector<std::uint8_t>(p.u.begin() + y * p.chroma_width, p.u.begin() + (y + 1) * p.chroma_width);
+  };
+  for (int y = 0; y < 24; ++y) EXPECT_EQ(chroma_row(got, y), chroma_row(y >= 8 && y < 16 ? ra : rb, y)) << "chroma row " << y;
+  const auto stats = decoder.stats();
+  EXPECT_EQ(stats.frames_concealed, 1u);
+  EXPECT_EQ(stats.rows_concealed, 24u);
+
+  // A lost band in a frame of another size than the last: nothing to paint from, left grey.
+  const auto small = test::texturedJpeg(32, 32, 25);
+  push(3, small, small, {{0, 16}}, {});
+  {  // the message must say the new size (the decoder checks it against the JPEG's)
+    std::lock_guard lock(mutex);
+    queue.back().frame = message(3, 32, 32);
+  }
+  const auto third = decoder.waitNewer(2, 2000ms);
+  ASSERT_TRUE(third);
+  EXPECT_EQ(third->rows_grey, 16);
+  EXPECT_EQ(third->rows_concealed, 0);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ struct OffscreenOperatorOptions {
   /// (ProjectionMapRecorder), for the ground-truth check.
   std::string truth_dir;
   int truth_every_frames = 10;
+  bool media_link = false;  ///< frames over the UDP media path (OperatorViewOptions::media_link)
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

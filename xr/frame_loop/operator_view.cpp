@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "calib/calibration_file.h"
 #include "robot/link/link_pose.h"
@@ -19,10 +20,21 @@
 namespace telesphere::xr::frame_loop {
 namespace {
 
-video::StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer) {
+video::StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& renderer, video::MediaFrameSource* media) {
   video::StereoFrameDecoder::Options options;
   options.upload_slots = renderer.uploadSlots();
+  if (media) options.frame_source = [media](std::chrono::milliseconds timeout) { return media->waitFrame(timeout); };
   return options;
+}
+
+/// The media path's receiver when asked for; throws std::runtime_error when it cannot open.
+std::unique_ptr<video::MediaFrameSource> openMedia(const OperatorViewOptions& options) {
+  if (!options.media_link) return nullptr;
+  std::string error;
+  auto media = video::MediaFrameSource::open(options.endpoints.host,
+                                             options.endpoints.base_port + link::LinkEndpoints::kMedia, &error);
+  if (!media) throw std::runtime_error(error);
+  return media;
 }
 
 }  // namespace
@@ -31,7 +43,8 @@ OperatorView::OperatorView(const calib::SystemCalibration& calibration,
                            const OperatorViewOptions& options)
     : client_(options.endpoints),
       renderer_(calibration, options.render, options.upload_ring_slots),
-      decoder_(client_, decoderOptions(renderer_)),
+      media_(openMedia(options)),
+      decoder_(client_, decoderOptions(renderer_, media_.get())),
       options_(options),
       frame_begin_ns_(link::linkNowNs()),
       last_new_frame_ns_(frame_begin_ns_),
@@ -308,6 +321,18 @@ OperatorViewStats OperatorView::stats() const {
   out.images_in_upload_slots = decoded.images_in_upload_slots;
   out.images_in_own_memory = decoded.images_in_own_memory;
   out.pose_to_display_ms_p50 = video::latencyFigure(pose_lead_ms_).p50_ms;
+  out.frames_concealed = decoded.frames_concealed;
+  out.rows_concealed = decoded.rows_concealed;
+  out.rows_grey = decoded.rows_grey;
+  if (media_) {
+    const auto m = media_->stats();
+    out.video_link = "udp";
+    out.media_datagrams = m.datagrams;
+    out.media_frames_whole = m.assembler.frames_whole;
+    out.media_frames_concealed = m.assembler.frames_concealed;
+    out.media_frames_lost = m.assembler.frames_lost + m.assembler.frames_malformed;
+    out.media_bands_lost = m.assembler.bands_lost;
+  }
   return out;
 }
 

@@ -51,6 +51,7 @@
 #include "robot/link/link_endpoints.h"
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/render/eye_view.h"
+#include "xr/video/media_frame_source.h"
 #include "xr/video/stereo_frame_decoder.h"
 #include "xr/frame_loop/stereo_view_renderer.h"
 
@@ -70,6 +71,8 @@ struct OperatorViewOptions {
   /// Images the upload ring holds (0: no ring; every image is uploaded from the decoder's memory
   /// inside the frame).
   int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;
+  /// Frames over the robot's UDP media path (port + 4; DESIGN.md §9) instead of the ZeroMQ link.
+  bool media_link = false;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -94,6 +97,11 @@ struct OperatorViewStats {
   /// Frames not shown because their calibration's models had not arrived (the last one stayed).
   std::uint64_t frames_held_for_calibration = 0;
   std::uint64_t calibration_generation = 0;  ///< the robot's calibration rendered with (0: start-up one)
+  /// The video link: "zmq" (the ZeroMQ link) or "udp" (the media path), and what the latter lost.
+  std::string video_link = "zmq";
+  std::uint64_t media_datagrams = 0, media_frames_whole = 0, media_frames_concealed = 0, media_frames_lost = 0;
+  std::uint64_t media_bands_lost = 0;
+  std::uint64_t frames_concealed = 0, rows_concealed = 0, rows_grey = 0;  ///< painted from the previous frame
   std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
 };
 
@@ -163,6 +171,8 @@ class OperatorView final : public OperatorScene {
 
   link::LinkClient& client() { return client_; }
   video::StereoFrameDecoder& decoder() { return decoder_; }
+  /// The media path's receiver (null on the ZeroMQ link).
+  const video::MediaFrameSource* media() const { return media_.get(); }
   OperatorViewStats stats() const;
 
  private:
@@ -176,6 +186,7 @@ class OperatorView final : public OperatorScene {
 
   link::LinkClient client_;
   StereoViewRenderer renderer_;  ///< before the decoder: its upload ring outlives the decoder's frames
+  std::unique_ptr<video::MediaFrameSource> media_;  ///< before the decoder, which takes frames from it
   video::StereoFrameDecoder decoder_;
   OperatorViewOptions options_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();

@@ -3,6 +3,8 @@
 ///        drop accounting and per-stage latency figures.
 #include "xr/video/stereo_frame_decoder.h"
 
+#include "xr/video/lost_row_concealment.h"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -89,7 +91,8 @@ void StereoFrameDecoder::receive() {
       if (!in_flight_changed_.wait_for(lock, options_.poll, [&] { return in_flight_.size() < max_in_flight_; }))
         continue;
     }
-    if (auto received = client_.waitForFrame(options_.poll)) submitPair(std::move(*received));
+    auto received = options_.frame_source ? options_.frame_source(options_.poll) : client_.waitForFrame(options_.poll);
+    if (received) submitPair(std::move(*received));
   }
 }
 
@@ -158,6 +161,21 @@ void StereoFrameDecoder::finishPair(PairInFlight& pair) {
   out->frame.mutable_stamps()->set_decoded_ns(decoded_ns);
   out->left = std::move(left.planes);
   out->right = std::move(right.planes);
+  if (!received.left_lost_rows.empty() || !received.right_lost_rows.empty()) {
+    // Lost bands: the previous pair's rows where the link filled grey (same size only).
+    std::shared_ptr<const DecodedStereoFrame> previous;
+    {
+      std::lock_guard lock(slot_mutex_);
+      previous = slot_;
+    }
+    for (int i = 0; i < 2; ++i) {
+      const auto& lost = i == 0 ? received.left_lost_rows : received.right_lost_rows;
+      const render::YuvPlanes* before = previous ? (i == 0 ? previous->left : previous->right).get() : nullptr;
+      const auto counts = concealRows(*(i == 0 ? out->left : out->right), before, lost);
+      out->rows_concealed += counts.first;
+      out->rows_grey += counts.second;
+    }
+  }
   const link::proto::StageStamps stamps = out->frame.stamps();
 
   // Figures first, then the hand-over, so that a reader who got this pair sees it counted.
@@ -167,6 +185,9 @@ void StereoFrameDecoder::finishPair(PairInFlight& pair) {
   {
     std::lock_guard lock(stats_mutex_);
     ++decoded_;
+    if (out->rows_concealed > 0) ++frames_concealed_;
+    rows_concealed_ += static_cast<std::uint64_t>(out->rows_concealed);
+    rows_grey_ += static_cast<std::uint64_t>(out->rows_grey);
     for (const DecodeResult* r : {&left, &right}) ++(r->in_upload_slot ? images_in_upload_slots_ : images_in_own_memory_);
     const auto add = [&](int which, double value) {
       auto& d = samples_ms_[static_cast<std::size_t>(which)];
@@ -230,6 +251,9 @@ StereoDecodeStats StereoFrameDecoder::stats() const {
   s.replaced_unread = replaced_unread_;
   s.images_in_upload_slots = images_in_upload_slots_;
   s.images_in_own_memory = images_in_own_memory_;
+  s.frames_concealed = frames_concealed_;
+  s.rows_concealed = rows_concealed_;
+  s.rows_grey = rows_grey_;
   s.dropped_by_reason = dropped_;
   s.dropped_by_reason[static_cast<int>(FrameDropReason::kSuperseded)] = superseded;
   // Publications within the window before now (a stalled stream reads 0 fps).

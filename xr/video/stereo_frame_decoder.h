@@ -19,6 +19,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <future>
 #include <memory>
 #include <mutex>
@@ -35,6 +36,9 @@ namespace telesphere::xr::video {
 struct DecodedStereoFrame {
   link::proto::StereoFrame frame;  ///< as received, stamps.decoded_ns set (client clock)
   std::shared_ptr<const render::YuvPlanes> left, right;
+  /// Rows the link lost in either image: painted from the previous frame (or left grey when there
+  /// was none of that size).
+  int rows_concealed = 0, rows_grey = 0;
 };
 
 /// Why a stereo frame never reached the renderer (operator side, after the link's own checks).
@@ -55,6 +59,9 @@ struct StereoDecodeStats {
   std::uint64_t replaced_unread = 0;  ///< published pairs replaced before any reader got them
   std::uint64_t images_in_upload_slots = 0;  ///< images decoded straight into GL buffer memory
   std::uint64_t images_in_own_memory = 0;    ///< images decoded into the pool's memory (no free slot, or no ring)
+  std::uint64_t frames_concealed = 0;        ///< pairs published with rows painted from the previous pair
+  std::uint64_t rows_concealed = 0;          ///< image rows so painted (both images)
+  std::uint64_t rows_grey = 0;               ///< lost rows left grey (no previous image of that size)
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_by_reason{};
   std::uint64_t dropped(FrameDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
   LatencyFigure decode;               ///< one JPEG's decode on a worker
@@ -79,6 +86,9 @@ class StereoFrameDecoder {
     /// The renderer's upload ring: images are decoded into its GL buffer memory when a slot is
     /// free (null: always into the pool's own memory).
     std::shared_ptr<render::UploadSlotSource> upload_slots;
+    /// Where frames come from (null: the LinkClient's frame channel). Waits up to the given time
+    /// for the newest frame; the media path's receiver, for one.
+    std::function<std::optional<link::ReceivedFrame>(std::chrono::milliseconds)> frame_source;
   };
 
   /// Starts the receive thread on `client`, which must outlive this object.
@@ -124,6 +134,7 @@ class StereoFrameDecoder {
   std::uint64_t decoded_ = 0;
   std::uint64_t replaced_unread_ = 0;
   std::uint64_t images_in_upload_slots_ = 0, images_in_own_memory_ = 0;
+  std::uint64_t frames_concealed_ = 0, rows_concealed_ = 0, rows_grey_ = 0;
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_{};
   std::array<std::int64_t, static_cast<int>(FrameDropReason::kCount)> last_log_ns_{};
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> unlogged_{};

@@ -78,7 +78,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
     out->datagrams.push_back(std::move(datagram));
   };
   for (std::uint64_t i = 0; i < chunks; ++i) chunkAt(i, 0);
-  if (config_.repeat_headers) {
+  if (config_.repeat_headers && chunks >= config_.repeat_min_chunks) {
     // The chunks holding [0, meta + left header) and the right header, once more at the end.
     const std::uint64_t right_start = meta_bytes.size() + left_jpeg.size();
     const std::uint64_t first_end = meta_bytes.size() + meta.left().header_bytes();

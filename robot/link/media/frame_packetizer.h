@@ -2,7 +2,8 @@
 /// @brief The sending half of the media path's framing (DESIGN.md §9): a stereo frame and its two
 ///        JPEGs become datagrams [MediaFrameMeta | left | right] in equal chunks, the meta saying
 ///        where each JPEG's bands lie. The chunks that hold the meta and the two JPEG headers are
-///        sent twice (optional): without them no band of the frame can be used.
+///        sent twice (optional, and only in frames large enough that two more chunks cost little):
+///        without them no band of the frame can be used.
 ///        packet_seq and send_us are left 0; the pacer stamps them as it sends (stampForSending).
 #pragma once
 
@@ -26,7 +27,8 @@ class FramePacketizer {
  public:
   struct Config {
     std::size_t chunk_bytes = kMaxChunkBytes;  ///< 1..kMaxChunkBytes
-    bool repeat_headers = true;                ///< send the meta's and the JPEG headers' chunks twice
+    bool repeat_headers = true;                ///< send the meta's and the JPEG headers' chunks twice …
+    std::size_t repeat_min_chunks = 20;        ///< … in frames of at least this many chunks (≤ 10 % more)
   };
   /// stream: random per sending process (newLinkInstanceId's low 32 bits, never 0).
   FramePacketizer(std::uint32_t stream, Config config);

@@ -101,14 +101,18 @@ bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std
   PacketizedFrame packets;
   std::lock_guard lock(mutex_);
   ++stats_.frames_offered;
+  if (!receiver_) {  // before the packetizer: cutting a 4K frame costs a copy and a scan of it
+    ++stats_.frames_without_receiver;
+    return true;
+  }
   if (!packetizer_.packetize(frame, left_jpeg, right_jpeg, &packets, error)) {
     ++stats_.frames_refused;
     return false;
   }
-  if (!receiver_) {
-    ++stats_.frames_without_receiver;
-    return true;
-  }
+  std::size_t wire = 0;
+  for (const auto& d : packets.datagrams) wire += d.size() + 28;
+  const double ratio = static_cast<double>(wire) / static_cast<double>(std::max<std::size_t>(1, left_jpeg.size() + right_jpeg.size()));
+  wire_per_payload_ = 0.8 * wire_per_payload_ + 0.2 * ratio;
   if (waiting_) ++stats_.frames_superseded;
   waiting_ = std::move(packets);
   const std::uint64_t one = 1;
@@ -121,8 +125,14 @@ double MediaSender::targetBps() const {
   return rate_.targetBps();
 }
 
+double MediaSender::payloadBudgetBps() const {
+  std::lock_guard lock(mutex_);
+  return rate_.targetBps() / wire_per_payload_;
+}
+
 void MediaSender::setCapBps(double cap_bps) {
   std::lock_guard lock(mutex_);
+  cap_bps_ = cap_bps;
   rate_.setCapBps(cap_bps);
 }
 
@@ -136,6 +146,7 @@ MediaSenderStats MediaSender::stats() const {
   MediaSenderStats s = stats_;
   s.rate = rate_.stats();
   s.pacing_bps = options_.pacing_gain * rate_.targetBps();
+  s.framing_overhead = wire_per_payload_ - 1.0;
   return s;
 }
 
@@ -159,6 +170,7 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
       receiver_ = std::make_unique<Receiver>();
       receiver_->id = datagram->receiver;
       rate_ = SendRateController(options_.rate);
+      rate_.setCapBps(cap_bps_);  // the supervisor's cap outlives any receiver
     }
     std::memcpy(&receiver_->address, &from, length);
     receiver_->address_length = length;

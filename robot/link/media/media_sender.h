@@ -44,6 +44,7 @@ struct MediaSenderStats {
   std::uint64_t datagrams_sent = 0, bytes_sent = 0, send_errors = 0;
   std::uint64_t reports_received = 0, receiver_datagrams_refused = 0, receiver_changes = 0;
   double pacing_bps = 0;
+  double framing_overhead = 0;  ///< recent frames' datagram bytes over their JPEG bytes, less 1
   SendRateStats rate;
 };
 
@@ -60,8 +61,11 @@ class MediaSender {
   /// cut into datagrams.
   bool sendFrame(const proto::StereoFrame& frame, std::span<const std::uint8_t> left_jpeg,
                  std::span<const std::uint8_t> right_jpeg, std::string* error);
-  /// What the encoder should aim at (bits/s): the controller's target.
+  /// What the path may carry (bits/s, datagrams with their IP and UDP headers): the controller's target.
   double targetBps() const;
+  /// What the encoder should aim at (bits/s of JPEG): the target less the framing's share (headers,
+  /// meta, repeated chunks) as measured on the recent frames.
+  double payloadBudgetBps() const;
   /// The supervisor's cap (0: none).
   void setCapBps(double cap_bps);
   bool hasReceiver() const;
@@ -82,6 +86,8 @@ class MediaSender {
   std::optional<PacketizedFrame> current_;
   std::size_t next_datagram_ = 0;
   SendRateController rate_;
+  double cap_bps_ = 0;
+  double wire_per_payload_ = 1.05;  ///< datagram bytes (with IP/UDP) per JPEG byte, averaged
   MediaSenderStats stats_;
   struct Receiver;
   std::unique_ptr<Receiver> receiver_;

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+/// @brief VideoStreamer on the media path, in real time on loopback: replay cameras at 30 Hz →
+///        pairs → VideoStreamer → MediaSender (capped at 1 Mbit/s by the supervisor) →
+///        MediaReceiver. The stream gives up frame rate, then scale, to fit; the frames that
+///        arrive are smaller, decode, and together stay near the cap; without a receiver the
+///        stream stays nominal. About 5 s.
+#include <gtest/gtest.h>
+#include <turbojpeg.h>
+
+#include <cmath>
+#include <thread>
+
+#include "robot/cameras/replay_camera.h"
+#include "robot/clock/clock.h"
+#include "robot/link/link_server.h"
+#include "robot/link/media/media_receiver.h"
+#include "robot/link/media/media_sender.h"
+#include "robot/video/video_streamer.h"
+#include "tests/eventually.h"
+
+namespace telesphere::robot {
+namespace {
+
+using namespace std::chrono_literals;
+
+cameras::CameraFrame smoothFrame(int w, int h, double phase) {
+  cameras::CameraFrame f;
+  f.width = w;
+  f.height = h;
+  f.format = cameras::PixelFormat::kRgb8;
+  f.stride_bytes = w * 3;
+  auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(w) * std::size_t(h) * 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        (*pixels)[std::size_t((y * w + x) * 3 + c)] =
+            std::uint8_t(128 + 100 * std::sin(x / 37.0 + phase + c) * std::cos(y / 29.0 - c));
+  f.pixels = pixels;
+  return f;
+}
+
+cameras::ReplayCameraConfig camera(const char* name) {
+  cameras::ReplayCameraConfig c;
+  c.name = name;
+  c.fps = 30;
+  return c;
+}
+
+struct MediaRig {
+  explicit MediaRig(int port, double cap_bps)
+      : server(endpoints(port)),
+        left(clock, {smoothFrame(640, 360, 0.0)}, camera("left")),
+        right(clock, {smoothFrame(640, 360, 1.0)}, camera("right")),
+        pairs(left, right, stereo::StereoPairerOptions{.tolerance_ns = 5'000'000}) {
+    link::media::MediaSenderOptions options;
+    options.bind_address = "127.0.0.1";
+    options.port = static_cast<std::uint16_t>(port + link::LinkEndpoints::kMedia);
+    std::string error;
+    media = link::media::MediaSender::start(options, &error);
+    EXPECT_TRUE(media) << error;
+    if (cap_bps > 0) media->setCapBps(cap_bps);
+    video::VideoStreamerConfig config;
+    config.media = media.get();
+    config.adaptive.nominal_fps = 30;
+    streamer = std::make_unique<video::VideoStreamer>(pairs, server, clock, nullptr, config);
+    left.start(&error);
+    right.start(&error);
+    pairs.start();
+    streamer->start();
+  }
+  ~MediaRig() {
+    streamer->stop();
+    pairs.stop();
+    left.stop();
+    right.stop();
+  }
+  static link::LinkEndpoints endpoints(int port) {
+    link::LinkEndpoints e;
+    e.base_port = port;
+    return e;
+  }
+
+  clock::SteadyClock clock;
+  link::LinkServer server;
+  cameras::ReplayCamera left, right;
+  stereo::StereoPairSource pairs;
+  std::unique_ptr<link::media::MediaSender> media;
+  std::unique_ptr<video::VideoStreamer> streamer;
+};
+
+TEST(VideoStreamerMedia, WithoutAReceiverTheStreamStaysNominalButCarriesRestartMarkers) {
+  MediaRig rig(27410, 0);
+  ASSERT_TRUE(telesphere::test::eventually([&] { return rig.streamer->stats().frames_sent >= 10; }, 5000ms));
+  const auto s = rig.streamer->stats();
+  EXPECT_FALSE(s.stream_adapted);
+  EXPECT_EQ(s.width, 640);
+  EXPECT_EQ(s.frames_skipped_for_rate, 0u);
+  EXPECT_GT(rig.media->stats().frames_without_receiver, 0u);
+}
+
+TEST(VideoStreamerMedia, ACapOfOneMegabitGivesUpFrameRateThenScaleAndTheFramesStillDecode) {
+  MediaRig rig(27420, 1e6);
+  link::media::MediaReceiverOptions options;
+  options.sender_port = static_cast<std::uint16_t>(27420 + link::LinkEndpoints::kMedia);
+  std::string error;
+  auto receiver = link::media::MediaReceiver::start(options, &error);
+  ASSERT_TRUE(receiver) << error;
+  ASSERT_TRUE(telesphere::test::eventually([&] { return rig.media->hasReceiver(); }, 3000ms));
+  // Two seconds to settle, then three measured.
+  std::this_thread::sleep_for(2s);
+  const auto before = rig.media->stats();
+  std::vector<link::media::AssembledFrame> got;
+  const auto end = std::chrono::steady_clock::now() + 3s;
+  while (std::chrono::steady_clock::now() < end)
+    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
+  const auto after = rig.media->stats();
+  const auto s = rig.streamer->stats();
+  const double mbit_per_s = 8.0 * static_cast<double>(after.bytes_sent - before.bytes_sent) / 3.0 * 1e-6;
+  std::printf("cap 1 Mbit/s: %.2f Mbit/s sent, stream %.1f Hz, scale %.2f, q%d (%s), %zu frames in 3 s\n", mbit_per_s,
+              s.stream.fps, s.stream.scale, s.stream.quality, video::streamLimitedByName(s.stream.limited_by), got.size());
+  EXPECT_TRUE(s.stream_adapted);
+  EXPECT_LT(s.stream.scale, 1.0) << "15 Hz of 640x360 stereo at q90 is about 7 Mbit/s: the scale must go";
+  EXPECT_GT(s.frames_skipped_for_rate, 0u);
+  EXPECT_LT(mbit_per_s, 1.15) << "the framing's own bytes count against the cap too";
+  ASSERT_GE(got.size(), 20u);
+  tjhandle d = tjInitDecompress();
+  for (const auto& f : got) {
+    int w = 0, h = 0, samp = 0, cs = 0;
+    ASSERT_EQ(tjDecompressHeader3(d, f.left_jpeg.data(), f.left_jpeg.size(), &w, &h, &samp, &cs), 0);
+    EXPECT_LT(w, 640);
+    EXPECT_EQ(static_cast<std::uint32_t>(w), f.stereo.left().width()) << "the message says the scaled size";
+  }
+  tjDestroy(d);
+}
+
+}  // namespace
+}  // namespace telesphere::robot

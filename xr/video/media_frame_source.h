@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+/// @brief The media path (robot/link/media) as a source of stereo frames for the
+///        StereoFrameDecoder: a MediaReceiver towards the robot's UDP media port, its frames
+///        handed over as link::ReceivedFrame with the rows it filled (DESIGN.md §9).
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "robot/link/link_client.h"
+#include "robot/link/media/media_receiver.h"
+
+namespace telesphere::xr::video {
+
+class MediaFrameSource {
+ public:
+  /// Opens the receiver towards host:port; nothing, with the reason in *error.
+  static std::unique_ptr<MediaFrameSource> open(const std::string& host, int port, std::string* error);
+
+  /// The newest frame, waiting up to `timeout` (StereoFrameDecoder::Options::frame_source).
+  std::optional<link::ReceivedFrame> waitFrame(std::chrono::milliseconds timeout);
+  link::media::MediaReceiverStats stats() const { return receiver_->stats(); }
+
+ private:
+  explicit MediaFrameSource(std::unique_ptr<link::media::MediaReceiver> receiver) : receiver_(std::move(receiver)) {}
+  std::unique_ptr<link::media::MediaReceiver> receiver_;
+};
+
+}  // namespace telesphere::xr::video
