@@ -32,6 +32,7 @@ struct OffscreenCommandOptions {
   std::string replay;  ///< a recording (MCAP) to render offline instead of the robot
   std::string views;   ///< with replay: a live run's views.csv, rendered instead of display frames
   std::string video_link = "zmq";  ///< zmq: the ZeroMQ link; udp: the media path (port + 4)
+  int media_port = 0;              ///< the media path's UDP port when not port + 4 (a relay's)
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

@@ -60,11 +60,18 @@ double StreamSettingsController::bitsPerFrame(double scale, int quality) const {
   return bits_per_pixel_q90_ * jpegSizeRelativeToQ90(quality) * limits_.pixels_per_frame * scale * scale;
 }
 
+void StreamSettingsController::setSourceFps(double fps) {
+  source_fps_ = std::isfinite(fps) && fps > 0 ? fps : limits_.nominal_fps;
+}
+
 StreamSettings StreamSettingsController::decide(double target_bits_per_s, std::int64_t now_ns) {
   const double rate = std::isnan(target_bits_per_s) ? 0.0 : std::max(0.0, target_bits_per_s);
   const int qn = limits_.nominal_quality;
+  // A source slower than nominal (a camera, or a robot PC, that cannot keep up) lowers both.
+  const double nominal_fps = std::min(limits_.nominal_fps, source_fps_);
+  const double floor_fps = std::min(limits_.scale_floor_fps, source_fps_);
   const auto fitsAtFloor = [&](std::size_t i, double margin) {
-    return rate >= margin * bitsPerFrame(limits_.scales[i], qn) * limits_.scale_floor_fps;
+    return rate >= margin * bitsPerFrame(limits_.scales[i], qn) * floor_fps;
   };
   // Down at once while even the floor frame rate at nominal quality does not fit.
   while (scale_index_ + 1 < limits_.scales.size() && !fitsAtFloor(scale_index_, 1.0)) {
@@ -86,9 +93,9 @@ StreamSettings StreamSettingsController::decide(double target_bits_per_s, std::i
   out.scale = limits_.scales[scale_index_];
   out.quality = qn;
   if (fitsAtFloor(scale_index_, 1.0)) {
-    out.fps = std::min(limits_.nominal_fps, rate / bitsPerFrame(out.scale, qn));
+    out.fps = std::min(nominal_fps, rate / bitsPerFrame(out.scale, qn));
     out.limited_by = scale_index_ > 0                ? StreamLimitedBy::kScale
-                     : out.fps < limits_.nominal_fps ? StreamLimitedBy::kFrameRate
+                     : out.fps < nominal_fps ? StreamLimitedBy::kFrameRate
                                                      : StreamLimitedBy::kNothing;
   } else {
     // The smallest scale at the floor frame rate: the best quality that fits, else the lowest
@@ -96,18 +103,18 @@ StreamSettings StreamSettingsController::decide(double target_bits_per_s, std::i
     out.limited_by = StreamLimitedBy::kFrameRateBelowFloor;
     out.quality = limits_.min_quality;
     for (int q = qn - 1; q >= limits_.min_quality; --q) {
-      if (bitsPerFrame(out.scale, q) * limits_.scale_floor_fps <= rate) {
+      if (bitsPerFrame(out.scale, q) * floor_fps <= rate) {
         out.quality = q;
         out.limited_by = StreamLimitedBy::kQuality;
         break;
       }
     }
     if (out.limited_by == StreamLimitedBy::kQuality) {
-      out.fps = limits_.scale_floor_fps;
+      out.fps = floor_fps;
     } else {
       const double fps = rate / bitsPerFrame(out.scale, out.quality);
       if (fps < limits_.min_fps) ++stats_.over_budget;
-      out.fps = std::clamp(fps, limits_.min_fps, limits_.scale_floor_fps);
+      out.fps = std::clamp(fps, std::min(limits_.min_fps, floor_fps), floor_fps);
     }
   }
   out.predicted_bits_per_s = bitsPerFrame(out.scale, out.quality) * out.fps;

@@ -68,6 +68,10 @@ class StreamSettingsController {
 
   /// The settings for the next frame at now_ns for a target rate (bit/s; NaN or < 0 count as 0).
   StreamSettings decide(double target_bits_per_s, std::int64_t now_ns);
+  /// The rate frames actually arrive at (a camera or a robot PC slower than nominal_fps): the
+  /// decisions then use min(nominal_fps, fps) and min(scale_floor_fps, fps), so a slow source
+  /// is not scaled down for frames it never sends. NaN or ≤ 0: back to nominal_fps.
+  void setSourceFps(double fps);
   /// A frame encoded at `used` came out `bytes` long: learn bits per pixel at q90 from it.
   void observeFrame(const StreamSettings& used, std::size_t bytes);
 
@@ -78,6 +82,7 @@ class StreamSettingsController {
 
  private:
   StreamSettingsLimits limits_;
+  double source_fps_ = 1e9;  ///< no limit until setSourceFps
   double bits_per_pixel_q90_;
   std::size_t scale_index_ = 0;
   std::int64_t last_scale_change_ns_ = 0;

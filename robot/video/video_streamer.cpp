@@ -54,6 +54,12 @@ void VideoStreamer::run() {
 
 bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   const std::int64_t start_ns = clock_.nowNs();
+  // The rate pairs come at (a camera or this PC slower than nominal): the adaptation uses it.
+  if (last_pair_ns_ != 0) {
+    const double dt = static_cast<double>(start_ns - last_pair_ns_);
+    pair_interval_ns_ = pair_interval_ns_ == 0 ? dt : 0.9 * pair_interval_ns_ + 0.1 * dt;
+  }
+  last_pair_ns_ = start_ns;
   JpegSettings jpeg = encoder_.settings();
   StreamSettings stream;
   stream.fps = config_.adaptive.nominal_fps;
@@ -70,6 +76,7 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
       limits.min_quality = std::min(limits.min_quality, jpeg.quality);
       stream_settings_.emplace(limits);
     }
+    if (pair_interval_ns_ > 0) stream_settings_->setSourceFps(1e9 / pair_interval_ns_);
     stream = stream_settings_->decide(config_.media->payloadBudgetBps(), start_ns);
     // The cameras' period, less half of it: a 45 Hz camera asked for 15 Hz sends every third pair.
     const double period_ns = 1e9 / stream.fps - 0.5e9 / config_.adaptive.nominal_fps;

@@ -93,6 +93,8 @@ class VideoStreamer {
   StereoEncoder encoder_;
   std::optional<StreamSettingsController> stream_settings_;
   std::int64_t last_sent_ns_ = 0;
+  std::int64_t last_pair_ns_ = 0;
+  double pair_interval_ns_ = 0;  ///< averaged time between pairs
   std::uint64_t sequence_ = 0;
   mutable std::mutex stats_mutex_;
   VideoStreamerStats stats_;

@@ -44,6 +44,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   view_options.render = options.render;
   view_options.upload_ring_slots = options.upload_ring_slots;
   view_options.media_link = options.media_link;
+  view_options.media_port = options.media_port;
   OperatorView operator_view(calibration, view_options);
 
   using Clock = std::chrono::steady_clock;

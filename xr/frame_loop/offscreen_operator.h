@@ -37,6 +37,7 @@ struct OffscreenOperatorOptions {
   std::string truth_dir;
   int truth_every_frames = 10;
   bool media_link = false;  ///< frames over the UDP media path (OperatorViewOptions::media_link)
+  int media_port = 0;       ///< its port when not base port + 4
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

@@ -31,8 +31,8 @@ video::StereoFrameDecoder::Options decoderOptions(const StereoViewRenderer& rend
 std::unique_ptr<video::MediaFrameSource> openMedia(const OperatorViewOptions& options) {
   if (!options.media_link) return nullptr;
   std::string error;
-  auto media = video::MediaFrameSource::open(options.endpoints.host,
-                                             options.endpoints.base_port + link::LinkEndpoints::kMedia, &error);
+  const int port = options.media_port > 0 ? options.media_port : options.endpoints.base_port + link::LinkEndpoints::kMedia;
+  auto media = video::MediaFrameSource::open(options.endpoints.host, port, &error);
   if (!media) throw std::runtime_error(error);
   return media;
 }

@@ -73,6 +73,7 @@ struct OperatorViewOptions {
   int upload_ring_slots = StereoViewRenderer::kDefaultUploadSlots;
   /// Frames over the robot's UDP media path (port + 4; DESIGN.md §9) instead of the ZeroMQ link.
   bool media_link = false;
+  int media_port = 0;  ///< its UDP port when not endpoints.base_port + 4 (a relay in between)
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).

@@ -59,6 +59,9 @@ std::unique_ptr<UdpRelay> UdpRelay::start(const UdpRelayOptions& options, std::s
   const sockaddr_in server = loopback(options.server_port);
   if (::connect(server_fd, reinterpret_cast<const sockaddr*>(&server), sizeof server) != 0)
     return fail("relay: connect 127.0.0.1:" + std::to_string(options.server_port), client_fd, server_fd);
+  // Room for bursts while the relay's thread is busy (the kernel may grant less).
+  const int buffer_bytes = 4 << 20;
+  for (const int fd : {client_fd, server_fd}) ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &buffer_bytes, sizeof buffer_bytes);
   return std::unique_ptr<UdpRelay>(new UdpRelay(options, client_fd, server_fd, ntohs(bound.sin_port)));
 }
 
@@ -101,25 +104,28 @@ void UdpRelay::run() {
     const timespec wait{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
     ::ppoll(fds, 2, &wait, nullptr);
     std::lock_guard lock(mutex_);
-    if (fds[0].revents & POLLIN) {
+    // Everything waiting, not one datagram per wake-up: a relay that lags adds its own queue.
+    while (fds[0].revents & POLLIN) {
       sockaddr_in from{};
       socklen_t length = sizeof from;
-      const ssize_t n = ::recvfrom(client_fd_, buffer.data(), buffer.size(), 0,
+      const ssize_t n = ::recvfrom(client_fd_, buffer.data(), buffer.size(), MSG_DONTWAIT,
                                    reinterpret_cast<sockaddr*>(&from), &length);
-      if (n >= 0) {
-        client = from;
-        to_server_.offer({buffer.begin(), buffer.begin() + n}, steadyNowNs() - start_ns);
-      }
+      if (n < 0) break;
+      client = from;
+      to_server_.offer({buffer.begin(), buffer.begin() + n}, steadyNowNs() - start_ns);
     }
-    if (fds[1].revents & POLLIN) {
-      const ssize_t n = ::recv(server_fd_, buffer.data(), buffer.size(), 0);
-      if (n >= 0) to_client_.offer({buffer.begin(), buffer.begin() + n}, steadyNowNs() - start_ns);
+    while (fds[1].revents & POLLIN) {
+      const ssize_t n = ::recv(server_fd_, buffer.data(), buffer.size(), MSG_DONTWAIT);
+      if (n < 0) break;
+      to_client_.offer({buffer.begin(), buffer.begin() + n}, steadyNowNs() - start_ns);
     }
     const std::int64_t now_ns = steadyNowNs() - start_ns;
     for (const PathPacket& packet : to_server_.arrivedBy(now_ns)) {
       if (::send(server_fd_, packet.bytes.data(), packet.bytes.size(), 0) < 0) ++send_errors_;
+      if (options_.on_arrival) options_.on_arrival(packet, false);
     }
     for (const PathPacket& packet : to_client_.arrivedBy(now_ns)) {
+      if (options_.on_arrival) options_.on_arrival(packet, true);
       if (!client || ::sendto(client_fd_, packet.bytes.data(), packet.bytes.size(), 0,
                               reinterpret_cast<const sockaddr*>(&*client), sizeof *client) < 0)
         ++send_errors_;

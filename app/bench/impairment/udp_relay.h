@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -24,6 +25,9 @@ struct UdpRelayOptions {
   std::uint16_t server_port = 0;   ///< the server, on 127.0.0.1
   PathOptions to_server;           ///< client → server
   PathOptions to_client;           ///< server → client
+  /// Called on the relay's thread for every packet as it leaves a path (to_client: towards the
+  /// client), with its times on the relay's clock (ns since it started); may be empty.
+  std::function<void(const PathPacket& packet, bool to_client)> on_arrival;
 };
 
 struct UdpRelayStats {

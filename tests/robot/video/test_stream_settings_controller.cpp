@@ -167,6 +167,29 @@ TEST(StreamSettingsController, TheQualityCurveFollowsTheMeasuredTable) {
   for (int q = 1; q <= 100; ++q) EXPECT_GT(jpegSizeRelativeToQ90(q), jpegSizeRelativeToQ90(q - 1)) << q;
 }
 
+TEST(StreamSettingsController, ASlowSourceIsNotScaledForFramesItNeverSends) {
+  // 1080p stereo at 1 bit per pixel: 4.15 Mbit a frame. 50 Mbit/s carries 12 frames a second at
+  // full scale, not the 15 Hz floor: a 45 Hz camera is scaled down, a 10 Hz one need not be.
+  const double bits = 2.0 * 1920 * 1080;
+  StreamSettingsController fast(limits1080p()), slow(limits1080p());
+  slow.setSourceFps(10);
+  const StreamSettings f = fast.decide(50e6, 0);
+  const StreamSettings s = slow.decide(50e6, 0);
+  EXPECT_LT(f.scale, 1.0);
+  EXPECT_DOUBLE_EQ(s.scale, 1.0);
+  EXPECT_DOUBLE_EQ(s.fps, 10.0);
+  EXPECT_EQ(s.quality, 90);
+  EXPECT_EQ(s.limited_by, StreamLimitedBy::kNothing);
+  EXPECT_LE(s.fps * bits, 50e6);
+  // 30 Mbit/s: 7.2 frames at full scale; a 10 Hz source gives up rate to 7.2 Hz, then scale at its floor.
+  const StreamSettings t = slow.decide(30e6, 1);
+  EXPECT_LT(t.scale, 1.0);
+  EXPECT_LE(t.fps, 10.0);
+  // Back to nominal on a nonsense rate.
+  slow.setSourceFps(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_LT(slow.decide(50e6, 2).scale, 1.0);
+}
+
 TEST(StreamSettingsController, BadLimitsAreNamed) {
   StreamSettingsLimits l = limits1080p();
   EXPECT_TRUE(checkStreamSettingsLimits(l).empty());
