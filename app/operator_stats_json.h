@@ -34,7 +34,11 @@ inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats&
           {"media_bands_lost", s.media_bands_lost},
           {"frames_concealed", s.frames_concealed},
           {"rows_concealed", s.rows_concealed},
-          {"rows_grey", s.rows_grey}};
+          {"rows_grey", s.rows_grey},
+          {"frames_tinted", s.frames_tinted},
+          {"frames_stale", s.frames_stale},
+          {"frames_stream_below_nominal", s.frames_stream_below_nominal},
+          {"frames_robot_behind", s.frames_robot_behind}};
 }
 
 }  // namespace telesphere::app

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 // @brief What every sphere render path shares: the ray–sphere intersection, and sampling the
 //        camera image (RGB or float texture, or JPEG-native YUV planes converted here; greyscale
-//        is YUV with neutral 1×1 chroma planes) times the image gain, with the border colour
-//        outside the image. TS_SOURCE_YUV selects the YUV planes.
+//        is YUV with neutral 1×1 chroma planes) at the image saturation, times the image gain,
+//        with the border colour outside the image. TS_SOURCE_YUV selects the YUV planes.
 
 uniform vec4 u_border;      // colour of pixels the camera did not see
 uniform vec2 u_image_size;  // camera image width, height (px)
 uniform float u_image_gain; // the camera image's brightness factor (1: as captured)
+uniform float u_image_saturation;  // its colour (0: grey, 1: as captured)
 
 #if TS_SOURCE_YUV
 layout(binding = 0) uniform sampler2D u_plane_y;  // full size
@@ -42,10 +43,12 @@ vec4 sampleCamera(vec2 px) {
   float y = texture(u_plane_y, uv).r;
   float cb = texture(u_plane_u, uv).r - 128.0 / 255.0;
   float cr = texture(u_plane_v, uv).r - 128.0 / 255.0;
-  vec3 rgb = vec3(y + 1.402 * cr, y - 0.344136 * cb - 0.714136 * cr, y + 1.772 * cb);
-  return vec4(u_image_gain * clamp(rgb, 0.0, 1.0), 1.0);
+  vec3 rgb = clamp(vec3(y + 1.402 * cr, y - 0.344136 * cb - 0.714136 * cr, y + 1.772 * cb), 0.0, 1.0);
+  float luma = dot(rgb, vec3(0.299, 0.587, 0.114));
+  return vec4(u_image_gain * mix(vec3(luma), rgb, u_image_saturation), 1.0);
 #else
   vec4 c = texture(u_image, uv);
-  return vec4(u_image_gain * c.rgb, c.a);
+  float luma = dot(c.rgb, vec3(0.299, 0.587, 0.114));
+  return vec4(u_image_gain * mix(vec3(luma), c.rgb, u_image_saturation), c.a);
 #endif
 }

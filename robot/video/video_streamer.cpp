@@ -130,6 +130,15 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   message.mutable_stamps()->set_encoded_ns(std::max(encoded.left.encoded_ns, encoded.right.encoded_ns));
   const std::int64_t capture_ns = message.stamps().capture_ns();
   const std::int64_t encoded_ns = message.stamps().encoded_ns();
+  if (config_.media) {
+    link::proto::StreamState* state = message.mutable_stream();
+    state->set_adapted(adapted && stream.limited_by != StreamLimitedBy::kNothing);
+    state->set_fps(stream.fps);
+    state->set_scale(stream.scale);
+    state->set_quality(static_cast<std::uint32_t>(jpeg.quality));
+    state->set_limited_by(streamLimitedByName(stream.limited_by));
+    state->set_target_mbit(config_.media->targetBps() * 1e-6);
+  }
   const std::uint64_t sequence = message.sequence();
   bool media_refused = false;
   if (config_.media) {

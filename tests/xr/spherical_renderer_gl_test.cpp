@@ -5,6 +5,8 @@
 ///        double-precision reference, in camera pixels.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -315,6 +317,66 @@ TEST_F(RendererGl, GreyscaleFramesAndTheImageGainMatchTheReference) {
   // A gain outside [0, 1] is refused.
   render::RenderSettings bad;
   bad.image_gain = 1.5f;
+  EXPECT_TRUE(render::checkRenderSettings(bad));
+}
+
+TEST_F(RendererGl, TheImageSaturationMatchesTheReferenceOnRgbAndYuvImages) {
+  // A stale image is shown grey (xr/frame_loop/link_state_overlay.h): saturation 0 is R = G = B at
+  // the BT.601 luma, 1 the image as it was, and the border keeps its colour.
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  const int w = kImageWidth, h = kImageHeight;
+  std::vector<std::uint8_t> y(static_cast<std::size_t>(w) * h), u(static_cast<std::size_t>(w / 2) * (h / 2)),
+      v(u.size());
+  for (int r = 0; r < h; ++r)
+    for (int c = 0; c < w; ++c) y[static_cast<std::size_t>(r) * w + c] = std::uint8_t(60 + (2 * c + r) % 140);
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    u[i] = std::uint8_t(40 + i % 170);
+    v[i] = std::uint8_t(220 - i % 150);
+  }
+  // Y, Cb, Cr one after the other (SourceImage::yuv's concatenated form).
+  std::vector<std::uint8_t> yuv(y.size() + u.size() + v.size());
+  for (std::size_t i = 0; i < yuv.size(); ++i)
+    yuv[i] = i < y.size() ? y[i] : i < y.size() + u.size() ? u[i - y.size()] : v[i - y.size() - u.size()];
+  const render::SourceImage images[] = {render::SourceImage::rgb8(w, h, testPicture(w, h)),
+                                        render::SourceImage::yuv(w, h, w / 2, h / 2, yuv)};
+  const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  for (const render::SourceImage& image : images) {
+    ASSERT_TRUE(image.consistent());
+    render::GpuCamera gpu(camera, w, h);
+    std::string error;
+    ASSERT_TRUE(gpu.upload(image, &error)) << error;
+    for (const float saturation : {1.0f, 0.5f, 0.0f}) {
+      render::RenderSettings s;
+      s.border_rgba = {1.0f, 0.0f, 1.0f, 1.0f};
+      s.image_saturation = saturation;
+      gl::OffscreenTarget target(view.width, view.height, GL_RGBA32F);
+      ASSERT_TRUE(renderer_->render(gpu, view, s, target.framebuffer()));
+      const auto out = target.readRgbaF();
+      const auto ref = render::renderReference(camera, image, view, s);
+      ASSERT_TRUE(ref);
+      int mismatched = 0, coloured = 0, checked = 0;
+      for (std::size_t i = 0; i < out.size(); i += 4) {
+        bool flip = false;
+        for (int c = 0; c < 4; ++c) flip |= std::abs(out[i + c] - ref->rgba[i + c]) > 4.0 / 255.0;
+        mismatched += flip;  // a validity flip at the image edge
+        const bool border = ref->rgba[i] == 1.0f && ref->rgba[i + 1] == 0.0f && ref->rgba[i + 2] == 1.0f;
+        if (flip || border) continue;
+        ++checked;
+        const float spread = std::max({out[i], out[i + 1], out[i + 2]}) - std::min({out[i], out[i + 1], out[i + 2]});
+        if (saturation == 0.0f) {
+          EXPECT_LT(spread, 1.5f / 255.0f);
+        }
+        coloured += spread > 10.0f / 255.0f;
+      }
+      EXPECT_LE(mismatched, 10) << "saturation " << saturation;
+      EXPECT_GT(checked, int(out.size() / 4 / 2)) << "saturation " << saturation;
+      if (saturation == 1.0f) {
+        EXPECT_GT(coloured, checked / 2) << "the test images are colourful";
+      }
+    }
+  }
+  render::RenderSettings bad;
+  bad.image_saturation = -0.1f;
   EXPECT_TRUE(render::checkRenderSettings(bad));
 }
 

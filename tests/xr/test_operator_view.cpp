@@ -75,17 +75,17 @@ class OperatorViewTest : public ::testing::Test {
   /// Publishes a 64×36 stereo frame (the calibration's 16:9) with both cameras looking along
   /// the robot's -z (left at x = -0.03 m, right at +0.03 m).
   void publishFrame(link::proto::PoseSource pose_source = link::proto::POSE_SOURCE_JOINT_BUFFER,
-                    std::uint64_t calibration_generation = 0) {
+                    std::uint64_t calibration_generation = 0, std::int64_t age_ns = 5'000'000) {
     link::proto::StereoFrame f;
     f.set_sequence(++sequence_);
     f.set_calibration_generation(calibration_generation);
     const std::int64_t now = link::linkNowNs();
-    f.mutable_stamps()->set_capture_ns(now - 5'000'000);
+    f.mutable_stamps()->set_capture_ns(now - age_ns);
     for (int i = 0; i < 2; ++i) {
       auto* image = i == 0 ? f.mutable_left() : f.mutable_right();
       image->set_width(64);
       image->set_height(36);
-      image->set_capture_ns(now - 5'000'000);
+      image->set_capture_ns(now - age_ns);
       Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
       T_robot_cam.translation().x() = i == 0 ? -0.03 : 0.03;
       link::toLinkPose(T_robot_cam, image->mutable_t_robot_cam());
@@ -373,6 +373,36 @@ TEST_F(OperatorViewTest, ARestartedRobotCountingFromOneAgainIsShown) {
     return shown_frame() && view_->frame()->frame.sequence() < 5000u;
   })) << "frames of the restarted robot must replace the old ones";
   EXPECT_GT(view_->stats().stereo_frames_shown, shown_before);
+}
+
+TEST_F(OperatorViewTest, AnImageOlderThanOneSecondIsShownGreyInARedBorder) {
+  // Captured 1.5 s before it is shown (a link that stalled): the operator must see it is old.
+  std::string error;
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame(link::proto::POSE_SOURCE_JOINT_BUFFER, 0, 1'500'000'000);
+    return frame(0, &error) && view_->hasImage();
+  })) << error;
+  EXPECT_EQ(view_->settings().image_saturation, 0.0f);
+  const auto pixels = renderLeft();
+  EXPECT_EQ(pixels[0], 217) << "the red border";
+  EXPECT_EQ(pixels[1], 38);
+  // Below the "STALE" words (which span this small view's top two thirds), inside the border.
+  std::size_t grey = 0, coloured = 0;
+  for (int y = 23; y < 30; ++y)
+    for (int x = 2; x < 30; ++x) {
+      const std::uint8_t* p = &pixels[(static_cast<std::size_t>(y) * 32 + x) * 4];
+      if (p[0] == 0 && p[1] == 0 && p[2] == 255) continue;  // the view's blue border colour
+      (std::abs(p[0] - p[1]) <= 1 && std::abs(p[2] - p[1]) <= 1 ? grey : coloured) += 1;
+    }
+  EXPECT_GT(grey, 100u);
+  EXPECT_EQ(coloured, 0u);
+  view_->endFrame(link::linkNowNs(), 1.0, 0);
+  EXPECT_GE(view_->stats().frames_stale, 1u);
+  // A fresh frame brings the colour back.
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    publishFrame();
+    return frame(0, &error) && view_->settings().image_saturation == 1.0f;
+  })) << error;
 }
 
 TEST_F(OperatorViewTest, GreyscaleFramesFromAMono8CameraAreShown) {

@@ -107,6 +107,20 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
   if (!renderer_.setFrame(show, error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
+  // The link's cues for this display: the image's age when it is shown, the stream's settings.
+  link_state_ = LinkState{};
+  if (const auto& frame = renderer_.frame()) {
+    const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
+    const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
+    link_state_.image_age_ms = double(display_ns - capture) * 1e-6;
+    link_state_.stream_text = streamText(frame->frame.stream());
+  }
+  const float saturation = imageSaturationFor(link_state_.image_age_ms, options_.link_state);
+  if (renderer_.settings().image_saturation != saturation) {
+    render::RenderSettings settings = renderer_.settings();
+    settings.image_saturation = saturation;
+    renderer_.setSettings(settings);
+  }
   if (uploaded_this_frame_ns_ >= 0) {
     last_new_frame_ns_ = frame_begin_ns_;
     if (robot_silent_) spdlog::info("operator view: camera frames from the robot again");
@@ -229,8 +243,19 @@ bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const r
     const Eigen::Vector3d p_robot_eye = T_robot_vr_ * T_vr_eye.translation();
     const auto& t = renderer_.frame()->frame.left().t_robot_cam();
     telemetry_frame_.set_eye_camera_distance_m((p_robot_eye - Eigen::Vector3d(t.tx(), t.ty(), t.tz())).norm());
+    // Behind only where the head follows in 6D: in the other modes the eye leaves the camera by design.
+    if (renderer_.settings().mode == link::VisualMode::kFull6d)
+      link_state_.eye_camera_distance_m = telemetry_frame_.eye_camera_distance_m();
   }
   if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
+  drawLinkState(framebuffer, view.width, view.height, link_state_, options_.link_state);
+  if (eye == 0) {
+    const Staleness staleness = stalenessOf(link_state_.image_age_ms, options_.link_state);
+    if (staleness == Staleness::kTinted) ++stats_.frames_tinted;
+    if (staleness == Staleness::kStale) ++stats_.frames_stale;
+    if (!link_state_.stream_text.empty()) ++stats_.frames_stream_below_nominal;
+    if (robotBehind(link_state_, options_.link_state)) ++stats_.frames_robot_behind;
+  }
   if (trial_.running()) {
     drawTrialIndicator(framebuffer, view.width, view.height, trial_.elapsed_s(), trial_.time_limit_s());
     if (eye == 0) telemetry_frame_.set_trial_indicator_shown(true);

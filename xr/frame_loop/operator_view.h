@@ -49,6 +49,7 @@
 #include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_endpoints.h"
+#include "xr/frame_loop/link_state_overlay.h"
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/render/eye_view.h"
 #include "xr/video/media_frame_source.h"
@@ -74,6 +75,8 @@ struct OperatorViewOptions {
   /// Frames over the robot's UDP media path (port + 4; DESIGN.md §9) instead of the ZeroMQ link.
   bool media_link = false;
   int media_port = 0;  ///< its UDP port when not endpoints.base_port + 4 (a relay in between)
+  /// When the picture is too old, the stream below nominal, the robot behind (link_state_overlay.h).
+  LinkStateOptions link_state;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -103,6 +106,9 @@ struct OperatorViewStats {
   std::uint64_t media_datagrams = 0, media_frames_whole = 0, media_frames_concealed = 0, media_frames_lost = 0;
   std::uint64_t media_bands_lost = 0;
   std::uint64_t frames_concealed = 0, rows_concealed = 0, rows_grey = 0;  ///< painted from the previous frame
+  /// Display frames with the link's cues (link_state_overlay.h): border tinted (image older than
+  /// 250 ms), stale (older than 1 s: grey), the stream below nominal, the robot behind.
+  std::uint64_t frames_tinted = 0, frames_stale = 0, frames_stream_below_nominal = 0, frames_robot_behind = 0;
   std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
 };
 
@@ -210,6 +216,7 @@ class OperatorView final : public OperatorScene {
   std::int64_t last_stats_ns_ = 0;
   std::uint64_t frames_at_last_stats_ = 0;
   link::proto::XrFrame telemetry_frame_;  ///< the sample of the frame in progress
+  LinkState link_state_;                  ///< the cues of the frame in progress
   link::proto::XrTelemetry telemetry_;    ///< the batch in progress
   std::int64_t last_telemetry_ns_ = 0;
   std::uint64_t missed_at_last_frame_ = 0;

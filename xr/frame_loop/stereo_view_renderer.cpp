@@ -122,6 +122,7 @@ bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T
   render::RenderSettings settings = settings_;
   settings.border_rgba.setZero();  // alpha 0: no camera pixel
   settings.image_gain = 1.0f;      // coordinates, not colours
+  settings.image_saturation = 1.0f;
   return renderer_.render(*coordinates_[eye], view, settings, framebuffer, error);
 }
 

@@ -68,6 +68,7 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& s) {
   }
   if (!s.border_rgba.allFinite()) return "border colour has a NaN or infinite component";
   if (!(s.image_gain >= 0.0f && s.image_gain <= 1.0f)) return "image gain must be within [0, 1]";
+  if (!(s.image_saturation >= 0.0f && s.image_saturation <= 1.0f)) return "image saturation must be within [0, 1]";
   if (auto e = checkPose(s.T_cam_eye_fixed)) return "T_cam_eye_fixed: " + *e;
   if (s.mesh_rings < 2 || s.mesh_segments < 3 || s.mesh_rings > 4096 || s.mesh_segments > 8192)
     return "mesh tessellation must have 2..4096 rings and 3..8192 segments";

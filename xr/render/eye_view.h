@@ -64,6 +64,9 @@ struct RenderSettings {
   /// The camera image's colour is multiplied by this (0…1; the border is not): the operator
   /// view dims a frame whose camera pose was not measured (OperatorView).
   float image_gain = 1.0f;
+  /// The camera image's colour saturation (0: grey, 1: as captured; the border keeps its colour):
+  /// the operator view shows an image too old to trust in grey (link_state_overlay.h).
+  float image_saturation = 1.0f;
   /// The head-locked pose of mode fixed (default: eye at the camera, looking along its axis).
   Eigen::Isometry3d T_cam_eye_fixed = Eigen::Isometry3d(kR_optical_view);
   /// Mesh path tessellation: rings in θ from the optical axis and segments in azimuth.

@@ -45,6 +45,9 @@ std::optional<RgbaImage> renderReference(const calib::GenericCamera& camera,
       Eigen::Vector4f value = border;
       if (px) {
         value = image.sample(*px).cast<float>();
+        // As the shaders: towards BT.601 luma by 1 − saturation, then the gain.
+        const float luma = 0.299f * value[0] + 0.587f * value[1] + 0.114f * value[2];
+        value.head<3>() = luma + settings.image_saturation * (value.head<3>().array() - luma);
         value.head<3>() *= settings.image_gain;
       }
       Eigen::Map<Eigen::Vector4f>(&out.rgba[(static_cast<std::size_t>(row) * view.width + col) * 4]) =

@@ -60,6 +60,7 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
   glProgramUniform4f(id, glGetUniformLocation(id, "u_border"), border[0], border[1], border[2],
                      border[3]);
   glProgramUniform1f(id, glGetUniformLocation(id, "u_image_gain"), settings.image_gain);
+  glProgramUniform1f(id, glGetUniformLocation(id, "u_image_saturation"), settings.image_saturation);
   glProgramUniform2f(id, glGetUniformLocation(id, "u_image_size"), float(camera.imageWidth()),
                      float(camera.imageHeight()));
   glProgramUniform1fv(id, glGetUniformLocation(id, "u_cam"), 8, camera.shaderParams().data());
