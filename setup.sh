@@ -34,6 +34,8 @@ packages=(
   qt6-base-dev libqcustomplot-dev libsqlite3-dev libqt6sql6-sqlite
   # video path and link
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
+  # the Internet link's forward error correction (Reed–Solomon erasure code)
+  libisal-dev
   # session recordings (MCAP chunk compression)
   libzstd-dev liblz4-dev zlib1g-dev
   # files, command lines, logging

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "robot/link/link_schema.h"
+#include "robot/link/media/block_erasure_code.h"
 #include "robot/link/media/jpeg_bands.h"
 
 namespace telesphere::link::media {
@@ -120,23 +121,85 @@ void FrameAssembler::add(std::span<const std::uint8_t> datagram, std::int64_t ar
   Pending& p = *it;
   if (h.frame_bytes != p.first.frame_bytes || h.chunk_bytes != p.first.chunk_bytes || h.meta_bytes != p.first.meta_bytes)
     return drop(MediaDropReason::kInconsistent);
-  const bool repeat = (h.flags & MediaPacketHeader::kFlagRepeat) != 0;
-  if (p.have[h.chunk_index]) {
-    if (repeat) ++stats_.repeats_unneeded;
-    else drop(MediaDropReason::kDuplicate);
-    return;
+  if (h.kind == MediaPacketKind::kFrameParity) {
+    auto block = std::find_if(p.blocks.begin(), p.blocks.end(), [&](const ParityBlock& b) { return b.first == h.chunk_index; });
+    if (block == p.blocks.end()) {
+      // Blocks do not overlap: one that does is forged.
+      for (const ParityBlock& b : p.blocks)
+        if (h.chunk_index < b.first + b.k && b.first < h.chunk_index + h.fec_k) return drop(MediaDropReason::kInconsistent);
+      ParityBlock b;
+      b.first = h.chunk_index;
+      b.k = h.fec_k;
+      b.r = h.fec_r;
+      b.parity.resize(h.fec_r);
+      b.have.assign(h.fec_r, false);
+      p.blocks.push_back(std::move(b));
+      block = p.blocks.end() - 1;
+    } else if (block->k != h.fec_k || block->r != h.fec_r) {
+      return drop(MediaDropReason::kInconsistent);
+    }
+    if (block->have[h.fec_j]) return drop(MediaDropReason::kDuplicate);
+    block->parity[h.fec_j].assign(packet->payload.begin(), packet->payload.end());
+    block->have[h.fec_j] = true;
+    ++block->parity_have;
+    ++stats_.parity_received;
+    ++stats_.datagrams;
+    p.last_ns = arrival_ns;
+    tryRecover(p, *block);
+  } else {
+    const bool repeat = (h.flags & MediaPacketHeader::kFlagRepeat) != 0;
+    if (p.have[h.chunk_index]) {
+      if (repeat) ++stats_.repeats_unneeded;
+      else drop(MediaDropReason::kDuplicate);
+      return;
+    }
+    if (repeat) ++stats_.repeats_used;
+    std::copy(packet->payload.begin(), packet->payload.end(),
+              p.bytes.begin() + static_cast<std::ptrdiff_t>(std::size_t{h.chunk_index} * h.chunk_bytes));
+    p.have[h.chunk_index] = true;
+    ++p.chunks_have;
+    p.last_ns = arrival_ns;
+    ++stats_.datagrams;
+    for (ParityBlock& b : p.blocks)
+      if (h.chunk_index >= b.first && h.chunk_index < b.first + b.k) tryRecover(p, b);
   }
-  if (repeat) ++stats_.repeats_used;
-  std::copy(packet->payload.begin(), packet->payload.end(),
-            p.bytes.begin() + static_cast<std::ptrdiff_t>(std::size_t{h.chunk_index} * h.chunk_bytes));
-  p.have[h.chunk_index] = true;
-  ++p.chunks_have;
-  p.last_ns = arrival_ns;
-  ++stats_.datagrams;
   if (p.chunks_have == p.have.size()) {
     Pending whole = std::move(p);
     pending_.erase(it);
     finish(std::move(whole), out);
+  }
+}
+
+void FrameAssembler::tryRecover(Pending& p, ParityBlock& b) {
+  int missing = 0;
+  for (int i = 0; i < b.k; ++i) missing += !p.have[b.first + static_cast<std::size_t>(i)];
+  if (missing == 0 || b.parity_have < missing) return;
+  // Every shard chunk_bytes long: the frame's last chunk, when in this block, padded with zeros.
+  const std::size_t size = p.first.chunk_bytes;
+  std::vector<std::vector<std::uint8_t>> scratch(static_cast<std::size_t>(b.k));
+  std::vector<std::uint8_t*> shards(static_cast<std::size_t>(b.k + b.r));
+  std::vector<bool> present(static_cast<std::size_t>(b.k + b.r));
+  for (int i = 0; i < b.k; ++i) {
+    const std::size_t chunk = b.first + static_cast<std::size_t>(i);
+    scratch[static_cast<std::size_t>(i)].assign(size, 0);
+    const std::size_t begin = chunk * size, n = std::min(size, p.bytes.size() - begin);
+    if (p.have[chunk]) std::copy_n(p.bytes.begin() + static_cast<std::ptrdiff_t>(begin), n, scratch[static_cast<std::size_t>(i)].begin());
+    shards[static_cast<std::size_t>(i)] = scratch[static_cast<std::size_t>(i)].data();
+    present[static_cast<std::size_t>(i)] = p.have[chunk];
+  }
+  for (int j = 0; j < b.r; ++j) {
+    shards[static_cast<std::size_t>(b.k + j)] = b.have[static_cast<std::size_t>(j)] ? b.parity[static_cast<std::size_t>(j)].data() : nullptr;
+    present[static_cast<std::size_t>(b.k + j)] = b.have[static_cast<std::size_t>(j)];
+  }
+  if (!BlockErasureCode(b.k, b.r).recover(shards, present, size)) return;
+  for (int i = 0; i < b.k; ++i) {
+    const std::size_t chunk = b.first + static_cast<std::size_t>(i);
+    if (p.have[chunk]) continue;
+    const std::size_t begin = chunk * size, n = std::min(size, p.bytes.size() - begin);
+    std::copy_n(scratch[static_cast<std::size_t>(i)].begin(), n, p.bytes.begin() + static_cast<std::ptrdiff_t>(begin));
+    p.have[chunk] = true;
+    ++p.chunks_have;
+    ++stats_.chunks_recovered;
   }
 }
 

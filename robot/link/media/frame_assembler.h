@@ -6,7 +6,9 @@
 ///        never shows as garbage. Latest wins: a frame a newer complete one overtook is dropped,
 ///        never repaired. A frame whose packets stopped coming for `reorder_grace_ns` is given
 ///        up: delivered with its lost bands filled, or counted lost when its meta or a JPEG
-///        header is missing. Memory is bounded (frames pending, bytes pending).
+///        header is missing. Parity shards (block_erasure_code.h) rebuild a block's lost chunks
+///        as soon as enough of the block has arrived. Memory is bounded (frames pending, bytes
+///        pending).
 #pragma once
 
 #include <array>
@@ -46,6 +48,8 @@ struct FrameAssemblerStats {
   std::uint64_t frames_malformed = 0;    ///< complete enough, but meta and sizes disagree
   std::uint64_t frames_superseded = 0;   ///< incomplete when a newer frame was delivered
   std::uint64_t bands_lost = 0;          ///< filled in delivered frames
+  std::uint64_t parity_received = 0;     ///< parity shards taken
+  std::uint64_t chunks_recovered = 0;    ///< chunks rebuilt from parity (forward error correction)
   std::uint64_t repeats_used = 0;        ///< repeated header chunks that filled a gap
   std::uint64_t repeats_unneeded = 0;    ///< repeated header chunks already held
   std::uint64_t stream_changes = 0;      ///< the sender restarted (a new stream taken over)
@@ -74,13 +78,24 @@ class FrameAssembler {
   std::size_t framesPending() const { return pending_.size(); }
 
  private:
+  /// A block of chunks with parity: its shards as they arrive.
+  struct ParityBlock {
+    std::uint16_t first = 0;
+    std::uint8_t k = 0, r = 0;
+    std::vector<std::vector<std::uint8_t>> parity;  ///< r shards (empty until arrived)
+    std::vector<bool> have;
+    int parity_have = 0;
+  };
   struct Pending {
     MediaPacketHeader first;
     std::vector<std::uint8_t> bytes;
     std::vector<bool> have;
     std::uint32_t chunks_have = 0;
     std::int64_t first_ns = 0, last_ns = 0;
+    std::vector<ParityBlock> blocks;
   };
+  /// Rebuilds `block`'s missing chunks when enough shards are there.
+  void tryRecover(Pending& pending, ParityBlock& block);
   void drop(MediaDropReason reason) { ++stats_.dropped_by_reason[static_cast<int>(reason)]; }
   /// Delivers or counts a frame taken out of pending_; marks it and everything older done.
   void finish(Pending pending, std::vector<AssembledFrame>& out);

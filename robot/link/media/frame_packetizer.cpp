@@ -3,8 +3,10 @@
 #include "robot/link/media/frame_packetizer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
+#include "robot/link/media/block_erasure_code.h"
 #include "robot/link/media/jpeg_bands.h"
 
 namespace telesphere::link::media {
@@ -30,6 +32,8 @@ FramePacketizer::FramePacketizer(std::uint32_t stream, Config config) : stream_(
   if (config_.chunk_bytes < 1 || config_.chunk_bytes > kMaxChunkBytes)
     throw std::invalid_argument("FramePacketizer: chunk_bytes " + std::to_string(config_.chunk_bytes) +
                                 " outside 1.." + std::to_string(kMaxChunkBytes));
+  if (!(config_.fec_overhead >= 0 && config_.fec_overhead <= 1) || config_.fec_block < 1 || config_.fec_block > 200)
+    throw std::invalid_argument("FramePacketizer: fec_overhead must be in [0, 1] and fec_block in 1..200");
 }
 
 bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::uint8_t> left_jpeg,
@@ -66,7 +70,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
   out->frame = h.frame;
   out->frame_bytes = h.frame_bytes;
   out->datagrams.clear();
-  out->datagrams.reserve(chunks + 4);
+  out->datagrams.reserve(static_cast<std::size_t>(static_cast<double>(chunks) * (1.0 + config_.fec_overhead)) + 8);
   const auto chunkAt = [&](std::uint64_t index, std::uint8_t flags) {
     MediaPacketHeader c = h;
     c.chunk_index = static_cast<std::uint16_t>(index);
@@ -77,8 +81,40 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
     writeMediaPacket(c, std::span(payload).subspan(begin, end - begin), datagram);
     out->datagrams.push_back(std::move(datagram));
   };
-  for (std::uint64_t i = 0; i < chunks; ++i) chunkAt(i, 0);
-  if (config_.repeat_headers && chunks >= config_.repeat_min_chunks) {
+  const bool fec = config_.fec_overhead > 0;
+  std::vector<std::uint8_t> padded;
+  for (std::uint64_t first = 0; first < chunks; first += fec ? config_.fec_block : chunks) {
+    const std::uint64_t k = fec ? std::min<std::uint64_t>(config_.fec_block, chunks - first) : chunks - first;
+    for (std::uint64_t i = first; i < first + k; ++i) chunkAt(i, 0);
+    if (!fec) continue;
+    const int r = std::max(1, static_cast<int>(std::ceil(config_.fec_overhead * static_cast<double>(k))));
+    // The block's chunks, the frame's last one padded with zeros to the common size.
+    const std::size_t size = config_.chunk_bytes;
+    padded.assign(static_cast<std::size_t>(k) * size, 0);
+    std::vector<const std::uint8_t*> data(k);
+    for (std::uint64_t i = 0; i < k; ++i) {
+      const std::size_t begin = (first + i) * size;
+      const std::size_t n = std::min<std::size_t>(size, payload.size() - begin);
+      std::copy_n(payload.begin() + static_cast<std::ptrdiff_t>(begin), n, padded.begin() + static_cast<std::ptrdiff_t>(i * size));
+      data[i] = padded.data() + i * size;
+    }
+    std::vector<std::vector<std::uint8_t>> parity(static_cast<std::size_t>(r), std::vector<std::uint8_t>(size));
+    std::vector<std::uint8_t*> shards;
+    for (auto& p : parity) shards.push_back(p.data());
+    BlockErasureCode(static_cast<int>(k), r).encode(data, shards, size);
+    for (int j = 0; j < r; ++j) {
+      MediaPacketHeader c = h;
+      c.kind = MediaPacketKind::kFrameParity;
+      c.chunk_index = static_cast<std::uint16_t>(first);
+      c.fec_k = static_cast<std::uint8_t>(k);
+      c.fec_r = static_cast<std::uint8_t>(r);
+      c.fec_j = static_cast<std::uint8_t>(j);
+      std::vector<std::uint8_t> datagram;
+      writeMediaPacket(c, parity[static_cast<std::size_t>(j)], datagram);
+            out->datagrams.push_back(std::move(datagram));
+    }
+  }
+  if (!fec && config_.repeat_headers && chunks >= config_.repeat_min_chunks) {
     // The chunks holding [0, meta + left header) and the right header, once more at the end.
     const std::uint64_t right_start = meta_bytes.size() + left_jpeg.size();
     const std::uint64_t first_end = meta_bytes.size() + meta.left().header_bytes();

@@ -2,8 +2,9 @@
 /// @brief The sending half of the media path's framing (DESIGN.md §9): a stereo frame and its two
 ///        JPEGs become datagrams [MediaFrameMeta | left | right] in equal chunks, the meta saying
 ///        where each JPEG's bands lie. The chunks that hold the meta and the two JPEG headers are
-///        sent twice (optional, and only in frames large enough that two more chunks cost little):
-///        without them no band of the frame can be used.
+///        protected by forward error correction (Reed–Solomon parity per block of chunks, by
+///        default), or else sent twice (only in frames large enough that two more chunks cost
+///        little): without them no band of the frame can be used.
 ///        packet_seq and send_us are left 0; the pacer stamps them as it sends (stampForSending).
 #pragma once
 
@@ -27,7 +28,12 @@ class FramePacketizer {
  public:
   struct Config {
     std::size_t chunk_bytes = kMaxChunkBytes;  ///< 1..kMaxChunkBytes
-    bool repeat_headers = true;                ///< send the meta's and the JPEG headers' chunks twice …
+    /// Forward error correction: parity shards per block of up to fec_block chunks, at least one
+    /// per block, fec_overhead of the block's chunks rounded up (0: none). Sent right after the
+    /// block. With it the header repeats are off (the parity protects the headers too).
+    double fec_overhead = 0.1;
+    std::size_t fec_block = 16;  ///< 1..255
+    bool repeat_headers = true;                ///< without FEC: send the meta's and the JPEG headers' chunks twice …
     std::size_t repeat_min_chunks = 20;        ///< … in frames of at least this many chunks (≤ 10 % more)
   };
   /// stream: random per sending process (newLinkInstanceId's low 32 bits, never 0).

@@ -20,6 +20,7 @@ std::uint32_t get32(const std::uint8_t* p) { return std::uint32_t{get16(p)} << 1
 
 std::uint32_t MediaPacketHeader::chunkPayloadBytes() const {
   if (chunk_bytes == 0) return 0;
+  if (kind == MediaPacketKind::kFrameParity) return chunk_bytes;
   const std::uint64_t start = std::uint64_t{chunk_index} * chunk_bytes;
   if (start >= frame_bytes) return 0;
   const std::uint64_t left = frame_bytes - start;
@@ -56,6 +57,12 @@ void writeMediaPacket(const MediaPacketHeader& h, std::span<const std::uint8_t> 
   put16(out, h.chunk_index);
   put16(out, h.chunk_bytes);
   put16(out, h.meta_bytes);
+  if (h.kind == MediaPacketKind::kFrameParity) {
+    out.push_back(h.fec_k);
+    out.push_back(h.fec_r);
+    out.push_back(h.fec_j);
+    out.push_back(0);
+  }
   out.insert(out.end(), payload.begin(), payload.end());
 }
 
@@ -69,8 +76,9 @@ std::optional<MediaPacketView> parseMediaPacket(std::span<const std::uint8_t> d,
   if (d.size() > kMaxMediaDatagramBytes) return refuse(MediaDropReason::kTooLarge);
   MediaPacketView v;
   MediaPacketHeader& h = v.header;
-  if (d[3] != static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk)) return refuse(MediaDropReason::kMalformed);
-  h.kind = MediaPacketKind::kFrameChunk;
+  if (d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk)) h.kind = MediaPacketKind::kFrameChunk;
+  else if (d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameParity)) h.kind = MediaPacketKind::kFrameParity;
+  else return refuse(MediaDropReason::kMalformed);
   h.flags = d[4];
   if ((h.flags & ~MediaPacketHeader::kFlagRepeat) != 0 || d[5] != 0) return refuse(MediaDropReason::kMalformed);
   h.stream = get32(&d[6]);
@@ -86,6 +94,16 @@ std::optional<MediaPacketView> parseMediaPacket(std::span<const std::uint8_t> d,
       h.meta_bytes > h.frame_bytes || h.chunk_index >= h.chunkCount() || h.chunkCount() > 65536u)
     return refuse(MediaDropReason::kMalformed);
   v.payload = d.subspan(kMediaHeaderBytes);
+  if (h.kind == MediaPacketKind::kFrameParity) {
+    if (v.payload.size() < kParityHeaderBytes) return refuse(MediaDropReason::kMalformed);
+    h.fec_k = v.payload[0];
+    h.fec_r = v.payload[1];
+    h.fec_j = v.payload[2];
+    if (v.payload[3] != 0 || h.flags != 0 || h.fec_k == 0 || h.fec_j >= h.fec_r || h.fec_k + h.fec_r > 255 ||
+        std::uint32_t{h.chunk_index} + h.fec_k > h.chunkCount())
+      return refuse(MediaDropReason::kMalformed);
+    v.payload = v.payload.subspan(kParityHeaderBytes);
+  }
   if (v.payload.size() != h.chunkPayloadBytes()) return refuse(MediaDropReason::kMalformed);
   return v;
 }

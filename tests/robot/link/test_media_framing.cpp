@@ -90,7 +90,31 @@ TEST(MediaPacket, RefusesFieldsThatDoNotAddUp) {
   parsed(h, 600, MediaDropReason::kMalformed);
   h = sampleHeader();
   h.chunk_index = 0;
-  parsed(h, kMaxChunkBytes + 1, MediaDropReason::kTooLarge);  // a datagram beyond the limit
+  parsed(h, kMaxMediaDatagramBytes - kMediaHeaderBytes + 1, MediaDropReason::kTooLarge);  // a datagram beyond the limit
+  // Parity shards: an index past its block's, a block past the frame's chunks, a short shard.
+  h = sampleHeader();
+  h.kind = MediaPacketKind::kFrameParity;
+  h.flags = 0;
+  h.chunk_index = 0;
+  h.fec_k = 3;
+  h.fec_r = 1;
+  h.fec_j = 0;
+  {
+    std::vector<std::uint8_t> d;
+    writeMediaPacket(h, std::vector<std::uint8_t>(1200), d);
+    MediaDropReason why{};
+    const auto v = parseMediaPacket(d, &why);
+    ASSERT_TRUE(v) << mediaDropReasonName(why);
+    EXPECT_EQ(v->header.fec_k, 3);
+    EXPECT_EQ(v->payload.size(), 1200u);
+  }
+  h.fec_j = 1;
+  parsed(h, 1200, MediaDropReason::kMalformed);
+  h.fec_j = 0;
+  h.fec_k = 4;  // chunks 0..3 of a 3-chunk frame
+  parsed(h, 1200, MediaDropReason::kMalformed);
+  h.fec_k = 3;
+  parsed(h, 600, MediaDropReason::kMalformed);
 
   std::vector<std::uint8_t> d;
   writeMediaPacket(sampleHeader(), std::vector<std::uint8_t>(600), d);
@@ -193,10 +217,12 @@ SentFrame sendFrame(FramePacketizer& packetizer, int width, int height, int seed
   return f;
 }
 
+/// The frame's chunks, once each, in order: no repeats, no parity.
 std::vector<std::vector<std::uint8_t>> withoutRepeats(const PacketizedFrame& p) {
   std::vector<std::vector<std::uint8_t>> out;
   for (const auto& d : p.datagrams)
-    if ((d[4] & MediaPacketHeader::kFlagRepeat) == 0) out.push_back(d);
+    if ((d[4] & MediaPacketHeader::kFlagRepeat) == 0 && d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk))
+      out.push_back(d);
   return out;
 }
 
@@ -295,7 +321,7 @@ TEST(FrameAssembler, ALostChunkCostsItsBandsFilledGreyEverythingElseIntact) {
 TEST(FrameAssembler, TheMetaChunkLostCostsTheFrameUnlessItsRepeatArrives) {
   for (bool repeat : {true, false}) {
     SCOPED_TRACE(repeat ? "repeated headers" : "no repeats");
-    FramePacketizer packetizer(9, {kMaxChunkBytes, repeat});
+    FramePacketizer packetizer(9, {kMaxChunkBytes, 0.0, 16, repeat});
     const SentFrame sent = sendFrame(packetizer, 320, 240, 3, 1);
     FrameAssembler assembler;
     std::vector<AssembledFrame> out;
@@ -317,7 +343,7 @@ TEST(FrameAssembler, TheMetaChunkLostCostsTheFrameUnlessItsRepeatArrives) {
 }
 
 TEST(FrameAssembler, LatestWinsAndAnOvertakenFrameIsNeverRepaired) {
-  FramePacketizer packetizer(11, {kMaxChunkBytes, false});
+  FramePacketizer packetizer(11, {kMaxChunkBytes, 0.0, 16, false});
   const SentFrame f0 = sendFrame(packetizer, 320, 240, 4, 0);
   const SentFrame f1 = sendFrame(packetizer, 320, 240, 5, 1);
   FrameAssembler assembler;
@@ -336,7 +362,7 @@ TEST(FrameAssembler, LatestWinsAndAnOvertakenFrameIsNeverRepaired) {
 }
 
 TEST(FrameAssembler, ARestartedSenderIsTakenOverAfterTheOldStreamFallsSilent) {
-  FramePacketizer old_sender(21, {kMaxChunkBytes, false}), new_sender(22, {kMaxChunkBytes, false});
+  FramePacketizer old_sender(21, {kMaxChunkBytes, 0.0, 16, false}), new_sender(22, {kMaxChunkBytes, 0.0, 16, false});
   const SentFrame a = sendFrame(old_sender, 160, 120, 6, 0);
   const SentFrame b = sendFrame(new_sender, 160, 120, 7, 0);
   FrameAssembler assembler;
@@ -394,6 +420,56 @@ TEST(FrameAssembler, ForgedAndInconsistentChunksAreCountedAndMemoryStaysBounded)
   EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kTooLarge), 1u);
 }
 
+TEST(FrameAssembler, ParityRebuildsUpToItsShardsPerBlockAndNoMore) {
+  // 10 % parity in blocks of 16: r = 2 per full block. Two chunks lost in a block: rebuilt, the
+  // frame whole and byte-identical; three lost in one block: that block's bands filled.
+  FramePacketizer packetizer(41, {});
+  const SentFrame sent = sendFrame(packetizer, 640, 480, 8, 1);
+  std::size_t parity = 0;
+  for (const auto& d : sent.packets.datagrams) parity += d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameParity);
+  const std::size_t chunks = withoutRepeats(sent.packets).size();
+  EXPECT_EQ(parity, 2 * (chunks / 16) + (chunks % 16 ? (chunks % 16 > 10 ? 2 : 1) : 0));
+  const auto chunkIndex = [](const std::vector<std::uint8_t>& d) { return static_cast<int>(d[26] << 8 | d[27]); };
+  const auto isChunk = [](const std::vector<std::uint8_t>& d) { return d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk); };
+  for (int lost_in_block : {2, 3}) {
+    SCOPED_TRACE(std::to_string(lost_in_block) + " chunks lost in block 2");
+    FrameAssembler assembler;
+    std::vector<AssembledFrame> out;
+    for (const auto& d : sent.packets.datagrams) {
+      const int c = chunkIndex(d);
+      if (isChunk(d) && c >= 32 && c < 32 + lost_in_block) continue;  // block 2 starts at chunk 32
+      if (isChunk(d) && c == 5) continue;                                 // and one in block 0
+      assembler.add(d, 0, out);
+    }
+    assembler.expire(1'000'000'000, out);
+    ASSERT_EQ(out.size(), 1u);
+    if (lost_in_block == 2) {
+      EXPECT_TRUE(out[0].whole());
+      EXPECT_EQ(out[0].left_jpeg, sent.left);
+      EXPECT_EQ(out[0].right_jpeg, sent.right);
+      EXPECT_EQ(assembler.stats().chunks_recovered, 3u);
+    } else {
+      EXPECT_FALSE(out[0].whole());
+      EXPECT_EQ(out[0].chunks_missing, 3u) << "block 0 rebuilt, block 2's three stay lost";
+      EXPECT_EQ(assembler.stats().chunks_recovered, 1u);
+      EXPECT_TRUE(test::decodePlanes(out[0].left_jpeg).ok);
+    }
+    EXPECT_GT(assembler.stats().parity_received, 0u);
+    EXPECT_LE(assembler.stats().parity_received, parity) << "shards after the frame was whole come late";
+  }
+  // A forged parity shard for a block that overlaps a known one is refused.
+  FrameAssembler assembler;
+  std::vector<AssembledFrame> out;
+  for (const auto& d : sent.packets.datagrams)
+    if (!isChunk(d) && chunkIndex(d) == 0) assembler.add(d, 0, out);
+  auto forged = sent.packets.datagrams.front();
+  for (const auto& d : sent.packets.datagrams)
+    if (!isChunk(d) && chunkIndex(d) == 16) forged = d;
+  forged[27] = 8;  // block "8..23" overlaps block 0..15
+  assembler.add(forged, 0, out);
+  EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kInconsistent), 1u);
+}
+
 TEST(FrameAssembler, SeededRandomLossAndReorderingNeverYieldAnInvalidJpeg) {
   FramePacketizer packetizer(31, {});
   FrameAssembler assembler;
@@ -438,7 +514,7 @@ TEST(FrameAssembler, SeededRandomLossAndReorderingNeverYieldAnInvalidJpeg) {
   EXPECT_EQ(st.frames_whole + st.frames_concealed, out.size());
   EXPECT_EQ(st.frames_whole + st.frames_concealed + st.frames_lost + st.frames_superseded + st.frames_malformed, 12u);
   EXPECT_EQ(st.frames_malformed, 0u);
-  EXPECT_GT(concealed, 0u) << "3 % loss over ~100 chunks a frame must conceal some band";
+  EXPECT_GT(concealed + st.chunks_recovered, 0u) << "3 % loss over ~100 chunks a frame: rebuilt or concealed";
 }
 
 }  // namespace
