@@ -95,6 +95,10 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     link::media::MediaSenderOptions media_options;
     media_options.port = static_cast<std::uint16_t>(o.port + link::LinkEndpoints::kMedia);
     media_options.rate.initial_bps = std::max(o.media_start_mbit * 1e6, media_options.rate.min_bps);
+    // Head targets on the media path go where the ZeroMQ uplink's go (newest by stamp wins).
+    media_options.on_head_target = [server = p->server.get()](const link::proto::HeadTarget& target) {
+      server->offerHeadTarget(target);
+    };
     p->media = link::media::MediaSender::start(media_options, error);
     if (!p->media) {
       *error = "cannot open the media path on UDP port " + std::to_string(media_options.port) + " (--no-media runs without): " +

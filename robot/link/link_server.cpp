@@ -267,6 +267,8 @@ void LinkServer::publishPreview(proto::PreviewFrame preview, SharedBytes left_jp
 
 std::uint64_t LinkServer::instance() const { return impl_->instance; }
 
+bool LinkServer::offerHeadTarget(const proto::HeadTarget& target) { return impl_->takeHeadTarget(target); }
+
 std::optional<proto::HeadTarget> LinkServer::latestHeadTarget() const {
   std::lock_guard lock(impl_->head_mutex);
   return impl_->head_target;

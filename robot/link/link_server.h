@@ -54,6 +54,9 @@ class LinkServer {
   /// The newest head target received, if any: the last one that was newer (by t_ns) than
   /// everything its sender instance had sent before.
   std::optional<proto::HeadTarget> latestHeadTarget() const;
+  /// A head target that came another way (the UDP media path, robot/link/media): kept as the
+  /// latest under the same rule as the uplink's. False when its sender already sent a newer one.
+  bool offerHeadTarget(const proto::HeadTarget& target);
   /// Called on the link's thread for every control request; the reply goes back to its sender.
   /// Without a handler requests are answered {ok: false, error: "no handler"}.
   void setControlHandler(ControlHandler handler);

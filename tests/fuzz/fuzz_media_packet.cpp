@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-/// @brief libFuzzer target: what arrives on the media path. The first byte modulo 3 picks the part:
+/// @brief libFuzzer target: what arrives on the media path. The first byte modulo 4 picks the part:
 ///        0: the rest is a sequence of datagrams, each behind a 2-byte big-endian length, fed
 ///        to a FrameAssembler (with a clock that advances, so frames are given up and filled);
 ///        1: the rest is a JPEG for findJpegBands, and every band found is filled;
 ///        2: datagrams as in 0, parsed as receiver reports and fed to a SendRateController that
-///        sent datagrams 0..999 (the sender's side of the path). None
+///        sent datagrams 0..999 (the sender's side of the path);
+///        3: the rest is one head-target datagram (what the robot takes from the operator). None
 ///        may crash, read out of bounds or hold more memory than its limits; every frame the
 ///        assembler delivers says its JPEGs' true sizes. (Whether a forged JPEG decodes is the
 ///        decoder's question, fuzzed in fuzz_jpeg_header.)
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "robot/link/media/frame_assembler.h"
+#include "robot/link/media/head_target_datagram.h"
 #include "robot/link/media/jpeg_bands.h"
 #include "robot/link/media/receiver_report.h"
 #include "robot/link/media/send_rate_controller.h"
@@ -82,10 +84,16 @@ void fuzzReports(const std::uint8_t* data, std::size_t size) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
-  switch (data[0] % 3) {
+  switch (data[0] % 4) {
     case 0: fuzzAssembler(data + 1, size - 1); break;
     case 1: fuzzBands(data + 1, size - 1); break;
-    default: fuzzReports(data + 1, size - 1); break;
+    case 2: fuzzReports(data + 1, size - 1); break;
+    default: {
+      MediaDropReason why{};
+      if (const auto targets = parseHeadTargets({data + 1, size - 1}, &why))
+        if (targets->empty() || targets->size() > 8) std::abort();
+      break;
+    }
   }
   return 0;
 }

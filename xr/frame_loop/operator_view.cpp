@@ -62,7 +62,12 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   target.set_valid(valid);
   const auto clock = client_.clock().estimate();
   if (clock) target.set_t_robot_ns(frame_begin_ns_ - clock->server_to_client_offset_ns);
-  client_.sendHeadTarget(target);
+  if (options_.head_targets_on_zmq || !media_) client_.sendHeadTarget(target);
+  if (media_) {
+    // The same target, stamped as the ZeroMQ copy is, on the media path: what arrives first counts.
+    target.set_sender_instance(client_.instance());
+    media_->sendHeadTarget(target);
+  }
   telemetry_frame_.Clear();
   telemetry_frame_.set_display_ns(display_ns);
   telemetry_frame_.set_head_valid(valid);

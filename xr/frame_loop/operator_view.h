@@ -75,6 +75,9 @@ struct OperatorViewOptions {
   /// Frames over the robot's UDP media path (port + 4; DESIGN.md §9) instead of the ZeroMQ link.
   bool media_link = false;
   int media_port = 0;  ///< its UDP port when not endpoints.base_port + 4 (a relay in between)
+  /// With the media path: head targets also on the ZeroMQ uplink (both ways; the robot keeps the
+  /// newest by stamp). Off: on the media path only (to measure it alone).
+  bool head_targets_on_zmq = true;
   /// When the picture is too old, the stream below nominal, the robot behind (link_state_overlay.h).
   LinkStateOptions link_state;
 };

@@ -22,6 +22,8 @@ class MediaFrameSource {
   /// The newest frame, waiting up to `timeout` (StereoFrameDecoder::Options::frame_source).
   std::optional<link::ReceivedFrame> waitFrame(std::chrono::milliseconds timeout);
   link::media::MediaReceiverStats stats() const { return receiver_->stats(); }
+  /// The head target on the media path too (the robot keeps the newest by stamp, whichever way).
+  void sendHeadTarget(const link::proto::HeadTarget& target) { receiver_->sendHeadTarget(target); }
 
  private:
   explicit MediaFrameSource(std::unique_ptr<link::media::MediaReceiver> receiver) : receiver_(std::move(receiver)) {}

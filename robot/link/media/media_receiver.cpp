@@ -13,18 +13,11 @@
 #include <cerrno>
 #include <cstring>
 
+#include "robot/link/link_endpoints.h"
 #include "robot/link/link_schema.h"
+#include "robot/link/media/head_target_datagram.h"
 
 namespace telesphere::link::media {
-namespace {
-
-std::int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 std::unique_ptr<MediaReceiver> MediaReceiver::start(const MediaReceiverOptions& options, std::string* error) {
   sockaddr_in sender{};
   sender.sin_family = AF_INET;
@@ -75,6 +68,20 @@ std::optional<AssembledFrame> MediaReceiver::waitNewest(std::chrono::millisecond
   return f;
 }
 
+void MediaReceiver::sendHeadTarget(const proto::HeadTarget& target) {
+  std::vector<std::uint8_t> out;
+  {
+    std::lock_guard lock(mutex_);
+    recent_targets_.push_back(target);
+    while (recent_targets_.size() > kHeadTargetsRepeated) recent_targets_.pop_front();
+    const std::vector<proto::HeadTarget> targets(recent_targets_.begin(), recent_targets_.end());
+    writeHeadTargets(targets, out);
+  }
+  const bool sent = ::send(fd_, out.data(), out.size(), MSG_DONTWAIT) >= 0;
+  std::lock_guard lock(mutex_);
+  ++(sent ? stats_.head_target_datagrams : stats_.send_errors);
+}
+
 MediaReceiverStats MediaReceiver::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;
@@ -122,7 +129,7 @@ void MediaReceiver::run() {
   std::vector<std::uint8_t> buffer(kMaxMediaDatagramBytes + 1);
   std::vector<AssembledFrame> frames;
   while (!stop_) {
-    const std::int64_t now_ns = steadyNowNs();
+    const std::int64_t now_ns = linkNowNs();
     if (now_ns - last_report_ns_ >= options_.report_interval_ns) sendReports(now_ns);
     const std::int64_t wait_ns =
         std::clamp<std::int64_t>(last_report_ns_ + options_.report_interval_ns - now_ns, 0, 5'000'000);
@@ -133,7 +140,7 @@ void MediaReceiver::run() {
     while (true) {
       const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), 0);
       if (n < 0) break;  // EAGAIN, or ECONNREFUSED while nobody listens yet
-      const std::int64_t arrival_ns = steadyNowNs();
+      const std::int64_t arrival_ns = linkNowNs();
       const std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
       MediaDropReason why{};
       if (const auto packet = parseMediaPacket(datagram, &why)) {
@@ -146,7 +153,7 @@ void MediaReceiver::run() {
       ++stats_.datagrams;
       stats_.bytes += static_cast<std::uint64_t>(n);
     }
-    assembler_.expire(steadyNowNs(), frames);
+    assembler_.expire(linkNowNs(), frames);
     std::lock_guard lock(mutex_);
     stats_.assembler = assembler_.stats();
     for (AssembledFrame& f : frames) {

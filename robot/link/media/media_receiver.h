@@ -10,6 +10,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -36,6 +37,7 @@ struct MediaReceiverStats {
   std::uint64_t frames_delivered = 0;     ///< handed over (whole or with filled bands)
   std::uint64_t frames_replaced_unread = 0;
   std::uint64_t reports_sent = 0, hellos_sent = 0, send_errors = 0;
+  std::uint64_t head_target_datagrams = 0;
   FrameAssemblerStats assembler;
 };
 
@@ -47,6 +49,9 @@ class MediaReceiver {
   MediaReceiver(const MediaReceiver&) = delete;
   MediaReceiver& operator=(const MediaReceiver&) = delete;
 
+  /// Sends `target` to the sender with the previous kHeadTargetsRepeated − 1 ones (any thread;
+  /// never blocks).
+  void sendHeadTarget(const proto::HeadTarget& target);
   /// The newest frame not yet taken, waiting up to `timeout` for one.
   std::optional<AssembledFrame> waitNewest(std::chrono::milliseconds timeout);
   MediaReceiverStats stats() const;
@@ -64,6 +69,7 @@ class MediaReceiver {
   std::uint32_t pending_stream_ = 0;
   std::int64_t last_report_ns_ = 0, last_sent_ns_ = 0;
   mutable std::mutex mutex_;
+  std::deque<proto::HeadTarget> recent_targets_;  ///< under mutex_
   std::condition_variable frame_ready_;
   std::optional<AssembledFrame> newest_;
   MediaReceiverStats stats_;

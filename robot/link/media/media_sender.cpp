@@ -16,19 +16,12 @@
 #include <cstring>
 #include <vector>
 
+#include "robot/link/link_endpoints.h"
 #include "robot/link/link_schema.h"
+#include "robot/link/media/head_target_datagram.h"
 #include "robot/link/media/receiver_report.h"
 
 namespace telesphere::link::media {
-namespace {
-
-std::int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-}  // namespace
-
 struct MediaSender::Receiver {
   sockaddr_storage address{};
   socklen_t address_length = 0;
@@ -98,17 +91,23 @@ MediaSender::~MediaSender() {
 
 bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std::uint8_t> left_jpeg,
                             std::span<const std::uint8_t> right_jpeg, std::string* error) {
-  PacketizedFrame packets;
-  std::lock_guard lock(mutex_);
-  ++stats_.frames_offered;
-  if (!receiver_) {  // before the packetizer: cutting a 4K frame costs a copy and a scan of it
-    ++stats_.frames_without_receiver;
-    return true;
+  {
+    std::lock_guard lock(mutex_);
+    ++stats_.frames_offered;
+    if (!receiver_) {  // before the packetizer: cutting a 4K frame costs a copy and a scan of it
+      ++stats_.frames_without_receiver;
+      return true;
+    }
   }
+  // Cut outside the lock (a 4K frame takes milliseconds): the pacer keeps sending meanwhile.
+  // Only this caller's thread uses the packetizer.
+  PacketizedFrame packets;
   if (!packetizer_.packetize(frame, left_jpeg, right_jpeg, &packets, error)) {
+    std::lock_guard lock(mutex_);
     ++stats_.frames_refused;
     return false;
   }
+  std::lock_guard lock(mutex_);
   std::size_t wire = 0;
   for (const auto& d : packets.datagrams) wire += d.size() + 28;
   const double ratio = static_cast<double>(wire) / static_cast<double>(std::max<std::size_t>(1, left_jpeg.size() + right_jpeg.size()));
@@ -158,7 +157,19 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
     const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
     if (n < 0) return;  // EAGAIN: nothing more
     MediaDropReason why{};
-    const auto datagram = parseReceiverDatagram({buffer.data(), static_cast<std::size_t>(n)}, &why);
+    const std::span<const std::uint8_t> bytes(buffer.data(), static_cast<std::size_t>(n));
+    if (n >= 4 && buffer[3] == kHeadTargetsKind) {
+      // Head targets: straight on (newest by stamp is the taker's rule), not under our lock.
+      const auto targets = parseHeadTargets(bytes, &why);
+      {
+        std::lock_guard lock(mutex_);
+        ++(targets ? stats_.head_target_datagrams : stats_.receiver_datagrams_refused);
+      }
+      if (targets && options_.on_head_target)
+        for (const proto::HeadTarget& t : *targets) options_.on_head_target(t);
+      continue;
+    }
+    const auto datagram = parseReceiverDatagram(bytes, &why);
     std::lock_guard lock(mutex_);
     if (!datagram) {
       ++stats_.receiver_datagrams_refused;
@@ -221,14 +232,14 @@ void MediaSender::sendDue(std::int64_t now_ns) {
 
 void MediaSender::run() {
   while (!stop_) {
-    const std::int64_t now_ns = steadyNowNs();
+    const std::int64_t now_ns = linkNowNs();
     readReceiver(now_ns);
     sendDue(now_ns);
     std::int64_t wait_ns = 20'000'000;
     {
       std::lock_guard lock(mutex_);
       const bool has_data = receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || waiting_);
-      if (has_data) wait_ns = std::clamp<std::int64_t>(next_send_ns_ - steadyNowNs(), 0, wait_ns);
+      if (has_data) wait_ns = std::clamp<std::int64_t>(next_send_ns_ - linkNowNs(), 0, wait_ns);
     }
     pollfd fds[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};
     const timespec wait{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};

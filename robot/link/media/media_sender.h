@@ -10,6 +10,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -33,6 +34,9 @@ struct MediaSenderOptions {
   double pacing_gain = 1.25;
   /// A receiver silent this long is forgotten (frames wait for the next hello).
   std::int64_t receiver_timeout_ns = 3'000'000'000;
+  /// Head targets that came on the media path (oldest first in each datagram), called on the
+  /// sender's thread (LinkServer::offerHeadTarget on the robot); null: they are dropped.
+  std::function<void(const proto::HeadTarget&)> on_head_target;
 };
 
 struct MediaSenderStats {
@@ -43,6 +47,7 @@ struct MediaSenderStats {
   std::uint64_t frames_without_receiver = 0; ///< dropped: nobody had said hello
   std::uint64_t datagrams_sent = 0, bytes_sent = 0, send_errors = 0;
   std::uint64_t reports_received = 0, receiver_datagrams_refused = 0, receiver_changes = 0;
+  std::uint64_t head_target_datagrams = 0;
   double pacing_bps = 0;
   double framing_overhead = 0;  ///< recent frames' datagram bytes over their JPEG bytes, less 1
   SendRateStats rate;
@@ -58,7 +63,7 @@ class MediaSender {
 
   std::uint16_t port() const { return port_; }
   /// Queues one frame (replacing a frame still waiting). False with *error when it cannot be
-  /// cut into datagrams.
+  /// cut into datagrams. Called from one thread (the video streamer's).
   bool sendFrame(const proto::StereoFrame& frame, std::span<const std::uint8_t> left_jpeg,
                  std::span<const std::uint8_t> right_jpeg, std::string* error);
   /// What the path may carry (bits/s, datagrams with their IP and UDP headers): the controller's target.

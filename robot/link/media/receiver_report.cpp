@@ -2,23 +2,15 @@
 /// @brief Receiver reports and hellos: writing, checked parsing, unwrapping arrival stamps.
 #include "robot/link/media/receiver_report.h"
 
+#include "robot/link/media/big_endian.h"
+
 #include <algorithm>
 
 namespace telesphere::link::media {
-namespace {
-
-void put16(std::vector<std::uint8_t>& out, std::uint16_t v) {
-  out.push_back(static_cast<std::uint8_t>(v >> 8));
-  out.push_back(static_cast<std::uint8_t>(v));
-}
-void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-  put16(out, static_cast<std::uint16_t>(v >> 16));
-  put16(out, static_cast<std::uint16_t>(v));
-}
-std::uint16_t get16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] << 8 | p[1]); }
-std::uint32_t get32(const std::uint8_t* p) { return std::uint32_t{get16(p)} << 16 | get16(p + 2); }
-
-}  // namespace
+using big_endian::get16;
+using big_endian::get32;
+using big_endian::put16;
+using big_endian::put32;
 
 void writeReceiverDatagram(const ReceiverDatagram& d, std::vector<std::uint8_t>& out) {
   const std::size_t n = d.hello ? 0 : std::min(d.entries.size(), kMaxReportEntries);

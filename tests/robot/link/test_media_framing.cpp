@@ -11,6 +11,7 @@
 
 #include "robot/link/media/frame_assembler.h"
 #include "robot/link/media/frame_packetizer.h"
+#include "robot/link/media/head_target_datagram.h"
 #include "robot/link/media/jpeg_bands.h"
 #include "robot/link/media/receiver_report.h"
 #include "tests/robot/link/media_test_jpegs.h"
@@ -182,6 +183,43 @@ TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
   b[10] = b[11] = b[12] = b[13] = 0;  // receiver 0
   refused(b, MediaDropReason::kMalformed);
   refused({}, MediaDropReason::kMalformed);
+}
+
+TEST(HeadTargetDatagram, CarriesTheLastFewTargetsAndRefusesWhatDoesNotAddUp) {
+  std::vector<proto::HeadTarget> targets(3);
+  for (int i = 0; i < 3; ++i) {
+    targets[static_cast<std::size_t>(i)].set_t_ns(1000 + i);
+    targets[static_cast<std::size_t>(i)].set_valid(true);
+    targets[static_cast<std::size_t>(i)].set_sender_instance(77);
+    targets[static_cast<std::size_t>(i)].mutable_t_vr_hmd()->set_qw(1.0);
+  }
+  std::vector<std::uint8_t> bytes;
+  writeHeadTargets(targets, bytes);
+  EXPECT_LT(bytes.size(), 400u);
+  MediaDropReason why{};
+  auto parsed = parseHeadTargets(bytes, &why);
+  ASSERT_TRUE(parsed);
+  ASSERT_EQ(parsed->size(), 3u);
+  EXPECT_EQ((*parsed)[2].t_ns(), 1002);
+  EXPECT_EQ((*parsed)[0].sender_instance(), 77u);
+  const auto refused = [&](std::vector<std::uint8_t> b) {
+    EXPECT_FALSE(parseHeadTargets(b, &why));
+    return why;
+  };
+  EXPECT_EQ(refused(std::vector<std::uint8_t>(bytes.begin(), bytes.end() - 1)), MediaDropReason::kMalformed);
+  auto extra = bytes;
+  extra.push_back(0);
+  EXPECT_EQ(refused(extra), MediaDropReason::kMalformed) << "trailing bytes";
+  auto zero = bytes;
+  zero[6] = 0;
+  EXPECT_EQ(refused(zero), MediaDropReason::kMalformed);
+  auto version = bytes;
+  version[2] = 7;
+  EXPECT_EQ(refused(version), MediaDropReason::kWrongVersion);
+  auto garbage = bytes;
+  garbage[kHeadTargetsHeaderBytes + 2] = 0xFF;  // the first target's protobuf
+  garbage[kHeadTargetsHeaderBytes + 3] = 0xFF;
+  EXPECT_EQ(refused(garbage), MediaDropReason::kMalformed);
 }
 
 TEST(ReceiverReport, ArrivalStampsUnwrapAcrossTheirWrap) {

@@ -6,9 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <mutex>
+#include <set>
 #include <thread>
 
 #include "app/bench/impairment/udp_relay.h"
+#include "robot/link/link_server.h"
 #include "robot/link/media/media_receiver.h"
 #include "robot/link/media/media_sender.h"
 #include "tests/eventually.h"
@@ -158,6 +161,63 @@ TEST(MediaLoopback, ThroughAnImpairedPathEveryDeliveredFrameDecodesAndTheRateFol
   EXPECT_GT(ss.frames_superseded, 0u) << "22 Mbit/s offered to a 20 Mbit/s path: the sender drops its own frames";
   EXPECT_LT(ss.rate.target_bps, 1.5 * 20e6) << "the target must follow the path, not the source";
   EXPECT_GT(ss.rate.packets_lost, 0u);
+}
+
+TEST(MediaLoopback, HeadTargetsGetThroughA30PercentLossThanksToTheirRepeats) {
+  // 120 targets at 90 Hz through a path that loses 30 % of the operator's datagrams: a target is
+  // lost only with the two datagrams after it (0.3³ = 2.7 %); the robot's LinkServer keeps the newest.
+  std::string error;
+  link::LinkEndpoints endpoints;
+  endpoints.base_port = 28210;
+  LinkServer server(endpoints);
+  std::mutex mutex;
+  std::set<std::int64_t> stamps;
+  MediaSenderOptions so;
+  so.bind_address = "127.0.0.1";
+  so.on_head_target = [&](const proto::HeadTarget& t) {
+    server.offerHeadTarget(t);
+    std::lock_guard lock(mutex);
+    stamps.insert(t.t_ns());
+  };
+  auto sender = MediaSender::start(so, &error);
+  ASSERT_TRUE(sender) << error;
+  bench::impairment::UdpRelayOptions relay_options;
+  relay_options.server_port = sender->port();
+  relay_options.to_server.loss.loss_fraction = 0.3;
+  relay_options.to_server.loss.seed = 9;
+  auto relay = bench::impairment::UdpRelay::start(relay_options, &error);
+  ASSERT_TRUE(relay) << error;
+  MediaReceiverOptions ro;
+  ro.sender_port = relay->port();
+  auto receiver = MediaReceiver::start(ro, &error);
+  ASSERT_TRUE(receiver) << error;
+  for (int i = 1; i <= 120; ++i) {
+    proto::HeadTarget t;
+    t.set_t_ns(i);
+    t.set_sender_instance(5);
+    t.set_valid(true);
+    receiver->sendHeadTarget(t);
+    std::this_thread::sleep_for(11ms);
+  }
+  // Quiet for 300 ms: everything that will arrive has.
+  std::size_t seen = 0;
+  for (int quiet_ms = 0; quiet_ms < 300; quiet_ms += 20) {
+    std::this_thread::sleep_for(20ms);
+    std::lock_guard lock(mutex);
+    if (stamps.size() != seen) quiet_ms = 0;
+    seen = stamps.size();
+  }
+  std::lock_guard lock(mutex);
+  std::printf("head targets: %zu of 120 reached the robot through 30 %% loss\n", stamps.size());
+  EXPECT_GE(stamps.size(), 100u) << "without the repeats about 84 of 120 would arrive";
+  ASSERT_TRUE(server.latestHeadTarget());
+  // The newest kept is among the last few sent (losing six datagrams in a row: 0.07 %).
+  EXPECT_GE(server.latestHeadTarget()->t_ns(), 115) << "the newest, not a repeat of an older one";
+  proto::HeadTarget old;
+  old.set_t_ns(3);
+  old.set_sender_instance(5);
+  EXPECT_FALSE(server.offerHeadTarget(old)) << "an older target of the same sender is refused";
+  EXPECT_GT(sender->stats().head_target_datagrams, 60u);
 }
 
 }  // namespace
