@@ -45,6 +45,10 @@ TEST_F(LoggedViewTest, RowsAppendedReadBackWithTheExactPoses) {
     const Eigen::Quaterniond q = Eigen::Quaterniond(u(rng), u(rng), u(rng), u(rng)).normalized();
     v.T_vr_hmd.linear() = q.toRotationMatrix();
     v.T_vr_hmd.translation() = Eigen::Vector3d(u(rng), 1.6 + u(rng), 1e-9 * u(rng));
+    v.image_saturation = i % 3 == 0 ? 0.0f : 1.0f;
+    v.link_state.image_age_ms = 1000.0 * (1.0 + u(rng));
+    v.link_state.eye_camera_distance_m = i % 5 == 0 ? -1.0 : 0.1 * (1.0 + u(rng));
+    v.link_state.stream_text = i % 2 == 0 ? "" : "LINK 8.5M 15HZ 50% Q70";
     std::string error;
     ASSERT_TRUE(frame_loop::appendLoggedView(path, v, &error)) << error;
     written.push_back(v);
@@ -59,11 +63,26 @@ TEST_F(LoggedViewTest, RowsAppendedReadBackWithTheExactPoses) {
     EXPECT_EQ((*read)[i].T_vr_hmd.translation(), written[i].T_vr_hmd.translation()) << "row " << i;
     // The rotation goes through a quaternion: equal to the last bits, not bit for bit.
     EXPECT_LT(((*read)[i].T_vr_hmd.linear() - written[i].T_vr_hmd.linear()).cwiseAbs().maxCoeff(), 1e-15) << "row " << i;
+    // The link's cues over the PNG, exactly (the replay draws them again).
+    EXPECT_EQ((*read)[i].image_saturation, written[i].image_saturation);
+    EXPECT_EQ((*read)[i].link_state.image_age_ms, written[i].link_state.image_age_ms);
+    EXPECT_EQ((*read)[i].link_state.eye_camera_distance_m, written[i].link_state.eye_camera_distance_m);
+    EXPECT_EQ((*read)[i].link_state.stream_text, written[i].link_state.stream_text);
   }
   std::ifstream in(path);
   std::string first;
   std::getline(in, first);
-  EXPECT_EQ(first, "png,stereo_sequence,px,py,pz,qx,qy,qz,qw");
+  EXPECT_EQ(first, "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text");
+}
+
+TEST_F(LoggedViewTest, FilesWrittenBeforeTheCuesStillLoad) {
+  const std::string path = write("old.csv", "png,stereo_sequence,px,py,pz,qx,qy,qz,qw\neyes_00010.png,7,0,1.6,0,0,0,0,1\n");
+  std::string error;
+  const auto read = frame_loop::loadLoggedViews(path, &error);
+  ASSERT_TRUE(read) << error;
+  ASSERT_EQ(read->size(), 1u);
+  EXPECT_EQ((*read)[0].image_saturation, 1.0f);
+  EXPECT_LT((*read)[0].link_state.image_age_ms, 0.0) << "no cues";
 }
 
 TEST_F(LoggedViewTest, BadFilesAreRefusedWithTheirLine) {
@@ -74,6 +93,10 @@ TEST_F(LoggedViewTest, BadFilesAreRefusedWithTheirLine) {
   };
   const Case cases[] = {
       {"t,px,py,pz,qx,qy,qz,qw\n" + good, ":1: not a views file"},
+      {"png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text\n"
+       "eyes_1.png,7,0,1.6,0,0,0,0,1,2,300,-1,\n", ":2: image_saturation outside [0, 1]"},
+      {"png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text\n"
+       "eyes_1.png,7,0,1.6,0,0,0,0,1,1,x,-1,\n", ":2: 'x' is not a finite number"},
       {header + good + "eyes_1.png,7,0,1.6,0,0,0,1\n", ":3: 9 fields expected, 8 found"},
       {header + "../eyes_1.png,7,0,1.6,0,0,0,0,1\n", ":2: '../eyes_1.png' is not a file name"},
       {header + ",7,0,1.6,0,0,0,0,1\n", ":2: '' is not a file name"},

@@ -13,7 +13,9 @@
 namespace telesphere::xr::frame_loop {
 namespace {
 
-constexpr const char* kHeader = "png,stereo_sequence,px,py,pz,qx,qy,qz,qw";
+constexpr const char* kHeader =
+    "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text";
+constexpr const char* kHeaderWithoutCues = "png,stereo_sequence,px,py,pz,qx,qy,qz,qw";
 
 }  // namespace
 
@@ -27,8 +29,10 @@ bool appendLoggedView(const std::string& path, const LoggedView& view, std::stri
   const Eigen::Vector3d p = view.T_vr_hmd.translation();
   const Eigen::Quaterniond q(view.T_vr_hmd.linear());
   if (fresh) std::fprintf(f, "%s\n", kHeader);
-  std::fprintf(f, "%s,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", view.png.c_str(),
-               static_cast<unsigned long long>(view.stereo_sequence), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+  std::fprintf(f, "%s,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.9g,%.17g,%.17g,%s\n", view.png.c_str(),
+               static_cast<unsigned long long>(view.stereo_sequence), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w(),
+               static_cast<double>(view.image_saturation), view.link_state.image_age_ms,
+               view.link_state.eye_camera_distance_m, view.link_state.stream_text.c_str());
   const bool ok = std::fflush(f) == 0;
   if (std::fclose(f) != 0 || !ok) {
     *error = path + ": cannot write: " + std::strerror(errno);
@@ -46,6 +50,7 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
   std::vector<LoggedView> views;
   std::string line;
   int number = 0;
+  bool with_cues = true;
   const auto bad = [&](const std::string& why) {
     *error = path + ":" + std::to_string(number) + ": " + why;
     return std::nullopt;
@@ -54,14 +59,19 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (number == 1) {
-      if (line != kHeader) return bad("not a views file (the first line is not '" + std::string(kHeader) + "')");
+      with_cues = line == kHeader;
+      if (!with_cues && line != kHeaderWithoutCues)
+        return bad("not a views file (the first line is not '" + std::string(kHeader) + "')");
       continue;
     }
     if (line.empty()) continue;
     std::vector<std::string> fields;
     std::stringstream ss(line);
     for (std::string field; std::getline(ss, field, ',');) fields.push_back(field);
-    if (fields.size() != 9) return bad("9 fields expected, " + std::to_string(fields.size()) + " found");
+    if (with_cues && fields.size() == 12 && line.back() == ',') fields.emplace_back();  // no stream text
+    const std::size_t expected = with_cues ? 13 : 9;
+    if (fields.size() != expected)
+      return bad(std::to_string(expected) + " fields expected, " + std::to_string(fields.size()) + " found");
     LoggedView view;
     view.png = fields[0];
     if (view.png.empty() || view.png.find('/') != std::string::npos || view.png == "." || view.png == "..")
@@ -83,6 +93,19 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
     view.T_vr_hmd = Eigen::Isometry3d::Identity();
     view.T_vr_hmd.linear() = q.normalized().toRotationMatrix();
     view.T_vr_hmd.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+    if (with_cues) {
+      double cue[3];
+      for (int i = 0; i < 3; ++i) {
+        const std::string& text = fields[std::size_t(9 + i)];
+        cue[i] = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(cue[i])) return bad("'" + text + "' is not a finite number");
+      }
+      if (!(cue[0] >= 0 && cue[0] <= 1)) return bad("image_saturation outside [0, 1]");
+      view.image_saturation = static_cast<float>(cue[0]);
+      view.link_state.image_age_ms = cue[1];
+      view.link_state.eye_camera_distance_m = cue[2];
+      view.link_state.stream_text = fields[12];
+    }
     views.push_back(std::move(view));
   }
   if (number == 0) {

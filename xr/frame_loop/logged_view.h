@@ -5,7 +5,9 @@
 ///        views.csv`), so a replay is checked against what the operator saw live, not only
 ///        against another replay. Rows: `png,stereo_sequence,px,py,pz,qx,qy,qz,qw` (T_vr_hmd, m
 ///        and a unit quaternion), doubles with 17 significant digits so the pose round-trips
-///        exactly.
+///        exactly, then the link's cues the operator saw over it (link_state_overlay.h):
+///        `image_saturation,link_age_ms,eye_camera_distance_m,stream_text`. Files without these
+///        four columns (written before them) still load, with no cues.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -14,12 +16,16 @@
 #include <string>
 #include <vector>
 
+#include "xr/frame_loop/link_state_overlay.h"
+
 namespace telesphere::xr::frame_loop {
 
 struct LoggedView {
   std::string png;                   ///< file name beside views.csv, e.g. eyes_00010.png
   std::uint64_t stereo_sequence = 0;  ///< the camera frame on show (StereoFrame.sequence)
   Eigen::Isometry3d T_vr_hmd = Eigen::Isometry3d::Identity();  ///< the head pose both eyes were rendered for
+  float image_saturation = 1.0f;  ///< the image's saturation (0: shown grey, too old)
+  LinkState link_state;           ///< the cues drawn over both eyes
 };
 
 /// The file's name in a PNG folder.

@@ -75,7 +75,9 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     if (!writeEyesPng(options.png_dir + "/" + png, output.left(), output.right(), error)) return false;
     const auto& frame = operator_view.frame();
     return !frame || appendLoggedView(options.png_dir + "/" + kLoggedViewsFile,
-                                      LoggedView{png, frame->frame.sequence(), shown.T_vr_hmd}, error);
+                                      LoggedView{png, frame->frame.sequence(), shown.T_vr_hmd,
+                                                 operator_view.settings().image_saturation, operator_view.linkState()},
+                                      error);
   };
   const Eigen::Isometry3d T_hmd_eye[2] = {output.T_hmd_eye(0), output.T_hmd_eye(1)};
   const auto t0 = Clock::now();

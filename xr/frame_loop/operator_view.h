@@ -179,6 +179,8 @@ class OperatorView final : public OperatorScene {
   /// A calibration fetched from the robot waits for the first frame stamped with it.
   bool calibrationPending() const;
 
+  /// The link's cues of the frame in progress (what drawLinkState drew over each eye).
+  const LinkState& linkState() const { return link_state_; }
   link::LinkClient& client() { return client_; }
   video::StereoFrameDecoder& decoder() { return decoder_; }
   /// The media path's receiver (null on the ZeroMQ link).

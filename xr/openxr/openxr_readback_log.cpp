@@ -27,7 +27,7 @@ std::unique_ptr<OpenXrReadbackLog> OpenXrReadbackLog::open(const std::string& fo
   }
   log->poses_ << "session,frame,eye,predicted_display_time_ns,tx,ty,tz,qx,qy,qz,qw,"
                  "angle_left,angle_right,angle_up,angle_down,width,height,srgb_swapchain,png,"
-                 "sequence,mode,radius\n";
+                 "sequence,mode,radius,image_saturation,link_age_ms,eye_camera_distance_m,stream_text\n";
   log->poses_ << std::setprecision(17);
   return log;
 }
@@ -59,7 +59,9 @@ bool OpenXrReadbackLog::eyeDrawn(const OpenXrEye& eye, const frame_loop::Operato
          << "," << eye.fov.angle_left << "," << eye.fov.angle_right << "," << eye.fov.angle_up << ","
          << eye.fov.angle_down << "," << eye.width << "," << eye.height << "," << (eye.srgb_swapchain ? 1 : 0)
          << "," << imageName(eye) << "," << sequence << "," << link::visualModeName(settings.mode) << ","
-         << settings.radius << "\n";
+         << settings.radius << "," << settings.image_saturation << "," << (view ? view->linkState().image_age_ms : -1.0)
+         << "," << (view ? view->linkState().eye_camera_distance_m : -1.0) << ","
+         << (view ? view->linkState().stream_text : std::string()) << "\n";
   if (!poses_) {
     *error = folder_ + "/poses.csv: write failed";
     return false;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief The headset run's readback folder (`telesphere-xr openxr --readback-dir`): every
 ///        swapchain image as PNG, `poses.csv` (per eye: the T_cam_eye, field of view, size,
-///        camera frame, visual mode and radius it was rendered with) and the camera images it
+///        camera frame, visual mode and radius it was rendered with, and the link's cues drawn over
+///        it: image saturation, the image's age, eye-camera distance, stream text) and the camera images it
 ///        showed (YUV planes, once per frame and eye), so that a test can re-render what the
 ///        headset showed with the double-precision reference and compare.
 #pragma once

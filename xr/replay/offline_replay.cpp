@@ -134,6 +134,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
     const auto [begin, end] = views_by_sequence.equal_range(sequence);
     for (auto it = begin; it != end; ++it) {
       T_vr_hmd_recorded = it->second->T_vr_hmd;
+      view.setLinkCues(it->second->link_state, it->second->image_saturation);
       if (!loop.step(error)) return false;
       if (!view.frame() || view.frame()->frame.sequence() != sequence) {
         *error = "view " + it->second->png + ": the recording's frame " + std::to_string(sequence) +

@@ -123,7 +123,15 @@ bool RecordedView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const r
   if (!renderer_.renderEye(eye, T_robot_vr_, T_vr_eye, view, framebuffer, error)) return false;
   if (state_ && state_->trial().running())
     frame_loop::drawTrialIndicator(framebuffer, view.width, view.height, state_->trial().elapsed_s(), state_->trial().time_limit_s());
+  if (link_cues_) frame_loop::drawLinkState(framebuffer, view.width, view.height, *link_cues_, {});
   return true;
+}
+
+void RecordedView::setLinkCues(const frame_loop::LinkState& state, float image_saturation) {
+  link_cues_ = state;
+  render::RenderSettings settings = renderer_.settings();
+  settings.image_saturation = image_saturation;
+  renderer_.setSettings(settings);
 }
 
 void RecordedView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t) {

@@ -47,6 +47,9 @@ class RecordedView final : public frame_loop::OperatorScene {
   /// The newest frame logged so far (replaces one not yet shown) / the newest robot state.
   void takeFrame(record::RecordedFrame&& frame);
   void takeState(const link::proto::RobotState& state) { state_ = state; }
+  /// The link's cues a live view showed (views.csv): the image's saturation and the overlay,
+  /// drawn again over the next frames' eyes so the replay gives the live run's pixels.
+  void setLinkCues(const frame_loop::LinkState& state, float image_saturation);
 
   bool beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t display_ns, bool valid, std::string* error) override;
   bool renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view, GLuint framebuffer,
@@ -73,6 +76,7 @@ class RecordedView final : public frame_loop::OperatorScene {
   video::JpegDecoder decoder_;
   std::optional<record::RecordedFrame> pending_;
   std::optional<link::proto::RobotState> state_;
+  std::optional<frame_loop::LinkState> link_cues_;  ///< views mode: the live run's cues
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
   bool uploaded_this_frame_ = false;

@@ -36,6 +36,7 @@
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
 #include "tests/xr/monado/leak_report.h"
+#include "xr/frame_loop/link_state_overlay.h"
 #include "xr/openxr/openxr_test_scene.h"
 #include "xr/render/spherical_renderer.h"
 #include "xr/render/yuv_planes_file.h"
@@ -161,6 +162,9 @@ struct LoggedEye {
   unsigned long long sequence = 0;  ///< the robot's stereo frame shown (0: test scene / none)
   std::string mode;
   double radius = 0;
+  /// The link's cues drawn over the eye (xr/frame_loop/link_state_overlay.h).
+  float image_saturation = 1.0f;
+  xr::frame_loop::LinkState link_state;
 };
 
 std::vector<LoggedEye> monadoReadPoses(const std::string& path) {
@@ -173,7 +177,8 @@ std::vector<LoggedEye> monadoReadPoses(const std::string& path) {
     std::stringstream ss(line);
     std::string cell;
     while (std::getline(ss, cell, ',')) f.push_back(cell);
-    if (f.size() != 22) continue;
+    if (f.size() == 25) f.emplace_back();  // an empty stream text at the line's end
+    if (f.size() != 26) continue;
     LoggedEye e;
     e.session = std::stoi(f[0]);
     e.frame = std::stoll(f[1]);
@@ -190,6 +195,10 @@ std::vector<LoggedEye> monadoReadPoses(const std::string& path) {
     e.sequence = std::stoull(f[19]);
     e.mode = f[20];
     e.radius = std::stod(f[21]);
+    e.image_saturation = std::stof(f[22]);
+    e.link_state.image_age_ms = std::stod(f[23]);
+    e.link_state.eye_camera_distance_m = std::stod(f[24]);
+    e.link_state.stream_text = f[25];
     out.push_back(e);
   }
   return out;
@@ -544,9 +553,12 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
     xr::render::RenderSettings settings;
     settings.mode = telesphere::link::parseVisualMode(e.mode).value();
     settings.radius = e.radius;
+    // The image as old as it was when shown: grey past 1 s, with the link's cues over it.
+    settings.image_saturation = e.image_saturation;
     ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;
     gl::OffscreenTarget target(e.view.width, e.view.height, GL_RGBA8);
     ASSERT_TRUE(renderer.render(gpu, e.view, settings, target.framebuffer(), &error)) << error;
+    xr::frame_loop::drawLinkState(target.framebuffer(), e.view.width, e.view.height, e.link_state, {});
     const auto reference = target.readRgba8();
     const auto png = gl::readPng((dir / e.png).string(), &error);
     ASSERT_TRUE(png) << error;
@@ -562,8 +574,9 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
       over += diff > 8 ? 1 : 0;
       ++count;
     }
-    std::cout << e.png << " (frame " << e.sequence << ", " << e.mode << ", r " << e.radius
-              << ") vs offscreen: max " << max << ", mean " << sum / double(count) << "\n";
+    std::cout << e.png << " (frame " << e.sequence << ", " << e.mode << ", r " << e.radius << ", shown "
+              << e.link_state.image_age_ms << " ms old) vs offscreen: max " << max << ", mean " << sum / double(count)
+              << "\n";
     EXPECT_LT(sum / double(count), 0.5) << e.png;
     EXPECT_LT(double(over) / double(count), 0.002) << e.png;
   }
