@@ -18,6 +18,7 @@
 #include "robot/clock/sim_clock.h"
 #include "robot/video/video_streamer.h"
 #include "tests/eventually.h"
+#include "tests/support/smooth_camera_frame.h"
 
 namespace telesphere::robot {
 namespace {
@@ -69,22 +70,7 @@ TEST(PreviewReduction, IsTheRoundedBlockMeanAndRefusesWhatItCannotReduce) {
   EXPECT_FALSE(video::reduceForPreview(short_buffer, 32));
 }
 
-/// A smooth picture (what a camera sees; random pixels are the worst case for JPEG).
-cameras::CameraFrame smoothFrame(int w, int h, double phase) {
-  cameras::CameraFrame f;
-  f.width = w;
-  f.height = h;
-  f.format = cameras::PixelFormat::kRgb8;
-  f.stride_bytes = w * 3;
-  auto pixels = std::make_shared<std::vector<std::uint8_t>>(std::size_t(w) * std::size_t(h) * 3);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c)
-        (*pixels)[std::size_t((y * w + x) * 3 + c)] =
-            std::uint8_t(128 + 100 * std::sin(x / 37.0 + phase + c) * std::cos(y / 29.0 - c));
-  f.pixels = pixels;
-  return f;
-}
+using telesphere::test::smoothFrame;
 
 /// Replay cameras → pairs → video streamer (+ preview, telemetry) → link server, in real time.
 struct VideoRig {
