@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "robot/link/media/block_erasure_code.h"
@@ -54,12 +55,25 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
              ") is beyond the media path's limits";
     return false;
   }
-  // The frame's payload in one piece, then cut.
-  std::vector<std::uint8_t> payload;
-  payload.reserve(total);
-  payload.insert(payload.end(), meta_bytes.begin(), meta_bytes.end());
-  payload.insert(payload.end(), left_jpeg.begin(), left_jpeg.end());
-  payload.insert(payload.end(), right_jpeg.begin(), right_jpeg.end());
+  // The payload [meta | left | right] is never joined: each chunk copies its bytes straight from
+  // the three pieces into its datagram (one copy of the frame), and the parity reads the chunks
+  // from their datagrams.
+  const std::span<const std::uint8_t> pieces[3] = {
+      {reinterpret_cast<const std::uint8_t*>(meta_bytes.data()), meta_bytes.size()}, left_jpeg, right_jpeg};
+  const auto copyPayload = [&](std::uint64_t begin, std::uint64_t n, std::uint8_t* to) {
+    for (const auto& piece : pieces) {
+      if (n == 0) return;
+      if (begin >= piece.size()) {
+        begin -= piece.size();
+        continue;
+      }
+      const std::uint64_t take = std::min<std::uint64_t>(n, piece.size() - begin);
+      std::copy_n(piece.data() + begin, take, to);
+      to += take;
+      n -= take;
+      begin = 0;
+    }
+  };
 
   MediaPacketHeader h;
   h.stream = stream_;
@@ -75,33 +89,40 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
     MediaPacketHeader c = h;
     c.chunk_index = static_cast<std::uint16_t>(index);
     c.flags = flags;
-    const std::size_t begin = index * config_.chunk_bytes;
-    const std::size_t end = std::min<std::size_t>(payload.size(), begin + config_.chunk_bytes);
+    const std::uint64_t begin = index * config_.chunk_bytes;
+    const std::uint64_t n = std::min<std::uint64_t>(total - begin, config_.chunk_bytes);
     std::vector<std::uint8_t> datagram;
-    writeMediaPacket(c, std::span(payload).subspan(begin, end - begin), datagram);
+    writeMediaPacket(c, {}, datagram);
+    datagram.resize(kMediaHeaderBytes + n);
+    copyPayload(begin, n, datagram.data() + kMediaHeaderBytes);
     out->datagrams.push_back(std::move(datagram));
   };
   const bool fec = config_.fec_overhead > 0;
-  std::vector<std::uint8_t> padded;
+  const std::size_t size = config_.chunk_bytes;
+  std::vector<std::uint8_t> last_padded;            // the frame's last chunk, padded to `size`
+  std::optional<BlockErasureCode> code;             // full blocks share one; the last may differ
   for (std::uint64_t first = 0; first < chunks; first += fec ? config_.fec_block : chunks) {
     const std::uint64_t k = fec ? std::min<std::uint64_t>(config_.fec_block, chunks - first) : chunks - first;
+    const std::size_t block_datagrams = out->datagrams.size();
     for (std::uint64_t i = first; i < first + k; ++i) chunkAt(i, 0);
     if (!fec) continue;
     const int r = std::max(1, static_cast<int>(std::ceil(config_.fec_overhead * static_cast<double>(k))));
-    // The block's chunks, the frame's last one padded with zeros to the common size.
-    const std::size_t size = config_.chunk_bytes;
-    padded.assign(static_cast<std::size_t>(k) * size, 0);
     std::vector<const std::uint8_t*> data(k);
     for (std::uint64_t i = 0; i < k; ++i) {
-      const std::size_t begin = (first + i) * size;
-      const std::size_t n = std::min<std::size_t>(size, payload.size() - begin);
-      std::copy_n(payload.begin() + static_cast<std::ptrdiff_t>(begin), n, padded.begin() + static_cast<std::ptrdiff_t>(i * size));
-      data[i] = padded.data() + i * size;
+      const std::vector<std::uint8_t>& d = out->datagrams[block_datagrams + i];
+      data[i] = d.data() + kMediaHeaderBytes;
+      if (d.size() - kMediaHeaderBytes < size) {  // only the frame's last chunk is short
+        last_padded.assign(size, 0);
+        std::copy(d.begin() + static_cast<std::ptrdiff_t>(kMediaHeaderBytes), d.end(), last_padded.begin());
+        data[i] = last_padded.data();
+      }
     }
+    if (!code || code->dataShards() != static_cast<int>(k) || code->parityShards() != r)
+      code.emplace(static_cast<int>(k), r);
     std::vector<std::vector<std::uint8_t>> parity(static_cast<std::size_t>(r), std::vector<std::uint8_t>(size));
     std::vector<std::uint8_t*> shards;
     for (auto& p : parity) shards.push_back(p.data());
-    BlockErasureCode(static_cast<int>(k), r).encode(data, shards, size);
+    code->encode(data, shards, size);
     for (int j = 0; j < r; ++j) {
       MediaPacketHeader c = h;
       c.kind = MediaPacketKind::kFrameParity;
@@ -111,7 +132,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
       c.fec_j = static_cast<std::uint8_t>(j);
       std::vector<std::uint8_t> datagram;
       writeMediaPacket(c, parity[static_cast<std::size_t>(j)], datagram);
-            out->datagrams.push_back(std::move(datagram));
+      out->datagrams.push_back(std::move(datagram));
     }
   }
   if (!fec && config_.repeat_headers && chunks >= config_.repeat_min_chunks) {

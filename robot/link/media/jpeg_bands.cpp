@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 
 namespace telesphere::link::media {
 namespace {
@@ -218,7 +219,11 @@ std::optional<JpegBands> findJpegBands(std::span<const std::uint8_t> jpeg, std::
   std::size_t band_start = bands.header_bytes;
   for (std::size_t i = bands.header_bytes; i + 1 < jpeg.size();) {
     if (jpeg[i] != 0xFF) {
-      ++i;
+      // Entropy-coded data is almost all bytes other than 0xFF: jump to the next one (a 4K frame
+      // is scanned on the robot for every frame sent).
+      const void* next_ff = std::memchr(jpeg.data() + i, 0xFF, jpeg.size() - i);
+      if (!next_ff) break;
+      i = static_cast<std::size_t>(static_cast<const std::uint8_t*>(next_ff) - jpeg.data());
       continue;
     }
     const std::uint8_t next = jpeg[i + 1];
