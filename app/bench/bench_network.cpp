@@ -235,17 +235,10 @@ nlohmann::json runNetwork(const BenchContext& ctx) {
   // Recovery after each rate step (relay clock → seconds after the step).
   nlohmann::json steps = nlohmann::json::array();
   if (!o.rate_steps.empty()) {
-    std::string ignored;
+    // The trace's own steps (RateTrace::parseSteps read --rate-steps), the one at 0 s left out.
     std::vector<std::pair<double, double>> parsed;  // (t s, Mbit/s)
-    std::size_t at = 0;
-    while (at < o.rate_steps.size()) {
-      const std::size_t comma = o.rate_steps.find(',', at);
-      const std::string item = o.rate_steps.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
-      const std::size_t colon = item.find(':');
-      parsed.emplace_back(std::stod(item.substr(0, colon)), std::stod(item.substr(colon + 1)));
-      if (comma == std::string::npos) break;
-      at = comma + 1;
-    }
+    for (const impairment::RateStep& step : trace->rateSteps())
+      if (step.from_ns > 0) parsed.emplace_back(static_cast<double>(step.from_ns) * 1e-9, step.bits_per_s * 1e-6);
     double previous_mbit = o.rate_mbit;
     std::lock_guard lock(delivered_mutex);
     for (const auto& [t_s, mbit] : parsed) {
