@@ -6,7 +6,7 @@ namespace telesphere::xr::video {
 
 std::unique_ptr<MediaFrameSource> MediaFrameSource::open(const std::string& host, int port, std::string* error) {
   link::media::MediaReceiverOptions options;
-  options.sender_address = host == "localhost" ? "127.0.0.1" : host;
+  options.sender_address = host;
   options.sender_port = static_cast<std::uint16_t>(port);
   auto receiver = link::media::MediaReceiver::start(options, error);
   if (!receiver) return nullptr;

@@ -3,6 +3,7 @@
 #include "robot/link/media/media_receiver.h"
 
 #include <arpa/inet.h>
+#include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
@@ -19,17 +20,22 @@
 
 namespace telesphere::link::media {
 std::unique_ptr<MediaReceiver> MediaReceiver::start(const MediaReceiverOptions& options, std::string* error) {
-  sockaddr_in sender{};
-  sender.sin_family = AF_INET;
-  sender.sin_port = htons(options.sender_port);
-  if (::inet_pton(AF_INET, options.sender_address.c_str(), &sender.sin_addr) != 1) {
-    *error = "media receiver: '" + options.sender_address + "' is not an IPv4 address";
-    return nullptr;
-  }
   if (options.sender_port == 0) {
     *error = "media receiver: no sender port";
     return nullptr;
   }
+  // A name or an address, as the ZeroMQ link takes (the robot's host name works on both links).
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* found = nullptr;
+  if (const int rc = ::getaddrinfo(options.sender_address.c_str(), nullptr, &hints, &found); rc != 0 || !found) {
+    *error = "media receiver: cannot resolve '" + options.sender_address + "': " + ::gai_strerror(rc);
+    return nullptr;
+  }
+  sockaddr_in sender = *reinterpret_cast<const sockaddr_in*>(found->ai_addr);
+  ::freeaddrinfo(found);
+  sender.sin_port = htons(options.sender_port);
   const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
   if (fd < 0) {
     *error = std::string("media receiver: socket: ") + std::strerror(errno);

@@ -24,7 +24,7 @@
 namespace telesphere::link::media {
 
 struct MediaReceiverOptions {
-  std::string sender_address = "127.0.0.1";
+  std::string sender_address = "127.0.0.1";  ///< a host name or an IPv4 address
   std::uint16_t sender_port = 0;
   FrameAssembler::Config assembler;
   std::int64_t report_interval_ns = 25'000'000;

@@ -63,6 +63,21 @@ std::vector<AssembledFrame> run(MediaSender& sender, MediaReceiver& receiver, co
   return got;
 }
 
+TEST(MediaLoopback, TheRobotIsFoundByNameAndABadNameIsSaid) {
+  MediaReceiverOptions ro;
+  ro.sender_port = 9;  // nothing needs to listen: a UDP socket only connects
+  ro.sender_address = "localhost";
+  std::string error;
+  EXPECT_TRUE(MediaReceiver::start(ro, &error)) << error;
+  ro.sender_address = "";
+  EXPECT_FALSE(MediaReceiver::start(ro, &error));
+  EXPECT_NE(error.find("cannot resolve ''"), std::string::npos) << error;
+  ro.sender_address = "127.0.0.1";
+  ro.sender_port = 0;
+  EXPECT_FALSE(MediaReceiver::start(ro, &error));
+  EXPECT_EQ(error, "media receiver: no sender port");
+}
+
 TEST(MediaLoopback, FramesArriveByteIdenticalOnACleanPath) {
   std::string error;
   MediaSenderOptions so;
