@@ -491,6 +491,28 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
   EXPECT_GE(view_->stats().unmeasured_frames_held_back, 1u);
 }
 
+TEST_F(OperatorViewTest, OnTheMediaPathTheZeroMqLinkCarriesNoFrames) {
+  // Over the Internet both links share the operator's downlink: a TCP copy of every frame would
+  // take the rate the media path adapts to (and queue behind it for seconds).
+  view_.reset();
+  frame_loop::OperatorViewOptions options;
+  options.endpoints = operatorViewEndpoints();
+  options.media_link = true;
+  options.media_port = 27389;  // nobody sends there: only the ZeroMQ link could bring frames
+  view_ = std::make_unique<frame_loop::OperatorView>(robot_calibration_, options);
+  ASSERT_TRUE(telesphere::test::eventually([&] {
+    shownFrame();
+    return server_->stats().received > 0;  // the view's link is up (its pings arrive)
+  }, 5000ms));
+  for (int i = 0; i < 10; ++i) {
+    publishFrame();
+    shownFrame();
+    std::this_thread::sleep_for(20ms);
+  }
+  std::this_thread::sleep_for(200ms);
+  EXPECT_FALSE(view_->client().takeLatestFrame()) << "the ZeroMQ link subscribed to frames beside the media path";
+}
+
 TEST(TrialIndicator, FillAtTheExtremes) {
   EXPECT_EQ(frame_loop::trialIndicatorFill(0.0, 300.0), 0.0);
   EXPECT_EQ(frame_loop::trialIndicatorFill(-5.0, 300.0), 0.0);  // a clock that stepped back shows nothing

@@ -41,7 +41,8 @@ std::unique_ptr<video::MediaFrameSource> openMedia(const OperatorViewOptions& op
 
 OperatorView::OperatorView(const calib::SystemCalibration& calibration,
                            const OperatorViewOptions& options)
-    : client_(options.endpoints),
+    // On the media path frames come by UDP only: a ZeroMQ copy would share the operator's downlink.
+    : client_(options.endpoints, link::LinkClient::Options{.frames = !options.media_link}),
       renderer_(calibration, options.render, options.upload_ring_slots),
       media_(openMedia(options)),
       decoder_(client_, decoderOptions(renderer_, media_.get())),
