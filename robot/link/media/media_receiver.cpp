@@ -114,6 +114,9 @@ void MediaReceiver::sendReports(std::int64_t now_ns) {
     d.entries.assign(pending_entries_.begin() + static_cast<std::ptrdiff_t>(at),
                      pending_entries_.begin() + static_cast<std::ptrdiff_t>(at + n));
     at += n;
+    // How long the newest entry waited here: the sender takes it out of its round trip.
+    const auto waited_us = static_cast<std::uint32_t>(now_ns / 1000) - d.entries.back().arrival_us;
+    d.hold_ns = static_cast<std::int64_t>(waited_us) * 1000;
     out.clear();
     writeReceiverDatagram(d, out);
     send(false);

@@ -6,6 +6,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/eventfd.h>
+#include <netdb.h>
 #include <sys/socket.h>
 #include <time.h>
 #include <unistd.h>
@@ -135,6 +136,11 @@ void MediaSender::setCapBps(double cap_bps) {
   rate_.setCapBps(cap_bps);
 }
 
+double MediaSender::capBps() const {
+  std::lock_guard lock(mutex_);
+  return cap_bps_;
+}
+
 bool MediaSender::hasReceiver() const {
   std::lock_guard lock(mutex_);
   return receiver_ != nullptr;
@@ -146,6 +152,13 @@ MediaSenderStats MediaSender::stats() const {
   s.rate = rate_.stats();
   s.pacing_bps = options_.pacing_gain * rate_.targetBps();
   s.framing_overhead = wire_per_payload_ - 1.0;
+  s.cap_bps = cap_bps_;
+  if (receiver_) {
+    char host[NI_MAXHOST] = {}, port[NI_MAXSERV] = {};
+    if (::getnameinfo(reinterpret_cast<const sockaddr*>(&receiver_->address), receiver_->address_length, host,
+                      sizeof host, port, sizeof port, NI_NUMERICHOST | NI_NUMERICSERV) == 0)
+      s.receiver_address = std::string(host) + ":" + port;
+  }
   return s;
 }
 
@@ -191,7 +204,7 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
     std::vector<PacketReport> reports;
     reports.reserve(datagram->entries.size());
     for (const ReportEntry& e : datagram->entries) reports.push_back({e.seq, receiver_->arrivals.unwrapNs(e.arrival_us)});
-    rate_.onFeedback(reports, now_ns);
+    rate_.onFeedback(reports, now_ns, datagram->entries.empty() ? -1 : datagram->hold_ns);
   }
 }
 

@@ -50,6 +50,8 @@ struct MediaSenderStats {
   std::uint64_t head_target_datagrams = 0;
   double pacing_bps = 0;
   double framing_overhead = 0;  ///< recent frames' datagram bytes over their JPEG bytes, less 1
+  double cap_bps = 0;           ///< the supervisor's cap (0: none)
+  std::string receiver_address; ///< "host:port" of the receiver sent to; empty: none
   SendRateStats rate;
 };
 
@@ -71,8 +73,9 @@ class MediaSender {
   /// What the encoder should aim at (bits/s of JPEG): the target less the framing's share (headers,
   /// meta, repeated chunks) as measured on the recent frames.
   double payloadBudgetBps() const;
-  /// The supervisor's cap (0: none).
+  /// The supervisor's cap (0: none; must be finite and ≥ 0).
   void setCapBps(double cap_bps);
+  double capBps() const;
   bool hasReceiver() const;
   MediaSenderStats stats() const;
 

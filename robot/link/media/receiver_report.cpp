@@ -21,7 +21,8 @@ void writeReceiverDatagram(const ReceiverDatagram& d, std::vector<std::uint8_t>&
   put32(out, d.stream);
   put32(out, d.receiver);
   put16(out, static_cast<std::uint16_t>(n));
-  put16(out, 0);
+  const std::int64_t hold_100us = std::clamp<std::int64_t>((d.hold_ns + 50'000) / 100'000, 0, 0xFFFF);
+  put16(out, static_cast<std::uint16_t>(hold_100us));
   for (std::size_t i = 0; i < n; ++i) {
     put32(out, d.entries[i].seq);
     put32(out, d.entries[i].arrival_us);
@@ -35,12 +36,13 @@ std::optional<ReceiverDatagram> parseReceiverDatagram(std::span<const std::uint8
   };
   if (b.size() < kReceiverHeaderBytes || get16(b.data()) != kMediaMagic) return refuse(MediaDropReason::kMalformed);
   if (b[2] != kMediaVersion) return refuse(MediaDropReason::kWrongVersion);
-  if ((b[3] != kReceiverReportKind && b[3] != kReceiverHelloKind) || get16(&b[4]) != 0 || get16(&b[16]) != 0)
+  if ((b[3] != kReceiverReportKind && b[3] != kReceiverHelloKind) || get16(&b[4]) != 0)
     return refuse(MediaDropReason::kMalformed);
   ReceiverDatagram d;
   d.hello = b[3] == kReceiverHelloKind;
   d.stream = get32(&b[6]);
   d.receiver = get32(&b[10]);
+  d.hold_ns = static_cast<std::int64_t>(get16(&b[16])) * 100'000;
   const std::size_t n = get16(&b[14]);
   if (n > kMaxReportEntries || b.size() != kReceiverHeaderBytes + 8 * n || (d.hello && n != 0) || d.receiver == 0)
     return refuse(MediaDropReason::kMalformed);

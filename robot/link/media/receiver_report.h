@@ -7,7 +7,9 @@
 ///        - a hello: "send to me", before the first frame and whenever no report is due. It
 ///          also carries the receiver's stream so a sender can tell a restarted receiver.
 ///        Layout, big-endian: magic u16, version u8, kind u8, reserved u16, stream u32,
-///        receiver u32, count u16, reserved u16, then count × (seq u32, arrival_us u32).
+///        receiver u32, count u16, hold u16, then count × (seq u32, arrival_us u32). hold: how
+///        long the newest entry waited at the receiver before the report left, in 100 µs
+///        (saturating at 6.5535 s), so the sender can take the report's wait out of its round trip.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +36,7 @@ struct ReceiverDatagram {
   bool hello = false;
   std::uint32_t stream = 0;    ///< the sender's stream reported on (0 in a hello before any frame)
   std::uint32_t receiver = 0;  ///< random per receiving process
+  std::int64_t hold_ns = 0;    ///< the last entry's wait before the report left (100 µs steps on the wire)
   std::vector<ReportEntry> entries;
 };
 

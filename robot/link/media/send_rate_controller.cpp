@@ -65,15 +65,25 @@ void SendRateController::onPacketSent(std::uint32_t seq, std::int64_t send_ns, s
   sent_.push_back({send_ns, static_cast<std::uint32_t>(bytes), false});
 }
 
-void SendRateController::onFeedback(std::span<const PacketReport> reports, std::int64_t now_ns) {
+void SendRateController::onFeedback(std::span<const PacketReport> reports, std::int64_t now_ns,
+                                    std::int64_t last_hold_ns) {
   std::optional<std::int64_t> newest_send_ns;
-  for (const PacketReport& r : reports) {
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    const PacketReport& r = reports[i];
     const std::uint32_t index = r.seq - first_seq_;
     if (index >= sent_.size() || sent_[index].reported) {
       ++stats_.reports_unknown;
       continue;
     }
     Sent& s = sent_[index];
+    if (i + 1 == reports.size() && last_hold_ns >= 0) {
+      // Sent at send_ns, answered last_hold_ns after it arrived, the answer here at now_ns.
+      const double rtt_ms = static_cast<double>(now_ns - s.send_ns - last_hold_ns) * 1e-6;
+      if (rtt_ms >= 0) {
+        stats_.rtt_last_ms = rtt_ms;
+        stats_.rtt_ms = stats_.rtt_ms < 0 ? rtt_ms : stats_.rtt_ms + (rtt_ms - stats_.rtt_ms) / 8.0;
+      }
+    }
     s.reported = true;
     ++stats_.packets_reported;
     arrivals_.emplace_back(r.arrival_ns, s.bytes);

@@ -89,6 +89,8 @@ struct SendRateStats {
   double delivered_bps = 0;
   double loss_fraction = 0;          ///< over loss_window_ns
   double queue_delay_ms = 0;         ///< the last one-way delay above the window's minimum
+  double rtt_ms = -1;                ///< smoothed round trip (weight 1/8 per report); negative: none yet
+  double rtt_last_ms = -1;           ///< the newest report's
   PathUsage usage = PathUsage::kNormal;
   std::uint64_t packets_reported = 0, packets_lost = 0, reports_unknown = 0;
   std::array<std::uint64_t, static_cast<int>(RateDecision::kCount)> decisions{};
@@ -104,7 +106,9 @@ class SendRateController {
   void onPacketSent(std::uint32_t seq, std::int64_t send_ns, std::size_t bytes);
   /// The receiver's reports, arrival order, taken at now_ns (sender's clock). A report of a seq
   /// not sent, already reported or already counted lost is ignored (counted unknown).
-  void onFeedback(std::span<const PacketReport> reports, std::int64_t now_ns);
+  /// `last_hold_ns`: how long the last report waited at the receiver before it was sent (the
+  /// report's hold); with it the last report gives a round trip sample (negative: none).
+  void onFeedback(std::span<const PacketReport> reports, std::int64_t now_ns, std::int64_t last_hold_ns = -1);
   /// The supervisor's cap (0: none).
   void setCapBps(double cap_bps);
 

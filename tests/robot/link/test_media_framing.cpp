@@ -138,6 +138,7 @@ TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
   ReceiverDatagram report;
   report.stream = 0xABCDEF01;
   report.receiver = 77;
+  report.hold_ns = 12'345'678;  // 12.35 ms: the wire carries 100 µs steps
   for (std::uint32_t i = 0; i < kMaxReportEntries + 5; ++i) report.entries.push_back({0xFFFFFFF0u + i, i * 1000});
   std::vector<std::uint8_t> bytes;
   writeReceiverDatagram(report, bytes);
@@ -148,6 +149,7 @@ TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
   EXPECT_FALSE(parsed->hello);
   EXPECT_EQ(parsed->stream, report.stream);
   EXPECT_EQ(parsed->receiver, 77u);
+  EXPECT_EQ(parsed->hold_ns, 12'300'000);
   ASSERT_EQ(parsed->entries.size(), kMaxReportEntries) << "the rest goes in the next datagram";
   EXPECT_EQ(parsed->entries.back().seq, static_cast<std::uint32_t>(0xFFFFFFF0u + kMaxReportEntries - 1));
   EXPECT_EQ(parsed->entries.back().arrival_us, static_cast<std::uint32_t>((kMaxReportEntries - 1) * 1000));
@@ -183,6 +185,17 @@ TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
   b[10] = b[11] = b[12] = b[13] = 0;  // receiver 0
   refused(b, MediaDropReason::kMalformed);
   refused({}, MediaDropReason::kMalformed);
+
+  // A hold beyond what 16 bits of 100 µs hold saturates at 6.5535 s; a negative one is 0.
+  for (const auto& [hold_ns, expected_ns] : {std::pair<std::int64_t, std::int64_t>{60'000'000'000, 6'553'500'000},
+                                             {-5, 0}, {49'999, 0}, {50'000, 100'000}}) {
+    report.hold_ns = hold_ns;
+    bytes.clear();
+    writeReceiverDatagram(report, bytes);
+    parsed = parseReceiverDatagram(bytes, &why);
+    ASSERT_TRUE(parsed);
+    EXPECT_EQ(parsed->hold_ns, expected_ns) << hold_ns;
+  }
 }
 
 TEST(HeadTargetDatagram, CarriesTheLastFewTargetsAndRefusesWhatDoesNotAddUp) {

@@ -86,7 +86,12 @@ Outcome simulate(const Scenario& sc, SendRateOptions options = {}) {
   Outcome out;
   std::uint32_t seq = 0;
   std::int64_t next_send = 0, next_feedback = sc.feedback_interval_ns;
-  std::vector<std::pair<std::int64_t, std::vector<PacketReport>>> in_return;  ///< (arrives ns, reports)
+  struct InReturn {
+    std::int64_t arrives_ns;
+    std::vector<PacketReport> reports;
+    std::int64_t hold_ns;  ///< the newest entry's wait at the receiver (-1: no entries)
+  };
+  std::vector<InReturn> in_return;
   std::vector<std::pair<std::int64_t, std::size_t>> delivered_log;            ///< (arrival ns, bytes)
   const std::int64_t back_delay = sc.path.one_way_delay_ns;
   while (true) {
@@ -104,18 +109,21 @@ Outcome simulate(const Scenario& sc, SendRateOptions options = {}) {
     } else {
       // The receiver reports what arrived since its last report.
       std::vector<PacketReport> reports;
+      std::int64_t newest_arrival_ns = -1;
       for (const auto& p : path.arrivedBy(t)) {
+        newest_arrival_ns = p.arrives_ns;
         std::uint32_t s = 0;
         std::memcpy(&s, p.bytes.data(), sizeof s);
         reports.push_back({s, p.arrives_ns + sc.clock_offset_ns});
         delivered_log.emplace_back(p.arrives_ns, p.bytes.size());
         out.queue.emplace_back(p.offered_ns, p.left_bottleneck_ns - p.offered_ns);
       }
-      in_return.emplace_back(t + back_delay, std::move(reports));
+      const std::int64_t hold_ns = newest_arrival_ns < 0 ? -1 : t - newest_arrival_ns;
+      in_return.push_back({t + back_delay, std::move(reports), hold_ns});
       next_feedback = t + sc.feedback_interval_ns;
       // Reports that reached the sender by now.
-      while (!in_return.empty() && in_return.front().first <= t) {
-        controller.onFeedback(in_return.front().second, t);
+      while (!in_return.empty() && in_return.front().arrives_ns <= t) {
+        controller.onFeedback(in_return.front().reports, t, in_return.front().hold_ns);
         in_return.erase(in_return.begin());
       }
       double bytes = 0;
@@ -166,6 +174,9 @@ TEST(SendRateController, UsesTheLinkWithoutAStandingQueueAt100msRttAnd1PercentLo
     EXPECT_GE(goodput, 0.85) << mbit << " Mbit/s";
     EXPECT_LE(q95, 30.0) << mbit << " Mbit/s";
     EXPECT_EQ(o.stats.decided(RateDecision::kDecreaseLoss), 0u) << "1 % loss is the path's, not congestion";
+    // The round trip from the reports' holds: the path's 100 ms plus what queues on it.
+    EXPECT_GE(o.stats.rtt_ms, 100.0) << mbit << " Mbit/s";
+    EXPECT_LE(o.stats.rtt_ms, 100.0 + 30.0) << mbit << " Mbit/s";
   }
 }
 
@@ -268,6 +279,35 @@ TEST(SendRateController, RefusesOptionsThatCannotWork) {
   o.growth_far_per_s = 0.5;
   EXPECT_NE(checkSendRateOptions(o), "");
   EXPECT_EQ(checkSendRateOptions({}), "");
+}
+
+TEST(SendRateController, TheRoundTripIsTheNewestReportsAgeLessItsHold) {
+  SendRateController c;
+  EXPECT_LT(c.stats().rtt_ms, 0.0) << "nothing measured yet";
+  c.onPacketSent(0, 0, 1200);
+  c.onPacketSent(1, 1 * kMs, 1200);
+  // The receiver's clock is its own (40 ms here); only the hold and the sender's clock count.
+  const PacketReport first[] = {{0, 40 * kMs}, {1, 41 * kMs}};
+  c.onFeedback(first, 100 * kMs, 9 * kMs);  // seq 1: sent at 1 ms, held 9 ms, here at 100 ms
+  EXPECT_DOUBLE_EQ(c.stats().rtt_last_ms, 90.0);
+  EXPECT_DOUBLE_EQ(c.stats().rtt_ms, 90.0);
+  c.onPacketSent(2, 100 * kMs, 1200);
+  const PacketReport second[] = {{2, 160 * kMs}};
+  c.onFeedback(second, 230 * kMs, 10 * kMs);  // 120 ms: the smoothed value moves an eighth of the way
+  EXPECT_DOUBLE_EQ(c.stats().rtt_last_ms, 120.0);
+  EXPECT_DOUBLE_EQ(c.stats().rtt_ms, 90.0 + 30.0 / 8.0);
+  // No hold (an old receiver), a hold longer than the round trip, the newest entry unknown: no sample.
+  c.onPacketSent(3, 230 * kMs, 1200);
+  c.onPacketSent(4, 231 * kMs, 1200);
+  c.onPacketSent(5, 232 * kMs, 1200);
+  const PacketReport third[] = {{3, 300 * kMs}};
+  c.onFeedback(third, 330 * kMs);
+  const PacketReport fourth[] = {{4, 301 * kMs}};
+  c.onFeedback(fourth, 331 * kMs, 200 * kMs);
+  const PacketReport fifth[] = {{5, 302 * kMs}, {77, 303 * kMs}};
+  c.onFeedback(fifth, 332 * kMs, 1 * kMs);
+  EXPECT_DOUBLE_EQ(c.stats().rtt_last_ms, 120.0);
+  EXPECT_DOUBLE_EQ(c.stats().rtt_ms, 90.0 + 30.0 / 8.0);
 }
 
 TEST(SendRateController, IgnoresReportsOfPacketsItNeverSent) {
