@@ -200,9 +200,9 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
         const auto m = p.media->stats();
         std::fprintf(stderr,
                      "telesphere-robot: media path: %s, target %.1f Mbit/s, delivered %.1f Mbit/s, loss %.1f %%, "
-                     "queue %.0f ms; stream %s%.0f Hz, scale %.2f, q%d (%s); frames sent %llu, superseded %llu\n",
+                     "round trip %.0f ms, queue %.0f ms; stream %s%.0f Hz, scale %.2f, q%d (%s); frames sent %llu, superseded %llu\n",
                      p.media->hasReceiver() ? "receiver" : "no receiver", m.rate.target_bps * 1e-6,
-                     m.rate.delivered_bps * 1e-6, 100 * m.rate.loss_fraction, m.rate.queue_delay_ms,
+                     m.rate.delivered_bps * 1e-6, 100 * m.rate.loss_fraction, m.rate.rtt_ms, m.rate.queue_delay_ms,
                      v.stream_adapted ? "" : "nominal ", v.stream.fps, v.stream.scale, v.stream.quality,
                      robot::video::streamLimitedByName(v.stream.limited_by),
                      static_cast<unsigned long long>(m.frames_sent), static_cast<unsigned long long>(m.frames_superseded));

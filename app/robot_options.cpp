@@ -2,6 +2,7 @@
 #include "app/robot_options.h"
 
 #include <cstdio>
+#include <cstdlib>
 
 namespace telesphere::app {
 
@@ -18,8 +19,16 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
   app.add_flag("!--no-media", o.media,
                "no UDP media path on port+4 (frames then go over the ZeroMQ link only, at the nominal settings)");
   app.add_option("--media-cap-mbit", o.media_cap_mbit,
-                 "cap on the media path's rate, Mbit/s (0: none; the link's estimate decides)")
-      ->capture_default_str()->check(CLI::Range(0.0, 100000.0));
+                 "cap on the media path's rate, Mbit/s (0: none, the link's estimate decides; else at least 0.5, "
+                 "the rate controller's floor; the console can change it)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 100000.0))
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            const double cap = std::strtod(value.c_str(), nullptr);
+            return cap == 0.0 || cap >= 0.5 ? std::string() : "a cap under 0.5 Mbit/s leaves no room for video (0: none)";
+          },
+          "0 or >= 0.5"));
   app.add_option("--media-start-mbit", o.media_start_mbit, "the media path's rate before the first reports, Mbit/s")
       ->capture_default_str()->check(CLI::Range(0.5, 100000.0));
   app.add_option("--size", o.size, "camera image size WxH (synthetic cameras; the calibration is scaled)")

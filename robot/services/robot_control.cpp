@@ -4,6 +4,7 @@
 
 #include "robot/link/proto_enums.h"
 
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -29,6 +30,20 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       video::JpegSettings settings = video_->jpegSettings();
       settings.quality = q;
       video_->setJpegSettings(settings);
+      reply.set_ok(true);
+    }
+  } else if (request.request_case() == link::proto::ControlRequest::kSetMediaCapMbit) {
+    reply.set_id(request.id());
+    const double cap_mbit = request.set_media_cap_mbit();
+    link::media::MediaSender* media = video_ ? video_->mediaSender() : nullptr;
+    if (!media) {
+      reply.set_error("this robot serves no media path (started with --no-media or without cameras)");
+    } else if (!std::isfinite(cap_mbit) || cap_mbit < 0) {
+      reply.set_error("a cap must be a finite rate ≥ 0 Mbit/s (0 lifts it), not " + std::to_string(cap_mbit));
+    } else if (cap_mbit > 0 && cap_mbit < kMinMediaCapMbit) {
+      reply.set_error("a cap under 0.5 Mbit/s (the send-rate controller's floor) leaves no room for video");
+    } else {
+      media->setCapBps(cap_mbit * 1e6);
       reply.set_ok(true);
     }
   } else if (request.request_case() == link::proto::ControlRequest::kCalibrationCapture) {
@@ -108,6 +123,10 @@ void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {
   const video::JpegSettings jpeg = video_->jpegSettings();
   settings->set_jpeg_quality(jpeg.quality);
   settings->set_jpeg_subsampling(link::toProto(jpeg.subsampling));
+  if (const link::media::MediaSender* media = video_->mediaSender()) {
+    settings->set_media_path(true);
+    settings->set_media_cap_mbit(media->capBps() * 1e-6);
+  }
 }
 
 }  // namespace telesphere::robot::services

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The robot's answer to the link's control requests (DESIGN.md §7: every change through a
-///        request with an explicit reply): JPEG quality goes to the video path, calibration stills
+///        request with an explicit reply): JPEG quality and the media path's cap go to the video path, calibration stills
 ///        to the still taker, applying, reverting and reading the calibration to the calibration
 ///        in use, everything else to the head loop; every reply carries the robot's settings after the request, so the
 ///        console shows what is in force, never what it asked for.
@@ -19,6 +19,8 @@ namespace telesphere::robot::services {
 
 class RobotControl {
  public:
+  /// The lowest media cap a supervisor may set (SendRateOptions::min_bps, the controller's floor).
+  static constexpr double kMinMediaCapMbit = 0.5;
   /// How long a calibration still may take by default (a frame, then the joint state after it).
   static constexpr std::chrono::milliseconds kStillTimeout{800};
 

@@ -2,7 +2,42 @@
 /// @brief RobotHealthReporter: the counters of every part, one message.
 #include "robot/services/robot_health_reporter.h"
 
+#include "robot/video/media_link_sample.h"
+
 namespace telesphere::robot::services {
+namespace {
+
+void fillMediaHealth(const link::media::MediaSender& media, const video::VideoStreamerStats& video,
+                     link::proto::MediaLinkHealth* out) {
+  const link::media::MediaSenderStats s = media.stats();
+  const bool receiver = !s.receiver_address.empty();
+  *out->mutable_now() = video::mediaLinkSample(s, receiver, video.stream, video.stream.quality);
+  out->set_port(media.port());
+  out->set_receiver_address(s.receiver_address);
+  out->set_frames_sent(s.frames_sent);
+  out->set_frames_superseded(s.frames_superseded);
+  out->set_datagrams_sent(s.datagrams_sent);
+  out->set_bytes_sent(s.bytes_sent);
+  out->set_reports_received(s.reports_received);
+  out->set_receiver_changes(s.receiver_changes);
+  out->set_head_target_datagrams(s.head_target_datagrams);
+  out->set_framing_overhead(s.framing_overhead);
+  for (int d = 0; d < static_cast<int>(link::media::RateDecision::kCount); ++d) {
+    if (s.rate.decisions[static_cast<std::size_t>(d)] == 0) continue;
+    auto* count = out->add_rate_decisions();
+    count->set_name(std::string(link::media::rateDecisionName(static_cast<link::media::RateDecision>(d))));
+    count->set_count(s.rate.decisions[static_cast<std::size_t>(d)]);
+  }
+  for (int r = 0; r < static_cast<int>(video::StreamLimitedBy::kCount); ++r) {
+    const std::uint64_t n = video.stream_decisions.decisions_by_reason[static_cast<std::size_t>(r)];
+    if (n == 0) continue;
+    auto* count = out->add_stream_decisions();
+    count->set_name(video::streamLimitedByName(static_cast<video::StreamLimitedBy>(r)));
+    count->set_count(n);
+  }
+}
+
+}  // namespace
 
 RobotHealthReporter::RobotHealthReporter(RobotHealthSources sources, const clock::Clock& clock)
     : sources_(std::move(sources)),
@@ -56,6 +91,8 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   h.set_frames_sent(video.frames_sent);
   h.set_encode_failures(video.encode_failures);
   h.set_encode_ms_last(video.encode_ms_last);
+  if (const link::media::MediaSender* media = sources_.video ? sources_.video->mediaSender() : nullptr)
+    fillMediaHealth(*media, video, h.mutable_media());
   if (sources_.loop) sources_.loop->fillHealth(&h);
   if (sources_.xarm) {
     const arm::XArmHeadArm::Stats x = sources_.xarm->stats();

@@ -2,6 +2,8 @@
 /// @brief VideoStreamer: pair → parallel encode → StereoFrame message → link.
 #include "robot/video/video_streamer.h"
 
+#include "robot/video/media_link_sample.h"
+
 #include "robot/link/proto_enums.h"
 
 #include "robot/link/link_pose.h"
@@ -163,6 +165,7 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     sent.set_encoded_ns(encoded_ns);
     sent.set_sent_ns(link_sent_ns);  // the stamp the frame itself carries
     sent.set_jpeg_bytes(static_cast<std::uint32_t>(encoded.left.jpeg->size() + encoded.right.jpeg->size()));
+    if (config_.media) *sent.mutable_media() = mediaLinkSample(config_.media->stats(), adapted, stream, jpeg.quality);
     config_.telemetry->addFrame(sent);
   }
   if (config_.on_sent) config_.on_sent(pair, sequence);

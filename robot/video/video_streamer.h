@@ -81,6 +81,8 @@ class VideoStreamer {
   void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
   JpegSettings jpegSettings() const { return encoder_.settings(); }
   VideoStreamerStats stats() const;
+  /// The media path's sender (null: the ZeroMQ link only).
+  link::media::MediaSender* mediaSender() const { return config_.media; }
 
  private:
   void run();

@@ -7,7 +7,8 @@
 #        eye should have seen it (app/bench/truth, telesphere-truth-check). At rest (head still, arm
 #        settled, eyes at the cameras) the error is near zero (p99 ≤ 0.05°); with cameras whose
 #        real mounting differs from the calibration the robot uses by 5 mm, the same check must
-#        fail. Also: head targets reach the robot, both programs exit cleanly (the robot on SIGINT).
+#        fail. Also: head targets reach the robot, both programs exit cleanly (the robot on SIGINT);
+#        a media cap under 0.5 Mbit/s is refused.
 # Usage: robot_xr_loop_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -16,6 +17,12 @@ robot=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
+
+# A media cap under the rate controller's floor is refused before anything starts, and said why.
+if "$bin/telesphere-robot" --sim --media-cap-mbit 0.2 --port "$port" --duration 1 > "$out/cap.log" 2>&1; then
+  fail "--media-cap-mbit 0.2 was taken"
+fi
+grep -q "leaves no room for video" "$out/cap.log" || { cat "$out/cap.log"; fail "the refused cap did not say why"; }
 
 calib="$src/calib/data/sim_calibration.yaml"
 printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n1,0,1.6,0,0,0,0,1\n' > "$out/still.csv"

@@ -311,6 +311,17 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     telemetry_.set_visual_mode(link::toProto(renderer_.settings().mode));
     telemetry_.set_sphere_radius(renderer_.settings().radius);
     telemetry_.set_calibration_generation(stats_.calibration_generation);
+    if (media_) {
+      const auto m = media_->stats();
+      link::proto::MediaReceiveCounts* counts = telemetry_.mutable_media();
+      counts->set_t_ns(now);
+      counts->set_datagrams(m.datagrams);
+      counts->set_frames_whole(m.assembler.frames_whole);
+      counts->set_frames_concealed(m.assembler.frames_concealed);
+      counts->set_frames_lost(m.assembler.frames_lost + m.assembler.frames_malformed);
+      counts->set_bands_concealed(m.assembler.bands_lost);
+      counts->set_chunks_repaired(m.assembler.chunks_recovered);
+    }
     client_.sendXrTelemetry(telemetry_);
     telemetry_.clear_frames();
     last_telemetry_ns_ = now;

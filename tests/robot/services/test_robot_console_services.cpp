@@ -6,11 +6,15 @@
 #include <gtest/gtest.h>
 #include <turbojpeg.h>
 
+#include <cmath>
+#include <limits>
 #include <random>
 #include <thread>
 
 #include "robot/arm/head_arm_sim.h"
 #include "robot/link/link_client.h"
+#include "robot/link/media/media_receiver.h"
+#include "robot/link/media/media_sender.h"
 #include "robot/video/preview_streamer.h"
 #include "robot/cameras/replay_camera.h"
 #include "robot/services/robot_control.h"
@@ -81,6 +85,7 @@ struct VideoRig {
   stereo::StereoPairSource pairs;
   telemetry::TelemetryBatcher telemetry;
   video::PreviewStreamer preview;
+  std::unique_ptr<link::media::MediaSender> media;  ///< the media path, when asked for
   video::VideoStreamer video;
   clock::SimClock arm_clock{1};
   arm::SimulatedArm arm{arm_clock};
@@ -100,20 +105,34 @@ struct VideoRig {
     c.fps = 30;
     return c;
   }
-  static video::VideoStreamerConfig videoConfig(telemetry::TelemetryBatcher* telemetry, video::PreviewStreamer* preview) {
+  static std::unique_ptr<link::media::MediaSender> mediaAt(int port, bool wanted) {
+    if (!wanted) return nullptr;
+    link::media::MediaSenderOptions options;
+    options.bind_address = "127.0.0.1";
+    options.port = static_cast<std::uint16_t>(port + link::LinkEndpoints::kMedia);
+    std::string error;
+    auto sender = link::media::MediaSender::start(options, &error);
+    EXPECT_TRUE(sender) << error;
+    return sender;
+  }
+  static video::VideoStreamerConfig videoConfig(telemetry::TelemetryBatcher* telemetry, video::PreviewStreamer* preview,
+                                                link::media::MediaSender* media) {
     video::VideoStreamerConfig c;
     c.telemetry = telemetry;
+    c.media = media;
+    c.adaptive.nominal_fps = 30;
     c.on_sent = [preview](const stereo::StereoFrame& pair, std::uint64_t sequence) { preview->offer(pair, sequence); };
     return c;
   }
-  explicit VideoRig(int port)
+  explicit VideoRig(int port, bool with_media = false)
       : endpoints(at(port)),
         server(endpoints),
         left(clock, {smoothFrame(640, 360, 0.0)}, camera("left")),
         right(clock, {smoothFrame(640, 360, 1.0)}, camera("right")),
         pairs(left, right, stereo::StereoPairerOptions{.tolerance_ns = 5'000'000}),
         preview(server, video::PreviewOptions{.max_width = 160, .rate_hz = 20, .quality = 90}),
-        video(pairs, server, clock, nullptr, videoConfig(&telemetry, &preview)) {
+        media(mediaAt(port, with_media)),
+        video(pairs, server, clock, nullptr, videoConfig(&telemetry, &preview, media.get())) {
     server.setControlHandler([this](const link::proto::ControlRequest& r) { return control.handle(r); });
     std::string error;
     left.start(&error);
@@ -226,6 +245,87 @@ TEST(RobotConsoleServices, JpegQualityThroughAControlRequestAndSettingsInEveryRe
   ASSERT_TRUE(reply && reply->ok());
   EXPECT_EQ(reply->settings().jpeg_quality(), 95);
   EXPECT_DOUBLE_EQ(reply->settings().filter_cutoff_hz(), 100.0);
+  EXPECT_FALSE(reply->settings().media_path());
+
+  // No media path on this robot: a cap is refused and said why.
+  link::proto::ControlRequest cap;
+  cap.set_set_media_cap_mbit(5);
+  reply = client.request(cap, 3000ms);
+  ASSERT_TRUE(reply);
+  EXPECT_FALSE(reply->ok());
+  EXPECT_NE(reply->error().find("no media path"), std::string::npos) << reply->error();
+}
+
+TEST(RobotConsoleServices, TheMediaCapThroughAControlRequestAndTheLinkInHealthAndTelemetry) {
+  VideoRig rig(27350, true);
+  link::LinkClient client(rig.endpoints, {.frames = false});
+  link::proto::ControlRequest r;
+  r.set_set_media_cap_mbit(3.0);
+  auto reply = client.request(r, 3000ms);
+  ASSERT_TRUE(reply);
+  EXPECT_TRUE(reply->ok()) << reply->error();
+  EXPECT_TRUE(reply->settings().media_path());
+  EXPECT_DOUBLE_EQ(reply->settings().media_cap_mbit(), 3.0);
+  EXPECT_DOUBLE_EQ(rig.media->capBps(), 3e6);
+  for (double bad : {-1.0, 0.2, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    r.set_set_media_cap_mbit(bad);
+    reply = client.request(r, 3000ms);
+    ASSERT_TRUE(reply);
+    EXPECT_FALSE(reply->ok()) << bad;
+    EXPECT_FALSE(reply->error().empty());
+    EXPECT_DOUBLE_EQ(reply->settings().media_cap_mbit(), 3.0) << "what is in force, not what was asked";
+  }
+
+  services::RobotHealthSources sources;
+  sources.video = &rig.video;
+  sources.loop = &rig.loop;
+  sources.control = &rig.control;
+  services::RobotHealthReporter reporter(sources, rig.clock);
+  auto h = reporter.make();
+  ASSERT_TRUE(h.has_media());
+  EXPECT_EQ(h.media().port(), 27354u);
+  EXPECT_TRUE(h.media().receiver_address().empty()) << "nobody has said hello";
+  EXPECT_FALSE(h.media().now().receiver());
+  EXPECT_DOUBLE_EQ(h.media().now().cap_mbit(), 3.0);
+
+  // A receiver: the robot names it, measures the round trip, and every frame's telemetry carries the link.
+  link::media::MediaReceiverOptions options;
+  options.sender_port = 27354;
+  std::string error;
+  auto receiver = link::media::MediaReceiver::start(options, &error);
+  ASSERT_TRUE(receiver) << error;
+  ASSERT_TRUE(eventually([&] {
+    while (receiver->waitNewest(0ms)) {
+    }
+    h = reporter.make();
+    return h.media().now().receiver() && h.media().now().rtt_ms() >= 0 && h.media().frames_sent() >= 10;
+  }, 5000ms));
+  EXPECT_EQ(h.media().receiver_address().rfind("127.0.0.1:", 0), 0u) << h.media().receiver_address();
+  EXPECT_LT(h.media().now().rtt_ms(), 100.0) << "loopback";
+  EXPECT_GT(h.media().now().target_mbit(), 0.0);
+  EXPECT_LE(h.media().now().target_mbit(), 3.0 + 1e-9);
+  EXPECT_GT(h.media().datagrams_sent(), 10u);
+  EXPECT_GT(h.media().rate_decisions_size(), 0);
+  EXPECT_GT(h.media().stream_decisions_size(), 0) << "the stream adapts once a receiver listens";
+  rig.telemetry.takeBatch();
+  const auto from = rig.video.stats().frames_sent + 2;
+  ASSERT_TRUE(eventually([&] { return rig.video.stats().frames_sent >= from; }));
+  const auto batch = rig.telemetry.takeBatch();
+  ASSERT_TRUE(batch && batch->frames_size() > 0);
+  const auto& m = batch->frames(batch->frames_size() - 1).media();
+  EXPECT_TRUE(m.receiver());
+  EXPECT_DOUBLE_EQ(m.cap_mbit(), 3.0);
+  EXPECT_GT(m.fps(), 0.0);
+  EXPECT_GT(m.scale(), 0.0);
+  EXPECT_GT(m.quality(), 0u);
+  EXPECT_FALSE(m.limited_by().empty());
+
+  // 0 lifts the cap.
+  r.set_set_media_cap_mbit(0);
+  reply = client.request(r, 3000ms);
+  ASSERT_TRUE(reply && reply->ok());
+  EXPECT_DOUBLE_EQ(reply->settings().media_cap_mbit(), 0.0);
+  EXPECT_DOUBLE_EQ(reporter.make().media().now().cap_mbit(), 0.0);
 }
 
 TEST(RobotConsoleServices, HealthReportsCamerasVideoAndSettings) {
