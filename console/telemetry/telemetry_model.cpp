@@ -19,7 +19,7 @@ Eigen::Vector3d positionOf(const link::proto::Pose& p) { return {p.tx(), p.ty(),
 }  // namespace
 
 TelemetryModel::TelemetryModel(SeriesStore& store, std::int64_t origin_console_ns)
-    : store_(store), origin_ns_(origin_console_ns) {
+    : store_(store), origin_ns_(origin_console_ns), link_(store) {
   for (int i = 0; i < 6; ++i) stages_[i] = &store_.series(infoOf(series::kLatencyStages[i]), kFrameGapS);
   head_latency_ = &store_.series(infoOf(series::kHeadLatency), kTickGapS);
   v_op_ = &store_.series(infoOf(series::kVOp), kFrameGapS);
@@ -50,6 +50,7 @@ SeriesInfo TelemetryModel::infoOf(const char* name) {
   };
   for (const auto& i : kInfo)
     if (std::strcmp(i.name, name) == 0) return {i.name, i.label, i.unit};
+  if (auto link = MediaLinkSeries::infoOf(name)) return *link;
   return {name, name, ""};
 }
 
@@ -88,6 +89,7 @@ void TelemetryModel::ingestRobot(const link::proto::RobotTelemetry& t, std::int6
     const double at = robotPlotTime(f.capture_ns(), offset);
     add(stages_[0], at, double(f.encoded_ns() - f.capture_ns()) * 1e-6);
     add(stages_[1], at, double(f.sent_ns() - f.capture_ns()) * 1e-6);
+    if (f.has_media()) counts_.samples += link_.addSentFrame(f.media(), robotPlotTime(f.sent_ns(), offset));
   }
   for (const auto& tick : t.ticks()) {
     if (tick.target_new() && tick.target_t_ns() > 0)
@@ -112,6 +114,7 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   if (t.batch() <= last_xr_batch_) {  // the XR app restarted
     last_xr_batch_ = 0;
     last_op_.reset();
+    link_.receiverRestarted();
   }
   if (last_xr_batch_ != 0 && t.batch() > last_xr_batch_ + 1)
     counts_.xr_batches_lost += t.batch() - last_xr_batch_ - 1;
@@ -126,6 +129,7 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   // t_console = t_xr − robot_to_xr + robot_to_console.
   const std::int64_t xr_to_console = offset - t.robot_to_xr_offset_ns();
   const auto xrTime = [&](std::int64_t xr_ns) { return plotTime(xr_ns + xr_to_console); };
+  if (t.has_media()) counts_.samples += link_.addReceiveCounts(t.media(), xrTime(t.media().t_ns()));
   for (const auto& f : t.frames()) {
     const double at = xrTime(f.display_ns());
     xr_unmeasured_ = UnmeasuredPose{f.pose_unmeasured(), f.holding_measured()};

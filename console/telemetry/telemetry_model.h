@@ -18,8 +18,10 @@
 ///                  joint state's time (paper Fig. 6 shows both);
 ///   head.delta_s   Δs, left eye ↔ left camera at capture time, cm, at the display time (Fig. 7);
 ///   xr.frame_ms    render time of both eyes, ms, at the display time;
-///   xr.missed      display periods missed before a frame, at its display time.
-/// All twelve exist (empty) from construction on.
+///   xr.missed      display periods missed before a frame, at its display time;
+///   link.*         the media path (MediaLinkSeries): the robot's per frame sent, at the send
+///                  time, and the XR receiver's per batch.
+/// All exist (empty) from construction on.
 #pragma once
 
 #include <Eigen/Geometry>
@@ -27,6 +29,7 @@
 #include <deque>
 #include <optional>
 
+#include "console/telemetry/media_link_series.h"
 #include "console/telemetry/series_store.h"
 #include "robot/link/telesphere_link.pb.h"
 
@@ -105,6 +108,7 @@ class TelemetryModel {
   // The series, created up front (the store keeps them; only their samples come and go).
   TimeSeries* stages_[6];
   TimeSeries *head_latency_, *v_op_, *v_rob_, *delta_s_, *frame_ms_, *missed_;
+  MediaLinkSeries link_;
   TelemetryCounts counts_;
   std::uint64_t last_robot_batch_ = 0, last_xr_batch_ = 0;
   std::optional<std::pair<std::int64_t, Eigen::Vector3d>> last_measured_;  ///< robot clock

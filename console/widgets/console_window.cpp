@@ -20,6 +20,7 @@
 #include "console/widgets/control_panel.h"
 #include "console/widgets/fault_banner.h"
 #include "console/widgets/health_panel.h"
+#include "console/widgets/link_panel.h"
 #include "console/widgets/live_plot.h"
 #include "console/widgets/nominal_pose_panel.h"
 #include "console/widgets/calibration_panel.h"
@@ -53,6 +54,13 @@ ConsoleWindow::ConsoleWindow(ConsoleSession& session, QWidget* parent) : QMainWi
     plots_.push_back(plot);
     tabs_->addTab(plot, title);
   }
+  // The Internet link: its figures, the cap and its four graphs on one tab.
+  link_ = new LinkPanel(session_, window_s);
+  for (LivePlot* plot : link_->plots()) {
+    connect(plot, &LivePlot::pausedChanged, this, [this] { updateDataHold(); });
+    plots_.push_back(plot);
+  }
+  tabs_->addTab(link_, "Internet link");
   connect(tabs_, &QTabWidget::currentChanged, this, [this] { redraw(true); });
   // What the supervisor changed shows in the graphs where it took effect.
   connect(&session_, &ConsoleSession::controlAccepted, this, [this](double t, const QString& what) {
@@ -146,21 +154,28 @@ QDockWidget* ConsoleWindow::dockOf(QWidget* panel) const {
 
 QString ConsoleWindow::connectionText() const { return connection_->text(); }
 
+std::vector<LivePlot*> ConsoleWindow::visiblePlots() const {
+  if (auto* plot = qobject_cast<LivePlot*>(tabs_->currentWidget())) return {plot};
+  if (tabs_->currentWidget() == link_) return link_->plots();
+  return {};
+}
+
 void ConsoleWindow::redraw(bool force) {
-  auto* plot = qobject_cast<LivePlot*>(tabs_->currentWidget());
-  if (!plot) return;
+  const std::vector<LivePlot*> visible = visiblePlots();
+  if (visible.empty()) return;
   const qint64 now_ms = QDateTime::currentMSecsSinceEpoch();
   // New data, or the live time axis has moved a visible step (a silent link scrolls into a gap).
-  const bool changed = session_.series().version() != drawn_version_ ||
-                       (!plot->paused() && now_ms - drawn_at_ms_ >= 100);
+  const bool live = std::any_of(visible.begin(), visible.end(), [](const LivePlot* p) { return !p->paused(); });
+  const bool changed = session_.series().version() != drawn_version_ || (live && now_ms - drawn_at_ms_ >= 100);
   if (!force && !changed) return;
-  plot->refresh();
+  for (LivePlot* plot : visible) plot->refresh();
   drawn_version_ = session_.series().version();
   drawn_at_ms_ = now_ms;
 }
 
 void ConsoleWindow::refreshPanels() {
   health_->refresh();
+  link_->refresh();
   preview_->refresh();
   in_use_->refresh();
   const supervision::PeerMonitor& robot = session_.robot();
@@ -185,11 +200,12 @@ void ConsoleWindow::refreshPanels() {
   line += " · XR app: " + (xr.state() == supervision::PeerState::kWaiting ? QString("not heard yet")
                                                               : QString::fromStdString(xr.describe()));
   connection_->setText(line);
+  double redraw_ms = 0;
+  for (const LivePlot* plot : visiblePlots()) redraw_ms += plot->lastRefreshMs();
   statusBar()->showMessage(QString("%1 samples in memory (%2 MB), last redraw %3 ms")
                                .arg(session_.series().totalSamples())
                                .arg(double(session_.series().bytes()) / 1e6, 0, 'f', 2)
-                               .arg(plots_.empty() ? 0.0 : plots_[std::size_t(std::max(0, tabs_->currentIndex()))]->lastRefreshMs(),
-                                    0, 'f', 2));
+                               .arg(redraw_ms, 0, 'f', 2));
 }
 
 void ConsoleWindow::updateDataHold() {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief The supervisor's main window (DESIGN.md §1): the fault banner and the connection line
-///        on top, the live graphs in the middle (one tab per figure; only the visible one is
+///        on top, the live graphs in the middle (one tab per figure, and the Internet link panel's
+///        four on a tab of their own; only the visible ones are
 ///        redrawn, by one coalesced timer at ≤ 30 Hz), and docked panels around them: health,
 ///        camera preview, control, nominal pose, study (StudyPanel). Layout and choices persist in
 ///        QSettings. The calibration wizards of a later issue dock in beside these.
@@ -21,6 +22,7 @@ class ConsoleSession;
 class ControlPanel;
 class FaultBanner;
 class HealthPanel;
+class LinkPanel;
 class LivePlot;
 class NominalPosePanel;
 class StudyPanel;
@@ -42,6 +44,7 @@ class ConsoleWindow : public QMainWindow {
   const std::vector<LivePlot*>& plots() const { return plots_; }
   QTabWidget* plotTabs() const { return tabs_; }
   HealthPanel* healthPanel() const { return health_; }
+  LinkPanel* linkPanel() const { return link_; }
   CameraPreviewPanel* previewPanel() const { return preview_; }
   ControlPanel* controlPanel() const { return control_; }
   NominalPosePanel* nominalPanel() const { return nominal_; }
@@ -63,6 +66,8 @@ class ConsoleWindow : public QMainWindow {
 
  private:
   void refreshPanels();
+  /// The plots on the tab shown (one, or the link panel's four).
+  std::vector<LivePlot*> visiblePlots() const;
   void updateDataHold();
 
   ConsoleSession& session_;
@@ -71,6 +76,7 @@ class ConsoleWindow : public QMainWindow {
   QTabWidget* tabs_;
   std::vector<LivePlot*> plots_;
   HealthPanel* health_;
+  LinkPanel* link_;
   CameraPreviewPanel* preview_;
   ControlPanel* control_;
   NominalPosePanel* nominal_;

@@ -43,6 +43,8 @@
 #include "console/widgets/control_panel.h"
 #include "console/widgets/fault_banner.h"
 #include "console/widgets/health_panel.h"
+#include "console/widgets/link_panel.h"
+#include "console/telemetry/media_link_series.h"
 #include "console/widgets/live_plot.h"
 #include "console/widgets/nominal_pose_panel.h"
 #include "console/telemetry/telemetry_model.h"
@@ -167,10 +169,12 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   // Screenshots: the main window on every plot (a 10 s window: the run is young), and each panel.
   for (LivePlot* plot : rig.window->plots()) plot->setWindowSeconds(10);
   for (int i = 0; i < rig.window->plotTabs()->count(); ++i) {
+    auto* plot = qobject_cast<LivePlot*>(rig.window->plotTabs()->widget(i));
+    if (!plot) continue;  // the Internet link's tab (its own test)
     rig.window->plotTabs()->setCurrentIndex(i);
     rig.window->redraw(true);
     pumpFor(100);
-    saveShot(rig.window->plots()[std::size_t(i)], QString("plot_%1.png").arg(i));
+    saveShot(plot, QString("plot_%1.png").arg(i));
   }
   rig.window->plotTabs()->setCurrentIndex(0);
   rig.window->redraw(true);
@@ -285,6 +289,53 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   rig.window->faultBanner()->acknowledgeButton()->click();
   pumpFor(100);
   EXPECT_FALSE(rig.window->faultBanner()->isVisible());
+}
+
+TEST(ConsoleWindow, TheInternetLinkTabShowsTheMediaPathAndTheCapReachesTheRobot) {
+  Rig rig(28330);
+  rig.startRobot();
+  rig.startXr(false, {"--video-link", "udp"});
+  ASSERT_TRUE(pumpUntil([&] { return rig.connected(); }, 60000)) << rig.logs();
+  LinkPanel* panel = rig.window->linkPanel();
+  rig.window->plotTabs()->setCurrentWidget(panel);
+  for (LivePlot* plot : panel->plots()) plot->setWindowSeconds(20);
+  // The XR app's receiver said hello: the robot names it, and the samples of every frame come.
+  ASSERT_TRUE(pumpUntil([&] {
+    const auto& h = rig.session->health();
+    return h && h->has_media() && !h->media().receiver_address().empty() &&
+           rig.samples(telemetry::series::kLinkTargetMbit) > 20 && rig.samples(telemetry::series::kLinkRttMs) > 5 &&
+           rig.samples(telemetry::series::kLinkRepairedPerS) > 5;
+  }, 30000)) << rig.logs();
+  EXPECT_TRUE(panel->summaryText().contains("media path</b> to 127.0.0.1:")) << panel->summaryText().toStdString();
+  EXPECT_EQ(panel->capText(), "now: none");
+  const telemetry::TimeSeries& rtt = *rig.session->series().find(telemetry::series::kLinkRttMs);
+  EXPECT_GE(rtt.back().v, 0.0);
+  EXPECT_LT(rtt.back().v, 100.0) << "loopback";
+
+  // The supervisor caps the path at 1 Mbit/s: the robot takes it, its target follows, the
+  // stream gives up frame rate and scale, and the graphs mark the moment.
+  panel->requestCap(1.0);
+  ASSERT_TRUE(pumpUntil([&] {
+    const auto& h = rig.session->health();
+    return h && h->media().now().cap_mbit() == 1.0 && h->settings().media_cap_mbit() == 1.0;
+  })) << rig.logs();
+  ASSERT_TRUE(pumpUntil([&] { return panel->capText() == "now 1.0 Mbit/s"; })) << panel->capText().toStdString();
+  ASSERT_TRUE(pumpUntil([&] {
+    const telemetry::TimeSeries* target = rig.session->series().find(telemetry::series::kLinkTargetMbit);
+    const telemetry::TimeSeries* scale = rig.session->series().find(telemetry::series::kLinkScalePct);
+    return target->back().v <= 1.0 + 1e-9 && scale->back().v < 100.0;
+  }, 15000)) << rig.logs();
+  EXPECT_GT(rig.samples(telemetry::series::kLinkCapMbit), 0u);
+  EXPECT_TRUE(panel->summaryText().contains("below nominal, limited by")) << panel->summaryText().toStdString();
+  pumpFor(3000);
+  rig.window->redraw(true);
+  pumpFor(200);
+  saveShot(panel, "panel_link.png");
+  saveShot(rig.window.get(), "console_link.png");
+
+  // Lifting it: none in force.
+  panel->requestCap(0.0);
+  ASSERT_TRUE(pumpUntil([&] { return panel->capText() == "now: none"; })) << panel->capText().toStdString();
 }
 
 TEST(ConsoleWindow, NominalPoseStepEndToEnd) {

@@ -154,6 +154,80 @@ TEST(TelemetryModel, SpeedsFromConsecutivePosesAndHeadLatencyAtTheSampleTime) {
   EXPECT_NEAR((*latency)[0].t, 1.994, 1e-9);  // at the sample time, not the arrival
 }
 
+TEST(TelemetryModel, TheMediaPathsSamplesAtTheirSendTimeAndTheReceiversCountsAsRates) {
+  SeriesStore store;
+  TelemetryModel model(store, 100 * kS);
+  const std::int64_t robot_to_console = 7 * kS;  // robot 95 s = console 102 s = plot 2 s
+  auto e = robotBatch(1);
+  auto* f = e.mutable_robot_telemetry()->add_frames();
+  f->set_capture_ns(94 * kS);
+  f->set_encoded_ns(94 * kS + 500 * kMs);
+  f->set_sent_ns(95 * kS);
+  auto* m = f->mutable_media();
+  m->set_receiver(true);
+  m->set_target_mbit(18.5);
+  m->set_delivered_mbit(17.25);
+  m->set_cap_mbit(20);
+  m->set_rtt_ms(103.5);
+  m->set_queue_delay_ms(4);
+  m->set_loss_fraction(0.0125);
+  m->set_fps(15);
+  m->set_scale(0.5);
+  m->set_quality(70);
+  // A second frame: no receiver (nothing goes out), no cap, no round trip yet.
+  auto* g = e.mutable_robot_telemetry()->add_frames();
+  *g = *f;
+  g->set_sent_ns(96 * kS);
+  g->mutable_media()->set_receiver(false);
+  g->mutable_media()->set_cap_mbit(0);
+  g->mutable_media()->set_rtt_ms(-1);
+  model.ingest(e, robot_to_console);
+  const auto one = [&](const char* name, std::size_t count, double t, double v) {
+    const TimeSeries* series = store.find(name);
+    ASSERT_TRUE(series) << name;
+    ASSERT_EQ(series->size(), count) << name;
+    EXPECT_NEAR((*series)[0].t, t, 1e-9) << name;
+    EXPECT_NEAR((*series)[0].v, v, 1e-9) << name;
+  };
+  one(series::kLinkTargetMbit, 1, 2.0, 18.5);
+  one(series::kLinkDeliveredMbit, 1, 2.0, 17.25);
+  one(series::kLinkCapMbit, 1, 2.0, 20.0);
+  one(series::kLinkRttMs, 1, 2.0, 103.5);
+  one(series::kLinkQueueMs, 1, 2.0, 4.0);
+  one(series::kLinkLossPct, 1, 2.0, 1.25);
+  one(series::kLinkFps, 2, 2.0, 15.0);  // the stream's settings hold with or without a receiver
+  one(series::kLinkScalePct, 2, 2.0, 50.0);
+  one(series::kLinkQuality, 2, 2.0, 70.0);
+  EXPECT_EQ(TelemetryModel::infoOf(series::kLinkLossPct).unit, "%");
+
+  // The receiver's counts: rates between batches, at the XR batch time; a restarted XR app's
+  // counts start again (no negative rate).
+  const std::int64_t robot_to_xr = -3 * kS;  // xr 97 s = robot 100 s = plot 7 s
+  const auto counts = [&](std::uint64_t batch, std::int64_t xr_ns, std::uint64_t repaired, std::uint64_t concealed,
+                          std::uint64_t lost) {
+    auto x = xrBatch(batch, robot_to_xr);
+    auto* c = x.mutable_xr_telemetry()->mutable_media();
+    c->set_t_ns(xr_ns);
+    c->set_datagrams(1000 * batch);
+    c->set_chunks_repaired(repaired);
+    c->set_bands_concealed(concealed);
+    c->set_frames_lost(lost);
+    model.ingest(x, robot_to_console);
+  };
+  counts(1, 97 * kS, 10, 2, 0);
+  EXPECT_EQ(store.find(series::kLinkRepairedPerS)->size(), 0u) << "one count is no rate";
+  counts(2, 97 * kS + 500 * kMs, 30, 3, 1);
+  one(series::kLinkRepairedPerS, 1, 7.5, 40.0);
+  one(series::kLinkConcealedPerS, 1, 7.5, 2.0);
+  one(series::kLinkLostFramesPerS, 1, 7.5, 2.0);
+  counts(1, 98 * kS, 0, 0, 0);  // the XR app restarted
+  counts(2, 99 * kS, 5, 0, 0);
+  const TimeSeries& repaired = *store.find(series::kLinkRepairedPerS);
+  ASSERT_EQ(repaired.size(), 2u);
+  EXPECT_NEAR(repaired[1].t, 9.0, 1e-9);
+  EXPECT_NEAR(repaired[1].v, 5.0, 1e-9);
+}
+
 TEST(TelemetryModel, CountsLostAndUnsyncedBatches) {
   SeriesStore store;
   TelemetryModel model(store, 0);
