@@ -30,6 +30,7 @@
 #include "app/bench/bench_table.h"
 #include "app/bench/bench_topic.h"
 #include "app/bench/child_process.h"
+#include "app/bench/impairment/bulk_tcp_flow.h"
 #include "app/bench/impairment/network_namespace.h"
 #include "app/bench/impairment/tun_relay.h"
 #include "app/bench/impairment/udp_relay.h"
@@ -56,6 +57,7 @@ struct NetworkOptions {
   double fps = 30;
   std::string out = "bench-out/network";
   bool udp_relay_only = false;  ///< the media path through the UDP relay only, even with the privilege
+  bool competing_tcp = false;   ///< a bulk TCP download beside the robot's video (relay on IP packets)
 };
 
 NetworkOptions& networkOptions() {
@@ -165,6 +167,14 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   } else {
     xr = std::make_unique<ChildProcess>(xr_args, (dir / "xr.log").string());
   }
+  // A download beside the video, through the same bottleneck, for the whole run.
+  std::unique_ptr<impairment::BulkTcpFlow> competing;
+  const auto competing_from = Clock::now();
+  if (o.competing_tcp) {
+    if (!tun_relay) throw std::runtime_error("network: --competing-tcp needs the relay on IP packets (CAP_NET_ADMIN)");
+    competing = impairment::BulkTcpFlow::start(tun_relay->farNamespace(), impairment::TunRelay::kFarAddress, 29500, &error);
+    if (!competing) throw std::runtime_error("network: " + error);
+  }
   std::vector<link::proto::XrTelemetry> xr_batches;
   std::vector<link::proto::RobotTelemetry> robot_batches;
   const auto take = [&] {
@@ -179,6 +189,11 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   take();
   const int robot_code = robot.stop();
+  const double competing_mbit =
+      competing ? 8.0 * static_cast<double>(competing->bytesReceived()) /
+                      std::chrono::duration<double>(Clock::now() - competing_from).count() * 1e-6
+                : 0.0;
+  competing.reset();
   impairment::PathStats downlink;
   if (udp_relay) downlink = udp_relay->stats().to_client;
   if (tun_relay) downlink = tun_relay->stats().to_far;
@@ -346,6 +361,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
             {"relay_lost", downlink.lost},
             {"relay_dropped_at_queue", downlink.dropped_queue},
             {"rate_steps", steps}};
+  if (o.competing_tcp) m.keys["competing_tcp_mbit"] = competing_mbit;
   if (media) {
     m.keys["frames_with_lost_bands"] = xr_stats.value("media_frames_concealed", 0);
     m.keys["frames_lost"] = xr_stats.value("media_frames_lost", 0);
@@ -377,6 +393,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   if (media)
     detail << ", " << xr_stats.value("media_frames_concealed", 0) << " with lost bands, " << xr_stats.value("media_frames_lost", 0)
            << " lost";
+  if (o.competing_tcp) detail << "; the competing TCP download got " << formatNumber(competing_mbit) << " Mbit/s";
   detail << "; relay: " << downlink.lost << " lost, " << downlink.dropped_queue << " dropped at its queue\n";
   m.detail = detail.str();
   return m;
@@ -396,7 +413,8 @@ nlohmann::json runNetwork(const BenchContext& ctx) {
           << " ± " << formatNumber(o.jitter_ms / 2) << " ms each way, loss " << formatNumber(100 * o.loss) << " %"
           << (o.loss_burst > 1 ? " in bursts of " + formatNumber(o.loss_burst) : std::string()) << ", "
           << (o.rate_steps.empty() ? formatNumber(o.rate_mbit) + " Mbit/s" : formatNumber(o.rate_mbit) + " Mbit/s then " + o.rate_steps)
-          << ", " << formatNumber(duration) << " s each link…\n" << std::flush;
+          << (o.competing_tcp ? ", beside a bulk TCP download" : "") << ", " << formatNumber(duration)
+          << " s each link…\n" << std::flush;
 
   // Both links through IP packets, in a network namespace of the benchmark's own (a thread of
   // its own enters it; what it starts stays there). Without the privilege: the media path only.
@@ -465,6 +483,8 @@ TELESPHERE_BENCH_TOPIC(network, telesphere::bench::BenchTopic{
       sub.add_option("--size", o.size, "camera size WxH (synthetic cameras)")->capture_default_str();
       sub.add_option("--fps", o.fps, "camera rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 120.0));
       sub.add_option("--out", o.out, "folder for the programs' logs and stats")->capture_default_str();
+      sub.add_flag("--competing-tcp", o.competing_tcp,
+                   "a bulk TCP download (CUBIC) through the same bottleneck beside the video, each run");
       sub.add_flag("--udp-relay-only", o.udp_relay_only,
                    "the media path alone through the UDP relay on loopback (no baseline; what runs without "
                    "CAP_NET_ADMIN)");

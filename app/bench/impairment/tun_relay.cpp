@@ -17,13 +17,10 @@
 #include <vector>
 
 #include "app/bench/impairment/network_namespace.h"
+#include "app/bench/impairment/steady_now.h"
 
 namespace telesphere::bench::impairment {
 namespace {
-
-std::int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
 
 /// A TUN device `name` in the calling thread's namespace, up, `address` with `peer`, the route to
 /// the peer with `congestion_control`; its descriptor (non-blocking), or −1 with *error.

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "app/bench/impairment/udp_relay.h"
 
+#include "app/bench/impairment/steady_now.h"
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -16,12 +18,6 @@
 
 namespace telesphere::bench::impairment {
 namespace {
-
-std::int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 sockaddr_in loopback(std::uint16_t port) {
   sockaddr_in address{};
