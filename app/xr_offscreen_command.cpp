@@ -39,6 +39,10 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--media-port", o.media_port,
                 "--video-link udp: the media path's UDP port (default port+4; a relay's port to test a path)")
       ->check(CLI::Range(1, 65535));
+  c->add_option("--media-repair", o.media_repair,
+                "--video-link udp: ask the robot again for the chunks of the newest frame its parity cannot "
+                "rebuild (on), or show them concealed at once (off)")
+      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
   c->add_option("--head-link", o.head_link,
                 "--video-link udp: head targets on both links (the robot keeps the newest) or on udp only")
       ->capture_default_str()->check(CLI::IsMember({"both", "udp"}));
@@ -210,6 +214,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.png_dir = o.out_dir;
   options.media_link = o.video_link == "udp";
   options.media_port = o.media_port;
+  options.media_repair = o.media_repair == "on";
   options.head_targets_on_zmq = o.head_link == "both";
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);

@@ -33,6 +33,7 @@ struct OffscreenCommandOptions {
   std::string views;   ///< with replay: a live run's views.csv, rendered instead of display frames
   std::string video_link = "zmq";  ///< zmq: the ZeroMQ link; udp: the media path (port + 4)
   int media_port = 0;              ///< the media path's UDP port when not port + 4 (a relay's)
+  std::string media_repair = "on";  ///< on | off: retransmission of what parity cannot rebuild
   std::string head_link = "both";  ///< with --video-link udp: head targets on both links, or udp only
 };
 

@@ -58,6 +58,7 @@ struct NetworkOptions {
   std::string out = "bench-out/network";
   bool udp_relay_only = false;  ///< the media path through the UDP relay only, even with the privilege
   bool competing_tcp = false;   ///< a bulk TCP download beside the robot's video (relay on IP packets)
+  bool media_repair = true;     ///< the media path asks for what parity cannot rebuild
 };
 
 NetworkOptions& networkOptions() {
@@ -135,7 +136,8 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   std::vector<std::string> xr_args{(bin / "telesphere-xr").string(), "offscreen", "--calib", calib, "--port",
                                    std::to_string(port), "--eye-size", "320x352", "--rate", "60", "--duration",
                                    formatNumber(duration), "--out", (dir / "xr").string(), "--wait", "60"};
-  if (media) xr_args.insert(xr_args.end(), {"--video-link", "udp", "--head-link", "udp"});
+  if (media)
+    xr_args.insert(xr_args.end(), {"--video-link", "udp", "--head-link", "udp", "--media-repair", o.media_repair ? "on" : "off"});
   if (path_kind == Path::kUdpRelay) {
     impairment::UdpRelayOptions options;
     options.server_port = static_cast<std::uint16_t>(port + link::LinkEndpoints::kMedia);
@@ -367,6 +369,11 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
     m.keys["frames_lost"] = xr_stats.value("media_frames_lost", 0);
     m.keys["bands_lost"] = xr_stats.value("media_bands_lost", 0);
     m.keys["rows_painted_from_previous"] = xr_stats.value("rows_concealed", 0);
+    m.keys["frames_superseded"] = xr_stats.value("media_frames_superseded", 0);
+    m.keys["chunks_rebuilt_from_parity"] = xr_stats.value("media_chunks_fec", 0);
+    m.keys["chunks_requested"] = xr_stats.value("media_chunks_requested", 0);
+    m.keys["chunks_repaired"] = xr_stats.value("media_chunks_repaired", 0);
+    m.keys["repair"] = o.media_repair;
   }
   // The keys: the first step down's and the first step up's recovery (null: no such step,
   // or not reached).
@@ -392,7 +399,9 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
          << " Mbit/s of JPEG sent in " << frames_sent << " frames";
   if (media)
     detail << ", " << xr_stats.value("media_frames_concealed", 0) << " with lost bands, " << xr_stats.value("media_frames_lost", 0)
-           << " lost";
+           << " lost, " << xr_stats.value("media_frames_superseded", 0) << " superseded incomplete; chunks rebuilt from parity "
+           << xr_stats.value("media_chunks_fec", 0) << ", asked for again " << xr_stats.value("media_chunks_requested", 0)
+           << ", repaired in time " << xr_stats.value("media_chunks_repaired", 0);
   if (o.competing_tcp) detail << "; the competing TCP download got " << formatNumber(competing_mbit) << " Mbit/s";
   detail << "; relay: " << downlink.lost << " lost, " << downlink.dropped_queue << " dropped at its queue\n";
   m.detail = detail.str();
@@ -483,6 +492,8 @@ TELESPHERE_BENCH_TOPIC(network, telesphere::bench::BenchTopic{
       sub.add_option("--size", o.size, "camera size WxH (synthetic cameras)")->capture_default_str();
       sub.add_option("--fps", o.fps, "camera rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 120.0));
       sub.add_option("--out", o.out, "folder for the programs' logs and stats")->capture_default_str();
+      sub.add_flag("--media-repair,!--no-media-repair", o.media_repair,
+                   "the media path asks again for chunks its parity cannot rebuild (default on)");
       sub.add_flag("--competing-tcp", o.competing_tcp,
                    "a bulk TCP download (CUBIC) through the same bottleneck beside the video, each run");
       sub.add_flag("--udp-relay-only", o.udp_relay_only,

@@ -45,6 +45,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   view_options.upload_ring_slots = options.upload_ring_slots;
   view_options.media_link = options.media_link;
   view_options.media_port = options.media_port;
+  view_options.media_repair = options.media_repair;
   view_options.head_targets_on_zmq = options.head_targets_on_zmq;
   OperatorView operator_view(calibration, view_options);
 

@@ -38,6 +38,7 @@ struct OffscreenOperatorOptions {
   int truth_every_frames = 10;
   bool media_link = false;  ///< frames over the UDP media path (OperatorViewOptions::media_link)
   int media_port = 0;       ///< its port when not base port + 4
+  bool media_repair = true;  ///< OperatorViewOptions::media_repair
   bool head_targets_on_zmq = true;  ///< OperatorViewOptions::head_targets_on_zmq
 };
 

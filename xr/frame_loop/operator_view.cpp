@@ -32,7 +32,7 @@ std::unique_ptr<video::MediaFrameSource> openMedia(const OperatorViewOptions& op
   if (!options.media_link) return nullptr;
   std::string error;
   const int port = options.media_port > 0 ? options.media_port : options.endpoints.base_port + link::LinkEndpoints::kMedia;
-  auto media = video::MediaFrameSource::open(options.endpoints.host, port, &error);
+  auto media = video::MediaFrameSource::open(options.endpoints.host, port, options.media_repair, &error);
   if (!media) throw std::runtime_error(error);
   return media;
 }
@@ -374,6 +374,10 @@ OperatorViewStats OperatorView::stats() const {
     out.media_frames_concealed = m.assembler.frames_concealed;
     out.media_frames_lost = m.assembler.frames_lost + m.assembler.frames_malformed;
     out.media_bands_lost = m.assembler.bands_lost;
+    out.media_chunks_fec = m.assembler.chunks_recovered;
+    out.media_chunks_requested = m.assembler.chunks_requested;
+    out.media_chunks_repaired = m.assembler.chunks_repaired;
+    out.media_frames_superseded = m.assembler.frames_superseded;
   }
   return out;
 }

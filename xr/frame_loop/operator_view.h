@@ -75,6 +75,8 @@ struct OperatorViewOptions {
   /// Frames over the robot's UDP media path (port + 4; DESIGN.md §9) instead of the ZeroMQ link.
   bool media_link = false;
   int media_port = 0;  ///< its UDP port when not endpoints.base_port + 4 (a relay in between)
+  /// Ask the robot again for chunks of the newest frame that parity cannot rebuild (FrameAssembler).
+  bool media_repair = true;
   /// With the media path: head targets also on the ZeroMQ uplink (both ways; the robot keeps the
   /// newest by stamp). Off: on the media path only (to measure it alone).
   bool head_targets_on_zmq = true;
@@ -108,6 +110,9 @@ struct OperatorViewStats {
   std::string video_link = "zmq";
   std::uint64_t media_datagrams = 0, media_frames_whole = 0, media_frames_concealed = 0, media_frames_lost = 0;
   std::uint64_t media_bands_lost = 0;
+  std::uint64_t media_chunks_fec = 0;        ///< rebuilt from parity
+  std::uint64_t media_chunks_requested = 0, media_chunks_repaired = 0;  ///< asked for again, arrived in time
+  std::uint64_t media_frames_superseded = 0;  ///< incomplete when a newer one was delivered
   std::uint64_t frames_concealed = 0, rows_concealed = 0, rows_grey = 0;  ///< painted from the previous frame
   /// Display frames with the link's cues (link_state_overlay.h): border tinted (image older than
   /// 250 ms), stale (older than 1 s: grey), the stream below nominal, the robot behind.

@@ -4,8 +4,10 @@
 
 namespace telesphere::xr::video {
 
-std::unique_ptr<MediaFrameSource> MediaFrameSource::open(const std::string& host, int port, std::string* error) {
+std::unique_ptr<MediaFrameSource> MediaFrameSource::open(const std::string& host, int port, bool repair,
+                                                         std::string* error) {
   link::media::MediaReceiverOptions options;
+  options.assembler.repair = repair;
   options.sender_address = host;
   options.sender_port = static_cast<std::uint16_t>(port);
   auto receiver = link::media::MediaReceiver::start(options, error);

@@ -16,8 +16,9 @@ namespace telesphere::xr::video {
 
 class MediaFrameSource {
  public:
-  /// Opens the receiver towards host:port; nothing, with the reason in *error.
-  static std::unique_ptr<MediaFrameSource> open(const std::string& host, int port, std::string* error);
+  /// Opens the receiver towards host:port (`repair`: ask for what parity cannot rebuild);
+  /// nothing, with the reason in *error.
+  static std::unique_ptr<MediaFrameSource> open(const std::string& host, int port, bool repair, std::string* error);
 
   /// The newest frame, waiting up to `timeout` (StereoFrameDecoder::Options::frame_source).
   std::optional<link::ReceivedFrame> waitFrame(std::chrono::milliseconds timeout);

@@ -114,6 +114,11 @@ void FrameAssembler::add(std::span<const std::uint8_t> datagram, std::int64_t ar
     p.bytes.resize(h.frame_bytes);
     p.have.assign(h.chunkCount(), false);
     p.first_ns = arrival_ns;
+    p.last_ns = arrival_ns;
+    if (config_.repair) {
+      p.requested_ns.assign(h.chunkCount(), 0);
+      p.requests.assign(h.chunkCount(), 0);
+    }
     // Keep pending_ oldest first.
     const auto at = std::find_if(pending_.begin(), pending_.end(), [&](const Pending& q) { return newer(q.first.frame, h.frame); });
     it = pending_.insert(at, std::move(p));
@@ -121,6 +126,10 @@ void FrameAssembler::add(std::span<const std::uint8_t> datagram, std::int64_t ar
   Pending& p = *it;
   if (h.frame_bytes != p.first.frame_bytes || h.chunk_bytes != p.first.chunk_bytes || h.meta_bytes != p.first.meta_bytes)
     return drop(MediaDropReason::kInconsistent);
+  if (arrival_ns > p.last_ns) {
+    const double gap = static_cast<double>(arrival_ns - p.last_ns);
+    p.spacing_ns = p.spacing_ns == 0 ? gap : p.spacing_ns + (gap - p.spacing_ns) / 8.0;
+  }
   if (h.kind == MediaPacketKind::kFrameParity) {
     auto block = std::find_if(p.blocks.begin(), p.blocks.end(), [&](const ParityBlock& b) { return b.first == h.chunk_index; });
     if (block == p.blocks.end()) {
@@ -159,7 +168,15 @@ void FrameAssembler::add(std::span<const std::uint8_t> datagram, std::int64_t ar
     p.have[h.chunk_index] = true;
     ++p.chunks_have;
     p.last_ns = arrival_ns;
+    p.highest_chunk = std::max<std::uint32_t>(p.highest_chunk, h.chunk_index);
     ++stats_.datagrams;
+    if (!p.requested_ns.empty() && p.requested_ns[h.chunk_index] != 0) {
+      // Asked for and here: a round-trip sample (the retransmission's own pacing included).
+      ++stats_.chunks_repaired;
+      const double sample = static_cast<double>(arrival_ns - p.requested_ns[h.chunk_index]);
+      repair_rtt_ns_ = stats_.chunks_repaired == 1 ? sample : repair_rtt_ns_ + (sample - repair_rtt_ns_) / 8.0;
+      stats_.repair_rtt_ms = repair_rtt_ns_ * 1e-6;
+    }
     for (ParityBlock& b : p.blocks)
       if (h.chunk_index >= b.first && h.chunk_index < b.first + b.k) tryRecover(p, b);
   }
@@ -203,11 +220,79 @@ void FrameAssembler::tryRecover(Pending& p, ParityBlock& b) {
   }
 }
 
+std::int64_t FrameAssembler::repairWaitNs() const {
+  return std::min(static_cast<std::int64_t>(1.5 * repair_rtt_ns_) + 5'000'000, config_.repair_wait_max_ns);
+}
+
+bool FrameAssembler::awaitingRepair(const Pending& p, std::int64_t now_ns) const {
+  if (p.last_request_ns == 0 || now_ns - p.last_request_ns >= repairWaitNs()) return false;
+  for (std::size_t c = 0; c < p.have.size(); ++c)
+    if (!p.have[c] && p.requested_ns[c] != 0) return true;
+  return false;
+}
+
+std::optional<RepairRequest> FrameAssembler::takeRepairRequest(std::int64_t now_ns) {
+  if (!config_.repair || pending_.empty()) return std::nullopt;
+  // Only the newest frame: an older one is superseded once the newest is done.
+  Pending& p = pending_.back();
+  const std::int64_t quiet_ns = std::max(config_.repair_quiet_ns, static_cast<std::int64_t>(3 * p.spacing_ns));
+  const bool quiet = now_ns - p.last_ns >= quiet_ns;
+  const std::int64_t wait_ns = repairWaitNs();
+  // May chunk c be asked for (again) now?
+  const auto askable = [&](std::size_t c) {
+    return !p.have[c] && p.requests[c] < config_.repair_attempts &&
+           (p.requested_ns[c] == 0 || now_ns - p.requested_ns[c] >= wait_ns);
+  };
+  RepairRequest request;
+  request.stream = p.first.stream;
+  request.frame = p.first.frame;
+  std::vector<bool> in_block(p.have.size(), false);
+  for (const ParityBlock& b : p.blocks) {
+    const std::size_t end = std::min<std::size_t>(b.first + std::size_t{b.k}, p.have.size());
+    int missing = 0, outstanding = 0;
+    for (std::size_t c = b.first; c < end; ++c) {
+      in_block[c] = true;
+      missing += !p.have[c];
+      outstanding += !p.have[c] && p.requested_ns[c] != 0 && now_ns - p.requested_ns[c] < wait_ns;
+    }
+    // Parity follows its block, and the next block follows the parity: a later chunk or silence
+    // means every shard of this block that will come is here; a shard alone, that the rest may come.
+    const bool closed = quiet || p.highest_chunk >= end;
+    int need = closed ? missing - b.parity_have : b.parity_have > 0 ? missing - b.r : 0;
+    need -= outstanding;
+    for (std::size_t c = b.first; c < end && need > 0; ++c)
+      if (askable(c)) {
+        request.chunks.push_back(static_cast<std::uint16_t>(c));
+        --need;
+      }
+  }
+  // Chunks of blocks whose parity never came: once the frame is quiet. Without parity at all, also
+  // those before the frame's last chunk once that is here (everything before it has been sent).
+  const bool last_here = p.have.back() && p.blocks.empty();
+  if (quiet || last_here)
+    for (std::size_t c = 0; c < p.have.size(); ++c)
+      if (!in_block[c] && askable(c) && (quiet || c < p.have.size() - 1))
+        request.chunks.push_back(static_cast<std::uint16_t>(c));
+  if (request.chunks.empty()) return std::nullopt;
+  std::sort(request.chunks.begin(), request.chunks.end());
+  if (request.chunks.size() > kMaxRepairChunks) request.chunks.resize(kMaxRepairChunks);
+  for (const std::uint16_t c : request.chunks) {
+    p.requested_ns[c] = now_ns;
+    ++p.requests[c];
+  }
+  p.last_request_ns = now_ns;
+  ++stats_.repair_requests;
+  stats_.chunks_requested += request.chunks.size();
+  return request;
+}
+
 void FrameAssembler::expire(std::int64_t now_ns, std::vector<AssembledFrame>& out) {
-  // The newest silent frame decides: it is given up, everything older with it.
+  // The newest silent frame decides: it is given up, everything older with it. A frame waiting
+  // for its repairs is not silent until they are overdue.
   std::optional<std::size_t> newest_silent;
   for (std::size_t i = 0; i < pending_.size(); ++i)
-    if (now_ns - pending_[i].last_ns >= config_.reorder_grace_ns) newest_silent = i;
+    if (now_ns - pending_[i].last_ns >= config_.reorder_grace_ns && !awaitingRepair(pending_[i], now_ns))
+      newest_silent = i;
   if (!newest_silent) return;
   Pending p = std::move(pending_[*newest_silent]);
   pending_.erase(pending_.begin() + static_cast<std::ptrdiff_t>(*newest_silent));

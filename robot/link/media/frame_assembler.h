@@ -7,8 +7,11 @@
 ///        never repaired. A frame whose packets stopped coming for `reorder_grace_ns` is given
 ///        up: delivered with its lost bands filled, or counted lost when its meta or a JPEG
 ///        header is missing. Parity shards (block_erasure_code.h) rebuild a block's lost chunks
-///        as soon as enough of the block has arrived. Memory is bounded (frames pending, bytes
-///        pending).
+///        as soon as enough of the block has arrived. With retransmission on (Config::repair), the
+///        chunks of the newest frame that its parity cannot rebuild are asked for again
+///        (takeRepairRequests, repair_request.h) once the evidence says they are lost, and the
+///        frame waits for them up to 1.5 round trips — unless a newer frame completes first.
+///        Memory is bounded (frames pending, bytes pending).
 #pragma once
 
 #include <array>
@@ -19,6 +22,7 @@
 #include <vector>
 
 #include "robot/link/media/media_packet.h"
+#include "robot/link/media/repair_request.h"
 #include "robot/link/telesphere_link.pb.h"
 
 namespace telesphere::link::media {
@@ -53,6 +57,10 @@ struct FrameAssemblerStats {
   std::uint64_t repeats_used = 0;        ///< repeated header chunks that filled a gap
   std::uint64_t repeats_unneeded = 0;    ///< repeated header chunks already held
   std::uint64_t stream_changes = 0;      ///< the sender restarted (a new stream taken over)
+  std::uint64_t repair_requests = 0;     ///< repair requests made (one per frame and round)
+  std::uint64_t chunks_requested = 0;    ///< chunks asked for again
+  std::uint64_t chunks_repaired = 0;     ///< asked-for chunks that arrived (resent, or the original late)
+  double repair_rtt_ms = 0;              ///< request → repaired chunk, smoothed (0: none yet)
   std::array<std::uint64_t, static_cast<int>(MediaDropReason::kCount)> dropped_by_reason{};
   std::uint64_t dropped(MediaDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
 };
@@ -64,15 +72,31 @@ class FrameAssembler {
     std::int64_t stream_switch_ns = 500'000'000;    ///< silence of the current stream before another is taken
     std::size_t max_frames_pending = 8;
     std::size_t max_bytes_pending = std::size_t{256} << 20;
+    /// Retransmission: ask for what parity cannot rebuild (takeRepairRequests).
+    bool repair = false;
+    /// A frame silent this long (or three of its datagram spacings, if longer) has been sent whole.
+    std::int64_t repair_quiet_ns = 5'000'000;
+    /// The round trip assumed until a repair has measured it; a frame waits 1.5 of it + 5 ms for
+    /// its repairs, never more than repair_wait_max_ns.
+    std::int64_t repair_rtt_initial_ns = 100'000'000;
+    std::int64_t repair_wait_max_ns = 300'000'000;
+    int repair_attempts = 2;  ///< times one chunk is asked for at most
   };
   FrameAssembler() : FrameAssembler(Config{}) {}
-  explicit FrameAssembler(Config config) : config_(config) {}
+  explicit FrameAssembler(Config config)
+      : config_(config), repair_rtt_ns_(static_cast<double>(config.repair_rtt_initial_ns)) {}
 
   /// Takes one datagram that arrived at arrival_ns (steady clock). Frames it completes are
   /// appended to `out`.
   void add(std::span<const std::uint8_t> datagram, std::int64_t arrival_ns, std::vector<AssembledFrame>& out);
-  /// Gives up on frames silent for reorder_grace_ns: appended to `out` with filled bands, or lost.
+  /// Gives up on frames silent for reorder_grace_ns (or, waiting for repairs, for the repair
+  /// wait since the last request): appended to `out` with filled bands, or lost.
   void expire(std::int64_t now_ns, std::vector<AssembledFrame>& out);
+  /// With Config::repair: what to ask the sender for now (at most one request, for the newest
+  /// frame); `receiver` is left 0 for the caller.
+  std::optional<RepairRequest> takeRepairRequest(std::int64_t now_ns);
+  /// How long a frame waits for its repairs now (1.5 × the measured round trip + 5 ms).
+  std::int64_t repairWaitNs() const;
 
   const FrameAssemblerStats& stats() const { return stats_; }
   std::size_t framesPending() const { return pending_.size(); }
@@ -93,7 +117,15 @@ class FrameAssembler {
     std::uint32_t chunks_have = 0;
     std::int64_t first_ns = 0, last_ns = 0;
     std::vector<ParityBlock> blocks;
+    // Retransmission.
+    std::uint32_t highest_chunk = 0;             ///< the highest chunk index that arrived
+    double spacing_ns = 0;                       ///< between its datagrams, smoothed
+    std::vector<std::int64_t> requested_ns;      ///< per chunk: when last asked for (0: never)
+    std::vector<std::uint8_t> requests;          ///< per chunk: how often asked for
+    std::int64_t last_request_ns = 0;
   };
+  /// Is `p` still waiting for chunks it asked for?
+  bool awaitingRepair(const Pending& p, std::int64_t now_ns) const;
   /// Rebuilds `block`'s missing chunks when enough shards are there.
   void tryRecover(Pending& pending, ParityBlock& block);
   void drop(MediaDropReason reason) { ++stats_.dropped_by_reason[static_cast<int>(reason)]; }
@@ -108,6 +140,7 @@ class FrameAssembler {
   std::uint32_t stream_ = 0;
   std::int64_t stream_last_ns_ = 0;
   std::optional<std::uint32_t> newest_done_;
+  double repair_rtt_ns_;
   std::deque<Pending> pending_;  ///< oldest frame first
 };
 

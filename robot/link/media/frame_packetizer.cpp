@@ -84,6 +84,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
   out->frame = h.frame;
   out->frame_bytes = h.frame_bytes;
   out->datagrams.clear();
+  out->chunk_datagram.assign(chunks, 0);
   out->datagrams.reserve(static_cast<std::size_t>(static_cast<double>(chunks) * (1.0 + config_.fec_overhead)) + 8);
   const auto chunkAt = [&](std::uint64_t index, std::uint8_t flags) {
     MediaPacketHeader c = h;
@@ -95,6 +96,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
     writeMediaPacket(c, {}, datagram);
     datagram.resize(kMediaHeaderBytes + n);
     copyPayload(begin, n, datagram.data() + kMediaHeaderBytes);
+    if (flags == 0) out->chunk_datagram[index] = static_cast<std::uint32_t>(out->datagrams.size());
     out->datagrams.push_back(std::move(datagram));
   };
   const bool fec = config_.fec_overhead > 0;

@@ -22,6 +22,7 @@ struct PacketizedFrame {
   std::uint32_t frame = 0;
   std::uint32_t frame_bytes = 0;  ///< meta and both JPEGs
   std::vector<std::vector<std::uint8_t>> datagrams;  ///< in the order to send them
+  std::vector<std::uint32_t> chunk_datagram;         ///< per chunk: the datagram that carries it first
 };
 
 class FramePacketizer {

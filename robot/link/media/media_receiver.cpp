@@ -162,6 +162,15 @@ void MediaReceiver::run() {
       ++stats_.datagrams;
       stats_.bytes += static_cast<std::uint64_t>(n);
     }
+    if (auto repair = assembler_.takeRepairRequest(linkNowNs())) {
+      repair->receiver = id_;
+      std::vector<std::uint8_t> out;
+      writeRepairRequest(*repair, out);
+      if (::send(fd_, out.data(), out.size(), 0) < 0) {
+        std::lock_guard lock(mutex_);
+        ++stats_.send_errors;
+      }
+    }
     assembler_.expire(linkNowNs(), frames);
     std::lock_guard lock(mutex_);
     stats_.assembler = assembler_.stats();

@@ -2,8 +2,10 @@
 /// @brief The operator's end of the media path (DESIGN.md §9): says hello to the robot's
 ///        MediaSender, takes its datagrams, reassembles frames (FrameAssembler: lost bands
 ///        filled and named) and reports every datagram's arrival back every report_interval_ns,
-///        which is all the sender's rate controller learns of the path. The newest frame waits
-///        in a one-slot hand-over (latest wins, replaced frames counted). One thread.
+///        which is all the sender's rate controller learns of the path; with retransmission on
+///        (assembler.repair) it also asks for the chunks of the newest frame that parity cannot
+///        rebuild. The newest frame waits in a one-slot hand-over (latest wins, replaced frames
+///        counted). One thread.
 #pragma once
 
 #include <atomic>

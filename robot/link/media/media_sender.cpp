@@ -21,6 +21,7 @@
 #include "robot/link/link_schema.h"
 #include "robot/link/media/head_target_datagram.h"
 #include "robot/link/media/receiver_report.h"
+#include "robot/link/media/repair_request.h"
 
 namespace telesphere::link::media {
 struct MediaSender::Receiver {
@@ -182,6 +183,17 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
         for (const proto::HeadTarget& t : *targets) options_.on_head_target(t);
       continue;
     }
+    if (n >= 4 && buffer[3] == kRepairRequestKind) {
+      const auto request = parseRepairRequest(bytes, &why);
+      std::lock_guard lock(mutex_);
+      if (!request || !receiver_ || receiver_->id != request->receiver) {
+        ++stats_.receiver_datagrams_refused;
+        continue;
+      }
+      receiver_->last_heard_ns = now_ns;
+      takeRepairRequest(*request);
+      continue;
+    }
     const auto datagram = parseReceiverDatagram(bytes, &why);
     std::lock_guard lock(mutex_);
     if (!datagram) {
@@ -208,26 +220,64 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
   }
 }
 
+void MediaSender::takeRepairRequest(const RepairRequest& request) {
+  ++stats_.repair_requests;
+  // Due only while it is the newest frame begun: the one being sent, or the last one sent when
+  // no other has begun since. A chunk not sent yet is on its way anyway.
+  const PacketizedFrame* frame = nullptr;
+  std::size_t sent = 0;
+  if (current_) {
+    if (current_->frame == request.frame) frame = &*current_, sent = next_datagram_;
+  } else if (last_sent_ && last_sent_->frame == request.frame) {
+    frame = &*last_sent_, sent = last_sent_->datagrams.size();
+  }
+  if (request.stream != packetizer_.stream() || !frame) {
+    ++stats_.repair_requests_refused;
+    return;
+  }
+  if (repaired_frame_ != request.frame) repaired_frame_ = request.frame, repaired_in_frame_ = 0;
+  for (const std::uint16_t chunk : request.chunks) {
+    if (chunk >= frame->chunk_datagram.size() || frame->chunk_datagram[chunk] >= sent) continue;
+    if (repaired_in_frame_ >= 2 * frame->chunk_datagram.size()) {  // a receiver asking without end
+      ++stats_.repair_requests_refused;
+      return;
+    }
+    repairs_.push_back(frame->datagrams[frame->chunk_datagram[chunk]]);
+    ++repaired_in_frame_;
+  }
+}
+
 void MediaSender::sendDue(std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   if (receiver_ && now_ns - receiver_->last_heard_ns > options_.receiver_timeout_ns) {
     receiver_.reset();
     current_.reset();
     waiting_.reset();
+    last_sent_.reset();
+    repairs_.clear();
   }
   if (!receiver_) return;
   // No credit for idle time beyond 2 ms: a frame after a pause does not leave as one burst.
   next_send_ns_ = std::max(next_send_ns_, now_ns - 2'000'000);
   while (next_send_ns_ <= now_ns) {
-    if (!current_ || next_datagram_ >= current_->datagrams.size()) {
-      if (current_) ++stats_.frames_sent;
+    std::vector<std::uint8_t> repair;
+    if (!repairs_.empty()) {
+      repair = std::move(repairs_.front());
+      repairs_.pop_front();
+      ++stats_.chunks_resent;
+    } else if (!current_ || next_datagram_ >= current_->datagrams.size()) {
+      if (current_) {
+        ++stats_.frames_sent;
+        last_sent_ = std::move(current_);
+      }
       current_.reset();
       if (!waiting_) return;
       current_ = std::move(waiting_);
       waiting_.reset();
       next_datagram_ = 0;
+      last_sent_.reset();  // a newer frame has begun: the last one is superseded
     }
-    std::vector<std::uint8_t>& d = current_->datagrams[next_datagram_++];
+    std::vector<std::uint8_t>& d = repair.empty() ? current_->datagrams[next_datagram_++] : repair;
     const std::uint32_t seq = next_seq_++;
     stampForSending(d, seq, static_cast<std::uint32_t>(now_ns / 1000));
     if (::sendto(fd_, d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&receiver_->address),
@@ -251,7 +301,8 @@ void MediaSender::run() {
     std::int64_t wait_ns = 20'000'000;
     {
       std::lock_guard lock(mutex_);
-      const bool has_data = receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || waiting_);
+      const bool has_data =
+          receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || waiting_ || !repairs_.empty());
       if (has_data) wait_ns = std::clamp<std::int64_t>(next_send_ns_ - linkNowNs(), 0, wait_ns);
     }
     pollfd fds[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};

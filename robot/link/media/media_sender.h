@@ -10,6 +10,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -19,6 +20,7 @@
 #include <thread>
 
 #include "robot/link/media/frame_packetizer.h"
+#include "robot/link/media/repair_request.h"
 #include "robot/link/media/send_rate_controller.h"
 #include "robot/link/telesphere_link.pb.h"
 
@@ -48,6 +50,9 @@ struct MediaSenderStats {
   std::uint64_t datagrams_sent = 0, bytes_sent = 0, send_errors = 0;
   std::uint64_t reports_received = 0, receiver_datagrams_refused = 0, receiver_changes = 0;
   std::uint64_t head_target_datagrams = 0;
+  std::uint64_t repair_requests = 0;          ///< from the receiver (repair_request.h)
+  std::uint64_t repair_requests_refused = 0;  ///< for a frame superseded, gone, or past its budget
+  std::uint64_t chunks_resent = 0;
   double pacing_bps = 0;
   double framing_overhead = 0;  ///< recent frames' datagram bytes over their JPEG bytes, less 1
   double cap_bps = 0;           ///< the supervisor's cap (0: none)
@@ -83,6 +88,8 @@ class MediaSender {
   MediaSender(const MediaSenderOptions& options, int fd, int wake_fd, std::uint16_t port);
   void run();
   void readReceiver(std::int64_t now_ns);
+  /// Queues the chunks a repair request asks for, if its frame is still due (under mutex_).
+  void takeRepairRequest(const RepairRequest& request);
   void sendDue(std::int64_t now_ns);
 
   MediaSenderOptions options_;
@@ -93,6 +100,11 @@ class MediaSender {
   std::optional<PacketizedFrame> waiting_;
   std::optional<PacketizedFrame> current_;
   std::size_t next_datagram_ = 0;
+  /// The frame sent last, kept for repairs while no newer one has begun.
+  std::optional<PacketizedFrame> last_sent_;
+  std::deque<std::vector<std::uint8_t>> repairs_;  ///< chunks asked for again: sent before anything else
+  std::uint32_t repaired_frame_ = 0;
+  std::size_t repaired_in_frame_ = 0;  ///< chunks resent of repaired_frame_ (at most twice its chunks)
   SendRateController rate_;
   double cap_bps_ = 0;
   double wire_per_payload_ = 1.05;  ///< datagram bytes (with IP/UDP) per JPEG byte, averaged

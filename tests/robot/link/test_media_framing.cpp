@@ -14,6 +14,7 @@
 #include "robot/link/media/head_target_datagram.h"
 #include "robot/link/media/jpeg_bands.h"
 #include "robot/link/media/receiver_report.h"
+#include "robot/link/media/repair_request.h"
 #include "tests/robot/link/media_test_jpegs.h"
 
 namespace telesphere::link::media {
@@ -196,6 +197,49 @@ TEST(ReceiverReport, RoundTripsSplitsAtTheLimitAndRefusesWhatDoesNotAddUp) {
     ASSERT_TRUE(parsed);
     EXPECT_EQ(parsed->hold_ns, expected_ns) << hold_ns;
   }
+}
+
+TEST(RepairRequest, RoundTripsAndRefusesWhatDoesNotAddUp) {
+  RepairRequest r;
+  r.stream = 0x01020304;
+  r.receiver = 9;
+  r.frame = 0xFFFFFFFE;
+  for (std::uint16_t c = 0; c < kMaxRepairChunks + 3; ++c) r.chunks.push_back(static_cast<std::uint16_t>(3 * c));
+  std::vector<std::uint8_t> bytes;
+  writeRepairRequest(r, bytes);
+  ASSERT_LE(bytes.size(), kMaxMediaDatagramBytes);
+  MediaDropReason why{};
+  auto parsed = parseRepairRequest(bytes, &why);
+  ASSERT_TRUE(parsed);
+  EXPECT_EQ(parsed->stream, r.stream);
+  EXPECT_EQ(parsed->receiver, 9u);
+  EXPECT_EQ(parsed->frame, 0xFFFFFFFEu);
+  ASSERT_EQ(parsed->chunks.size(), kMaxRepairChunks) << "the rest does not fit one datagram";
+  EXPECT_EQ(parsed->chunks.back(), 3 * (kMaxRepairChunks - 1));
+
+  r.chunks = {4, 9};
+  bytes.clear();
+  writeRepairRequest(r, bytes);
+  const auto refused = [&](std::vector<std::uint8_t> b, MediaDropReason expected) {
+    EXPECT_FALSE(parseRepairRequest(b, &why));
+    EXPECT_EQ(why, expected) << mediaDropReasonName(why);
+  };
+  refused({bytes.begin(), bytes.end() - 1}, MediaDropReason::kMalformed);  // a torn chunk index
+  auto b = bytes;
+  b[25] = 3;  // 4, 3: not ascending
+  refused(b, MediaDropReason::kMalformed);
+  b = bytes;
+  b[19] = 0;  // no chunks, yet two are there
+  refused(b, MediaDropReason::kMalformed);
+  b = bytes;
+  b[10] = b[11] = b[12] = b[13] = 0;  // receiver 0
+  refused(b, MediaDropReason::kMalformed);
+  b = bytes;
+  b[2] = 2;
+  refused(b, MediaDropReason::kWrongVersion);
+  b = bytes;
+  b[3] = kReceiverReportKind;
+  refused(b, MediaDropReason::kMalformed);
 }
 
 TEST(HeadTargetDatagram, CarriesTheLastFewTargetsAndRefusesWhatDoesNotAddUp) {
@@ -519,6 +563,110 @@ TEST(FrameAssembler, ParityRebuildsUpToItsShardsPerBlockAndNoMore) {
   forged[27] = 8;  // block "8..23" overlaps block 0..15
   assembler.add(forged, 0, out);
   EXPECT_EQ(assembler.stats().dropped(MediaDropReason::kInconsistent), 1u);
+}
+
+/// The chunk index a frame datagram carries, and whether it is a chunk (not parity).
+int chunkOf(const std::vector<std::uint8_t>& d) { return static_cast<int>(d[26] << 8 | d[27]); }
+bool isChunkDatagram(const std::vector<std::uint8_t>& d) {
+  return d[3] == static_cast<std::uint8_t>(MediaPacketKind::kFrameChunk);
+}
+
+TEST(FrameAssembler, AsksOnlyForWhatParityCannotRebuildAndTheRepairMakesTheFrameWhole) {
+  FramePacketizer packetizer(43, {});
+  const SentFrame sent = sendFrame(packetizer, 640, 480, 8, 1);
+  FrameAssembler::Config config;
+  config.repair = true;
+  FrameAssembler assembler(config);
+  std::vector<AssembledFrame> out;
+  // Three chunks of block 2 (chunks 32..47, two parity shards) lost: one must come again.
+  std::int64_t t = 0;
+  bool asked_early = false;
+  for (const auto& d : sent.packets.datagrams) {
+    const int c = chunkOf(d);
+    t += 100'000;  // 0.1 ms apart
+    if (isChunkDatagram(d) && c >= 32 && c < 35) continue;
+    assembler.add(d, t, out);
+    // Before the block's parity and the next block, nothing is asked for.
+    if (isChunkDatagram(d) && c < 40) asked_early |= assembler.takeRepairRequest(t).has_value();
+    else if (isChunkDatagram(d) && c == 48) break;  // the next block began: block 2 is closed
+  }
+  EXPECT_FALSE(asked_early);
+  const auto request = assembler.takeRepairRequest(t);
+  ASSERT_TRUE(request);
+  EXPECT_EQ(request->frame, sent.packets.frame);
+  EXPECT_EQ(request->chunks, std::vector<std::uint16_t>{32}) << "3 lost, 2 parity shards: one chunk more";
+  EXPECT_FALSE(assembler.takeRepairRequest(t + 1'000'000)) << "asked once, not again before its wait";
+  // The rest of the frame and the repaired chunk, 40 ms after the request.
+  bool past = false;
+  for (const auto& d : sent.packets.datagrams) {
+    if (isChunkDatagram(d) && chunkOf(d) == 48) past = true;
+    if (past) assembler.add(d, t + 1'000'000, out);
+  }
+  EXPECT_TRUE(out.empty()) << "block 2 still short";
+  assembler.expire(t + 35'000'000, out);
+  EXPECT_TRUE(out.empty()) << "waiting for its repair beyond the 30 ms grace";
+  for (const auto& d : sent.packets.datagrams)
+    if (isChunkDatagram(d) && chunkOf(d) == 32) assembler.add(d, t + 40'000'000, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_TRUE(out[0].whole());
+  EXPECT_EQ(out[0].left_jpeg, sent.left);
+  EXPECT_EQ(out[0].right_jpeg, sent.right);
+  EXPECT_EQ(assembler.stats().chunks_requested, 1u);
+  EXPECT_EQ(assembler.stats().chunks_repaired, 1u);
+  EXPECT_NEAR(assembler.stats().repair_rtt_ms, 40.0, 1e-9);
+  EXPECT_EQ(assembler.repairWaitNs(), 65'000'000) << "1.5 × 40 ms + 5 ms";
+}
+
+TEST(FrameAssembler, WithoutParityAQuietFrameAsksForItsGapsAndGivesUpWhenTheRepairIsOverdue) {
+  FramePacketizer::Config no_fec;
+  no_fec.fec_overhead = 0;
+  no_fec.repeat_headers = false;
+  FramePacketizer packetizer(44, no_fec);
+  const SentFrame sent = sendFrame(packetizer, 640, 480, 9, 1);
+  FrameAssembler::Config config;
+  config.repair = true;
+  config.repair_rtt_initial_ns = 20'000'000;  // wait 1.5 × 20 + 5 = 35 ms
+  config.repair_attempts = 1;
+  FrameAssembler assembler(config);
+  std::vector<AssembledFrame> out;
+  std::int64_t t = 0;
+  const int last = chunkOf(sent.packets.datagrams.back());
+  for (const auto& d : sent.packets.datagrams) {
+    t += 100'000;
+    if (chunkOf(d) == 7 || chunkOf(d) == last) continue;  // one inside, and the frame's last chunk
+    assembler.add(d, t, out);
+    EXPECT_FALSE(assembler.takeRepairRequest(t)) << "no parity: nothing is known lost while datagrams come";
+  }
+  EXPECT_FALSE(assembler.takeRepairRequest(t + 4'000'000)) << "4 ms quiet: not yet";
+  const auto request = assembler.takeRepairRequest(t + 5'000'000);
+  ASSERT_TRUE(request);
+  EXPECT_EQ(request->chunks, (std::vector<std::uint16_t>{7, static_cast<std::uint16_t>(last)}));
+  // The repair never comes: the frame waits its 35 ms from the request, then is shown concealed.
+  assembler.expire(t + 39'000'000, out);
+  EXPECT_TRUE(out.empty());
+  EXPECT_FALSE(assembler.takeRepairRequest(t + 41'000'000)) << "one attempt per chunk here";
+  assembler.expire(t + 41'000'000, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_FALSE(out[0].whole());
+  EXPECT_EQ(assembler.stats().chunks_repaired, 0u);
+}
+
+TEST(FrameAssembler, AFrameWaitingForRepairsIsSupersededByANewerWholeOne) {
+  FramePacketizer packetizer(45, {});
+  const SentFrame first = sendFrame(packetizer, 640, 480, 10, 1);
+  const SentFrame second = sendFrame(packetizer, 640, 480, 11, 2);
+  FrameAssembler::Config config;
+  config.repair = true;
+  FrameAssembler assembler(config);
+  std::vector<AssembledFrame> out;
+  for (const auto& d : first.packets.datagrams)
+    if (!(isChunkDatagram(d) && chunkOf(d) >= 16 && chunkOf(d) < 19)) assembler.add(d, 0, out);
+  ASSERT_TRUE(assembler.takeRepairRequest(6'000'000));
+  for (const auto& d : second.packets.datagrams) assembler.add(d, 20'000'000, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].frame, second.packets.frame) << "latest wins: the first is never shown";
+  EXPECT_EQ(assembler.stats().frames_superseded, 1u);
+  EXPECT_FALSE(assembler.takeRepairRequest(60'000'000)) << "nothing pending, nothing to ask";
 }
 
 TEST(FrameAssembler, SeededRandomLossAndReorderingNeverYieldAnInvalidJpeg) {
