@@ -68,6 +68,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
     // The same target, stamped as the ZeroMQ copy is, on the media path: what arrives first counts.
     target.set_sender_instance(client_.instance());
     media_->sendHeadTarget(target);
+    if (clock) media_->setRoundTripHintNs(clock->round_trip_ns);
   }
   telemetry_frame_.Clear();
   telemetry_frame_.set_display_ns(display_ns);

@@ -25,6 +25,8 @@ class MediaFrameSource {
   link::media::MediaReceiverStats stats() const { return receiver_->stats(); }
   /// The head target on the media path too (the robot keeps the newest by stamp, whichever way).
   void sendHeadTarget(const link::proto::HeadTarget& target) { receiver_->sendHeadTarget(target); }
+  /// The ZeroMQ link's round trip to the robot: how long to wait for a retransmission at first.
+  void setRoundTripHintNs(std::int64_t round_trip_ns) { receiver_->setRoundTripHintNs(round_trip_ns); }
 
  private:
   explicit MediaFrameSource(std::unique_ptr<link::media::MediaReceiver> receiver) : receiver_(std::move(receiver)) {}

@@ -224,6 +224,10 @@ std::int64_t FrameAssembler::repairWaitNs() const {
   return std::min(static_cast<std::int64_t>(1.5 * repair_rtt_ns_) + 5'000'000, config_.repair_wait_max_ns);
 }
 
+void FrameAssembler::setRoundTripHintNs(std::int64_t round_trip_ns) {
+  if (stats_.chunks_repaired == 0 && round_trip_ns > 0) repair_rtt_ns_ = static_cast<double>(round_trip_ns);
+}
+
 bool FrameAssembler::awaitingRepair(const Pending& p, std::int64_t now_ns) const {
   if (p.last_request_ns == 0 || now_ns - p.last_request_ns >= repairWaitNs()) return false;
   for (std::size_t c = 0; c < p.have.size(); ++c)
@@ -235,7 +239,7 @@ std::optional<RepairRequest> FrameAssembler::takeRepairRequest(std::int64_t now_
   if (!config_.repair || pending_.empty()) return std::nullopt;
   // Only the newest frame: an older one is superseded once the newest is done.
   Pending& p = pending_.back();
-  const std::int64_t quiet_ns = std::max(config_.repair_quiet_ns, static_cast<std::int64_t>(3 * p.spacing_ns));
+  const std::int64_t quiet_ns = std::max(config_.repair_quiet_ns, static_cast<std::int64_t>(4 * p.spacing_ns));
   const bool quiet = now_ns - p.last_ns >= quiet_ns;
   const std::int64_t wait_ns = repairWaitNs();
   // May chunk c be asked for (again) now?
@@ -266,13 +270,17 @@ std::optional<RepairRequest> FrameAssembler::takeRepairRequest(std::int64_t now_
         --need;
       }
   }
-  // Chunks of blocks whose parity never came: once the frame is quiet. Without parity at all, also
-  // those before the frame's last chunk once that is here (everything before it has been sent).
-  const bool last_here = p.have.back() && p.blocks.empty();
-  if (quiet || last_here)
-    for (std::size_t c = 0; c < p.have.size(); ++c)
-      if (!in_block[c] && askable(c) && (quiet || c < p.have.size() - 1))
-        request.chunks.push_back(static_cast<std::uint16_t>(c));
+  // Chunks of blocks whose parity never came (or of a frame without parity): once a later chunk
+  // shows they were sent — chunks leave in order, each block's parity after it, so with parity a
+  // chunk's whole block must lie behind the highest chunk — or, for the frame's tail, once the
+  // frame is quiet. (Silence alone also comes from a sender that stalls mid-frame.)
+  std::size_t block_k = 1;
+  for (const ParityBlock& b : p.blocks) block_k = std::max<std::size_t>(block_k, b.k);
+  for (std::size_t c = 0; c < p.have.size(); ++c) {
+    if (in_block[c] || !askable(c)) continue;
+    const std::size_t block_end = p.blocks.empty() ? c + 1 : (c / block_k + 1) * block_k;
+    if (quiet || p.highest_chunk >= block_end) request.chunks.push_back(static_cast<std::uint16_t>(c));
+  }
   if (request.chunks.empty()) return std::nullopt;
   std::sort(request.chunks.begin(), request.chunks.end());
   if (request.chunks.size() > kMaxRepairChunks) request.chunks.resize(kMaxRepairChunks);

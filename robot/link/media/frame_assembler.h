@@ -74,8 +74,9 @@ class FrameAssembler {
     std::size_t max_bytes_pending = std::size_t{256} << 20;
     /// Retransmission: ask for what parity cannot rebuild (takeRepairRequests).
     bool repair = false;
-    /// A frame silent this long (or three of its datagram spacings, if longer) has been sent whole.
-    std::int64_t repair_quiet_ns = 5'000'000;
+    /// A frame silent this long (or four of its datagram spacings, if longer) has been sent whole:
+    /// its missing tail is asked for (a sender that stalls mid-frame makes this a guess).
+    std::int64_t repair_quiet_ns = 20'000'000;
     /// The round trip assumed until a repair has measured it; a frame waits 1.5 of it + 5 ms for
     /// its repairs, never more than repair_wait_max_ns.
     std::int64_t repair_rtt_initial_ns = 100'000'000;
@@ -97,6 +98,9 @@ class FrameAssembler {
   std::optional<RepairRequest> takeRepairRequest(std::int64_t now_ns);
   /// How long a frame waits for its repairs now (1.5 × the measured round trip + 5 ms).
   std::int64_t repairWaitNs() const;
+  /// The path's round trip as another link measured it (the ZeroMQ link's clock sync): used
+  /// until a repair has measured it here.
+  void setRoundTripHintNs(std::int64_t round_trip_ns);
 
   const FrameAssemblerStats& stats() const { return stats_; }
   std::size_t framesPending() const { return pending_.size(); }

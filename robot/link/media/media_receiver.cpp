@@ -162,6 +162,7 @@ void MediaReceiver::run() {
       ++stats_.datagrams;
       stats_.bytes += static_cast<std::uint64_t>(n);
     }
+    if (const std::int64_t hint = round_trip_hint_ns_.exchange(0); hint > 0) assembler_.setRoundTripHintNs(hint);
     if (auto repair = assembler_.takeRepairRequest(linkNowNs())) {
       repair->receiver = id_;
       std::vector<std::uint8_t> out;

@@ -57,6 +57,8 @@ class MediaReceiver {
   /// The newest frame not yet taken, waiting up to `timeout` for one.
   std::optional<AssembledFrame> waitNewest(std::chrono::milliseconds timeout);
   MediaReceiverStats stats() const;
+  /// The path's round trip as another link measured it (FrameAssembler::setRoundTripHintNs); any thread.
+  void setRoundTripHintNs(std::int64_t round_trip_ns) { round_trip_hint_ns_ = round_trip_ns; }
 
  private:
   MediaReceiver(const MediaReceiverOptions& options, int fd);
@@ -67,6 +69,7 @@ class MediaReceiver {
   int fd_ = -1;
   std::uint32_t id_;
   FrameAssembler assembler_;
+  std::atomic<std::int64_t> round_trip_hint_ns_{0};
   std::vector<ReportEntry> pending_entries_;
   std::uint32_t pending_stream_ = 0;
   std::int64_t last_report_ns_ = 0, last_sent_ns_ = 0;

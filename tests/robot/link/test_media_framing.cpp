@@ -617,7 +617,7 @@ TEST(FrameAssembler, AsksOnlyForWhatParityCannotRebuildAndTheRepairMakesTheFrame
   EXPECT_EQ(assembler.repairWaitNs(), 65'000'000) << "1.5 × 40 ms + 5 ms";
 }
 
-TEST(FrameAssembler, WithoutParityAQuietFrameAsksForItsGapsAndGivesUpWhenTheRepairIsOverdue) {
+TEST(FrameAssembler, WithoutParityAGapIsAskedForWhenALaterChunkArrivesTheTailWhenTheFrameIsQuiet) {
   FramePacketizer::Config no_fec;
   no_fec.fec_overhead = 0;
   no_fec.repeat_headers = false;
@@ -631,24 +631,45 @@ TEST(FrameAssembler, WithoutParityAQuietFrameAsksForItsGapsAndGivesUpWhenTheRepa
   std::vector<AssembledFrame> out;
   std::int64_t t = 0;
   const int last = chunkOf(sent.packets.datagrams.back());
+  std::vector<std::uint16_t> asked;
   for (const auto& d : sent.packets.datagrams) {
     t += 100'000;
     if (chunkOf(d) == 7 || chunkOf(d) == last) continue;  // one inside, and the frame's last chunk
     assembler.add(d, t, out);
-    EXPECT_FALSE(assembler.takeRepairRequest(t)) << "no parity: nothing is known lost while datagrams come";
+    if (const auto r = assembler.takeRepairRequest(t)) {
+      EXPECT_EQ(chunkOf(d), 8) << "chunk 7 is known lost when chunk 8 arrives, and not before";
+      asked.insert(asked.end(), r->chunks.begin(), r->chunks.end());
+    }
   }
-  EXPECT_FALSE(assembler.takeRepairRequest(t + 4'000'000)) << "4 ms quiet: not yet";
-  const auto request = assembler.takeRepairRequest(t + 5'000'000);
-  ASSERT_TRUE(request);
-  EXPECT_EQ(request->chunks, (std::vector<std::uint16_t>{7, static_cast<std::uint16_t>(last)}));
-  // The repair never comes: the frame waits its 35 ms from the request, then is shown concealed.
-  assembler.expire(t + 39'000'000, out);
+  EXPECT_EQ(asked, std::vector<std::uint16_t>{7});
+  // The tail: nothing says it was sent until the frame has been quiet for 20 ms.
+  EXPECT_FALSE(assembler.takeRepairRequest(t + 19'000'000));
+  const auto tail = assembler.takeRepairRequest(t + 20'000'000);
+  ASSERT_TRUE(tail);
+  EXPECT_EQ(tail->chunks, std::vector<std::uint16_t>{static_cast<std::uint16_t>(last)});
+  // The repairs never come: the frame waits 35 ms from the last request, then is shown concealed.
+  assembler.expire(t + 54'000'000, out);
   EXPECT_TRUE(out.empty());
-  EXPECT_FALSE(assembler.takeRepairRequest(t + 41'000'000)) << "one attempt per chunk here";
-  assembler.expire(t + 41'000'000, out);
+  EXPECT_FALSE(assembler.takeRepairRequest(t + 56'000'000)) << "one attempt per chunk here";
+  assembler.expire(t + 56'000'000, out);
   ASSERT_EQ(out.size(), 1u);
   EXPECT_FALSE(out[0].whole());
+  EXPECT_EQ(assembler.stats().chunks_requested, 2u);
   EXPECT_EQ(assembler.stats().chunks_repaired, 0u);
+}
+
+TEST(FrameAssembler, TheRepairWaitFollowsTheOtherLinksRoundTripUntilARepairMeasuresItsOwn) {
+  FrameAssembler::Config config;
+  config.repair = true;
+  config.repair_wait_max_ns = 300'000'000;
+  FrameAssembler assembler(config);
+  EXPECT_EQ(assembler.repairWaitNs(), 155'000'000) << "100 ms assumed";
+  assembler.setRoundTripHintNs(20'000'000);
+  EXPECT_EQ(assembler.repairWaitNs(), 35'000'000);
+  assembler.setRoundTripHintNs(-5);
+  EXPECT_EQ(assembler.repairWaitNs(), 35'000'000) << "nonsense is ignored";
+  assembler.setRoundTripHintNs(400'000'000);
+  EXPECT_EQ(assembler.repairWaitNs(), 300'000'000) << "never beyond the maximum";
 }
 
 TEST(FrameAssembler, AFrameWaitingForRepairsIsSupersededByANewerWholeOne) {
