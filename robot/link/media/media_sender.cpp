@@ -30,6 +30,7 @@ struct MediaSender::Receiver {
   std::uint32_t id = 0;
   std::int64_t last_heard_ns = 0;
   ArrivalClock arrivals;
+  std::string address_text;  ///< "host:port", written when the address changes (for the statistics)
 };
 
 std::unique_ptr<MediaSender> MediaSender::start(const MediaSenderOptions& options, std::string* error) {
@@ -154,12 +155,7 @@ MediaSenderStats MediaSender::stats() const {
   s.pacing_bps = options_.pacing_gain * rate_.targetBps();
   s.framing_overhead = wire_per_payload_ - 1.0;
   s.cap_bps = cap_bps_;
-  if (receiver_) {
-    char host[NI_MAXHOST] = {}, port[NI_MAXSERV] = {};
-    if (::getnameinfo(reinterpret_cast<const sockaddr*>(&receiver_->address), receiver_->address_length, host,
-                      sizeof host, port, sizeof port, NI_NUMERICHOST | NI_NUMERICSERV) == 0)
-      s.receiver_address = std::string(host) + ":" + port;
-  }
+  if (receiver_) s.receiver_address = receiver_->address_text;
   return s;
 }
 
@@ -208,8 +204,16 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
       rate_ = SendRateController(options_.rate);
       rate_.setCapBps(cap_bps_);  // the supervisor's cap outlives any receiver
     }
-    std::memcpy(&receiver_->address, &from, length);
-    receiver_->address_length = length;
+    if (length != receiver_->address_length || std::memcmp(&receiver_->address, &from, length) != 0) {
+      // A new address (or a receiver behind a NAT that rebinds): its text, once, not per stats().
+      std::memcpy(&receiver_->address, &from, length);
+      receiver_->address_length = length;
+      char host[NI_MAXHOST] = {}, port[NI_MAXSERV] = {};
+      receiver_->address_text = ::getnameinfo(reinterpret_cast<const sockaddr*>(&from), length, host, sizeof host, port,
+                                              sizeof port, NI_NUMERICHOST | NI_NUMERICSERV) == 0
+                                    ? std::string(host) + ":" + port
+                                    : std::string("(unprintable address)");
+    }
     receiver_->last_heard_ns = now_ns;
     if (datagram->hello || datagram->stream != packetizer_.stream()) continue;
     ++stats_.reports_received;
