@@ -32,6 +32,8 @@ nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& 
   j["samples_rejected"] = out.samples_rejected;
   j["first_sample_to_result_s"] = out.first_sample_to_result_s;
   j["total_s"] = out.total_s;
+  j["head_returned"] = out.head_returned;
+  if (!out.head_return_error.empty()) j["head_return_error"] = out.head_return_error;
   if (out.collector) {
     j["samples"] = out.collector->samples().size();
     j["joint_views"] = out.collector->jointViews();

@@ -42,6 +42,8 @@ nlohmann::ordered_json handEyeFiguresOf(const console::calibration::HandEyeOutco
   j["outliers_removed"] = out.outliers_removed;
   j["first_sample_to_result_s"] = out.first_sample_to_result_s;
   j["total_s"] = out.total_s;
+  j["head_returned"] = out.head_returned;
+  if (!out.head_return_error.empty()) j["head_return_error"] = out.head_return_error;
   j["samples"] = out.collector ? out.collector->samples().size() : 0;
   if (out.collector) {
     const calib::HandEyeIdentifiability d = out.collector->diversity();

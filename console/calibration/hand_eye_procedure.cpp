@@ -44,8 +44,19 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
   const auto t_start = Clock::now();
   HandEyeOutcome out;
   out.rule_text = options.collector.rule.describe();
+  std::optional<Eigen::Isometry3d> T_robot_head_start;  // set once the pattern or hold started
   const auto finish = [&](std::string error) {
     std::string ignored;
+    if (T_robot_head_start) {
+      if (robot.holdHeadAt(*T_robot_head_start, &ignored) &&
+          robot.waitSettled(*T_robot_head_start, options.settle, nullptr, &ignored)) {
+        out.head_returned = true;
+        log("the head is back at its start pose");
+      } else {
+        out.head_return_error = ignored;
+        log("the head could not be taken back to its start pose: " + ignored);
+      }
+    }
     robot.release(&ignored);
     out.error = std::move(error);
     out.total_s = secondsSince(t_start);
@@ -60,10 +71,12 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
   if (!T_head) return finish("no robot state within 5 s");
   if (options.pattern_amplitude_deg > 0) {
     if (!robot.runHeadPattern(options.pattern_amplitude_deg, &error)) return finish("head pattern refused: " + error);
+    T_robot_head_start = *T_head;
     log("the head moves along the calibration pattern (±" + std::to_string(int(options.pattern_amplitude_deg)) +
         "° yaw); move the manipulator with the marker in view");
   } else {
     if (!robot.holdHeadAt(*T_head, &error)) return finish("head hold refused: " + error);
+    T_robot_head_start = *T_head;
     log("the head holds still (no pattern): the head's rotations will not separate the unknowns");
   }
 

@@ -58,6 +58,7 @@ struct HandEyeProcedureOptions {
   int max_stills = 400;
   std::chrono::seconds time_limit{900};
   bool remove_outliers = true;
+  SettleOptions settle;  ///< the head's return to its start pose at the end
   std::function<void(const std::string&)> log;
   std::function<void(const HandEyeProgress&)> progress;
   const std::atomic<bool>* cancel = nullptr;
@@ -75,8 +76,15 @@ struct HandEyeOutcome {
   std::vector<HandEyeSolveStep> history;
   double first_sample_to_result_s = 0;
   double total_s = 0;
+  /// The head was taken back to where the run found it before it was released (whatever the
+  /// outcome, once the pattern or hold started); why not when it could not be.
+  bool head_returned = false;
+  std::string head_return_error;
 };
 
+/// Runs the procedure against the robot behind `robot`: the head swings along the calibration
+/// pattern (or holds still) while the user moves the marker; at the end it is taken back to the
+/// pose the run found it at (bounded by options.settle's timeout), then released.
 HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOptions& options);
 
 /// After a solve of out.collector (`ok`, or `error`): the done rule's check, done, the

@@ -73,10 +73,26 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   const auto report = [&](int samples, const StereoSample* last_kept) {
     if (o.progress) o.progress(IntrinsicsProgress{stage, samples, out.poses_visited, out.poses_planned, last_kept});
   };
+  // Once the run held the head: back to where it found it, then released (the supervisor placed
+  // the board in view from there, and the next run starts from it). Not cancellable: a
+  // cancelled run returns too, within the settle timeout.
+  std::optional<Eigen::Isometry3d> T_robot_head_start;
+  const auto giveHeadBack = [&] {
+    std::string error;
+    if (T_robot_head_start) {
+      if (robot.holdHeadAt(*T_robot_head_start, &error) && robot.waitSettled(*T_robot_head_start, o.settle, nullptr, &error)) {
+        out.head_returned = true;
+        log("the head is back at its start pose");
+      } else {
+        out.head_return_error = error;
+        log("the head could not be taken back to its start pose: " + error);
+      }
+    }
+    robot.release(&error);
+  };
   const auto fail = [&](const std::string& why) {
     out.error = why;
-    std::string ignored;
-    robot.release(&ignored);
+    giveHeadBack();
     out.total_s = secondsSince(t_start);
     log("failed: " + why);
     return out;
@@ -89,6 +105,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   const auto T_robot_head0 = robot.headPose(std::chrono::seconds(5));
   if (!T_robot_head0) return fail("no robot state with the head pose within 5 s (is telesphere-robot running?)");
   if (!robot.holdHeadAt(*T_robot_head0, &error)) return fail("cannot hold the head: " + error);
+  T_robot_head_start = *T_robot_head0;
   if (!robot.waitSettled(*T_robot_head0, o.settle, o.cancel, &error)) return fail(error);
   // The cameras may still be starting: a few tries for the first still.
   std::optional<link::proto::CalibrationStill> first_still;
@@ -245,8 +262,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     stage = "fill views";
     if (!visit(plan, true)) return fail("cancelled");
   }
-  std::string ignored;
-  robot.release(&ignored);
+  giveHeadBack();
 
   // 4. The stereo solve.
   log(fmt("collected %.0f samples (%.0f joint views); ", double(collector.samples().size()),

@@ -83,9 +83,15 @@ struct IntrinsicsOutcome {
   int stills = 0, samples_rejected = 0;
   double first_sample_to_result_s = 0;  ///< wall time
   double total_s = 0;
+  /// The head was taken back to where the run found it before it was released (every run that
+  /// moved it does this, done, not done, failed or cancelled); why not when it could not be.
+  bool head_returned = false;
+  std::string head_return_error;
 };
 
-/// Runs the procedure against the robot behind `robot`.
+/// Runs the procedure against the robot behind `robot`. It starts where the head is (the
+/// supervisor put the board in view from there) and, whatever the outcome, ends there: the head
+/// is taken back to its start pose (bounded by options.settle's timeout) before it is released.
 IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& options);
 
 /// Solves the samples in `collector` (again, e.g. after the user deleted some) and fills in

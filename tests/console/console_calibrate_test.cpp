@@ -5,16 +5,20 @@
 ///        the headless procedure, started from the wrong calibration, must recover the truth
 ///        within bounds derived from its own standard deviations (and the start must lie outside
 ///        them, so the check can fail). A run that cannot meet the done rule exits 2 with the
-///        reason and writes nothing; no robot exits 3.
+///        reason and writes nothing; no robot exits 3. Every run leaves the head where it found
+///        it (the supervisor placed the board in view there; the next run starts from it).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "calib/calibration_file.h"
 #include "calib/camera_resolution.h"
+#include "robot/link/link_client.h"
 #include "tests/console/sim_robot_process.h"
+#include "tests/console/still_robot_pose.h"
 
 namespace {
 namespace calib = telesphere::calib;
@@ -25,6 +29,11 @@ const std::string kSrc = TELESPHERE_SOURCE_DIR "/";
 
 using telesphere::test::CommandResult;
 using telesphere::test::runCommand;
+namespace link = telesphere::link;
+
+using telesphere::test::distanceMmDeg;
+using telesphere::test::RobotFrame;
+using telesphere::test::stillRobotPose;
 
 class CalibrateIntrinsics : public ::testing::Test {
  protected:
@@ -39,8 +48,11 @@ class CalibrateIntrinsics : public ::testing::Test {
          "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0", "--stats-period", "0"},
         log, &error);
     ASSERT_GT(robot_pid_, 0) << error;
+    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+                                                link::LinkClient::Options{.frames = false});
   }
   static void TearDownTestSuite() {
+    probe_.reset();
     telesphere::test::stopRobot(robot_pid_);
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
@@ -51,12 +63,21 @@ class CalibrateIntrinsics : public ::testing::Test {
   }
   static inline std::filesystem::path dir_;
   static inline pid_t robot_pid_ = -1;
+  static inline std::unique_ptr<link::LinkClient> probe_;
 };
 
 TEST_F(CalibrateIntrinsics, RecoversTheTrueIntrinsicsAndStereoExtrinsicFromAWrongStart) {
   ASSERT_GT(robot_pid_, 0);
+  const auto T_robot_head_before = stillRobotPose(*probe_, RobotFrame::kHead);
+  ASSERT_TRUE(T_robot_head_before) << "the robot reports no still head pose";
   const std::string out_file = (dir_ / "recovered.yaml").string();
   const CommandResult r = runCommand(calibrate("--compare-models --out " + out_file), dir_.string());
+  const auto T_robot_head_after = stillRobotPose(*probe_, RobotFrame::kHead);
+  ASSERT_TRUE(T_robot_head_after);
+  const auto [moved_mm, turned_deg] = distanceMmDeg(*T_robot_head_before, *T_robot_head_after);
+  std::printf("head after the run: %.2f mm, %.3f° from where it started\n", moved_mm, turned_deg);
+  EXPECT_LT(moved_mm, 2.0) << "the run must leave the head where it found it";
+  EXPECT_LT(turned_deg, 0.5);
   if (r.exit_code != 0) {  // the procedure's steps, without the solver's iterations
     std::stringstream lines(r.err);
     std::string line, steps;
@@ -66,6 +87,7 @@ TEST_F(CalibrateIntrinsics, RecoversTheTrueIntrinsicsAndStereoExtrinsicFromAWron
   }
   const nlohmann::json figures = nlohmann::json::parse(r.out);
   EXPECT_TRUE(figures["done"].get<bool>());
+  EXPECT_TRUE(figures["head_returned"].get<bool>());
   EXPECT_TRUE(figures["unmet"].empty());
   EXPECT_GE(figures["samples"].get<int>(), 20);
   std::printf("samples %d (joint %d), stills %d, poses %d visited / %d refused; first sample to result %.1f s\n",
@@ -132,6 +154,7 @@ TEST_F(CalibrateIntrinsics, ExitsTwoWithTheReasonWhenTheDoneRuleCannotBeMet) {
   const std::string out_file = (dir_ / "never.yaml").string();
   const CommandResult r = runCommand(calibrate("--max-views 4 --out " + out_file), dir_.string());
   EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("the head is back at its start pose"), std::string::npos) << r.err.substr(0, 3000);
   EXPECT_NE(r.err.find("the done rule is not met: 4 of 20 views"), std::string::npos) << r.err.substr(0, 3000);
   EXPECT_FALSE(std::filesystem::exists(out_file));
   const nlohmann::json figures = nlohmann::json::parse(r.out);

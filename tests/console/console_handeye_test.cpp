@@ -11,11 +11,13 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "calib/calibration_file.h"
 #include "robot/link/link_client.h"
 #include "tests/console/sim_robot_process.h"
+#include "tests/console/still_robot_pose.h"
 
 namespace {
 namespace calib = telesphere::calib;
@@ -27,6 +29,9 @@ const std::string kSrc = TELESPHERE_SOURCE_DIR "/";
 
 using telesphere::test::CommandResult;
 using telesphere::test::runCommand;
+using telesphere::test::distanceMmDeg;
+using telesphere::test::RobotFrame;
+using telesphere::test::stillRobotPose;
 
 class CalibrateHandEye : public ::testing::Test {
  protected:
@@ -40,8 +45,11 @@ class CalibrateHandEye : public ::testing::Test {
          "--preview-rate", "0", "--stats-period", "0"},
         (dir_ / "robot.log").string(), &error);
     ASSERT_GT(robot_pid_, 0) << error;
+    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+                                                link::LinkClient::Options{.frames = false});
   }
   static void TearDownTestSuite() {
+    probe_.reset();
     telesphere::test::stopRobot(robot_pid_);
     std::error_code ec;
     std::filesystem::remove_all(dir_, ec);
@@ -57,6 +65,7 @@ class CalibrateHandEye : public ::testing::Test {
   }
   static inline std::filesystem::path dir_;
   static inline pid_t robot_pid_ = -1;
+  static inline std::unique_ptr<link::LinkClient> probe_;
 };
 
 double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
@@ -65,9 +74,18 @@ double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_GT(robot_pid_, 0);
+  // The flange, not the head: --apply changes the head frame, not where the arm stands.
+  const auto T_robot_flange_before = stillRobotPose(*probe_, RobotFrame::kFlange);
+  ASSERT_TRUE(T_robot_flange_before) << "the robot reports no still flange pose";
   const std::string out_file = (dir_ / "handeye.yaml").string();
   const CommandResult r = runCommand(calibrate("--apply --out " + out_file), dir_.string());
   ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 6000) << "\n--- robot log (last 6000 characters):\n" << robotLogTail();
+  const auto T_robot_flange_after = stillRobotPose(*probe_, RobotFrame::kFlange);
+  ASSERT_TRUE(T_robot_flange_after);
+  const auto [moved_mm, turned_deg] = distanceMmDeg(*T_robot_flange_before, *T_robot_flange_after);
+  std::printf("flange after the run: %.2f mm, %.3f° from where it started\n", moved_mm, turned_deg);
+  EXPECT_LT(moved_mm, 2.0) << "the run must leave the arm where it found it";
+  EXPECT_LT(turned_deg, 0.5);
   EXPECT_NE(r.err.find("applied: the robot uses calibration generation 2 (was 1)"), std::string::npos)
       << r.err.substr(0, 6000);
   const nlohmann::json figures = nlohmann::json::parse(r.out);
