@@ -79,7 +79,7 @@ void HealthPanel::refresh() {
   if (const auto clock = s.clock())
     setRow("Robot", "clock offset", QString("%1 ms ± %2 ms (round trip %3 ms)")
                                         .arg(number(double(clock->server_to_client_offset_ns) * 1e-6, 3))
-                                        .arg(number(double(clock->round_trip_ns) * 0.5e-6, 3))
+                                        .arg(number(double(clock->uncertainty_ns) * 1e-6, 3))
                                         .arg(number(double(clock->round_trip_ns) * 1e-6, 3)));
   else
     setRow("Robot", "clock offset", "not measured yet (no ping answered)", true);
