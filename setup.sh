@@ -36,6 +36,9 @@ packages=(
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
   # the Internet link's forward error correction (Reed–Solomon erasure code)
   libisal-dev
+  # SRT, the transport `telesphere-bench transport` compares the media path with (the GnuTLS
+  # flavour FFmpeg already brings in)
+  libsrt-gnutls-dev
   # session recordings (MCAP chunk compression)
   libzstd-dev liblz4-dev zlib1g-dev
   # files, command lines, logging
