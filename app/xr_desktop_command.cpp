@@ -56,6 +56,7 @@ CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
   c->add_option("--calib", o.calib, "system calibration (two cameras)")->required();
   c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
   c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  addVideoLinkOptions(*c, o.link);
   c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
   c->add_option("--window-size", o.window_size, "window size WxH")->capture_default_str();
   c->add_option("--rate", o.rate_hz, "frames per second")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
@@ -105,6 +106,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
+  applyVideoLinkOptions(o.link, view_options);
   xr::frame_loop::OperatorView view(*calibration, view_options);
   xr::frame_loop::OperatorLoop loop(view, output);
   std::cout << "telesphere-xr desktop: W/A/S/D walk, R/F up/down, drag with the left mouse button to look, "

@@ -10,6 +10,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_video_link_options.h"
+
 namespace telesphere::app {
 
 struct DesktopCommandOptions {
@@ -24,6 +26,7 @@ struct DesktopCommandOptions {
   std::string mode = "full6d", path = "exact";
   double radius = 1.0;
   std::string out_dir;     ///< stats.json and eyes_last.png at the end
+  VideoLinkOptions link;   ///< frames and head targets: the ZeroMQ link or the media path
 };
 
 CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& options);

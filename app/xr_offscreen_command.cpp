@@ -32,20 +32,7 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
                  "system calibration (two cameras); with --replay it overrides the calibrations the recording holds");
   c->add_option("--host", o.host, "robot (telesphere-robot) address")->capture_default_str();
   c->add_option("--port", o.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
-  c->add_option("--video-link", o.video_link,
-                 "how frames come: zmq (the ZeroMQ link, port) or udp (the paced media path, port+4, lost bands "
-                 "painted from the previous frame)")
-      ->capture_default_str()->check(CLI::IsMember({"zmq", "udp"}));
-  c->add_option("--media-port", o.media_port,
-                "--video-link udp: the media path's UDP port (default port+4; a relay's port to test a path)")
-      ->check(CLI::Range(1, 65535));
-  c->add_option("--media-repair", o.media_repair,
-                "--video-link udp: ask the robot again for the chunks of the newest frame its parity cannot "
-                "rebuild (on), or show them concealed at once (off)")
-      ->capture_default_str()->check(CLI::IsMember({"on", "off"}));
-  c->add_option("--head-link", o.head_link,
-                "--video-link udp: head targets on both links (the robot keeps the newest) or on udp only")
-      ->capture_default_str()->check(CLI::IsMember({"both", "udp"}));
+  addVideoLinkOptions(*c, o.link);
   c->add_option("--trajectory", o.trajectory, "head poses CSV: t,px,py,pz,qx,qy,qz,qw (default: demo motion)");
   c->add_option("--eye-size", o.eye_size, "render size per eye WxH")->capture_default_str();
   c->add_option("--rate", o.rate_hz, "display rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 1000.0));
@@ -212,10 +199,10 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.truth_every_frames = o.truth_every;
   options.wait_first_frame = std::chrono::milliseconds(static_cast<long long>(o.wait_s * 1000.0));
   options.png_dir = o.out_dir;
-  options.media_link = o.video_link == "udp";
-  options.media_port = o.media_port;
-  options.media_repair = o.media_repair == "on";
-  options.head_targets_on_zmq = o.head_link == "both";
+  options.media_link = o.link.video_link == "udp";
+  options.media_port = o.link.media_port;
+  options.media_repair = o.link.media_repair == "on";
+  options.head_targets_on_zmq = o.link.head_link == "both";
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

@@ -11,6 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_video_link_options.h"
+
 namespace telesphere::app {
 
 struct OffscreenCommandOptions {
@@ -31,10 +33,7 @@ struct OffscreenCommandOptions {
   int truth_every = 10;
   std::string replay;  ///< a recording (MCAP) to render offline instead of the robot
   std::string views;   ///< with replay: a live run's views.csv, rendered instead of display frames
-  std::string video_link = "zmq";  ///< zmq: the ZeroMQ link; udp: the media path (port + 4)
-  int media_port = 0;              ///< the media path's UDP port when not port + 4 (a relay's)
-  std::string media_repair = "on";  ///< on | off: retransmission of what parity cannot rebuild
-  std::string head_link = "both";  ///< with --video-link udp: head targets on both links, or udp only
+  VideoLinkOptions link;  ///< frames and head targets: the ZeroMQ link or the media path
 };
 
 CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& options);

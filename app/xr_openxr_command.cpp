@@ -49,6 +49,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
   c->add_flag("--test-scene", x.test_scene, "show the built-in test scene instead (no robot)");
   c->add_option("--host", x.host, "robot (telesphere-robot) address")->capture_default_str();
   c->add_option("--port", x.port, "robot link base port")->capture_default_str()->check(CLI::Range(1024, 65532));
+  addVideoLinkOptions(*c, x.link);
   c->add_option("--frames", x.frames, "end the session after N submitted frames (0: until Ctrl-C)")
       ->capture_default_str();
   c->add_option("--readback-dir", x.readback_dir,

@@ -11,6 +11,8 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_video_link_options.h"
+
 namespace telesphere::app {
 
 struct OpenXrCommandOptions {
@@ -29,6 +31,7 @@ struct OpenXrCommandOptions {
   /// auto: EGL where the runtime offers XR_MNDX_egl_enable (no display needed), else GLX
   /// (Xlib; needs an X display, the window is the drawable); egl; glx.
   std::string binding = "auto";
+  VideoLinkOptions link;  ///< frames and head targets: the ZeroMQ link or the media path
 };
 
 CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& options);

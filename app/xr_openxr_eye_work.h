@@ -46,6 +46,7 @@ class OpenXrEyeWork {
     options.endpoints.host = o_.host;
     options.endpoints.base_port = o_.port;
     options.render = settings_;
+    applyVideoLinkOptions(o_.link, options);
     view_ = std::make_unique<xr::frame_loop::OperatorView>(*calibration, options);
     return 0;
   }

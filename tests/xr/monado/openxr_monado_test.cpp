@@ -496,7 +496,7 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
 
   const MonadoRun run = monadoRunCommand(
       monadoXrCommand("", "--calib " + monadoQuote(std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml") +
-                              " --port " + std::to_string(port) + " --frames 120 --readback-dir " +
+                              " --port " + std::to_string(port) + " --video-link udp --frames 120 --readback-dir " +
                               monadoQuote(dir.string()) + " --out " + monadoQuote(dir.string())),
       300);
   done = true;
@@ -519,6 +519,10 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
   EXPECT_NE(stats.find("\"nominal_from_robot\": true"), std::string::npos) << stats;
   EXPECT_EQ(stats.find("\"head_targets_sent\": 0"), std::string::npos) << stats;
   EXPECT_EQ(stats.find("\"stereo_frames_shown\": 0"), std::string::npos) << stats;
+  // The frames came over the media path, the one an operator across the Internet uses (the
+  // ZeroMQ link's frames are what the offscreen tests show).
+  EXPECT_NE(stats.find("\"video_link\": \"udp\""), std::string::npos) << stats;
+  EXPECT_EQ(stats.find("\"media_datagrams\": 0"), std::string::npos) << stats;
 
   // Every image logged; the first ones in the start settings, the last ones in the console's.
   const auto eyes = monadoReadPoses((dir / "poses.csv").string());

@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+/// @brief How the operator app takes its frames and sends its head targets, the same options for
+///        `telesphere-xr offscreen`, `openxr` and `desktop`: the ZeroMQ link, or the UDP media path
+///        (DESIGN.md §9; robot/link/media) that holds up across the Internet.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "xr/frame_loop/operator_view.h"
+
+namespace telesphere::app {
+
+struct VideoLinkOptions {
+  std::string video_link = "zmq";   ///< zmq: the ZeroMQ link; udp: the media path (port + 4)
+  int media_port = 0;               ///< the media path's UDP port when not port + 4 (a relay's)
+  std::string media_repair = "on";  ///< on | off: retransmission of what parity cannot rebuild
+  std::string head_link = "both";   ///< with --video-link udp: head targets on both links, or udp only
+};
+
+/// --video-link, --media-port, --media-repair, --head-link on `command`.
+void addVideoLinkOptions(CLI::App& command, VideoLinkOptions& options);
+/// The options into the operator view's.
+void applyVideoLinkOptions(const VideoLinkOptions& options, xr::frame_loop::OperatorViewOptions& view);
+
+}  // namespace telesphere::app
