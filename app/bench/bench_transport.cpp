@@ -243,12 +243,14 @@ Figures runOurs(const Scenario& sc, const TransportOptions& o, double duration_s
     while (take(500ms)) {
     }
   });
+  std::string send_error;  // thrown once the consumer has stopped
   const auto offered = offerFrames(o, duration_s, source, [&](const auto& frame, const auto& left, const auto& right) {
     std::string e;
-    if (!sender->sendFrame(frame, left, right, &e)) throw std::runtime_error("transport: send: " + e);
+    if (!sender->sendFrame(frame, left, right, &e) && send_error.empty()) send_error = "transport: send: " + e;
   });
   done = true;
   consumer.join();
+  if (!send_error.empty()) throw std::runtime_error(send_error);
   Figures f = summarise(o, duration_s, offered, delivered);
   f.transport = "ours (RS + ARQ while due)";
   const auto ss = sender->stats();
