@@ -16,7 +16,6 @@
 #include <mutex>
 #include <cstdio>
 #include <functional>
-#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <thread>

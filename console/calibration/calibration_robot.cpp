@@ -121,6 +121,11 @@ bool CalibrationRobot::runHeadPattern(double amplitude_deg, std::string* error) 
   return hold(std::move(r), error);
 }
 
+bool CalibrationRobot::returnHeadTo(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options,
+                                    std::string* error) {
+  return holdHeadAt(T_robot_head, error) && waitSettled(T_robot_head, options, nullptr, error);
+}
+
 bool CalibrationRobot::release(std::string* error) {
   link::proto::ControlRequest r;
   r.mutable_calibration_head_pose()->set_release(true);

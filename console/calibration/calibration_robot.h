@@ -61,6 +61,10 @@ class CalibrationRobot {
   /// Asks the robot to move the head along the sinusoidal calibration pattern about the nominal
   /// pose (hand-eye samples); false with the robot's reason.
   bool runHeadPattern(double amplitude_deg, std::string* error);
+  /// Takes the head back to T_robot_head (where a wizard's run found it) and waits until it has
+  /// settled there; not cancellable (a cancelled run returns it too, within options.timeout).
+  /// False with the reason. The hold stays: release() afterwards.
+  bool returnHeadTo(const Eigen::Isometry3d& T_robot_head, const SettleOptions& options, std::string* error);
   /// Gives the head back to the operator.
   bool release(std::string* error);
 

@@ -48,8 +48,7 @@ HandEyeOutcome runHandEyeAuto(CalibrationRobot& robot, const HandEyeProcedureOpt
   const auto finish = [&](std::string error) {
     std::string ignored;
     if (T_robot_head_start) {
-      if (robot.holdHeadAt(*T_robot_head_start, &ignored) &&
-          robot.waitSettled(*T_robot_head_start, options.settle, nullptr, &ignored)) {
+      if (robot.returnHeadTo(*T_robot_head_start, options.settle, &ignored)) {
         out.head_returned = true;
         log("the head is back at its start pose");
       } else {

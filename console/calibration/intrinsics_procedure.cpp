@@ -74,13 +74,12 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     if (o.progress) o.progress(IntrinsicsProgress{stage, samples, out.poses_visited, out.poses_planned, last_kept});
   };
   // Once the run held the head: back to where it found it, then released (the supervisor placed
-  // the board in view from there, and the next run starts from it). Not cancellable: a
-  // cancelled run returns too, within the settle timeout.
+  // the board in view from there, and the next run starts from it), cancelled runs too.
   std::optional<Eigen::Isometry3d> T_robot_head_start;
   const auto giveHeadBack = [&] {
     std::string error;
     if (T_robot_head_start) {
-      if (robot.holdHeadAt(*T_robot_head_start, &error) && robot.waitSettled(*T_robot_head_start, o.settle, nullptr, &error)) {
+      if (robot.returnHeadTo(*T_robot_head_start, o.settle, &error)) {
         out.head_returned = true;
         log("the head is back at its start pose");
       } else {

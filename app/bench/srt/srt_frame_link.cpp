@@ -103,7 +103,7 @@ std::unique_ptr<SrtSender> SrtSender::listen(const SrtLinkOptions& options, std:
 }
 
 SrtSender::~SrtSender() {
-  if (socket_ != SRT_INVALID_SOCK && socket_ >= 0) srt_close(socket_);
+  if (socket_ >= 0) srt_close(socket_);
   if (listener_ >= 0) srt_close(listener_);
 }
 
@@ -142,7 +142,7 @@ bool SrtSender::send(std::span<const std::uint8_t> datagram, std::string* error)
   return true;
 }
 
-SrtLinkStats SrtSender::stats() const { return statsOf(socket_ < 0 ? SRT_INVALID_SOCK : socket_, true); }
+SrtLinkStats SrtSender::stats() const { return statsOf(socket_, true); }
 
 struct SrtReceiver::Impl {
   SRTSOCKET socket = SRT_INVALID_SOCK;
