@@ -79,7 +79,9 @@ TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_TRUE(T_robot_flange_before) << "the robot reports no still flange pose";
   const std::string out_file = (dir_ / "handeye.yaml").string();
   const CommandResult r = runCommand(calibrate("--apply --out " + out_file), dir_.string());
-  ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 6000) << "\n--- robot log (last 6000 characters):\n" << robotLogTail();
+  ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 3000) << "\n[…]\n"
+                            << r.err.substr(r.err.size() > 3000 ? r.err.size() - 3000 : 0)
+                            << "\n--- robot log (last 6000 characters):\n" << robotLogTail();
   const auto T_robot_flange_after = stillRobotPose(*probe_, RobotFrame::kFlange);
   ASSERT_TRUE(T_robot_flange_after);
   const auto [moved_mm, turned_deg] = distanceMmDeg(*T_robot_flange_before, *T_robot_flange_after);
