@@ -31,6 +31,7 @@ using telesphere::test::CommandResult;
 using telesphere::test::runCommand;
 using telesphere::test::distanceMmDeg;
 using telesphere::test::RobotFrame;
+using telesphere::test::currentRobotPose;
 using telesphere::test::stillRobotPose;
 
 class CalibrateHandEye : public ::testing::Test {
@@ -75,10 +76,14 @@ double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_GT(robot_pid_, 0);
   // The flange, not the head: --apply changes the head frame, not where the arm stands.
-  const auto T_robot_flange_before = stillRobotPose(*probe_, RobotFrame::kFlange);
-  ASSERT_TRUE(T_robot_flange_before) << "the robot reports no still flange pose";
+  const auto T_robot_flange_before = currentRobotPose(*probe_, RobotFrame::kFlange);
+  ASSERT_TRUE(T_robot_flange_before) << "the robot reports no flange pose";
   const std::string out_file = (dir_ / "handeye.yaml").string();
-  const CommandResult r = runCommand(calibrate("--apply --out " + out_file), dir_.string());
+  // Room beyond the default 60 samples: which poses the simulated manipulator is in when the run
+  // starts shifts by the few hundred ms the probe above takes, and some phases need 60–70 samples
+  // for T_robot_mount's σ (2.05–2.07 mm at 60 in 4 of 22 runs here; the rule is 2.0; 6 of 6 done
+  // within 38–53 samples with this room).
+  const CommandResult r = runCommand(calibrate("--apply --max-samples 90 --out " + out_file), dir_.string());
   ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 3000) << "\n[…]\n"
                             << r.err.substr(r.err.size() > 3000 ? r.err.size() - 3000 : 0)
                             << "\n--- robot log (last 6000 characters):\n" << robotLogTail();

@@ -36,6 +36,20 @@ inline std::optional<Eigen::Isometry3d> stillRobotPose(link::LinkClient& probe, 
   return std::nullopt;
 }
 
+/// The pose of `frame` in the robot's newest state, as soon as there is one (within 20 s). For a
+/// run's start, where nothing has moved the arm yet: waiting for stillness would start the run
+/// later against the simulated manipulator's timed motion, and so on other samples.
+inline std::optional<Eigen::Isometry3d> currentRobotPose(link::LinkClient& probe, RobotFrame frame) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto state = probe.latestRobotState();
+    if (state && (frame == RobotFrame::kHead ? state->has_t_robot_head() : state->has_t_robot_flange()))
+      return link::fromLinkPose(frame == RobotFrame::kHead ? state->t_robot_head() : state->t_robot_flange());
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return std::nullopt;
+}
+
 /// How far `after` is from `before`: {mm, degrees}.
 inline std::pair<double, double> distanceMmDeg(const Eigen::Isometry3d& before, const Eigen::Isometry3d& after) {
   return {(after.translation() - before.translation()).norm() * 1000.0,
