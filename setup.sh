@@ -33,7 +33,7 @@ packages=(
   # console
   qt6-base-dev libqcustomplot-dev libsqlite3-dev libqt6sql6-sqlite
   # video path and link
-  libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libprotobuf-dev protobuf-compiler
+  libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libsodium-dev libprotobuf-dev protobuf-compiler
   # the Internet link's forward error correction (Reed–Solomon erasure code)
   libisal-dev
   # SRT, the transport `telesphere-bench transport` compares the media path with (the GnuTLS

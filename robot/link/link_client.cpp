@@ -3,8 +3,10 @@
 ///        control replies, and pings the server to keep the clock offset.
 #include "robot/link/link_client.h"
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <cstring>
 #include <deque>
 #include <map>
 #include <mutex>
@@ -14,9 +16,15 @@
 namespace telesphere::link {
 namespace {
 
-zmq::socket_t connectSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint,
+zmq::socket_t connectSocket(zmq::context_t& context, zmq::socket_type type, const LinkEndpoints& e, int offset,
                             int receive_hwm = 1000) {
+  const std::string endpoint = e.connect(offset);
   zmq::socket_t socket(context, type);
+  if (e.credentials.secure()) {
+    socket.set(zmq::sockopt::curve_serverkey, e.credentials.robot_public_z85);
+    socket.set(zmq::sockopt::curve_publickey, e.credentials.own->key.public_z85);
+    socket.set(zmq::sockopt::curve_secretkey, e.credentials.own->secret_z85);
+  }
   socket.set(zmq::sockopt::rcvhwm, receive_hwm);
   socket.set(zmq::sockopt::linger, 0);
   socket.set(zmq::sockopt::reconnect_ivl, 100);
@@ -52,6 +60,12 @@ struct LinkClient::Impl {
   zmq::context_t context{1};
   std::optional<zmq::socket_t> frames;
   zmq::socket_t state, uplink, control;
+  zmq::socket_t handshakes;  ///< the control socket's monitor
+  const LinkEndpoints endpoints;
+  /// libzmq does not try again after the robot refused a key; we do, later and less often, so
+  /// a key the supervisor adds to allowed/ is let in without restarting this program.
+  std::int64_t retry_at_ns = 0;
+  std::int64_t retry_backoff_ns = 1'000'000'000;
   std::mutex uplink_mutex;
   LinkStats stats{"link client"};
   ClockSync clock;
@@ -74,14 +88,75 @@ struct LinkClient::Impl {
 
   Impl(const LinkEndpoints& e, Options o)
       : options(o),
-        state(connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kState),
-                            kStateReceiveHwm)),
-        uplink(connectSocket(context, zmq::socket_type::push, e.connect(LinkEndpoints::kUplink))),
-        control(connectSocket(context, zmq::socket_type::dealer, e.connect(LinkEndpoints::kControl))) {
-    if (options.frames)
-      frames = connectSocket(context, zmq::socket_type::sub, e.connect(LinkEndpoints::kFrames),
-                             kFramesReceiveHwm);
+        state(connectSocket(context, zmq::socket_type::sub, e, LinkEndpoints::kState, kStateReceiveHwm)),
+        uplink(connectSocket(context, zmq::socket_type::push, e, LinkEndpoints::kUplink)),
+        control(connectSocket(context, zmq::socket_type::dealer, e, LinkEndpoints::kControl)),
+        handshakes(context, zmq::socket_type::pair),
+        endpoints(e) {
+    if (options.frames) frames = connectSocket(context, zmq::socket_type::sub, e, LinkEndpoints::kFrames, kFramesReceiveHwm);
+    // The control channel's handshakes tell whether the robot let this key in.
+    static std::atomic<int> serial{0};
+    const std::string monitor = "inproc://telesphere-client-handshakes-" + std::to_string(serial++);
+    zmq_socket_monitor(control.handle(), monitor.c_str(),
+                       ZMQ_EVENT_HANDSHAKE_SUCCEEDED | ZMQ_EVENT_HANDSHAKE_FAILED_AUTH |
+                           ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL | ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL);
+    handshakes.set(zmq::sockopt::linger, 0);
+    handshakes.connect(monitor);
     receiver = std::thread([this] { receive(); });
+  }
+
+  /// Connects every socket again (after the robot refused this key: it may be allowed now).
+  void reconnectAll() {
+    const auto again = [](zmq::socket_t& socket, const std::string& endpoint) {
+      try {
+        socket.disconnect(endpoint);
+      } catch (const zmq::error_t&) {  // already gone after the refusal
+      }
+      socket.connect(endpoint);
+    };
+    again(state, endpoints.connect(LinkEndpoints::kState));
+    again(control, endpoints.connect(LinkEndpoints::kControl));
+    if (frames) again(*frames, endpoints.connect(LinkEndpoints::kFrames));
+    std::lock_guard lock(uplink_mutex);
+    again(uplink, endpoints.connect(LinkEndpoints::kUplink));
+  }
+
+  /// Reads the control socket's handshake events into `activity`.
+  void drainHandshakes() {
+    zmq::message_t event, endpoint;
+    while (handshakes.recv(event, zmq::recv_flags::dontwait)) {
+      if (event.more()) (void)handshakes.recv(endpoint, zmq::recv_flags::dontwait);
+      if (event.size() < 6) continue;
+      std::uint16_t id = 0;
+      std::uint32_t value = 0;
+      std::memcpy(&id, event.data(), 2);
+      std::memcpy(&value, static_cast<const char*>(event.data()) + 2, 4);
+      std::string why;
+      if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH)
+        why = value == 300 ? "the robot refused this key for now: too many handshakes (" + std::to_string(value) + ")"
+                           : "the robot refused this key (status " + std::to_string(value) +
+                                 "): is its .pub in the robot's allowed/ folder, with the right role?";
+      else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL && value == ZMQ_PROTOCOL_ERROR_ZMTP_MECHANISM_MISMATCH)
+        why = "the robot and this program disagree on keys: one runs with --keys, the other with --insecure";
+      else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL && value == ZMQ_PROTOCOL_ERROR_ZMTP_CRYPTOGRAPHIC)
+        why = "the handshake did not decrypt: the robot's .pub in --keys is not this robot's key";
+      else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL || id == ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL)
+        why = "the handshake with the robot failed (" + std::to_string(value) + ")";
+      if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
+        retry_backoff_ns = 1'000'000'000;
+        retry_at_ns = 0;
+      } else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH && retry_at_ns == 0) {
+        retry_at_ns = linkNowNs() + retry_backoff_ns;
+        retry_backoff_ns = std::min<std::int64_t>(2 * retry_backoff_ns, 16'000'000'000);
+      }
+      std::lock_guard lock(mutex);
+      if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
+        activity.refused_reason.clear();
+      } else if (!why.empty()) {
+        ++activity.handshakes_refused;
+        activity.refused_reason = why;
+      }
+    }
   }
 
   ~Impl() {
@@ -92,14 +167,20 @@ struct LinkClient::Impl {
   void receive() {
     std::int64_t next_ping_ns = 0;
     std::vector<zmq::pollitem_t> items = {{state.handle(), 0, ZMQ_POLLIN, 0},
-                                          {control.handle(), 0, ZMQ_POLLIN, 0}};
+                                          {control.handle(), 0, ZMQ_POLLIN, 0},
+                                          {handshakes.handle(), 0, ZMQ_POLLIN, 0}};
     if (frames) items.push_back({frames->handle(), 0, ZMQ_POLLIN, 0});
     while (running) {
       zmq::poll(items.data(), items.size(), std::chrono::milliseconds(5));
       if (items[0].revents & ZMQ_POLLIN) drainState();
       if (items[1].revents & ZMQ_POLLIN) drainControl();
-      if (frames && (items[2].revents & ZMQ_POLLIN)) drainFrames();
+      if (items[2].revents & ZMQ_POLLIN) drainHandshakes();
+      if (frames && (items[3].revents & ZMQ_POLLIN)) drainFrames();
       const std::int64_t now = linkNowNs();
+      if (retry_at_ns != 0 && now >= retry_at_ns) {
+        retry_at_ns = 0;
+        reconnectAll();
+      }
       if (now >= next_ping_ns) {
         proto::Envelope ping;
         ping.mutable_ping()->set_client_send_ns(now);

@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "robot/link/clock_sync.h"
@@ -49,6 +50,10 @@ struct LinkActivity {
   std::uint64_t robot_instance = 0;  ///< 0 before the first pong
   std::uint64_t robot_restarts = 0;  ///< instance changes seen (clock estimate reset each time)
   std::uint64_t telemetry_overflow = 0;  ///< telemetry batches dropped: the queue was full
+  /// Handshakes the robot refused on the control channel (DESIGN.md §10), and why, as far as the
+  /// protocol tells a client: ZeroMQ passes on a status code, not the robot's text.
+  std::uint64_t handshakes_refused = 0;
+  std::string refused_reason;  ///< the newest; cleared by the next handshake that succeeds
 };
 
 class LinkClient {

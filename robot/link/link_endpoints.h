@@ -3,18 +3,22 @@
 ///        and republished XR stats (PUB), + 2 uplink of head targets and XR stats (PULL on the
 ///        robot), + 3 control requests and pings (ROUTER on the robot), and + 4 the UDP media
 ///        path (frames paced to the link's rate). The robot binds; the XR app and the console
-///        connect, in any order, and reconnect on their own.
+///        connect, in any order, and reconnect on their own. With credentials (DESIGN.md §10) every
+///        ZeroMQ socket is CURVE: authenticated and encrypted; without, plain TCP (--insecure).
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <string>
 
+#include "robot/link/trust/link_credentials.h"
+
 namespace telesphere::link {
 
 struct LinkEndpoints {
   std::string host = "127.0.0.1";  ///< where clients connect; the server binds on all interfaces
   int base_port = 5760;
+  trust::LinkCredentials credentials;  ///< none: insecure (programs allow it only with --insecure)
 
   std::string connect(int offset) const { return "tcp://" + host + ":" + std::to_string(base_port + offset); }
   std::string bind(int offset) const { return "tcp://*:" + std::to_string(base_port + offset); }

@@ -23,6 +23,7 @@ std::string_view dropReasonName(DropReason reason) {
     case DropReason::kOversized: return "oversized";
     case DropReason::kSuperseded: return "superseded";
     case DropReason::kCorruptJpeg: return "corrupt_jpeg";
+    case DropReason::kRefused: return "refused";
     case DropReason::kCount: break;
   }
   return "unknown";

@@ -38,6 +38,7 @@ enum class DropReason : int {
   kSuperseded,           ///< a newer frame arrived before this one was taken (latest wins), or
                          ///< a head target older than one its sender already sent
   kCorruptJpeg,          ///< the JPEG did not decode (operator side)
+  kRefused,              ///< the sender's key may not send it (DESIGN.md §10; counted as a refusal too)
   kCount
 };
 

@@ -7,26 +7,72 @@
 #include <algorithm>
 #include <atomic>
 #include <deque>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
 #include <zmq.hpp>
 
+#include "robot/link/trust/allowed_keys.h"
+#include "robot/link/trust/handshake_monitor.h"
+#include "robot/link/trust/link_refusals.h"
+#include "robot/link/trust/operator_seat.h"
+#include "robot/link/trust/token_bucket.h"
+#include "robot/link/trust/zap_authenticator.h"
+
 namespace telesphere::link {
 namespace {
 
-zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const std::string& endpoint,
-                         int send_hwm = 1000) {
+/// The ZAP domain of each channel (ZapAuthenticator): which roles may connect to it.
+/// Frames are the full-rate view: operators and supervisors; viewers get previews on the
+/// state channel. Uplink and control admit every role at the handshake (the console's client
+/// always connects them); what a role may send there is checked per message.
+bool roleMayConnect(const std::string& domain, trust::LinkRole role) {
+  if (domain == "frames") return role == trust::LinkRole::kOperator || role == trust::LinkRole::kSupervisor;
+  return domain == "state" || domain == "uplink" || domain == "control";
+}
+
+zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const LinkEndpoints& e, int offset,
+                         const char* domain, int send_hwm = 1000) {
+  const std::string endpoint = e.bind(offset);
   zmq::socket_t socket(context, type);
   socket.set(zmq::sockopt::linger, 0);
   socket.set(zmq::sockopt::sndhwm, send_hwm);
+  // A peer that opens a connection and never finishes the handshake (slow loris) is closed.
+  socket.set(zmq::sockopt::handshake_ivl, 5000);
+  // Nothing a client may send is larger than a calibration reply's request; a frame claiming
+  // more closes its connection before any memory is taken for it.
+  if (type == zmq::socket_type::pull || type == zmq::socket_type::router)
+    socket.set(zmq::sockopt::maxmsgsize, std::int64_t(16) << 20);
+  if (e.credentials.secure()) {
+    socket.set(zmq::sockopt::curve_server, 1);
+    socket.set(zmq::sockopt::curve_secretkey, e.credentials.own->secret_z85);
+    socket.set(zmq::sockopt::zap_domain, domain);
+  }
   try {
     socket.bind(endpoint);
-  } catch (const zmq::error_t& e) {
-    throw std::runtime_error("link: cannot bind " + endpoint + ": " + e.what() +
+  } catch (const zmq::error_t& err) {
+    throw std::runtime_error("link: cannot bind " + endpoint + ": " + err.what() +
                              " (is another telesphere-robot running?)");
   }
   return socket;
+}
+
+/// What each role may ask on the control channel (DESIGN.md §10): pings from anyone; an
+/// operator what its own view needs, a viewer the settings, a supervisor everything. "" when
+/// allowed, else why not.
+std::string controlRefusal(const trust::ZapAuthenticator::Peer& peer, const proto::ControlRequest& request) {
+  if (peer.role == trust::LinkRole::kSupervisor) return "";
+  // What the operator's own view needs: the calibration in use (to follow a live change), the
+  // settings, and the media path's session key (the seat is checked by the caller).
+  if (peer.role == trust::LinkRole::kOperator &&
+      (request.has_open_media_session() || request.has_get_calibration() || request.has_get_settings()))
+    return "";
+  // A viewer may read the settings (they are in the health it receives anyway).
+  if (peer.role == trust::LinkRole::kViewer && request.has_get_settings()) return "";
+  const auto* field = proto::ControlRequest::descriptor()->FindFieldByNumber(int(request.request_case()));
+  return trust::linkRoleWithArticle(peer.role) + " key (" + peer.name + ") may not send " +
+         (field ? field->name() : std::string("this request")) + ": supervisor keys only";
 }
 
 zmq::message_t serialise(const proto::Envelope& envelope) {
@@ -47,8 +93,16 @@ zmq::message_t zeroCopy(const SharedBytes& bytes) {
 
 struct LinkServer::Impl {
   zmq::context_t context{1};
+  const bool secure;
+  trust::LinkRefusals refusals;
+  std::unique_ptr<trust::AllowedKeys> allowed;
+  /// Bound before the sockets: libzmq asks it about every handshake (secure links only).
+  std::unique_ptr<trust::ZapAuthenticator> authenticator;
+  trust::OperatorSeat seat;
+  std::map<std::string, trust::TokenBucket> control_buckets;  ///< per key name (service thread)
   std::mutex frames_mutex, state_mutex;
   zmq::socket_t frames, state, uplink, control;
+  std::unique_ptr<trust::HandshakeMonitor> handshakes;
   LinkStats stats{"link server"};
   mutable std::mutex head_mutex;
   std::optional<proto::HeadTarget> head_target;
@@ -58,6 +112,7 @@ struct LinkServer::Impl {
   static constexpr std::size_t kMaxHeadSenders = 16;
   std::mutex handler_mutex;
   ControlHandler handler;
+  std::function<void(const std::string&)> seat_handler;  ///< under handler_mutex
   const std::uint64_t instance = newLinkInstanceId();
   std::atomic<bool> running{true};
   std::thread service;
@@ -78,13 +133,69 @@ struct LinkServer::Impl {
   // most two stereo frames (three parts each) wait per subscriber, older ones never pile up.
   // State: long enough that telemetry survives a busy subscriber (LinkServer::kStateQueueMessages).
   explicit Impl(const LinkEndpoints& e)
-      : frames(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kFrames), 6)),
-        state(bindSocket(context, zmq::socket_type::pub, e.bind(LinkEndpoints::kState),
+      : secure(e.credentials.secure()),
+        allowed(secure ? std::make_unique<trust::AllowedKeys>(e.credentials.allowed_dir) : nullptr),
+        authenticator(secure ? std::make_unique<trust::ZapAuthenticator>(context.handle(), *allowed, refusals,
+                                                                         roleMayConnect)
+                             : nullptr),
+        frames(bindSocket(context, zmq::socket_type::pub, e, LinkEndpoints::kFrames, "frames", 6)),
+        state(bindSocket(context, zmq::socket_type::pub, e, LinkEndpoints::kState, "state",
                          LinkServer::kStateQueueMessages)),
-        uplink(bindSocket(context, zmq::socket_type::pull, e.bind(LinkEndpoints::kUplink))),
-        control(bindSocket(context, zmq::socket_type::router, e.bind(LinkEndpoints::kControl))) {
+        uplink(bindSocket(context, zmq::socket_type::pull, e, LinkEndpoints::kUplink, "uplink")),
+        control(bindSocket(context, zmq::socket_type::router, e, LinkEndpoints::kControl, "control")) {
     uplink.set(zmq::sockopt::rcvhwm, 64);
+    if (secure)
+      handshakes = std::make_unique<trust::HandshakeMonitor>(
+          context.handle(),
+          std::vector<std::pair<void*, std::string>>{
+              {frames.handle(), "frames"}, {state.handle(), "state"}, {uplink.handle(), "uplink"},
+              {control.handle(), "control"}},
+          refusals);
     service = std::thread([this] { serve(); });
+  }
+
+  /// The sender of a message on a secure link (ZAP's User-Id), while its key is still allowed:
+  /// a key revoked from allowed/ is refused from the next message on, even on a connection that
+  /// was let in before. Nothing on an insecure link.
+  std::optional<trust::ZapAuthenticator::Peer> senderOf(zmq::message_t& message) {
+    if (!secure) return std::nullopt;
+    auto peer = trust::ZapAuthenticator::parseUserId(zmq_msg_gets(message.handle(), "User-Id"));
+    if (peer && !allowed->find(peer->public_z85)) {
+      refusals.count("revoked key", peer->name + "'s key is no longer in allowed/", peerAddressOf(message), peer->name,
+                     linkNowNs());
+      return std::nullopt;
+    }
+    return peer;
+  }
+  static std::string peerAddressOf(zmq::message_t& message) {
+    const char* address = zmq_msg_gets(message.handle(), "Peer-Address");
+    return address ? address : "";
+  }
+
+  /// May this uplink message pass? Head targets: the seated operator only; XR stats and
+  /// telemetry: operators. Refusals counted (a refused operator learns why from the console).
+  bool uplinkAllowed(zmq::message_t& message, const proto::Envelope& envelope) {
+    if (!secure) return true;
+    const auto peer = senderOf(message);
+    const std::string address = peerAddressOf(message);
+    if (!peer) return false;  // counted by senderOf
+    if (peer->role != trust::LinkRole::kOperator) {
+      refusals.count("role",
+                     trust::linkRoleWithArticle(peer->role) + " key (" + peer->name +
+                         ") may not send head targets or XR stats: operator keys only",
+                     address, peer->name, linkNowNs());
+      return false;
+    }
+    if (envelope.has_head_target()) {
+      if (const auto holder = seat.claim(peer->name)) {
+        refusals.count("operator seat",
+                       "operator " + peer->name + " refused: the seat is held by " + *holder +
+                           " (a supervisor can hand it over)",
+                       address, peer->name, linkNowNs());
+        return false;
+      }
+    }
+    return true;
   }
 
   ~Impl() {
@@ -123,6 +234,10 @@ struct LinkServer::Impl {
       }
       auto envelope = stats.parse(message.data(), message.size(), "uplink");
       if (!envelope) continue;
+      if (!uplinkAllowed(message, *envelope)) {
+        stats.countDrop(DropReason::kRefused, "uplink");
+        continue;
+      }
       stats.countReceived();
       tell(LinkTap::Direction::kReceived, *envelope);
       if (envelope->has_head_target()) {
@@ -156,6 +271,36 @@ struct LinkServer::Impl {
     return true;
   }
 
+  /// "" when this control request may run, else the reason (counted as a refusal): supervisors
+  /// only on a secure link, at most kControlPerSecond per key.
+  static constexpr double kControlPerSecond = 20, kControlBurst = 60;
+  std::string controlAllowed(zmq::message_t& message, const proto::ControlRequest& request) {
+    if (!secure) return "";
+    const auto peer = senderOf(message);
+    const std::string address = peerAddressOf(message);
+    if (!peer) return "refused: your key is no longer allowed on this robot";
+    if (std::string why = controlRefusal(*peer, request); !why.empty()) {
+      refusals.count("role", why, address, peer->name, linkNowNs());
+      return why;
+    }
+    if (peer->role == trust::LinkRole::kOperator && request.has_open_media_session()) {
+      if (const auto holder = seat.claim(peer->name)) {
+        const std::string why = "operator " + peer->name + " refused: the seat is held by " + *holder +
+                                " (a supervisor can hand it over)";
+        refusals.count("operator seat", why, address, peer->name, linkNowNs());
+        return why;
+      }
+    }
+    if (control_buckets.size() > 256) control_buckets.clear();
+    auto bucket = control_buckets.try_emplace(peer->name, kControlPerSecond, kControlBurst).first;
+    if (!bucket->second.take(linkNowNs())) {
+      refusals.count("rate limit", "more than 20 control requests a second from " + peer->name, address, peer->name,
+                     linkNowNs());
+      return "refused: more than 20 control requests a second; slow down";
+    }
+    return "";
+  }
+
   void drainControl() {
     std::vector<zmq::message_t> parts;
     while (true) {
@@ -182,6 +327,25 @@ struct LinkServer::Impl {
         reply.mutable_pong()->set_server_ns(linkNowNs());
         reply.mutable_pong()->set_server_instance(instance);
       } else if (envelope->has_control_request()) {
+        const std::string refused = controlAllowed(parts[1], envelope->control_request());
+        if (!refused.empty()) {
+          reply.mutable_control_reply()->set_ok(false);
+          reply.mutable_control_reply()->set_error(refused);
+          reply.mutable_control_reply()->set_id(envelope->control_request().id());
+        } else if (envelope->control_request().has_hand_over_operator_seat()) {
+          tell(LinkTap::Direction::kReceived, *envelope);
+          const std::string& name = envelope->control_request().hand_over_operator_seat().name();
+          seat.handOver(name);
+          spdlog::info("link: operator seat {}", name.empty() ? std::string("freed") : "handed to " + name);
+          std::function<void(const std::string&)> on_seat;
+          {
+            std::lock_guard lock(handler_mutex);
+            on_seat = seat_handler;
+          }
+          if (on_seat) on_seat(name);
+          reply.mutable_control_reply()->set_ok(true);
+          reply.mutable_control_reply()->set_id(envelope->control_request().id());
+        } else {
         tell(LinkTap::Direction::kReceived, *envelope);
         std::lock_guard lock(handler_mutex);
         if (handler) {
@@ -191,6 +355,7 @@ struct LinkServer::Impl {
           reply.mutable_control_reply()->set_error("no handler");
         }
         reply.mutable_control_reply()->set_id(envelope->control_request().id());
+        }
       } else {
         stats.countDrop(DropReason::kUnexpectedBody, "control");
         continue;
@@ -205,7 +370,9 @@ struct LinkServer::Impl {
 };
 
 LinkServer::LinkServer(const LinkEndpoints& endpoints) : impl_(std::make_unique<Impl>(endpoints)) {
-  spdlog::info("link server on ports {}..{}", endpoints.base_port, endpoints.base_port + 3);
+  spdlog::info("link server on ports {}..{} ({})", endpoints.base_port, endpoints.base_port + 3,
+               endpoints.credentials.secure() ? "CURVE: keys in " + endpoints.credentials.allowed_dir.string()
+                                              : std::string("INSECURE: no keys"));
 }
 
 LinkServer::~LinkServer() = default;
@@ -279,11 +446,42 @@ void LinkServer::setControlHandler(ControlHandler handler) {
   impl_->handler = std::move(handler);
 }
 
+void LinkServer::setOperatorSeatHandler(std::function<void(const std::string& name)> handler) {
+  std::lock_guard lock(impl_->handler_mutex);
+  impl_->seat_handler = std::move(handler);
+}
+
 void LinkServer::setTap(std::shared_ptr<LinkTap> tap) {
   std::lock_guard lock(impl_->tap_mutex);
   impl_->tap = std::move(tap);
 }
 
 LinkStatsSnapshot LinkServer::stats() const { return impl_->stats.snapshot(); }
+
+proto::LinkTrustHealth LinkServer::trustHealth() const {
+  proto::LinkTrustHealth health;
+  health.set_insecure(!impl_->secure);
+  if (impl_->allowed) {
+    const auto allowed = impl_->allowed->snapshot();
+    for (const auto& key : allowed.keys)
+      health.add_allowed(key.name + " (" + std::string(trust::linkRoleName(key.role)) + ")");
+    for (const auto& error : allowed.errors) health.add_allowed_errors(error);
+    health.set_allowed_reloads(allowed.reloads);
+  }
+  health.set_operator_seat(impl_->seat.holder());
+  constexpr std::size_t kShown = 8;
+  const auto refusals = impl_->refusals.snapshot();
+  for (std::size_t i = 0; i < refusals.size() && i < kShown; ++i) {
+    auto* r = health.add_refusals();
+    r->set_cause(refusals[i].cause);
+    r->set_detail(refusals[i].detail);
+    r->set_peer(refusals[i].peer);
+    r->set_name(refusals[i].name);
+    r->set_count(refusals[i].count);
+    r->set_last_t_ns(refusals[i].last_t_ns);
+  }
+  health.set_refused_total(impl_->refusals.total());
+  return health;
+}
 
 }  // namespace telesphere::link

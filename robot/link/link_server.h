@@ -8,6 +8,12 @@
 ///        The state channel is lossless as long as a subscriber keeps up: its queue holds
 ///        kStateQueueMessages per subscriber (tens of seconds of telemetry), and telemetry
 ///        batches are numbered so a subscriber can count what it lost when it did not.
+///
+///        With credentials (LinkEndpoints::credentials, DESIGN.md §10) every socket is a CURVE
+///        server: only keys in allowed/ finish a handshake (ZapAuthenticator), viewers are kept off
+///        the frames channel, uplink messages pass for the seated operator only, control requests
+///        for supervisors only; every refusal is counted (trustHealth) and answered where the
+///        socket has a way back (control replies carry the reason).
 #pragma once
 
 #include <cstdint>
@@ -61,11 +67,17 @@ class LinkServer {
   /// Without a handler requests are answered {ok: false, error: "no handler"}.
   void setControlHandler(ControlHandler handler);
 
+  /// Called on the link's thread after a supervisor handed the operator seat over (the new
+  /// holder's name, empty when freed): the robot ends the media session of the one before.
+  void setOperatorSeatHandler(std::function<void(const std::string& name)> handler);
+
   /// Everything sent and received from now on also goes to `tap` (null: nobody). A call in
   /// flight keeps the tap it started with alive.
   void setTap(std::shared_ptr<LinkTap> tap);
 
   LinkStatsSnapshot stats() const;
+  /// Who may use the link and who was refused (DESIGN.md §10), for the health report.
+  proto::LinkTrustHealth trustHealth() const;
 
  private:
   struct Impl;

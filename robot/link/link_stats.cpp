@@ -17,6 +17,8 @@ void LinkStats::countDrop(DropReason reason, const char* context) {
   // Superseded frames are the normal behaviour of a slow consumer: debug level only.
   if (reason == DropReason::kSuperseded) {
     spdlog::debug("{}: {} message superseded ({} so far)", name_, context, n);
+  } else if (reason == DropReason::kRefused) {
+    // LinkRefusals says why, once per cause and peer a minute.
   } else if (n == 1 || n % 100 == 0) {
     spdlog::warn("{}: dropped a {} message: {} ({} so far)", name_, context, dropReasonName(reason), n);
   }

@@ -46,6 +46,19 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       media->setCapBps(cap_mbit * 1e6);
       reply.set_ok(true);
     }
+  } else if (request.request_case() == link::proto::ControlRequest::kOpenMediaSession) {
+    // A keyed link's media path (DESIGN.md §10): a fresh key for this session, handed over the
+    // authenticated control channel (the link checked who asks); the session before it ends.
+    reply.set_id(request.id());
+    link::media::MediaSender* media = video_ ? video_->mediaSender() : nullptr;
+    if (!media) {
+      reply.set_error("this robot serves no media path (started with --no-media or without cameras)");
+    } else {
+      const link::media::MediaSealKey key = link::media::newMediaSealKey();
+      media->setSealKey(key);
+      reply.set_media_session_key(key.data(), key.size());
+      reply.set_ok(true);
+    }
   } else if (request.request_case() == link::proto::ControlRequest::kCalibrationCapture) {
     reply.set_id(request.id());
     std::string error;

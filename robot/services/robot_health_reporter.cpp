@@ -21,6 +21,9 @@ void fillMediaHealth(const link::media::MediaSender& media, const video::VideoSt
   out->set_reports_received(s.reports_received);
   out->set_receiver_changes(s.receiver_changes);
   out->set_head_target_datagrams(s.head_target_datagrams);
+  out->set_sealed(s.sealed);
+  out->set_datagrams_unauthenticated(s.unauthenticated);
+  out->set_seal_sessions(s.seal_sessions);
   out->set_framing_overhead(s.framing_overhead);
   for (int d = 0; d < static_cast<int>(link::media::RateDecision::kCount); ++d) {
     if (s.rate.decisions[static_cast<std::size_t>(d)] == 0) continue;
@@ -57,6 +60,7 @@ link::proto::RobotHealth RobotHealthReporter::make() {
   if (sources_.recording != nullptr) *h.mutable_recording() = sources_.recording->state();
   if (sources_.server) {
     h.set_instance(sources_.server->instance());
+    *h.mutable_trust() = sources_.server->trustHealth();
     const link::LinkStatsSnapshot link_stats = sources_.server->stats();
     for (int r = 0; r < static_cast<int>(link::DropReason::kCount); ++r) {
       if (link_stats.dropped_by_reason[r] == 0) continue;

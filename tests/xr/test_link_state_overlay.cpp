@@ -119,6 +119,20 @@ TEST_F(LinkStateOverlay, TheRobotBehindIsSaid) {
   EXPECT_FALSE(frame_loop::robotBehind(state, {})) << "unknown is not behind";
 }
 
+TEST_F(LinkStateOverlay, AnInsecureLinkIsSaidInRedOnEveryFrame) {
+  frame_loop::LinkState state;
+  state.image_age_ms = 100;  // fresh, nominal: only the warning
+  state.insecure = true;
+  const auto p = draw(state, "insecure_link.png");
+  // Red glyph pixels around 12 % of the height from the bottom, centred.
+  const int y = kH - static_cast<int>(0.12 * kH);
+  EXPECT_GT(countColour(p, 242, 38, 26, kW / 4, y - 20, 3 * kW / 4, y + 5), 50);
+  EXPECT_EQ(countColour(p, kImageR, kImageG, kImageB, 0, 0, kW, kH / 2), kW * (kH / 2)) << "nothing else drawn";
+  state.insecure = false;
+  const auto q = draw(state, "secure_link.png");
+  EXPECT_EQ(countColour(q, kImageR, kImageG, kImageB, 0, 0, kW, kH), kW * kH);
+}
+
 TEST(HudText, GlyphsAndWidths) {
   EXPECT_EQ(frame_loop::glyphOf('0'), frame_loop::glyphOf('0'));
   EXPECT_NE(frame_loop::glyphOf('O'), frame_loop::glyphOf('0'));

@@ -49,6 +49,7 @@ TEST_F(LoggedViewTest, RowsAppendedReadBackWithTheExactPoses) {
     v.link_state.image_age_ms = 1000.0 * (1.0 + u(rng));
     v.link_state.eye_camera_distance_m = i % 5 == 0 ? -1.0 : 0.1 * (1.0 + u(rng));
     v.link_state.stream_text = i % 2 == 0 ? "" : "LINK 8.5M 15HZ 50% Q70";
+    v.link_state.insecure = i % 7 == 0;
     std::string error;
     ASSERT_TRUE(frame_loop::appendLoggedView(path, v, &error)) << error;
     written.push_back(v);
@@ -68,11 +69,33 @@ TEST_F(LoggedViewTest, RowsAppendedReadBackWithTheExactPoses) {
     EXPECT_EQ((*read)[i].link_state.image_age_ms, written[i].link_state.image_age_ms);
     EXPECT_EQ((*read)[i].link_state.eye_camera_distance_m, written[i].link_state.eye_camera_distance_m);
     EXPECT_EQ((*read)[i].link_state.stream_text, written[i].link_state.stream_text);
+    EXPECT_EQ((*read)[i].link_state.insecure, written[i].link_state.insecure) << "row " << i;
   }
   std::ifstream in(path);
   std::string first;
   std::getline(in, first);
-  EXPECT_EQ(first, "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text");
+  EXPECT_EQ(first,
+            "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text,"
+            "insecure_link");
+}
+
+TEST_F(LoggedViewTest, FilesWrittenBeforeTheInsecureColumnStillLoad) {
+  const std::string path =
+      write("cues.csv",
+            "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text\n"
+            "eyes_00010.png,7,0,1.6,0,0,0,0,1,1,300,-1,\n");
+  std::string error;
+  const auto read = frame_loop::loadLoggedViews(path, &error);
+  ASSERT_TRUE(read) << error;
+  ASSERT_EQ(read->size(), 1u);
+  EXPECT_EQ((*read)[0].link_state.image_age_ms, 300.0);
+  EXPECT_FALSE((*read)[0].link_state.insecure);
+  const std::string bad = write(
+      "bad_insecure.csv",
+      "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text,"
+      "insecure_link\neyes_00010.png,7,0,1.6,0,0,0,0,1,1,300,-1,,yes\n");
+  EXPECT_FALSE(frame_loop::loadLoggedViews(bad, &error));
+  EXPECT_NE(error.find("insecure_link 'yes'"), std::string::npos) << error;
 }
 
 TEST_F(LoggedViewTest, FilesWrittenBeforeTheCuesStillLoad) {

@@ -35,7 +35,7 @@ bool robotBehind(const LinkState& state, const LinkStateOptions& o) {
 void drawLinkState(GLuint framebuffer, int width, int height, const LinkState& state, const LinkStateOptions& o) {
   const Staleness staleness = stalenessOf(state.image_age_ms, o);
   const bool behind = robotBehind(state, o);
-  if (staleness == Staleness::kFresh && state.stream_text.empty() && !behind) return;
+  if (staleness == Staleness::kFresh && state.stream_text.empty() && !behind && !state.insecure) return;
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   const int side = std::min(width, height);
   // Text about 1.6 % of the view high: readable in a headset, small on a desktop mirror.
@@ -62,6 +62,11 @@ void drawLinkState(GLuint framebuffer, int width, int height, const LinkState& s
   if (behind) {
     const std::string text = "ROBOT BEHIND YOU";
     drawHudText(text, (width - hudTextWidth(text, 2 * scale)) / 2, height / 3, 2 * scale, 0.95f, 0.65f, 0.1f);
+  }
+  if (state.insecure) {
+    const std::string text = "INSECURE LINK";
+    drawHudText(text, (width - hudTextWidth(text, scale)) / 2, static_cast<int>(0.12 * height), scale, 0.95f, 0.15f,
+                0.1f);
   }
   if (!state.stream_text.empty())
     drawHudText(state.stream_text, (width - hudTextWidth(state.stream_text, scale)) / 2,

@@ -6,7 +6,8 @@
 ///        - a stream below nominal (the media path gave up frame rate, scale or quality for the
 ///          link): one small line low in the view saying what it runs at ("LINK 8.5M 15HZ 50% Q70");
 ///        - the robot's camera farther than behind_after_m from the operator's eye (the arm has
-///          not caught up): "ROBOT BEHIND YOU".
+///          not caught up): "ROBOT BEHIND YOU";
+///        - a link without keys (--insecure, DESIGN.md §10): "INSECURE LINK" in red, always.
 ///        Drawn after the eye image with scissored clears (hud_text.h), as the trial indicator.
 #pragma once
 
@@ -30,6 +31,7 @@ struct LinkState {
   double image_age_ms = -1;           ///< capture → this display; < 0: no image
   std::string stream_text;            ///< empty: the stream is nominal
   double eye_camera_distance_m = -1;  ///< < 0: unknown
+  bool insecure = false;              ///< the link runs without keys (--insecure)
 };
 
 Staleness stalenessOf(double image_age_ms, const LinkStateOptions& options);

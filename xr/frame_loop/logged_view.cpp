@@ -14,6 +14,9 @@ namespace telesphere::xr::frame_loop {
 namespace {
 
 constexpr const char* kHeader =
+    "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text,"
+    "insecure_link";
+constexpr const char* kHeaderWithoutInsecure =
     "png,stereo_sequence,px,py,pz,qx,qy,qz,qw,image_saturation,link_age_ms,eye_camera_distance_m,stream_text";
 constexpr const char* kHeaderWithoutCues = "png,stereo_sequence,px,py,pz,qx,qy,qz,qw";
 
@@ -29,10 +32,11 @@ bool appendLoggedView(const std::string& path, const LoggedView& view, std::stri
   const Eigen::Vector3d p = view.T_vr_hmd.translation();
   const Eigen::Quaterniond q(view.T_vr_hmd.linear());
   if (fresh) std::fprintf(f, "%s\n", kHeader);
-  std::fprintf(f, "%s,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.9g,%.17g,%.17g,%s\n", view.png.c_str(),
+  std::fprintf(f, "%s,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.9g,%.17g,%.17g,%s,%d\n", view.png.c_str(),
                static_cast<unsigned long long>(view.stereo_sequence), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w(),
                static_cast<double>(view.image_saturation), view.link_state.image_age_ms,
-               view.link_state.eye_camera_distance_m, view.link_state.stream_text.c_str());
+               view.link_state.eye_camera_distance_m, view.link_state.stream_text.c_str(),
+               view.link_state.insecure ? 1 : 0);
   const bool ok = std::fflush(f) == 0;
   if (std::fclose(f) != 0 || !ok) {
     *error = path + ": cannot write: " + std::strerror(errno);
@@ -50,7 +54,7 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
   std::vector<LoggedView> views;
   std::string line;
   int number = 0;
-  bool with_cues = true;
+  bool with_cues = true, with_insecure = true;
   const auto bad = [&](const std::string& why) {
     *error = path + ":" + std::to_string(number) + ": " + why;
     return std::nullopt;
@@ -59,7 +63,8 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (number == 1) {
-      with_cues = line == kHeader;
+      with_insecure = line == kHeader;
+      with_cues = with_insecure || line == kHeaderWithoutInsecure;
       if (!with_cues && line != kHeaderWithoutCues)
         return bad("not a views file (the first line is not '" + std::string(kHeader) + "')");
       continue;
@@ -68,8 +73,8 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
     std::vector<std::string> fields;
     std::stringstream ss(line);
     for (std::string field; std::getline(ss, field, ',');) fields.push_back(field);
-    if (with_cues && fields.size() == 12 && line.back() == ',') fields.emplace_back();  // no stream text
-    const std::size_t expected = with_cues ? 13 : 9;
+    if (with_cues && !with_insecure && fields.size() == 12 && line.back() == ',') fields.emplace_back();  // no stream text
+    const std::size_t expected = with_insecure ? 14 : with_cues ? 13 : 9;
     if (fields.size() != expected)
       return bad(std::to_string(expected) + " fields expected, " + std::to_string(fields.size()) + " found");
     LoggedView view;
@@ -105,6 +110,10 @@ std::optional<std::vector<LoggedView>> loadLoggedViews(const std::string& path, 
       view.link_state.image_age_ms = cue[1];
       view.link_state.eye_camera_distance_m = cue[2];
       view.link_state.stream_text = fields[12];
+      if (with_insecure) {
+        if (fields[13] != "0" && fields[13] != "1") return bad("insecure_link '" + fields[13] + "' is not 0 or 1");
+        view.link_state.insecure = fields[13] == "1";
+      }
     }
     views.push_back(std::move(view));
   }

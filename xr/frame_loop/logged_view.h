@@ -6,8 +6,9 @@
 ///        against another replay. Rows: `png,stereo_sequence,px,py,pz,qx,qy,qz,qw` (T_vr_hmd, m
 ///        and a unit quaternion), doubles with 17 significant digits so the pose round-trips
 ///        exactly, then the link's cues the operator saw over it (link_state_overlay.h):
-///        `image_saturation,link_age_ms,eye_camera_distance_m,stream_text`. Files without these
-///        four columns (written before them) still load, with no cues.
+///        `image_saturation,link_age_ms,eye_camera_distance_m,stream_text,insecure_link` (0|1:
+///        "INSECURE LINK" was shown). Files written before the last column, or before all five,
+///        still load (no insecure warning; no cues).
 #pragma once
 
 #include <Eigen/Geometry>

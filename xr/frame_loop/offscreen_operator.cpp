@@ -44,6 +44,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   view_options.render = options.render;
   view_options.upload_ring_slots = options.upload_ring_slots;
   view_options.media_link = options.media_link;
+  view_options.warn_insecure_link = options.warn_insecure_link;
   view_options.media_port = options.media_port;
   view_options.media_repair = options.media_repair;
   view_options.head_targets_on_zmq = options.head_targets_on_zmq;
@@ -53,6 +54,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   // Wait for the first decoded frame so a slow robot start does not count as missed frames.
   const auto first_deadline = Clock::now() + options.wait_first_frame;
   while (!operator_view.decoder().waitNewer(0, std::chrono::milliseconds(50)) && !stop.load()) {
+    operator_view.keepMediaSession();  // a keyed media path sends nothing before its key
     if (Clock::now() > first_deadline) {
       *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
                std::to_string(options.wait_first_frame.count()) + " ms (is telesphere-robot running?)";

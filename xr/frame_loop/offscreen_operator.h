@@ -40,6 +40,7 @@ struct OffscreenOperatorOptions {
   int media_port = 0;       ///< its port when not base port + 4
   bool media_repair = true;  ///< OperatorViewOptions::media_repair
   bool head_targets_on_zmq = true;  ///< OperatorViewOptions::head_targets_on_zmq
+  bool warn_insecure_link = false;  ///< OperatorViewOptions::warn_insecure_link
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

@@ -32,7 +32,8 @@ std::unique_ptr<video::MediaFrameSource> openMedia(const OperatorViewOptions& op
   if (!options.media_link) return nullptr;
   std::string error;
   const int port = options.media_port > 0 ? options.media_port : options.endpoints.base_port + link::LinkEndpoints::kMedia;
-  auto media = video::MediaFrameSource::open(options.endpoints.host, port, options.media_repair, &error);
+  auto media = video::MediaFrameSource::open(options.endpoints.host, port, options.media_repair,
+                                             options.endpoints.credentials.secure(), &error);
   if (!media) throw std::runtime_error(error);
   return media;
 }
@@ -88,6 +89,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
   trial_ = state ? state->trial() : link::proto::TrialIndicator();
   if (state && options_.follow_robot_calibration) followRobotCalibration(*state);
+  keepMediaSession();
   if (state && options_.follow_robot_settings) {
     const render::RenderSettings settings = withRobotSettings(renderer_.settings(), *state);
     if (settings.mode != renderer_.settings().mode || settings.radius != renderer_.settings().radius) {
@@ -116,6 +118,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
   // The link's cues for this display: the image's age when it is shown, the stream's settings.
   link_state_ = LinkState{};
+  link_state_.insecure = options_.warn_insecure_link && !options_.endpoints.credentials.secure();
   if (const auto& frame = renderer_.frame()) {
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
     const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
@@ -139,6 +142,38 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
                  hasImage() ? " (showing the last one)" : " (is telesphere-robot running?)");
   }
   return true;
+}
+
+void OperatorView::keepMediaSession() {
+  // A keyed link's media path opens only with a session key from the robot, asked for over the
+  // authenticated control channel (DESIGN.md §10). Asked again when the robot restarted (a new
+  // process has a new key), and when no media frame came for 3 s while the robot is heard (the
+  // seat was handed over and back, another session took the key): at most every 2 s.
+  if (!media_ || !options_.endpoints.credentials.secure()) return;
+  const link::LinkActivity activity = client_.activity();
+  if (activity.robot_instance == 0 || media_session_in_flight_) return;
+  const std::int64_t now = link::linkNowNs();
+  const bool restarted = media_session_instance_ != activity.robot_instance;
+  const bool silent = media_->hasSealKey() && now - last_new_frame_ns_ > 3'000'000'000;
+  if (media_->hasSealKey() && !restarted && !silent) return;
+  if (now - media_session_requested_ns_ < 2'000'000'000) return;
+  media_session_requested_ns_ = now;
+  media_session_in_flight_ = true;
+  const std::uint64_t instance = activity.robot_instance;
+  link::proto::ControlRequest request;
+  request.set_open_media_session(true);
+  control_.send(std::move(request), [this, instance](const std::optional<link::proto::ControlReply>& reply) {
+    media_session_in_flight_ = false;
+    if (!reply || !reply->ok() || reply->media_session_key().size() != link::media::MediaSealKey().size()) {
+      spdlog::warn("operator view: no media session key from the robot: {}",
+                   !reply ? std::string("no reply within 2 s") : reply->ok() ? "no key in the reply" : reply->error());
+      return;
+    }
+    link::media::MediaSealKey key;
+    std::copy(reply->media_session_key().begin(), reply->media_session_key().end(), key.begin());
+    media_->setSealKey(key);
+    media_session_instance_ = instance;
+  });
 }
 
 void OperatorView::followRobotCalibration(const link::proto::RobotState& state) {

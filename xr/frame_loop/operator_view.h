@@ -60,6 +60,8 @@ namespace telesphere::xr::frame_loop {
 
 struct OperatorViewOptions {
   link::LinkEndpoints endpoints;
+  /// "INSECURE LINK" in red in the view while the link has no keys (the app's --insecure).
+  bool warn_insecure_link = false;
   /// Until the robot's state says otherwise: mode and radius are then the robot's.
   render::RenderSettings render;
   /// Follow the mode and radius the robot publishes (off: the command line's stay).
@@ -162,6 +164,10 @@ class OperatorView final : public OperatorScene {
 
   /// The newest decoded frame is on the GPU (anything to show).
   bool hasImage() const { return renderer_.frame() != nullptr; }
+  /// On a keyed link's media path (DESIGN.md §10): asks the robot for a session key when there is
+  /// none, the robot restarted, or its frames stopped for 3 s (at most every 2 s, never blocking).
+  /// beginFrame calls it; a caller that waits for the first frame before its loop calls it too.
+  void keepMediaSession();
   /// Seconds since the last new camera frame went up (since construction before the first), as
   /// of the last beginFrame. The view keeps showing the last frame while the robot is silent;
   /// a warning is logged when this passes kSilentRobotS, and a note when frames come back.
@@ -235,6 +241,11 @@ class OperatorView final : public OperatorScene {
   std::string last_control_result_;
   std::uint64_t calibration_requested_ = 0;  ///< generation asked for (0: none in flight)
   std::int64_t calibration_requested_ns_ = 0;
+  /// A keyed link's media session (keepMediaSession): the robot instance whose key the receiver
+  /// holds, when it was last asked for, whether a request is out.
+  std::atomic<std::uint64_t> media_session_instance_{0};
+  std::int64_t media_session_requested_ns_ = 0;
+  std::atomic<bool> media_session_in_flight_{false};
   struct FetchedCalibration {
     std::uint64_t generation = 0;
     calib::SystemCalibration calibration;

@@ -4,10 +4,11 @@
 
 namespace telesphere::xr::video {
 
-std::unique_ptr<MediaFrameSource> MediaFrameSource::open(const std::string& host, int port, bool repair,
+std::unique_ptr<MediaFrameSource> MediaFrameSource::open(const std::string& host, int port, bool repair, bool sealed,
                                                          std::string* error) {
   link::media::MediaReceiverOptions options;
   options.assembler.repair = repair;
+  options.sealed = sealed;
   options.sender_address = host;
   options.sender_port = static_cast<std::uint16_t>(port);
   auto receiver = link::media::MediaReceiver::start(options, error);

@@ -83,9 +83,33 @@ void MediaReceiver::sendHeadTarget(const proto::HeadTarget& target) {
     const std::vector<proto::HeadTarget> targets(recent_targets_.begin(), recent_targets_.end());
     writeHeadTargets(targets, out);
   }
-  const bool sent = ::send(fd_, out.data(), out.size(), MSG_DONTWAIT) >= 0;
+  const int sent = sendOut(out, MSG_DONTWAIT);
+  if (sent < 0) return;  // no session key yet: the ZeroMQ uplink carries them meanwhile
   std::lock_guard lock(mutex_);
-  ++(sent ? stats_.head_target_datagrams : stats_.send_errors);
+  ++(sent > 0 ? stats_.head_target_datagrams : stats_.send_errors);
+}
+
+int MediaReceiver::sendOut(std::span<const std::uint8_t> plain, int flags) {
+  if (!options_.sealed) return ::send(fd_, plain.data(), plain.size(), flags) >= 0 ? 1 : 0;
+  std::vector<std::uint8_t> sealed;
+  {
+    std::lock_guard lock(mutex_);
+    if (!sealer_) return -1;
+    sealer_->seal(plain, sealed);
+  }
+  return ::send(fd_, sealed.data(), sealed.size(), flags) >= 0 ? 1 : 0;
+}
+
+void MediaReceiver::setSealKey(const MediaSealKey& key) {
+  std::lock_guard lock(mutex_);
+  sealer_.emplace(key, SealDirection::kToSender);
+  opener_.emplace(key, SealDirection::kToReceiver);
+  ++stats_.seal_sessions;
+}
+
+bool MediaReceiver::hasSealKey() const {
+  std::lock_guard lock(mutex_);
+  return sealer_.has_value();
 }
 
 MediaReceiverStats MediaReceiver::stats() const {
@@ -96,7 +120,9 @@ MediaReceiverStats MediaReceiver::stats() const {
 void MediaReceiver::sendReports(std::int64_t now_ns) {
   std::vector<std::uint8_t> out;
   const auto send = [&](bool hello) {
-    if (::send(fd_, out.data(), out.size(), 0) < 0) {
+    const int sent = sendOut(out, 0);
+    if (sent < 0) return;  // no session key yet: nothing to say
+    if (sent == 0) {
       std::lock_guard lock(mutex_);
       ++stats_.send_errors;
       return;
@@ -135,7 +161,7 @@ void MediaReceiver::sendReports(std::int64_t now_ns) {
 }
 
 void MediaReceiver::run() {
-  std::vector<std::uint8_t> buffer(kMaxMediaDatagramBytes + 1);
+  std::vector<std::uint8_t> buffer(kMaxMediaDatagramBytes + kSealOverheadBytes + 1), opened;
   std::vector<AssembledFrame> frames;
   while (!stop_) {
     const std::int64_t now_ns = linkNowNs();
@@ -150,7 +176,17 @@ void MediaReceiver::run() {
       const ssize_t n = ::recv(fd_, buffer.data(), buffer.size(), 0);
       if (n < 0) break;  // EAGAIN, or ECONNREFUSED while nobody listens yet
       const std::int64_t arrival_ns = linkNowNs();
-      const std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
+      std::span<const std::uint8_t> datagram(buffer.data(), static_cast<std::size_t>(n));
+      if (options_.sealed) {
+        // Only what the session key opens, once, reaches the parsers.
+        std::lock_guard lock(mutex_);
+        SealRefusal refusal{};
+        if (!opener_ || !opener_->open(datagram, opened, &refusal)) {
+          ++stats_.unauthenticated;
+          continue;
+        }
+        datagram = std::span<const std::uint8_t>(opened);
+      }
       MediaDropReason why{};
       if (const auto packet = parseMediaPacket(datagram, &why)) {
         if (packet->header.stream != pending_stream_ && !pending_entries_.empty()) sendReports(arrival_ns);
@@ -160,14 +196,14 @@ void MediaReceiver::run() {
       assembler_.add(datagram, arrival_ns, frames);
       std::lock_guard lock(mutex_);
       ++stats_.datagrams;
-      stats_.bytes += static_cast<std::uint64_t>(n);
+      stats_.bytes += static_cast<std::uint64_t>(n);  // as they came: sealed ones with their seal
     }
     if (const std::int64_t hint = round_trip_hint_ns_.exchange(0); hint > 0) assembler_.setRoundTripHintNs(hint);
     if (auto repair = assembler_.takeRepairRequest(linkNowNs())) {
       repair->receiver = id_;
       std::vector<std::uint8_t> out;
       writeRepairRequest(*repair, out);
-      if (::send(fd_, out.data(), out.size(), 0) < 0) {
+      if (sendOut(out, 0) == 0) {
         std::lock_guard lock(mutex_);
         ++stats_.send_errors;
       }

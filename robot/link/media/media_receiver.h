@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "robot/link/media/media_seal.h"
 #include "robot/link/media/frame_assembler.h"
 #include "robot/link/media/receiver_report.h"
 
@@ -32,6 +33,8 @@ struct MediaReceiverOptions {
   std::int64_t report_interval_ns = 25'000'000;
   std::int64_t hello_interval_ns = 500'000'000;
   int receive_buffer_bytes = 4 << 20;  ///< SO_RCVBUF asked for (the kernel may give less)
+  /// Every datagram sealed both ways (media_seal.h, a keyed link): silent until setSealKey.
+  bool sealed = false;
 };
 
 struct MediaReceiverStats {
@@ -40,6 +43,8 @@ struct MediaReceiverStats {
   std::uint64_t frames_replaced_unread = 0;
   std::uint64_t reports_sent = 0, hellos_sent = 0, send_errors = 0;
   std::uint64_t head_target_datagrams = 0;
+  std::uint64_t unauthenticated = 0;   ///< sealed link: datagrams the session key did not open (or replays)
+  std::uint64_t seal_sessions = 0;     ///< session keys given (setSealKey)
   FrameAssemblerStats assembler;
 };
 
@@ -57,6 +62,10 @@ class MediaReceiver {
   /// The newest frame not yet taken, waiting up to `timeout` for one.
   std::optional<AssembledFrame> waitNewest(std::chrono::milliseconds timeout);
   MediaReceiverStats stats() const;
+  /// A sealed link's session key, from the robot over the authenticated control channel
+  /// (ControlRequest.open_media_session); any thread. A new key starts a new session.
+  void setSealKey(const MediaSealKey& key);
+  bool hasSealKey() const;
   /// The path's round trip as another link measured it (FrameAssembler::setRoundTripHintNs); any thread.
   void setRoundTripHintNs(std::int64_t round_trip_ns) { round_trip_hint_ns_ = round_trip_ns; }
 
@@ -64,6 +73,8 @@ class MediaReceiver {
   MediaReceiver(const MediaReceiverOptions& options, int fd);
   void run();
   void sendReports(std::int64_t now_ns);
+  /// Sends `plain`, sealed on a sealed link: 1 sent, 0 the socket failed, -1 no key yet.
+  int sendOut(std::span<const std::uint8_t> plain, int flags);
 
   MediaReceiverOptions options_;
   int fd_ = -1;
@@ -75,6 +86,8 @@ class MediaReceiver {
   std::int64_t last_report_ns_ = 0, last_sent_ns_ = 0;
   mutable std::mutex mutex_;
   std::deque<proto::HeadTarget> recent_targets_;  ///< under mutex_
+  std::optional<MediaSealer> sealer_;  ///< sealed link, after setSealKey (under mutex_)
+  std::optional<MediaOpener> opener_;
   std::condition_variable frame_ready_;
   std::optional<AssembledFrame> newest_;
   MediaReceiverStats stats_;

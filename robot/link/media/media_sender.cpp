@@ -112,7 +112,8 @@ bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std
   }
   std::lock_guard lock(mutex_);
   std::size_t wire = 0;
-  for (const auto& d : packets.datagrams) wire += d.size() + 28;
+  const std::size_t seal_bytes = options_.sealed ? kSealOverheadBytes : 0;
+  for (const auto& d : packets.datagrams) wire += d.size() + seal_bytes + 28;
   const double ratio = static_cast<double>(wire) / static_cast<double>(std::max<std::size_t>(1, left_jpeg.size() + right_jpeg.size()));
   wire_per_payload_ = 0.8 * wire_per_payload_ + 0.2 * ratio;
   if (waiting_) ++stats_.frames_superseded;
@@ -143,6 +144,18 @@ double MediaSender::capBps() const {
   return cap_bps_;
 }
 
+void MediaSender::setSealKey(const MediaSealKey& key) {
+  std::lock_guard lock(mutex_);
+  sealer_.emplace(key, SealDirection::kToReceiver);
+  opener_.emplace(key, SealDirection::kToSender);
+  ++stats_.seal_sessions;
+  receiver_.reset();
+  current_.reset();
+  waiting_.reset();
+  last_sent_.reset();
+  repairs_.clear();
+}
+
 bool MediaSender::hasReceiver() const {
   std::lock_guard lock(mutex_);
   return receiver_ != nullptr;
@@ -155,20 +168,31 @@ MediaSenderStats MediaSender::stats() const {
   s.pacing_bps = options_.pacing_gain * rate_.targetBps();
   s.framing_overhead = wire_per_payload_ - 1.0;
   s.cap_bps = cap_bps_;
+  s.sealed = options_.sealed;
   if (receiver_) s.receiver_address = receiver_->address_text;
   return s;
 }
 
 void MediaSender::readReceiver(std::int64_t now_ns) {
-  std::vector<std::uint8_t> buffer(2048);
+  std::vector<std::uint8_t> buffer(2048), opened;
   while (true) {
     sockaddr_storage from{};
     socklen_t length = sizeof from;
     const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), 0, reinterpret_cast<sockaddr*>(&from), &length);
     if (n < 0) return;  // EAGAIN: nothing more
     MediaDropReason why{};
-    const std::span<const std::uint8_t> bytes(buffer.data(), static_cast<std::size_t>(n));
-    if (n >= 4 && buffer[3] == kHeadTargetsKind) {
+    std::span<const std::uint8_t> bytes(buffer.data(), static_cast<std::size_t>(n));
+    if (options_.sealed) {
+      // A sealed link: only what the session key opens, once; the rest never reaches a parser.
+      std::lock_guard lock(mutex_);
+      SealRefusal refusal{};
+      if (!opener_ || !opener_->open(bytes, opened, &refusal)) {
+        ++stats_.unauthenticated;
+        continue;
+      }
+      bytes = std::span<const std::uint8_t>(opened);
+    }
+    if (bytes.size() >= 4 && bytes[3] == kHeadTargetsKind) {
       // Head targets: straight on (newest by stamp is the taker's rule), not under our lock.
       const auto targets = parseHeadTargets(bytes, &why);
       {
@@ -179,7 +203,7 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
         for (const proto::HeadTarget& t : *targets) options_.on_head_target(t);
       continue;
     }
-    if (n >= 4 && buffer[3] == kRepairRequestKind) {
+    if (bytes.size() >= 4 && bytes[3] == kRepairRequestKind) {
       const auto request = parseRepairRequest(bytes, &why);
       std::lock_guard lock(mutex_);
       if (!request || !receiver_ || receiver_->id != request->receiver) {
@@ -260,7 +284,7 @@ void MediaSender::sendDue(std::int64_t now_ns) {
     last_sent_.reset();
     repairs_.clear();
   }
-  if (!receiver_) return;
+  if (!receiver_ || (options_.sealed && !sealer_)) return;
   // No credit for idle time beyond 2 ms: a frame after a pause does not leave as one burst.
   next_send_ns_ = std::max(next_send_ns_, now_ns - 2'000'000);
   while (next_send_ns_ <= now_ns) {
@@ -284,15 +308,20 @@ void MediaSender::sendDue(std::int64_t now_ns) {
     std::vector<std::uint8_t>& d = repair.empty() ? current_->datagrams[next_datagram_++] : repair;
     const std::uint32_t seq = next_seq_++;
     stampForSending(d, seq, static_cast<std::uint32_t>(now_ns / 1000));
-    if (::sendto(fd_, d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&receiver_->address),
+    std::span<const std::uint8_t> wire(d);
+    if (sealer_) {
+      sealer_->seal(d, sealed_scratch_);
+      wire = std::span<const std::uint8_t>(sealed_scratch_);
+    }
+    if (::sendto(fd_, wire.data(), wire.size(), 0, reinterpret_cast<const sockaddr*>(&receiver_->address),
                  receiver_->address_length) < 0) {
       ++stats_.send_errors;
     } else {
       ++stats_.datagrams_sent;
-      stats_.bytes_sent += d.size();
+      stats_.bytes_sent += wire.size();
     }
-    rate_.onPacketSent(seq, now_ns, d.size() + 28);  // with the IPv4 and UDP headers
-    next_send_ns_ += static_cast<std::int64_t>(8.0 * static_cast<double>(d.size() + 28) * 1e9 /
+    rate_.onPacketSent(seq, now_ns, wire.size() + 28);  // with the IPv4 and UDP headers
+    next_send_ns_ += static_cast<std::int64_t>(8.0 * static_cast<double>(wire.size() + 28) * 1e9 /
                                                (options_.pacing_gain * rate_.targetBps()));
   }
 }

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "robot/link/media/frame_packetizer.h"
+#include "robot/link/media/media_seal.h"
 #include "robot/link/media/repair_request.h"
 #include "robot/link/media/send_rate_controller.h"
 #include "robot/link/telesphere_link.pb.h"
@@ -39,6 +40,9 @@ struct MediaSenderOptions {
   /// Head targets that came on the media path (oldest first in each datagram), called on the
   /// sender's thread (LinkServer::offerHeadTarget on the robot); null: they are dropped.
   std::function<void(const proto::HeadTarget&)> on_head_target;
+  /// Every datagram sealed both ways (media_seal.h, a keyed link): nothing is sent and nothing
+  /// taken until setSealKey gives the session's key; an unsealed or forged datagram is refused.
+  bool sealed = false;
 };
 
 struct MediaSenderStats {
@@ -52,6 +56,9 @@ struct MediaSenderStats {
   std::uint64_t head_target_datagrams = 0;
   std::uint64_t repair_requests = 0;          ///< from the receiver (repair_request.h)
   std::uint64_t repair_requests_refused = 0;  ///< for a frame superseded, gone, or past its budget
+  std::uint64_t unauthenticated = 0;          ///< sealed link: datagrams not sealed with the session key, or replayed
+  std::uint64_t seal_sessions = 0;            ///< session keys given (setSealKey)
+  bool sealed = false;                        ///< MediaSenderOptions::sealed
   std::uint64_t chunks_resent = 0;
   double pacing_bps = 0;
   double framing_overhead = 0;  ///< recent frames' datagram bytes over their JPEG bytes, less 1
@@ -82,6 +89,10 @@ class MediaSender {
   void setCapBps(double cap_bps);
   double capBps() const;
   bool hasReceiver() const;
+  /// A sealed link's session key (the robot made it for the operator who asked over the
+  /// authenticated control channel): from now on only datagrams sealed with it count, and every
+  /// datagram out is sealed with it. The receiver so far is forgotten (a new session).
+  void setSealKey(const MediaSealKey& key);
   MediaSenderStats stats() const;
 
  private:
@@ -113,6 +124,9 @@ class MediaSender {
   std::unique_ptr<Receiver> receiver_;
   std::int64_t next_send_ns_ = 0;
   std::uint32_t next_seq_ = 0;
+  std::optional<MediaSealer> sealer_;  ///< sealed link, after setSealKey (under mutex_)
+  std::optional<MediaOpener> opener_;
+  std::vector<std::uint8_t> sealed_scratch_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -35,4 +35,8 @@ std::string linkRoleChoices() {
   return out;
 }
 
+std::string linkRoleWithArticle(LinkRole role) {
+  return (role == LinkRole::kOperator ? "an " : "a ") + std::string(linkRoleName(role));
+}
+
 }  // namespace telesphere::link::trust

@@ -16,6 +16,8 @@ enum class LinkRole { kRobot, kOperator, kSupervisor, kViewer };
 std::string_view linkRoleName(LinkRole role);
 /// The role named `name` (exactly as linkRoleName writes it); nothing for anything else.
 std::optional<LinkRole> parseLinkRole(std::string_view name);
+/// "a robot", "an operator", "a supervisor", "a viewer": for messages.
+std::string linkRoleWithArticle(LinkRole role);
 /// "robot|operator|supervisor|viewer", for messages and help texts.
 std::string linkRoleChoices();
 
