@@ -118,6 +118,7 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateCommandOptions& o) {
                     "covers the images out to the rim");
   intrinsics->add_flag("--auto", o.automatic, "drive the robot and take samples until the done rule holds")->required();
   intrinsics->add_option("--robot", o.robot, "the robot's link endpoint (tcp://HOST:BASEPORT)")->capture_default_str();
+  addLinkSecurityOptions(*intrinsics, o.security, "a supervisor key pair and the robot's .pub");
   intrinsics->add_option("--out", o.out, "calibration file to write")->required();
   intrinsics->add_option("--format", o.format, "telesphere, kalibr or basalt")->capture_default_str();
   intrinsics->add_option("--model", o.model, "camera model: ds, eucm, kb4 or pinhole")->capture_default_str();
@@ -153,6 +154,11 @@ int runCalibrateCommand(const CLI::App& calibrate, const CalibrateCommandOptions
   };
   link::LinkEndpoints endpoints;
   if (!parseRobotEndpoint(o.robot, &endpoints)) return bad("--robot '" + o.robot + "' is not tcp://HOST:PORT");
+  std::string error;
+  auto credentials = linkCredentialsFrom(o.security, {link::trust::LinkRole::kSupervisor}, &error);
+  if (!credentials) return bad(error);
+  endpoints.credentials = std::move(*credentials);
+  const InsecureLinkWarning insecure_warning(o.security.insecure, "telesphere-console calibrate");
   if (calibrate.get_subcommand("handeye")->parsed()) return runHandEyeCalibrate(o, endpoints);
   const auto format = calib::parseFormatName(o.format);
   if (!format) return bad("--format '" + o.format + "': telesphere, kalibr or basalt");

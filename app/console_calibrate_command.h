@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "app/link_security_options.h"
 #include "calib/calibration_file.h"
 #include "console/calibration/calibration_change.h"
 #include "console/calibration/calibration_robot.h"
@@ -31,6 +32,7 @@ namespace telesphere::app {
 struct CalibrateCommandOptions {
   bool automatic = false;
   std::string robot = "tcp://127.0.0.1:5760";
+  LinkSecurityOptions security;  ///< --keys DIR (a supervisor key) | --insecure
   std::string out, format = "telesphere", model = "ds", initial, target, save_stills;
   int min_views = 20, max_views = 60;
   bool json = false;

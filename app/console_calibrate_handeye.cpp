@@ -107,6 +107,7 @@ CLI::App* addHandEyeSubcommand(CLI::App& calibrate, CalibrateCommandOptions& o) 
                  "pattern while the manipulator moves its wrist marker in view");
   handeye->add_flag("--auto", o.automatic, "drive the robot and take samples until the done rule holds")->required();
   handeye->add_option("--robot", o.robot, "the robot's link endpoint (tcp://HOST:BASEPORT)")->capture_default_str();
+  addLinkSecurityOptions(*handeye, o.security, "a supervisor key pair and the robot's .pub");
   handeye->add_option("--calib", o.calib, "calibration with both cameras' intrinsics and T_cam_l_cam_r (held fixed)")
       ->required()->check(CLI::ExistingFile);
   handeye->add_option("--out", o.out, "calibration file to write (--calib with the three transforms)")->required();

@@ -14,6 +14,7 @@
 
 #include "app/console_calibrate_command.h"
 #include "robot/link/link_client.h"
+#include "robot/link/link_trust_text.h"
 #include "robot/link/proto_enums.h"
 #include "robot/link/visual_mode.h"
 
@@ -57,6 +58,13 @@ std::string holdText(const link::proto::HeadHold& h, std::int64_t now_ns) {
   return text + ")";
 }
 
+/// Why a client heard nothing: the robot refused its key, or it is not there.
+std::string whyNoAnswer(const link::LinkClient& client) {
+  const auto activity = client.activity();
+  if (!activity.refused_reason.empty()) return activity.refused_reason;
+  return "is telesphere-robot running?";
+}
+
 void printStatus(const std::string& robot, const link::proto::RobotState& s, const link::proto::RobotHealth& h) {
   const auto& st = h.settings();
   const auto mode = link::fromProto(st.visual_mode());
@@ -80,6 +88,9 @@ void printStatus(const std::string& robot, const link::proto::RobotState& s, con
               std::isinf(st.filter_cutoff_hz()) ? "off" : (std::to_string(int(std::lround(st.filter_cutoff_hz()))) + " Hz").c_str(),
               st.jump_position_m() * 100.0, st.jump_angle_deg());
   std::printf("calibration generation %llu\n", static_cast<unsigned long long>(s.calibration_generation()));
+  std::printf("link       %s\n", link::trustSummary(h.trust()).c_str());
+  if (const std::string refused = link::refusalSummary(h.trust()); !refused.empty())
+    std::printf("refused    %s\n", refused.c_str());
   for (const auto& c : h.cameras())
     std::printf("camera     %s: %.1f fps, %llu frames%s%s\n", c.name().c_str(), c.fps(),
                 static_cast<unsigned long long>(c.frames()), c.last_error().empty() ? "" : ", last error: ",
@@ -130,9 +141,13 @@ std::optional<link::proto::ControlRequest> requestOf(const std::vector<std::stri
     r.mutable_recording()->set_name(a[2]);
   } else if (verb == "record" && a.size() == 2 && a[1] == "stop") {
     r.mutable_recording()->set_start(false);
+  } else if (verb == "seat") {
+    // The operator seat (DESIGN.md §10): "seat NAME" seats that operator key, "seat free" frees it.
+    if (!arguments(1)) return std::nullopt;
+    r.mutable_hand_over_operator_seat()->set_name(a[1] == "free" ? "" : a[1]);
   } else {
     *error = "unknown action '" + verb +
-             "': stop, clear-fault, mode M, radius R, release-hold, record start NAME, record stop";
+             "': stop, clear-fault, mode M, radius R, release-hold, record start NAME, record stop, seat NAME|free";
     return std::nullopt;
   }
   return r;
@@ -169,16 +184,18 @@ CLI::App* addStatusCommand(CLI::App& app, RobotCommandOptions& o) {
   status->add_option("--robot", o.robot, "the robot's link, tcp://HOST:PORT")->capture_default_str();
   status->add_flag("--json", o.json, "the robot's state and health as JSON (protobuf field names)");
   status->add_option("--wait", o.wait_s, "seconds to wait for the robot")->capture_default_str()->check(CLI::Range(0.1, 600.0));
+  addLinkSecurityOptions(*status, o.security, "a supervisor or viewer key pair and the robot's .pub");
   return status;
 }
 
 CLI::App* addControlCommand(CLI::App& app, RobotCommandOptions& o) {
   CLI::App* control = app.add_subcommand(
-      "control", "one control request: stop | clear-fault | mode M | radius R | release-hold | record start NAME | record stop");
+      "control", "one control request: stop | clear-fault | mode M | radius R | release-hold | record start NAME | record stop | seat NAME|free");
   control->add_option("--robot", o.robot, "the robot's link, tcp://HOST:PORT")->capture_default_str();
   control->add_option("--wait", o.wait_s, "seconds to wait for the robot's reply (clear-fault: for the arm's outcome)")
       ->capture_default_str()->check(CLI::Range(0.1, 600.0));
   control->add_option("action", o.action, "what to do")->required();
+  addLinkSecurityOptions(*control, o.security, "a supervisor key pair (other roles are refused by the robot) and the robot's .pub");
   return control;
 }
 
@@ -188,10 +205,18 @@ int runStatusCommand(const RobotCommandOptions& o) {
     std::cerr << "telesphere-console status: --robot '" << o.robot << "' is not tcp://HOST:PORT\n";
     return 1;
   }
+  std::string error;
+  auto credentials = linkCredentialsFrom(o.security, {link::trust::LinkRole::kSupervisor, link::trust::LinkRole::kViewer}, &error);
+  if (!credentials) {
+    std::cerr << "telesphere-console status: " << error << '\n';
+    return 1;
+  }
+  endpoints.credentials = std::move(*credentials);
+  const InsecureLinkWarning insecure_warning(o.security.insecure, "telesphere-console status");
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
   if (!awaitRobot(client, waitOf(o))) {
     std::cerr << "telesphere-console status: the robot did not answer at " << o.robot << " within " << o.wait_s
-              << " s (is telesphere-robot running?)\n";
+              << " s (" << whyNoAnswer(client) << ")\n";
     return kNoAnswer;
   }
   const auto state = *client.latestRobotState();
@@ -216,11 +241,21 @@ int runControlCommand(const RobotCommandOptions& o) {
     std::cerr << "telesphere-console control: " << error << '\n';
     return 1;
   }
+  // Any client key: the robot decides what its role may do, and says why not.
+  auto credentials = linkCredentialsFrom(
+      o.security, {link::trust::LinkRole::kSupervisor, link::trust::LinkRole::kViewer, link::trust::LinkRole::kOperator},
+      &error);
+  if (!credentials) {
+    std::cerr << "telesphere-console control: " << error << '\n';
+    return 1;
+  }
+  endpoints.credentials = std::move(*credentials);
+  const InsecureLinkWarning insecure_warning(o.security.insecure, "telesphere-console control");
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
   const auto reply = client.request(*request, waitOf(o));
   if (!reply) {
     std::cerr << "telesphere-console control: the robot did not answer at " << o.robot << " within " << o.wait_s
-              << " s (is telesphere-robot running?)\n";
+              << " s (" << whyNoAnswer(client) << ")\n";
     return kNoAnswer;
   }
   if (!reply->ok()) {

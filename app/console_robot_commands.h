@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "app/link_security_options.h"
+
 namespace telesphere::app {
 
 struct RobotCommandOptions {
@@ -22,6 +24,7 @@ struct RobotCommandOptions {
   bool json = false;
   double wait_s = 10.0;
   std::vector<std::string> action;  ///< control: the words after `control`
+  LinkSecurityOptions security;     ///< --keys DIR (a supervisor or viewer key) | --insecure
 };
 
 CLI::App* addStatusCommand(CLI::App& app, RobotCommandOptions& options);

@@ -9,7 +9,7 @@ build=$(realpath "${1:-build}")
 out=$(realpath -m "${2:-demo-out}")
 cd "$(dirname "$0")/.."  # the calibration and the programs' data are found from the repository root
 bin=$build/bin
-for program in telesphere-calib telesphere-bench telesphere-robot telesphere-xr telesphere-console; do
+for program in telesphere-calib telesphere-bench telesphere-robot telesphere-xr telesphere-console telesphere-keys; do
   [[ -x $bin/$program ]] || { echo "demo: $bin/$program is missing: build first (bash setup.sh)" >&2; exit 1; }
 done
 mkdir -p "$out"
@@ -36,16 +36,30 @@ echo "== The head loop: a 0.5 m/s operator head motion through the controller an
 echo
 echo "== The whole loop: telesphere-robot (simulated xArm 6, synthetic 195° cameras, 640x360 at 15 Hz),"
 echo "   telesphere-xr offscreen (scripted head motion, both eyes at 720x800, 30 Hz) and the supervisor's"
-echo "   telesphere-console (headless: live graphs, health, preview; a screenshot at the end) on loopback"
+echo "   telesphere-console (headless: live graphs, health, preview; a screenshot at the end) on loopback,"
+echo "   every channel encrypted and authenticated (CURVE keys in $out/keys)"
 port=${TELESPHERE_DEMO_PORT:-5760}
-"$bin/telesphere-robot" --sim --size 640x360 --fps 15 --port "$port" --stats-period 2 \
+# Keys (DESIGN.md §10): made on the first run into $out/keys, kept for the next ones. The robot
+# trusts the operator (the XR app) and the supervisor (the console); each holds the robot's .pub.
+keys=$out/keys
+if [[ ! -f $keys/robot/demo-robot.secret ]]; then
+  echo "   (first run: making the demo's keys in $keys with telesphere-keys)"
+  "$bin/telesphere-keys" generate --role robot --name demo-robot --out "$keys/robot" --force > /dev/null
+  "$bin/telesphere-keys" generate --role operator --name demo-operator --out "$keys/operator" --force > /dev/null
+  "$bin/telesphere-keys" generate --role supervisor --name demo-supervisor --out "$keys/supervisor" --force > /dev/null
+  mkdir -p "$keys/robot/allowed"
+  cp "$keys/operator/demo-operator.pub" "$keys/supervisor/demo-supervisor.pub" "$keys/robot/allowed/"
+  cp "$keys/robot/demo-robot.pub" "$keys/operator/"
+  cp "$keys/robot/demo-robot.pub" "$keys/supervisor/"
+fi
+"$bin/telesphere-robot" --keys "$keys/robot" --sim --size 640x360 --fps 15 --port "$port" --stats-period 2 \
   > "$out/robot.log" 2>&1 &
 robot=$!
 trap 'kill $robot 2>/dev/null || true' EXIT
-"$bin/telesphere-console" --port "$port" --duration 9 --screenshot "$out/console/console.png" \
+"$bin/telesphere-console" --keys "$keys/supervisor" --port "$port" --duration 9 --screenshot "$out/console/console.png" \
   > "$out/console.log" 2>&1 &
 console=$!
-"$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 720x800 --rate 30 \
+"$bin/telesphere-xr" offscreen --keys "$keys/operator" --calib "$calib" --port "$port" --eye-size 720x800 --rate 30 \
   --duration 8 --out "$out/xr"
 console_rc=0
 wait "$console" || console_rc=$?

@@ -43,6 +43,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
 
   link::LinkEndpoints endpoints;
   endpoints.base_port = o.port;
+  endpoints.credentials = o.credentials;
   try {
     p->server = std::make_unique<link::LinkServer>(endpoints);
   } catch (const std::exception& e) {
@@ -99,6 +100,9 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
     media_options.on_head_target = [server = p->server.get()](const link::proto::HeadTarget& target) {
       server->offerHeadTarget(target);
     };
+    // With keys every datagram is sealed with a session key the seated operator asks for over the
+    // authenticated control channel (ControlRequest.open_media_session; DESIGN.md §10).
+    media_options.sealed = o.credentials.secure();
     p->media = link::media::MediaSender::start(media_options, error);
     if (!p->media) {
       *error = "cannot open the media path on UDP port " + std::to_string(media_options.port) + " (--no-media runs without): " +
@@ -107,6 +111,13 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
       return nullptr;
     }
     if (o.media_cap_mbit > 0) p->media->setCapBps(o.media_cap_mbit * 1e6);
+    if (media_options.sealed) {
+      // The seat handed over: the media session of the operator before ends with it (a key
+      // nobody holds); the newly seated one asks for its own.
+      p->server->setOperatorSeatHandler([media = p->media.get()](const std::string&) {
+        media->setSealKey(link::media::newMediaSealKey());
+      });
+    }
     video_config.media = p->media.get();
     video_config.adaptive.nominal_fps = o.fps;
   }

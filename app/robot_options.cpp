@@ -8,6 +8,9 @@ namespace telesphere::app {
 
 void addRobotOptions(CLI::App& app, RobotOptions& o) {
   app.add_flag("--sim", o.sim, "simulated arm and synthetic cameras (the default)");
+  addLinkSecurityOptions(app, o.security,
+                         "the robot's key pair (role robot) and allowed/, the .pub of every peer it lets in (read again "
+                         "when it changes)");
   app.add_option("--calib-save", o.calib_save,
                  "save every calibration the console applies or reverts to live here (our YAML), so that a restart "
                  "with --calib FILE keeps it (default: not saved; the console warns)");
@@ -107,6 +110,9 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
 }
 
 bool checkRobotOptions(RobotOptions& o, std::string* error) {
+  auto credentials = linkCredentialsFrom(o.security, {link::trust::LinkRole::kRobot}, error);
+  if (!credentials) return false;
+  o.credentials = std::move(*credentials);
   if (o.replay() && (o.realArm() || !o.camera_left.empty() || o.sim_manipulator || !o.truth_path.empty() ||
                      !o.true_calib_path.empty())) {
     *error = "--replay serves a recording: no arm, cameras, manipulator or truth options with it";

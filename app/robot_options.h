@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "app/link_security_options.h"
+
 namespace telesphere::app {
 
 struct RobotOptions {
@@ -49,6 +51,8 @@ struct RobotOptions {
   double replay_rate = 1.0;      ///< --replay: pace (2: twice as fast)
   bool replay_loop = false;      ///< --replay: start again at the end
   bool media = true;             ///< the UDP media path on port + 4 (DESIGN.md §9)
+  LinkSecurityOptions security;  ///< --keys DIR | --insecure (DESIGN.md §10)
+  link::trust::LinkCredentials credentials;  ///< what --keys holds (checkRobotOptions reads it)
   double media_cap_mbit = 0;     ///< the supervisor's cap on its rate (0: none)
   double media_start_mbit = 8;   ///< its rate before the first reports
 

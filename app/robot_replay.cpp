@@ -24,6 +24,7 @@ int runReplay(const RobotOptions& o, std::atomic<bool>& stop) {
   const std::string refusal = "this is a replay of " + o.replay_path + ": the robot cannot be controlled";
   link::LinkEndpoints endpoints;
   endpoints.base_port = o.port;
+  endpoints.credentials = o.credentials;
   std::unique_ptr<link::LinkServer> server;
   try {
     server = std::make_unique<link::LinkServer>(endpoints);

@@ -3,7 +3,7 @@
 ///        the options, opens the window on a session to the robot, and for headless use runs a
 ///        fixed time and writes the main window's picture.
 ///
-///   telesphere-console [--host H] [--port P] [--study-db FILE [--study STUDY.json]]
+///   telesphere-console --keys DIR|--insecure [--host H] [--port P] [--study-db FILE [--study STUDY.json]]
 ///   telesphere-console --screenshot FILE --duration S   (no display needed: offscreen)
 ///   telesphere-console study report|import …            (headless; app/console_study_command.h)
 ///   telesphere-console calibrate intrinsics|handeye --auto …  (headless; app/console_calibrate_command.h)
@@ -22,6 +22,7 @@
 #include "app/console_calibrate_command.h"
 #include "app/console_robot_commands.h"
 #include "app/console_study_command.h"
+#include "app/link_security_options.h"
 #include "console/widgets/console_session.h"
 #include "console/widgets/console_window.h"
 #include "console/widgets/study_panel.h"
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
   cli.add_option("--study-db", study_db, "open this study database (created if new) in the Study panel");
   cli.add_option("--study", study_file, "the study file (JSON) for --study-db (default: the paper's study)")
       ->check(CLI::ExistingFile);
+  telesphere::app::LinkSecurityOptions security;
+  telesphere::app::addLinkSecurityOptions(cli, security, "a supervisor (or viewer) key pair and the robot's .pub");
   telesphere::app::StudyCommandOptions study_options;
   CLI::App* study = telesphere::app::addStudyCommand(cli, study_options);
   telesphere::app::CalibrateCommandOptions calibrate_options;
@@ -57,6 +60,14 @@ int main(int argc, char** argv) {
     std::cerr << "telesphere-console: --screenshot needs --duration S (how long to run first)\n";
     return 1;
   }
+  std::string error;
+  auto credentials = telesphere::app::linkCredentialsFrom(
+      security, {telesphere::link::trust::LinkRole::kSupervisor, telesphere::link::trust::LinkRole::kViewer}, &error);
+  if (!credentials) {
+    std::cerr << "telesphere-console: " << error << '\n';
+    return 1;
+  }
+  const telesphere::app::InsecureLinkWarning insecure_warning(security.insecure, "telesphere-console");
   const bool headless = !screenshot.empty();
   if (headless && !std::getenv("QT_QPA_PLATFORM")) setenv("QT_QPA_PLATFORM", "offscreen", 1);
   if (!headless && !std::getenv("QT_QPA_PLATFORM") && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) {
@@ -72,6 +83,7 @@ int main(int argc, char** argv) {
   telesphere::console::ConsoleSessionOptions options;
   options.endpoints.host = host;
   options.endpoints.base_port = port;
+  options.endpoints.credentials = std::move(*credentials);
   telesphere::console::ConsoleSession session(options);
   telesphere::console::ConsoleWindow window(session);
   window.show();

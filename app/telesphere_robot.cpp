@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
     std::cerr << "telesphere-robot: " << error << '\n';
     return 1;
   }
+  const telesphere::app::InsecureLinkWarning insecure_warning(options.security.insecure, "telesphere-robot");
   if (options.replay()) {
     std::signal(SIGINT, onSignal);
     std::signal(SIGTERM, onSignal);

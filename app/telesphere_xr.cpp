@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -157,19 +158,35 @@ int main(int argc, char** argv) {
   int code = 0;
   still->callback([&] { code = runStill(o); });
 
+  // Every mode that talks to the robot needs --keys or --insecure (DESIGN.md §10); the built-in
+  // test scene and the offline replay do not talk to it.
+  std::optional<telesphere::app::InsecureLinkWarning> insecure_warning;
+  const auto linkReady = [&](telesphere::app::VideoLinkOptions& link, bool uses_robot) {
+    if (!uses_robot) return true;
+    std::string error;
+    if (!telesphere::app::checkVideoLinkOptions(link, &error)) {
+      std::cerr << "telesphere-xr: " << error << '\n';
+      code = 1;
+      return false;
+    }
+    insecure_warning.emplace(link.security.insecure, "telesphere-xr");
+    return true;
+  };
   telesphere::app::OpenXrCommandOptions openxr_options;
   telesphere::app::addOpenXrCommand(app, openxr_options)->callback([&] {
-    code = telesphere::app::runOpenXrCommand(openxr_options);
+    if (linkReady(openxr_options.link, !openxr_options.test_scene))
+      code = telesphere::app::runOpenXrCommand(openxr_options);
   });
 
   telesphere::app::DesktopCommandOptions desktop_options;
   telesphere::app::addDesktopCommand(app, desktop_options)->callback([&] {
-    code = telesphere::app::runDesktopCommand(desktop_options);
+    if (linkReady(desktop_options.link, true)) code = telesphere::app::runDesktopCommand(desktop_options);
   });
 
   telesphere::app::OffscreenCommandOptions offscreen_options;
   telesphere::app::addOffscreenCommand(app, offscreen_options)->callback([&] {
-    code = telesphere::app::runOffscreenCommand(offscreen_options);
+    if (linkReady(offscreen_options.link, offscreen_options.replay.empty()))
+      code = telesphere::app::runOffscreenCommand(offscreen_options);
   });
   CLI11_PARSE(app, argc, argv);
   return code;

@@ -45,6 +45,7 @@ class OpenXrEyeWork {
     xr::frame_loop::OperatorViewOptions options;
     options.endpoints.host = o_.host;
     options.endpoints.base_port = o_.port;
+    options.endpoints.credentials = o_.link.credentials;
     options.render = settings_;
     applyVideoLinkOptions(o_.link, options);
     view_ = std::make_unique<xr::frame_loop::OperatorView>(*calibration, options);

@@ -19,9 +19,19 @@ void addVideoLinkOptions(CLI::App& c, VideoLinkOptions& o) {
   c.add_option("--head-link", o.head_link,
                "--video-link udp: head targets on both links (the robot keeps the newest) or on udp only")
       ->capture_default_str()->check(CLI::IsMember({"both", "udp"}));
+  addLinkSecurityOptions(c, o.security, "this operator's key pair (role operator) and the robot's .pub");
+}
+
+bool checkVideoLinkOptions(VideoLinkOptions& o, std::string* error) {
+  auto credentials = linkCredentialsFrom(o.security, {link::trust::LinkRole::kOperator}, error);
+  if (!credentials) return false;
+  o.credentials = std::move(*credentials);
+  return true;
 }
 
 void applyVideoLinkOptions(const VideoLinkOptions& o, xr::frame_loop::OperatorViewOptions& view) {
+  view.endpoints.credentials = o.credentials;
+  view.warn_insecure_link = o.security.insecure;
   view.media_link = o.video_link == "udp";
   view.media_port = o.media_port;
   view.media_repair = o.media_repair == "on";

@@ -114,7 +114,7 @@ LoopRun runLoop(const BenchContext& ctx, double radius_m, int moves, int port, c
   const double duration = runDuration(moves);
   ctx.out << "experiments: r = " << radius_m << " m: robot + XR app for " << formatNumber(duration) << " s…\n"
           << std::flush;
-  ChildProcess robot({(bin / "telesphere-robot").string(), "--sim", "--size", "320x180", "--fps", "30", "--port",
+  ChildProcess robot({(bin / "telesphere-robot").string(), "--insecure", "--sim", "--size", "320x180", "--fps", "30", "--port",
                       std::to_string(port), "--duration", "600", "--stats-period", "0", "--sphere-radius",
                       std::to_string(radius_m), "--render-threads", "1", "--preview-rate", "0", "--truth-out",
                       run.robot_truth.string()},
@@ -126,7 +126,7 @@ LoopRun runLoop(const BenchContext& ctx, double radius_m, int moves, int port, c
   link::LinkEndpoints endpoints;
   endpoints.base_port = port;
   link::LinkClient client(endpoints, link::LinkClient::Options{.telemetry = true});
-  ChildProcess xr({(bin / "telesphere-xr").string(), "offscreen", "--calib", calib, "--port", std::to_string(port),
+  ChildProcess xr({(bin / "telesphere-xr").string(), "offscreen", "--insecure", "--calib", calib, "--port", std::to_string(port),
                    "--eye-size", "160x176", "--rate", "59", "--duration", std::to_string(duration), "--trajectory",
                    (dir / "trajectory.csv").string(), "--out", (dir / "xr").string(), "--truth-out",
                    run.xr_truth.string(), "--truth-every", "6", "--wait", "60"},

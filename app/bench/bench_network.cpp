@@ -116,7 +116,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   const bool media = link_kind == Link::kMedia;
   std::string error;
 
-  std::vector<std::string> robot_args{(bin / "telesphere-robot").string(), "--sim", "--size", o.size, "--fps",
+  std::vector<std::string> robot_args{(bin / "telesphere-robot").string(), "--insecure", "--sim", "--size", o.size, "--fps",
                                       formatNumber(o.fps), "--port", std::to_string(port), "--duration", "600",
                                       "--stats-period", "2", "--render-threads", "1", "--preview-rate", "0"};
   if (!media) robot_args.push_back("--no-media");
@@ -133,7 +133,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   };
   std::unique_ptr<impairment::UdpRelay> udp_relay;
   std::unique_ptr<impairment::TunRelay> tun_relay;
-  std::vector<std::string> xr_args{(bin / "telesphere-xr").string(), "offscreen", "--calib", calib, "--port",
+  std::vector<std::string> xr_args{(bin / "telesphere-xr").string(), "offscreen", "--insecure", "--calib", calib, "--port",
                                    std::to_string(port), "--eye-size", "320x352", "--rate", "60", "--duration",
                                    formatNumber(duration), "--out", (dir / "xr").string(), "--wait", "60"};
   if (media)

@@ -77,7 +77,7 @@ nlohmann::json run(const BenchContext& ctx) {
   ctx.out << "wizard: telesphere-robot --sim --size " << size << " with the true calibration; automatic run up to "
           << max_views << " samples…\n"
           << std::flush;
-  ChildProcess robot({(bin / "telesphere-robot").string(), "--sim", "--port", std::to_string(kPort), "--size", size,
+  ChildProcess robot({(bin / "telesphere-robot").string(), "--insecure", "--sim", "--port", std::to_string(kPort), "--size", size,
                       "--fps", "5", "--still-timeout-ms", "30000", "--sim-truth", truth_path, "--preview-rate", "0",
                       "--stats-period", "0"},
                      (dir / "robot.log").string());

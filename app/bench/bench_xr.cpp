@@ -49,10 +49,10 @@ nlohmann::json runXrBenchMonado(const BenchContext& ctx, int frames) {
       // reports here. Other sanitizer errors then exit 0 too: they are found in the log below.
       "LSAN_OPTIONS=exitcode=0 sh -c " +
       xrBenchQuote(xrBenchQuote((bin / "telesphere-robot").string()) +
-                   " --sim --size 640x360 --fps 15 --port 27690 --duration 600 > " + xrBenchQuote(out + "/robot.log") +
+                   " --insecure --sim --size 640x360 --fps 15 --port 27690 --duration 600 > " + xrBenchQuote(out + "/robot.log") +
                    " 2>&1 & r=$!; " + xrBenchQuote((src / "tests/xr/monado/run_with_monado.sh").string()) + " " +
                    xrBenchQuote(g_xr_bench_monado_root) + " -- " + xrBenchQuote((bin / "telesphere-xr").string()) +
-                   " openxr --calib " + xrBenchQuote((src / "calib/data/sim_calibration.yaml").string()) +
+                   " openxr --insecure --calib " + xrBenchQuote((src / "calib/data/sim_calibration.yaml").string()) +
                    " --port 27690 --frames " + std::to_string(frames) + " --out " + xrBenchQuote(out) + " > " +
                    xrBenchQuote(out + "/xr.log") + " 2>&1; rc=$?; kill -INT $r; wait $r; exit $rc");
   ctx.out << "xr: openxr against Monado (" << g_xr_bench_monado_root << "), " << frames << " frames…\n" << std::flush;

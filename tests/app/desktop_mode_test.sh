@@ -24,9 +24,9 @@ fail() { echo "FAIL: $*"; for f in robot.log xr.log stats.json; do echo "--- $f"
 for _ in $(seq 100); do xdotool getmouselocation >/dev/null 2>&1 && break; sleep 0.1; done
 xdotool getmouselocation >/dev/null 2>&1 || fail "cannot talk to the X server at $DISPLAY"
 
-"$bin/telesphere-robot" --sim --size 320x180 --fps 15 --port "$port" --duration 120 > "$out/robot.log" 2>&1 &
+"$bin/telesphere-robot" --insecure --sim --size 320x180 --fps 15 --port "$port" --duration 120 > "$out/robot.log" 2>&1 &
 robot=$!
-"$bin/telesphere-xr" desktop --calib "$src/calib/data/sim_calibration.yaml" --port "$port" \
+"$bin/telesphere-xr" desktop --insecure --calib "$src/calib/data/sim_calibration.yaml" --port "$port" \
   --eye-size 320x352 --window-size 640x352 --rate 30 --duration 90 --out "$out" > "$out/xr.log" 2>&1 &
 app=$!
 

@@ -19,7 +19,7 @@ trap cleanup EXIT
 fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
 
 # A media cap under the rate controller's floor is refused before anything starts, and said why.
-if "$bin/telesphere-robot" --sim --media-cap-mbit 0.2 --port "$port" --duration 1 > "$out/cap.log" 2>&1; then
+if "$bin/telesphere-robot" --insecure --sim --media-cap-mbit 0.2 --port "$port" --duration 1 > "$out/cap.log" 2>&1; then
   fail "--media-cap-mbit 0.2 was taken"
 fi
 grep -q "leaves no room for video" "$out/cap.log" || { cat "$out/cap.log"; fail "the refused cap did not say why"; }
@@ -34,10 +34,10 @@ cmp -s "$calib" "$out/mounted_5mm_off.yaml" && fail "could not make the mis-moun
 # run NAME TRUE_CALIB: robot + offscreen operator with a still head; truth files in $out/NAME.
 run() {
   local name=$1 true_calib=$2
-  "$bin/telesphere-robot" --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
+  "$bin/telesphere-robot" --insecure --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
     --stats-period 1 --sim-truth "$true_calib" --truth-out "$out/$name-robot.csv" > "$out/robot.log" 2>&1 &
   robot=$!
-  "$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 \
+  "$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 \
     --duration 4 --trajectory "$out/still.csv" --out "$out/$name" --truth-out "$out/$name/truth" \
     --truth-every 10 --wait 60 | tee "$out/$name-xr.txt" || fail "telesphere-xr offscreen exited with $?"
   kill -INT "$robot"

@@ -27,7 +27,7 @@ class ConsoleRobotCommands : public ::testing::Test {
     std::filesystem::create_directories(dir_ / "recordings");
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(
-        {kBin + "telesphere-robot", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "5",
+        {kBin + "telesphere-robot", "--insecure", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "5",
          "--preview-rate", "0", "--stats-period", "0", "--record-dir", (dir_ / "recordings").string()},
         (dir_ / "robot.log").string(), &error);
     ASSERT_GT(robot_pid_, 0) << error;
@@ -38,7 +38,7 @@ class ConsoleRobotCommands : public ::testing::Test {
     std::filesystem::remove_all(dir_, ec);
   }
   static CommandResult console(const std::string& args, int port = kPort) {
-    return runCommand(kBin + "telesphere-console " + args + " --robot tcp://127.0.0.1:" + std::to_string(port),
+    return runCommand(kBin + "telesphere-console " + args + " --insecure --robot tcp://127.0.0.1:" + std::to_string(port),
                       dir_.string());
   }
   static nlohmann::json status() {

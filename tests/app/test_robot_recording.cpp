@@ -75,7 +75,7 @@ TEST_F(RobotRecording, TheConsoleAndATrialRecordAndTheReplayServesItAgain) {
   const std::string records = (dir_ / "recordings").string();
   std::string error;
   const pid_t robot = telesphere::test::spawnRobot(
-      {kBin + "telesphere-robot", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "15",
+      {kBin + "telesphere-robot", "--insecure", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "15",
        "--stats-period", "0", "--preview-rate", "0", "--record-dir", records, "--record-compression", "lz4"},
       (dir_ / "robot.log").string(), &error);
   ASSERT_GT(robot, 0) << error;
@@ -144,7 +144,7 @@ TEST_F(RobotRecording, TheConsoleAndATrialRecordAndTheReplayServesItAgain) {
 
   // The supervisor's recording served again; control refused.
   const pid_t replay = telesphere::test::spawnRobot(
-      {kBin + "telesphere-robot", "--replay", records + "/supervisor-1.mcap", "--port", std::to_string(kReplayPort),
+      {kBin + "telesphere-robot", "--insecure", "--replay", records + "/supervisor-1.mcap", "--port", std::to_string(kReplayPort),
        "--loop"},
       (dir_ / "replay.log").string(), &error);
   ASSERT_GT(replay, 0) << error;

@@ -24,10 +24,10 @@ json() { sed -n "s/^ *\"$2\": \([0-9.eE+-]*\),\{0,1\}$/\1/p" "$1"; }
 export EGL_PLATFORM=surfaceless
 
 calib="$src/calib/data/sim_calibration.yaml"
-"$bin/telesphere-robot" --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
+"$bin/telesphere-robot" --insecure --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
   --record "$out/session.mcap" > "$out/robot.log" 2>&1 &
 robot=$!
-"$bin/telesphere-xr" offscreen --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 4 \
+"$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 4 \
   --wait 60 --png-every 10 --out "$out/live" > "$out/live.txt" || fail "live telesphere-xr offscreen exited with $?"
 kill -INT "$robot"
 rc=0

@@ -33,7 +33,7 @@ constexpr int kPort = 27980;
 std::unique_ptr<Process> startCalibrationRobot(Rig& rig) {
   return std::make_unique<Process>(
       TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot",  // the scenery; the panel is under test
-      QStringList{"--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth",
+      QStringList{"--insecure", "--sim", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth",
                   TELESPHERE_SOURCE_DIR "/tests/console/data/calibration_truth.yaml", "--preview-rate", "0",
                   "--stats-period", "0"},
       rig.dir.filePath("robot.log"));
@@ -96,7 +96,7 @@ TEST(CalibrationPanel, ACappedRunIsShownNotDoneAndCannotBeSavedADeletedSampleIsS
   EXPECT_NE(error.indexOf("not met"), -1) << error.toStdString();
   EXPECT_FALSE(QFile::exists(rig.dir.filePath("not_done.yaml")));
   // The head was given back.
-  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort, .credentials = {}},
                          link::LinkClient::Options{.frames = false});
   ASSERT_TRUE(test_rig::pumpUntil([&] { return probe.latestRobotState().has_value(); }, 10000));
   EXPECT_FALSE(probe.latestRobotState()->calibration_hold());
@@ -227,7 +227,7 @@ TEST(CalibrationPanel, CancelStopsTheRunAndGivesTheHeadBack) {
   ASSERT_TRUE(panel->outcome());
   EXPECT_FALSE(panel->outcome()->done);
   EXPECT_NE(panel->statusText().indexOf("cancelled"), -1) << panel->statusText().toStdString();
-  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort, .credentials = {}},
                          link::LinkClient::Options{.frames = false});
   ASSERT_TRUE(test_rig::pumpUntil(
       [&] { return probe.latestRobotState().has_value() && !probe.latestRobotState()->calibration_hold(); }, 10000));

@@ -44,11 +44,11 @@ class CalibrateIntrinsics : public ::testing::Test {
     const std::string log = (dir_ / "robot.log").string();
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(
-        {robot, "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000",
+        {robot, "--insecure", "--sim", "--port", std::to_string(kPort), "--size", "1280x720", "--fps", "5", "--still-timeout-ms", "20000",
          "--sim-truth", kSrc + "tests/console/data/calibration_truth.yaml", "--preview-rate", "0", "--stats-period", "0"},
         log, &error);
     ASSERT_GT(robot_pid_, 0) << error;
-    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort, .credentials = {}},
                                                 link::LinkClient::Options{.frames = false});
   }
   static void TearDownTestSuite() {
@@ -58,7 +58,7 @@ class CalibrateIntrinsics : public ::testing::Test {
     std::filesystem::remove_all(dir_, ec);
   }
   static std::string calibrate(const std::string& extra) {
-    return kBin + "telesphere-console calibrate intrinsics --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
+    return kBin + "telesphere-console calibrate intrinsics --insecure --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
            " --initial " + kSrc + "calib/data/sim_calibration.yaml --json " + extra;
   }
   static inline std::filesystem::path dir_;
@@ -163,7 +163,7 @@ TEST_F(CalibrateIntrinsics, ExitsTwoWithTheReasonWhenTheDoneRuleCannotBeMet) {
 }
 
 TEST_F(CalibrateIntrinsics, ExitsThreeWhenNoRobotAnswers) {
-  const CommandResult r = runCommand(kBin + "telesphere-console calibrate intrinsics --auto --robot tcp://127.0.0.1:27970 "
+  const CommandResult r = runCommand(kBin + "telesphere-console calibrate intrinsics --insecure --auto --robot tcp://127.0.0.1:27970 "
                                      "--out " + (dir_ / "none.yaml").string(), dir_.string());
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("the robot never answered at tcp://127.0.0.1:27970"), std::string::npos) << r.err;

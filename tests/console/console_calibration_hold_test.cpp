@@ -30,7 +30,7 @@ class CalibrationHold : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(
-        {kBin + "telesphere-robot", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "5",
+        {kBin + "telesphere-robot", "--insecure", "--sim", "--port", std::to_string(kPort), "--size", "320x180", "--fps", "5",
          "--preview-rate", "0", "--stats-period", "0"},
         (dir_ / "robot.log").string(), &error);
     ASSERT_GT(robot_pid_, 0) << error;
@@ -45,7 +45,7 @@ class CalibrationHold : public ::testing::Test {
   pid_t startWizard(const std::string& log) {
     std::string error;
     const pid_t pid = telesphere::test::spawnRobot(
-        {kBin + "telesphere-console", "calibrate", "handeye", "--auto", "--robot",
+        {kBin + "telesphere-console", "calibrate", "handeye", "--insecure", "--auto", "--robot",
          "tcp://127.0.0.1:" + std::to_string(kPort), "--calib", kSrc + "calib/data/sim_calibration.yaml", "--out",
          (dir_ / "unused.yaml").string(), "--time-limit", "120"},
         log, &error);

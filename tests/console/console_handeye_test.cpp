@@ -41,12 +41,12 @@ class CalibrateHandEye : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     std::string error;
     robot_pid_ = telesphere::test::spawnRobot(
-        {TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot", "--sim", "--sim-manipulator", "--port", std::to_string(kPort), "--size", "1280x720",
+        {TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot", "--insecure", "--sim", "--sim-manipulator", "--port", std::to_string(kPort), "--size", "1280x720",
          "--fps", "5", "--still-timeout-ms", "20000", "--sim-truth", kSrc + "tests/console/data/handeye_truth.yaml",
          "--preview-rate", "0", "--stats-period", "0"},
         (dir_ / "robot.log").string(), &error);
     ASSERT_GT(robot_pid_, 0) << error;
-    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+    probe_ = std::make_unique<link::LinkClient>(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort, .credentials = {}},
                                                 link::LinkClient::Options{.frames = false});
   }
   static void TearDownTestSuite() {
@@ -56,7 +56,7 @@ class CalibrateHandEye : public ::testing::Test {
     std::filesystem::remove_all(dir_, ec);
   }
   static std::string calibrate(const std::string& extra) {
-    return kBin + "telesphere-console calibrate handeye --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
+    return kBin + "telesphere-console calibrate handeye --insecure --auto --robot tcp://127.0.0.1:" + std::to_string(kPort) +
            " --calib " + kSrc + "calib/data/sim_calibration.yaml --json " + extra;
   }
   /// The robot's own account, for a failure message (the folder is gone after the suite).

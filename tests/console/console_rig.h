@@ -110,7 +110,7 @@ struct Rig {
   void startRobot() {
     robot = std::make_unique<Process>(
         "telesphere-robot",
-        QStringList{"--sim", "--size", "320x180", "--fps", "15", "--port", QString::number(port), "--auto-nominal",
+        QStringList{"--insecure", "--sim", "--size", "320x180", "--fps", "15", "--port", QString::number(port), "--auto-nominal",
                     "false", "--stats-period", "0", "--preview-rate", "5", "--record-dir",
                     dir.filePath("recordings")},
         dir.filePath("robot.log"));
@@ -118,7 +118,7 @@ struct Rig {
   /// The XR app offscreen; `still`: the operator keeps the head still (a nominal pose), else the
   /// demo look-around.
   void startXr(bool still, const QStringList& extra = {}, const QString& eye_size = "96x96") {
-    QStringList args{"offscreen", "--calib", TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml", "--port",
+    QStringList args{"offscreen", "--insecure", "--calib", TELESPHERE_SOURCE_DIR "/calib/data/sim_calibration.yaml", "--port",
                      QString::number(port), "--eye-size", eye_size, "--rate", "30", "--duration", "0", "--wait", "60"};
     if (still) {
       QFile csv(dir.filePath("still.csv"));

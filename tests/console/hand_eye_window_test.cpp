@@ -34,7 +34,7 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   Rig rig(kPort);
   rig.robot = std::make_unique<Process>(
       TELESPHERE_FIXTURE_BIN_DIR "/telesphere-robot",  // the scenery; the panel is under test
-      QStringList{"--sim", "--sim-manipulator", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5",
+      QStringList{"--insecure", "--sim", "--sim-manipulator", "--port", QString::number(kPort), "--size", "1280x720", "--fps", "5",
                   "--still-timeout-ms", "20000", "--sim-truth", TELESPHERE_SOURCE_DIR "/tests/console/data/handeye_truth.yaml",
                   "--preview-rate", "0", "--stats-period", "0"},
       rig.dir.filePath("robot.log"));
@@ -107,7 +107,7 @@ TEST(HandEyePanel, RecoversTheTruthLiveDeletesASampleAndSaves) {
   EXPECT_LT(mount_mm, 5.0 * r.stddev[1].translation_m.norm() * 1e3 + 0.5);
 
   // The head was given back.
-  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort},
+  link::LinkClient probe(link::LinkEndpoints{.host = "127.0.0.1", .base_port = kPort, .credentials = {}},
                          link::LinkClient::Options{.frames = false});
   ASSERT_TRUE(test_rig::pumpUntil([&] { return probe.latestRobotState().has_value(); }, 10000));
   EXPECT_FALSE(probe.latestRobotState()->calibration_hold());

@@ -30,7 +30,7 @@ port=28150
 for compression in none lz4 zstd; do
   file=$work/session-$compression.mcap
   rm -f "$file"
-  "$bin/telesphere-robot" --sim --port $port --size 320x180 --fps 15 --duration 3 --stats-period 0 \
+  "$bin/telesphere-robot" --insecure --sim --port $port --size 320x180 --fps 15 --duration 3 --stats-period 0 \
     --record "$file" --record-compression $compression >"$work/robot-$compression.log" 2>&1 ||
     { cat "$work/robot-$compression.log"; fail "telesphere-robot --record failed ($compression)"; }
   theirs=$(node "$work/check_mcap.mjs" "$file") || fail "check_mcap.mjs refused our $compression recording"

@@ -141,7 +141,7 @@ void monadoExpectNothingOfOurs(const MonadoRun& run) {
 std::string monadoXrCommand(const std::string& wrapper_options, const std::string& app_options) {
   return monadoQuote(std::string(TELESPHERE_SOURCE_DIR) + "/tests/xr/monado/run_with_monado.sh") +
          " " + wrapper_options + " " + monadoQuote(monadoRoot()) + " -- " +
-         monadoQuote(std::string(TELESPHERE_BINARY_DIR) + "/bin/telesphere-xr") + " openxr " +
+         monadoQuote(std::string(TELESPHERE_BINARY_DIR) + "/bin/telesphere-xr") + " openxr --insecure " +
          app_options;
 }
 
@@ -422,7 +422,7 @@ class MonadoRobot {
         dup2(fd, 1);
         dup2(fd, 2);
       }
-      execl(bin.c_str(), bin.c_str(), "--sim", "--size", "320x180", "--fps", "15", "--port", port_text.c_str(),
+      execl(bin.c_str(), bin.c_str(), "--insecure", "--sim", "--size", "320x180", "--fps", "15", "--port", port_text.c_str(),
             "--duration", "300", "--stats-period", "1", static_cast<char*>(nullptr));
       _exit(127);
     }
@@ -562,7 +562,10 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
     ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;
     gl::OffscreenTarget target(e.view.width, e.view.height, GL_RGBA8);
     ASSERT_TRUE(renderer.render(gpu, e.view, settings, target.framebuffer(), &error)) << error;
-    xr::frame_loop::drawLinkState(target.framebuffer(), e.view.width, e.view.height, e.link_state, {});
+    // The app ran with --insecure: "INSECURE LINK" over every eye.
+    auto cues = e.link_state;
+    cues.insecure = true;
+    xr::frame_loop::drawLinkState(target.framebuffer(), e.view.width, e.view.height, cues, {});
     const auto reference = target.readRgba8();
     const auto png = gl::readPng((dir / e.png).string(), &error);
     ASSERT_TRUE(png) << error;
