@@ -199,6 +199,16 @@ void ConsoleWindow::refreshPanels() {
   const supervision::PeerMonitor& xr = session_.xr();
   line += " · XR app: " + (xr.state() == supervision::PeerState::kWaiting ? QString("not heard yet")
                                                               : QString::fromStdString(xr.describe()));
+  // Trust (DESIGN.md §10): an open link, a refused key, refused peers are never out of sight.
+  const bool insecure = !session_.options().endpoints.credentials.secure() ||
+                        (session_.health() && session_.health()->trust().insecure());
+  if (insecure) line = "<b style='color:#ffffff;background-color:#b3261e'>&nbsp;INSECURE LINK&nbsp;</b> · " + line;
+  if (!session_.activity().refused_reason.empty())
+    line += " · <b style='color:#b3261e'>" + QString::fromStdString(session_.activity().refused_reason).toHtmlEscaped() +
+            "</b>";
+  if (session_.health() && session_.health()->trust().refused_total() > 0)
+    line += QString(" · <b style='color:#b3261e'>%1 refused</b> (Health → Trust)")
+                .arg(session_.health()->trust().refused_total());
   connection_->setText(line);
   double redraw_ms = 0;
   for (const LivePlot* plot : visiblePlots()) redraw_ms += plot->lastRefreshMs();

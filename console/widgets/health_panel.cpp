@@ -9,6 +9,7 @@
 
 #include "console/widgets/console_session.h"
 #include "console/widgets/link_labels.h"
+#include "robot/link/link_trust_text.h"
 
 namespace telesphere::console {
 namespace {
@@ -32,7 +33,7 @@ HealthPanel::HealthPanel(ConsoleSession& session, QWidget* parent) : QWidget(par
   tree_->setUniformRowHeights(false);
   tree_->setMinimumWidth(500);
   layout->addWidget(tree_);
-  for (const char* name : {"Robot", "Cameras", "Arm and head", "XR app", "Link and telemetry"}) {
+  for (const char* name : {"Robot", "Trust", "Cameras", "Arm and head", "XR app", "Link and telemetry"}) {
     auto* item = new QTreeWidgetItem(tree_, {name});
     QFont bold = item->font(0);
     bold.setBold(true);
@@ -85,6 +86,23 @@ void HealthPanel::refresh() {
     setRow("Robot", "clock offset", "not measured yet (no ping answered)", true);
   setRow("Robot", "restarts seen", QString::number(s.activity().robot_restarts));
 
+  // Trust (DESIGN.md §10): this console's key, the robot's keys, every refusal.
+  const auto& credentials = s.options().endpoints.credentials;
+  setRow("Trust", "this console",
+         credentials.secure()
+             ? QString::fromStdString(credentials.own->key.name + " (" +
+                                      std::string(link::trust::linkRoleName(credentials.own->key.role)) + " key)")
+             : QString("INSECURE LINK (--insecure): no key, nothing encrypted"),
+         !credentials.secure());
+  if (!s.activity().refused_reason.empty())
+    setRow("Trust", "refused by the robot",
+           QString("%1 (%2 handshakes)")
+               .arg(QString::fromStdString(s.activity().refused_reason))
+               .arg(s.activity().handshakes_refused),
+           true);
+  else
+    setRow("Trust", "refused by the robot", "no");
+
   const auto& health = s.health();
   if (health) {
     // Everything below is the newest report; while the robot is silent or gone it is the last known.
@@ -93,6 +111,11 @@ void HealthPanel::refresh() {
                                              : QString("live"),
            report_age > 0);
     setRow("Robot", "arm / cameras", QString::fromStdString(health->arm() + " / " + health->cameras_kind()));
+    setRow("Trust", "robot", QString::fromStdString(link::trustSummary(health->trust())), health->trust().insecure());
+    const std::string refused = link::refusalSummary(health->trust());
+    setRow("Trust", "refused peers", refused.empty() ? QString("none") : QString::fromStdString(refused), !refused.empty());
+    if (health->trust().allowed_errors_size() > 0)
+      setRow("Trust", "allowed/ errors", QString::fromStdString(health->trust().allowed_errors(0)), true);
     setRow("Robot", "up", QString::fromStdString(supervision::formatDuration(double(health->t_ns() - health->started_ns()) * 1e-9)));
     for (int i = 0; i < health->cameras_size(); ++i) {
       const auto& c = health->cameras(i);

@@ -138,6 +138,15 @@ void LinkPanel::refresh() {
   if (limited)
     text += QString(" — <b style='color:#a15c00'>below nominal, limited by %1</b>").arg(QString::fromStdString(s.limited_by()));
   text += QString(" · framing overhead %1 %").arg(m.framing_overhead() * 100.0, 0, 'f', 1);
+  // Sealed (DESIGN.md §10): what the session key refused is a peer without it, or a replay.
+  if (m.sealed())
+    text += QString("<br>sealed (AEAD, %1 session keys handed out) · %2%3 datagrams refused%4")
+                .arg(m.seal_sessions())
+                .arg(m.datagrams_unauthenticated() > 0 ? "<b style='color:#b3261e'>" : "")
+                .arg(m.datagrams_unauthenticated())
+                .arg(m.datagrams_unauthenticated() > 0 ? "</b>" : "");
+  else
+    text += "<br><b style='color:#b3261e'>not sealed (--insecure): anyone on the path can read and forge it</b>";
   summary_->setText(text);
   decisions_->setText(QString("rate decisions: %1<br>stream decisions (what limited it): %2<br>%3 frames sent, %4 "
                               "superseded before they left, %5 head target datagrams")
