@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <atomic>
 #include <mutex>
 #include <random>
@@ -323,6 +324,48 @@ TEST(MediaSealLoopback, APeerWithoutTheKeyIsNeverHeard) {
         << (receiver_sealed ? "another key" : "no key");
     EXPECT_FALSE(sender->hasReceiver());
   }
+}
+
+TEST(MediaSealLoopback, RandomDatagramsAtTheSendersPortChangeNothingForTheKeyedSession) {
+  SealedSession s(true);
+  const MediaSealKey key = newMediaSealKey();
+  s.sender->setSealKey(key);
+  s.receiver->setSealKey(key);
+  ASSERT_TRUE(telesphere::test::eventually([&] { return s.sender->hasReceiver(); }, 3000ms));
+  // Hostile datagrams from another socket: random bytes of every size, forged seal headers,
+  // plain media datagrams — as fast as one thread can send them, while the frames run.
+  std::atomic<bool> attacking{true};
+  std::atomic<std::uint64_t> sent{0};
+  std::thread attacker([&] {
+    const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in to{};
+    to.sin_family = AF_INET;
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    to.sin_port = htons(s.sender->port());
+    std::mt19937 rng(99);
+    while (attacking) {
+      auto junk = randomBytes(rng, rng() % 1500);
+      if (sent % 3 == 1 && junk.size() > kSealHeaderBytes) {
+        junk[0] = kSealMarker;
+        junk[1] = static_cast<std::uint8_t>(SealDirection::kToSender);
+      }
+      if (::sendto(fd, junk.data(), junk.size(), 0, reinterpret_cast<sockaddr*>(&to), sizeof to) >= 0) ++sent;
+    }
+    ::close(fd);
+  });
+  std::vector<std::vector<std::uint8_t>> jpegs;
+  const auto got = sendFrames(s, &jpegs);
+  attacking = false;
+  attacker.join();
+  std::printf("%llu hostile datagrams; %zu of 20 frames delivered; sender refused %llu\n",
+              static_cast<unsigned long long>(sent.load()), got.size(),
+              static_cast<unsigned long long>(s.sender->stats().unauthenticated));
+  EXPECT_GT(sent.load(), 1000u);
+  EXPECT_GE(got.size(), 15u);
+  for (const auto& f : got) EXPECT_TRUE(f.whole());
+  EXPECT_GT(s.sender->stats().unauthenticated, 1000u);
+  EXPECT_TRUE(s.sender->hasReceiver()) << "the keyed receiver was not displaced";
+  EXPECT_EQ(s.head_targets.load(), 0);
 }
 
 TEST(MediaSealLoopback, WithoutASealTheSameWireShowsTheJpegs) {
