@@ -6,10 +6,18 @@
 ///        machine does not sustain that, at lower rates until it does, and reports the rate, the
 ///        latency capture → decoded (p50, p99), the per-stage split, bandwidth and drops. The floor
 ///        is the codec itself: one single-core encode plus one decode of the same frame, measured
-///        in the same run; the goal is p50 ≤ 1.25 × floor.
+///        in the same run; the goal is p50 ≤ 1.25 × floor. Then the cost of encryption (DESIGN.md
+///        §10): the same rate with CURVE keys on every socket against none, latency p50 and CPU
+///        time per stereo frame (robot and client ends together, both in this process); goal
+///        ≤ 2 % more CPU and ≤ 0.5 ms more latency per frame.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -18,6 +26,9 @@
 #include "app/bench/bench_topic.h"
 #include "app/bench/prerendered_frames.h"
 #include "app/bench/replay_video_source.h"
+#include "robot/link/media/media_packet.h"
+#include "robot/link/media/media_seal.h"
+#include "robot/link/trust/link_key_files.h"
 #include "xr/video/jpeg_decoder.h"
 #include "xr/video/stereo_frame_decoder.h"
 
@@ -52,7 +63,64 @@ double codecFloorMs(const robot::cameras::CameraFrame& frame, const robot::video
   return quantile(ms, 0.5);
 }
 
+/// CPU time of this whole process (every thread), ms.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+/// A robot key and a client key in a scratch folder, the robot trusting the client: what a keyed
+/// link needs, made fresh for the run by libzmq.
+struct PipelineKeys {
+  std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                              ("telesphere-bench-pipeline-keys-" + std::to_string(::getpid()));
+  link::trust::LinkCredentials robot, client;
+  bool ok = false;
+
+  PipelineKeys() {
+    namespace trust = link::trust;
+    std::filesystem::remove_all(dir);
+    std::string error;
+    const auto robot_pair = trust::generateKeyPair("bench-robot", trust::LinkRole::kRobot, &error);
+    const auto client_pair = trust::generateKeyPair("bench-operator", trust::LinkRole::kOperator, &error);
+    if (!robot_pair || !client_pair || !trust::writeKeyPair(*robot_pair, dir / "robot", false, &error) ||
+        !trust::writeKeyPair(*client_pair, dir / "robot" / "allowed", false, &error))
+      return;
+    robot.own = *robot_pair;
+    robot.allowed_dir = dir / "robot" / "allowed";
+    client.own = *client_pair;
+    client.robot_public_z85 = robot_pair->key.public_z85;
+    ok = true;
+  }
+  ~PipelineKeys() { std::filesystem::remove_all(dir); }
+};
+
+/// Sealing and opening one stereo frame on the media path (two JPEGs of `jpeg_bytes` in chunks of
+/// the largest datagram), ms on one core: the median of `reps`.
+double mediaSealMs(std::size_t jpeg_bytes, int reps) {
+  using namespace link::media;
+  const MediaSealKey key = newMediaSealKey();
+  MediaSealer sealer(key, SealDirection::kToReceiver);
+  MediaOpener opener(key, SealDirection::kToReceiver);
+  const std::vector<std::uint8_t> datagram(kMaxMediaDatagramBytes, 0x5A);
+  const std::size_t datagrams = 2 * ((jpeg_bytes + kMaxChunkBytes - 1) / kMaxChunkBytes);
+  std::vector<std::uint8_t> sealed, opened;
+  std::vector<double> ms;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < datagrams; ++i) {
+      SealRefusal why{};
+      sealer.seal(datagram, sealed);
+      if (!opener.open(sealed, opened, &why)) throw std::runtime_error("pipeline: a sealed datagram did not open");
+    }
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return quantile(ms, 0.5);
+}
+
 struct PipelineRun {
+  double cpu_ms_per_frame = 0;  ///< process CPU time (both ends) per decoded stereo frame
   double rate_hz = 0;
   std::uint64_t sent = 0, decoded_seen = 0, camera_lost = 0, dropped = 0;
   double p50_ms = 0, p99_ms = 0, bandwidth_mb_s = 0;
@@ -62,11 +130,16 @@ struct PipelineRun {
 
 PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_frames,
                         const std::vector<robot::cameras::CameraFrame>& right_frames, double rate_hz,
-                        double seconds, int port) {
+                        double seconds, int port, const PipelineKeys* keys = nullptr) {
   link::LinkEndpoints endpoints;
   endpoints.base_port = port;
+  link::LinkEndpoints client_endpoints = endpoints;
+  if (keys) {
+    endpoints.credentials = keys->robot;
+    client_endpoints.credentials = keys->client;
+  }
   ReplayVideoSource robot_side(endpoints, left_frames, right_frames, rate_hz, {}, 300ms);
-  link::LinkClient client(endpoints);
+  link::LinkClient client(client_endpoints);
   xr::video::StereoFrameDecoder decoder(client);
 
   // Warm-up: the first second is not counted (connections, caches, buffer pools).
@@ -76,10 +149,12 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
   std::vector<double> latency_ms;
   std::uint64_t last_sequence = 0, sent_at_warm = 0, lost_at_warm = 0, bytes = 0;
   bool warm = false;
+  double cpu_at_warm = 0;
   while (std::chrono::steady_clock::now() < end) {
     auto frame = decoder.waitNewer(last_sequence, 200ms);
     if (!warm && std::chrono::steady_clock::now() >= warm_end) {
       warm = true;
+      cpu_at_warm = processCpuMs();
       sent_at_warm = robot_side.streamer.stats().frames_sent;
       lost_at_warm = robot_side.left.stats().lost + robot_side.right.stats().lost;
     }
@@ -91,6 +166,7 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
     bytes += frame->frame.left().jpeg_bytes() + frame->frame.right().jpeg_bytes();
   }
   PipelineRun run;
+  const double cpu_ms = processCpuMs() - cpu_at_warm;
   run.rate_hz = rate_hz;
   run.sent = robot_side.streamer.stats().frames_sent - sent_at_warm;
   run.camera_lost = robot_side.left.stats().lost + robot_side.right.stats().lost - lost_at_warm;
@@ -102,6 +178,7 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
   const double mean_bytes = latency_ms.empty() ? 0.0 : double(bytes) / double(latency_ms.size());
   run.bandwidth_mb_s = mean_bytes * double(run.sent) / seconds * 1e-6;
   run.decode = decoder.stats();
+  run.cpu_ms_per_frame = latency_ms.empty() ? 0.0 : cpu_ms / double(latency_ms.size());
   const double expected = rate_hz * seconds;
   run.sustained = double(run.decoded_seen) >= 0.95 * expected && run.camera_lost <= expected * 0.05;
   return run;
@@ -121,6 +198,10 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
                  "p50/floor", "MB/s", "sent", "dropped", "camera lost"});
   Table stages({"stereo input", "capture→encoded", "encoded→sent", "sent→received",
                 "received→decoded", "decode (1 JPEG)", "capture→decoded"});
+  Table secure({"stereo input", "rate Hz", "p50 ms plain", "p50 ms CURVE", "added ms", "CPU ms/frame plain",
+                "CPU ms/frame CURVE", "added CPU", "media seal+open ms/frame"});
+  const PipelineKeys keys;
+  if (!keys.ok) throw std::runtime_error("pipeline: cannot make the keys for the CURVE runs");
   int port = 27400;
   for (const auto& res : resolutions) {
     ctx.out << "pipeline: rendering " << res.width << "x" << res.height << " frames…\n" << std::flush;
@@ -154,6 +235,35 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
     json["bandwidth_mb_s_" + k] = best.bandwidth_mb_s;
     json["dropped_" + k] = best.dropped;
     json["jpeg_bytes_" + k] = jpeg_bytes;
+
+    // The cost of encryption: the same rate with and without keys, one after the other twice (so a
+    // slow second does not count against one side only); the medians of the two.
+    const double rate = best.sustained ? best.rate_hz : rates.back();
+    std::vector<double> plain_p50, curve_p50, plain_cpu, curve_cpu;
+    for (int round = 0; round < 2; ++round) {
+      for (const bool keyed : {false, true}) {
+        ctx.out << "pipeline: " << res.key << " at " << rate << " Hz " << (keyed ? "with CURVE keys" : "without keys")
+                << "…\n" << std::flush;
+        const PipelineRun run = runPipeline(left, right, rate, seconds, port, keyed ? &keys : nullptr);
+        port += 10;
+        (keyed ? curve_p50 : plain_p50).push_back(run.p50_ms);
+        (keyed ? curve_cpu : plain_cpu).push_back(run.cpu_ms_per_frame);
+      }
+    }
+    const double p50_plain = quantile(plain_p50, 0.5), p50_curve = quantile(curve_p50, 0.5);
+    const double cpu_plain = quantile(plain_cpu, 0.5), cpu_curve = quantile(curve_cpu, 0.5);
+    const double cpu_added_pct = cpu_plain > 0 ? 100.0 * (cpu_curve - cpu_plain) / cpu_plain : 0.0;
+    const double seal_ms = mediaSealMs(jpeg_bytes, ctx.quick ? 5 : 21);
+    secure.addRow({name, formatNumber(rate), formatNumber(p50_plain), formatNumber(p50_curve),
+                   formatNumber(p50_curve - p50_plain), formatNumber(cpu_plain), formatNumber(cpu_curve),
+                   formatNumber(cpu_added_pct) + " %", formatNumber(seal_ms)});
+    json["media_seal_ms_per_frame_" + k] = seal_ms;
+    json["secure_latency_p50_ms_" + k] = p50_curve;
+    json["plain_latency_p50_ms_" + k] = p50_plain;
+    json["secure_latency_added_ms_" + k] = p50_curve - p50_plain;
+    json["secure_cpu_ms_per_frame_" + k] = cpu_curve;
+    json["plain_cpu_ms_per_frame_" + k] = cpu_plain;
+    json["secure_cpu_added_pct_" + k] = cpu_added_pct;
   }
   ctx.out << "\nEnd to end on loopback, JPEG quality 90 4:2:0, " << seconds
           << " s per rate after 1 s warm-up; latency = capture → both images decoded; floor = one "
@@ -161,6 +271,11 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
   summary.print(ctx.out);
   ctx.out << "\nPer stage, p50 / p99 ms\n";
   stages.print(ctx.out);
+  ctx.out << "\nThe cost of encryption (CURVE on every socket, DESIGN.md §10): the same rate with and without "
+             "keys, twice each, medians; CPU = this process (camera replay, encode, link both ends, decode) per "
+             "decoded stereo frame; media seal+open = libsodium's AEAD over one stereo frame's datagrams on the UDP media "
+             "path, both ends, one core. Goal: ≤ 0.5 ms and ≤ 2 % added\n";
+  secure.print(ctx.out);
   return json;
 }
 
