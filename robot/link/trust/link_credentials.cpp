@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <vector>
 
+#include "robot/link/trust/link_key_files.h"
+
 namespace telesphere::link::trust {
 namespace {
 
