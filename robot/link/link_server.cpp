@@ -40,10 +40,11 @@ zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const L
   socket.set(zmq::sockopt::sndhwm, send_hwm);
   // A peer that opens a connection and never finishes the handshake (slow loris) is closed.
   socket.set(zmq::sockopt::handshake_ivl, 5000);
-  // Nothing a client may send is larger than a calibration reply's request; a frame claiming
-  // more closes its connection before any memory is taken for it.
-  if (type == zmq::socket_type::pull || type == zmq::socket_type::router)
-    socket.set(zmq::sockopt::maxmsgsize, std::int64_t(16) << 20);
+  // Nothing a client may send is larger than an apply_calibration request (control) or a
+  // subscription (PUB sockets: their clients send only those and handshake commands); a frame
+  // claiming more closes its connection before any memory is taken for it. Without a limit
+  // libzmq tries to allocate whatever a frame header claims (2^63 bytes from a hostile peer).
+  socket.set(zmq::sockopt::maxmsgsize, type == zmq::socket_type::pub ? std::int64_t(64) << 10 : std::int64_t(16) << 20);
   if (e.credentials.secure()) {
     socket.set(zmq::sockopt::curve_server, 1);
     socket.set(zmq::sockopt::curve_secretkey, e.credentials.own->secret_z85);
