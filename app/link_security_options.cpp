@@ -11,7 +11,7 @@ void addLinkSecurityOptions(CLI::App& app, LinkSecurityOptions& options, const s
                               "folder with " + whose + " (telesphere-keys generate; robot/link/README.md \"Keys\")");
   auto* insecure = app.add_flag("--insecure", options.insecure,
                                 "no keys: plain TCP that anyone who reaches the ports may use to watch and move the "
-                                "arm (warned every minute, shown red in the console)");
+                                "arm (warned every minute, shown red in the console and the headset)");
   keys->excludes(insecure);
 }
 

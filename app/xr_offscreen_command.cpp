@@ -192,6 +192,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.endpoints.host = o.host;
   options.endpoints.base_port = o.port;
   options.endpoints.credentials = o.link.credentials;
+  options.warn_insecure_link = o.link.security.insecure;
   options.display = display;
   options.duration_s = o.duration_s < 0 ? 10.0 : o.duration_s;
   options.render = *render;

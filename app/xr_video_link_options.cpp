@@ -31,8 +31,7 @@ bool checkVideoLinkOptions(VideoLinkOptions& o, std::string* error) {
 
 void applyVideoLinkOptions(const VideoLinkOptions& o, xr::frame_loop::OperatorViewOptions& view) {
   view.endpoints.credentials = o.credentials;
-  // The headset's INSECURE LINK cue (OperatorViewOptions::warn_insecure_link) stays off for now:
-  // drawn every frame it slowed the XR app's live tests under ASan in the cold CI run (issue #33).
+  view.warn_insecure_link = o.security.insecure;
   view.media_link = o.video_link == "udp";
   view.media_port = o.media_port;
   view.media_repair = o.media_repair == "on";

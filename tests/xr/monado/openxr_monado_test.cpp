@@ -562,7 +562,10 @@ TEST(OpenXrMonado, ShowsTheRobotsFramesSendsHeadTargetsAndFollowsLiveSettings) {
     ASSERT_TRUE(renderer.prepare(gpu, settings.path, &error)) << error;
     gl::OffscreenTarget target(e.view.width, e.view.height, GL_RGBA8);
     ASSERT_TRUE(renderer.render(gpu, e.view, settings, target.framebuffer(), &error)) << error;
-    xr::frame_loop::drawLinkState(target.framebuffer(), e.view.width, e.view.height, e.link_state, {});
+    // The app ran with --insecure: "INSECURE LINK" over every eye.
+    auto cues = e.link_state;
+    cues.insecure = true;
+    xr::frame_loop::drawLinkState(target.framebuffer(), e.view.width, e.view.height, cues, {});
     const auto reference = target.readRgba8();
     const auto png = gl::readPng((dir / e.png).string(), &error);
     ASSERT_TRUE(png) << error;
