@@ -88,9 +88,10 @@ bool MediaOpener::open(std::span<const std::uint8_t> sealed, std::vector<std::ui
   }
   unsigned char nonce[12];
   nonceOf(direction_, counter, nonce);
-  std::vector<std::uint8_t> opened(sealed.size() - kSealOverheadBytes);
+  // Straight into the caller's buffer (reused datagram after datagram: no allocation per datagram).
+  plain.resize(sealed.size() - kSealOverheadBytes);
   unsigned long long length = 0;
-  if (crypto_aead_chacha20poly1305_ietf_decrypt(opened.data(), &length, nullptr, sealed.data() + kSealHeaderBytes,
+  if (crypto_aead_chacha20poly1305_ietf_decrypt(plain.data(), &length, nullptr, sealed.data() + kSealHeaderBytes,
                                                 sealed.size() - kSealHeaderBytes, sealed.data(), kSealHeaderBytes,
                                                 nonce, key_.data()) != 0) {
     *why = SealRefusal::kForged;
@@ -107,8 +108,7 @@ bool MediaOpener::open(std::span<const std::uint8_t> sealed, std::vector<std::ui
     highest_ = counter;
   }
   seen_[counter % kWindow] = true;
-  opened.resize(length);
-  plain.swap(opened);
+  plain.resize(length);
   *why = SealRefusal::kNone;
   return true;
 }

@@ -55,7 +55,7 @@ class MediaOpener {
   static constexpr std::uint64_t kWindow = 4096;
 
   MediaOpener(const MediaSealKey& key, SealDirection direction);
-  /// `plain` = the opened datagram; false with the reason (and `plain` untouched).
+  /// `plain` = the opened datagram; false with the reason (`plain` then holds nothing of use).
   bool open(std::span<const std::uint8_t> sealed, std::vector<std::uint8_t>& plain, SealRefusal* why);
 
  private:
