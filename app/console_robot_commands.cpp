@@ -29,11 +29,13 @@ std::chrono::milliseconds waitOf(const RobotCommandOptions& o) {
   return std::chrono::milliseconds(static_cast<long>(o.wait_s * 1000.0));
 }
 
-/// The newest state and health, once both have arrived (nothing when not within `wait`).
+/// The newest state and health, once both have arrived (nothing when not within `wait`, or as
+/// soon as the robot refused this program's keys: waiting longer would not change that).
 bool awaitRobot(link::LinkClient& client, std::chrono::milliseconds wait) {
   const auto deadline = Clock::now() + wait;
   while (Clock::now() < deadline) {
     if (client.latestRobotState() && client.latestRobotHealth()) return true;
+    if (client.activity().refusal_settled) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return false;
@@ -215,8 +217,12 @@ int runStatusCommand(const RobotCommandOptions& o) {
   const InsecureLinkWarning insecure_warning(o.security.insecure, "telesphere-console status");
   link::LinkClient client(endpoints, link::LinkClient::Options{.frames = false});
   if (!awaitRobot(client, waitOf(o))) {
-    std::cerr << "telesphere-console status: the robot did not answer at " << o.robot << " within " << o.wait_s
-              << " s (" << whyNoAnswer(client) << ")\n";
+    if (const auto activity = client.activity(); activity.refusal_settled)
+      std::cerr << "telesphere-console status: no answer from the robot at " << o.robot << " ("
+                << activity.refused_reason << ")\n";
+    else
+      std::cerr << "telesphere-console status: the robot did not answer at " << o.robot << " within " << o.wait_s
+                << " s (" << whyNoAnswer(client) << ")\n";
     return kNoAnswer;
   }
   const auto state = *client.latestRobotState();

@@ -132,6 +132,7 @@ struct LinkClient::Impl {
       std::memcpy(&id, event.data(), 2);
       std::memcpy(&value, static_cast<const char*>(event.data()) + 2, 4);
       std::string why;
+      bool settled = true;
       if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH)
         why = value == 300 ? "the robot refused this key for now: too many handshakes (" + std::to_string(value) + ")"
                            : "the robot refused this key (status " + std::to_string(value) +
@@ -140,8 +141,11 @@ struct LinkClient::Impl {
         why = "the robot and this program disagree on keys: one runs with --keys, the other with --insecure";
       else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL && value == ZMQ_PROTOCOL_ERROR_ZMTP_CRYPTOGRAPHIC)
         why = "the handshake did not decrypt: the robot's .pub in --keys is not this robot's key";
-      else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL || id == ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL)
+      else if (id == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL || id == ZMQ_EVENT_HANDSHAKE_FAILED_NO_DETAIL) {
         why = "the handshake with the robot failed (" + std::to_string(value) + ")";
+        settled = false;
+      }
+      if (id == ZMQ_EVENT_HANDSHAKE_FAILED_AUTH && value == 300) settled = false;  // rate-limited
       if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
         retry_backoff_ns = 1'000'000'000;
         retry_at_ns = 0;
@@ -152,9 +156,15 @@ struct LinkClient::Impl {
       std::lock_guard lock(mutex);
       if (id == ZMQ_EVENT_HANDSHAKE_SUCCEEDED) {
         activity.refused_reason.clear();
+        activity.refusal_settled = false;
       } else if (!why.empty()) {
         ++activity.handshakes_refused;
-        activity.refused_reason = why;
+        // A peer without keys often sees the robot hang up first (EPIPE) and the mechanism
+        // mismatch only on the next attempt: the settled reason is the one to keep.
+        if (settled || !activity.refusal_settled) {
+          activity.refused_reason = why;
+          activity.refusal_settled = settled;
+        }
       }
     }
   }

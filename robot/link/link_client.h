@@ -54,6 +54,10 @@ struct LinkActivity {
   /// protocol tells a client: ZeroMQ passes on a status code, not the robot's text.
   std::uint64_t handshakes_refused = 0;
   std::string refused_reason;  ///< the newest; cleared by the next handshake that succeeds
+  /// The reason is the robot's answer to this program's keys (refused key, keys on one side only,
+  /// another robot's key), not a connection that broke during the handshake: trying again at
+  /// once would give the same answer. A broken handshake never replaces such a reason.
+  bool refusal_settled = false;
 };
 
 class LinkClient {
