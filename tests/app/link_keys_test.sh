@@ -102,6 +102,15 @@ for cause in "unknown key" "role" "no key|broken handshake"; do  # (which end se
   grep -Eq "\"cause\": *\"($cause)\"" "$out/after.json" || fail "no refusal counted for '$cause': $(cat "$out/after.json")"
 done
 
+# An operator app with a key the robot does not know says so at once, not after its --wait.
+rc=0
+"$bin/telesphere-xr" offscreen --keys "$keys/mallory" --calib "$(dirname "$0")/../../calib/data/sim_calibration.yaml" \
+  --port "$port" --eye-size 96x96 --rate 30 --duration 1 --wait 120 --out "$out/xr-mallory" > "$out/xr-mallory.log" 2>&1 ||
+  rc=$?
+[ "$rc" -eq 2 ] || fail "telesphere-xr with an unknown key exited with $rc, not 2: $(tail -n 5 "$out/xr-mallory.log")"
+grep -q "refused this key" "$out/xr-mallory.log" || fail "telesphere-xr did not say why: $(tail -n 5 "$out/xr-mallory.log")"
+grep -q "within 120000 ms" "$out/xr-mallory.log" && fail "telesphere-xr waited out its --wait on a refused key"
+
 # The operator over the sealed UDP media path: its session key comes over the encrypted control
 # channel; frames arrive whole, and the operator takes the seat.
 "$bin/telesphere-xr" offscreen --keys "$keys/olga" --calib "$(dirname "$0")/../../calib/data/sim_calibration.yaml" \

@@ -55,9 +55,16 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   const auto first_deadline = Clock::now() + options.wait_first_frame;
   while (!operator_view.decoder().waitNewer(0, std::chrono::milliseconds(50)) && !stop.load()) {
     operator_view.keepMediaSession();  // a keyed media path sends nothing before its key
+    // The robot's answer to this program's keys does not change by waiting: say it now.
+    if (const auto activity = operator_view.client().activity(); activity.refusal_settled) {
+      *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + ": " + activity.refused_reason;
+      return std::nullopt;
+    }
     if (Clock::now() > first_deadline) {
+      const std::string refused = operator_view.client().activity().refused_reason;
       *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
-               std::to_string(options.wait_first_frame.count()) + " ms (is telesphere-robot running?)";
+               std::to_string(options.wait_first_frame.count()) + " ms (" +
+               (refused.empty() ? std::string("is telesphere-robot running?") : refused) + ")";
       return std::nullopt;
     }
   }
