@@ -25,13 +25,13 @@ fail() {
 keys=$out/keys
 "$bin/telesphere-keys" generate --role robot --name lab-robot --out "$keys/robot" > /dev/null
 mkdir -p "$keys/robot/allowed"
-for who in supervisor:sam viewer:vic supervisor:mallory operator:olga; do
+for who in supervisor:sam viewer:vic supervisor:mallory operator:olga operator:oscar; do
   role=${who%%:*}
   name=${who##*:}
   "$bin/telesphere-keys" generate --role "$role" --name "$name" --out "$keys/$name" > /dev/null
   cp "$keys/robot/lab-robot.pub" "$keys/$name/"
 done
-cp "$keys/sam/sam.pub" "$keys/vic/vic.pub" "$keys/olga/olga.pub" "$keys/robot/allowed/"  # not mallory's
+cp "$keys/sam/sam.pub" "$keys/vic/vic.pub" "$keys/olga/olga.pub" "$keys/robot/allowed/"  # not mallory's, not oscar's
 
 # Neither --keys nor --insecure: the robot does not start, and says what to do.
 rc=0
@@ -102,14 +102,14 @@ for cause in "unknown key" "role" "no key|broken handshake"; do  # (which end se
   grep -Eq "\"cause\": *\"($cause)\"" "$out/after.json" || fail "no refusal counted for '$cause': $(cat "$out/after.json")"
 done
 
-# An operator app with a key the robot does not know says so at once, not after its --wait.
+# An operator app with an operator key the robot does not know says so at once, not after its --wait.
 rc=0
-"$bin/telesphere-xr" offscreen --keys "$keys/mallory" --calib "$(dirname "$0")/../../calib/data/sim_calibration.yaml" \
-  --port "$port" --eye-size 96x96 --rate 30 --duration 1 --wait 120 --out "$out/xr-mallory" > "$out/xr-mallory.log" 2>&1 ||
+"$bin/telesphere-xr" offscreen --keys "$keys/oscar" --calib "$(dirname "$0")/../../calib/data/sim_calibration.yaml" \
+  --port "$port" --eye-size 96x96 --rate 30 --duration 1 --wait 120 --out "$out/xr-oscar" > "$out/xr-oscar.log" 2>&1 ||
   rc=$?
-[ "$rc" -eq 2 ] || fail "telesphere-xr with an unknown key exited with $rc, not 2: $(tail -n 5 "$out/xr-mallory.log")"
-grep -q "refused this key" "$out/xr-mallory.log" || fail "telesphere-xr did not say why: $(tail -n 5 "$out/xr-mallory.log")"
-grep -q "within 120000 ms" "$out/xr-mallory.log" && fail "telesphere-xr waited out its --wait on a refused key"
+[ "$rc" -eq 2 ] || fail "telesphere-xr with an unknown key exited with $rc, not 2: $(tail -n 5 "$out/xr-oscar.log")"
+grep -q "refused this key" "$out/xr-oscar.log" || fail "telesphere-xr did not say why: $(tail -n 5 "$out/xr-oscar.log")"
+grep -q "within 120000 ms" "$out/xr-oscar.log" && fail "telesphere-xr waited out its --wait on a refused key"
 
 # The operator over the sealed UDP media path: its session key comes over the encrypted control
 # channel; frames arrive whole, and the operator takes the seat.
