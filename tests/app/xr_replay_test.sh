@@ -91,10 +91,15 @@ while IFS=, read -r png _; do
   cmp -s "$out/live/$png" "$out/views/$png" || fail "$png: the replay differs from what the live run showed"
 done < "$out/live/views.csv"
 
-# The head matters: the same recording seen from a still head gives other pixels.
-printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0,0,1\n' > "$out/still.csv"
+# The head matters: the same recording seen from a still head gives other pixels. The demo head
+# swings within 30 degrees of straight ahead and ends its 4 s cycle where it began (straight ahead),
+# so the still head looks 90 degrees to the left, where the recorded head never looked: every PNG
+# must differ, not only the last (a still head straight ahead once matched the last one byte for byte).
+printf 't,px,py,pz,qx,qy,qz,qw\n0,0,1.6,0,0,0.70710678,0,0.70710678\n' > "$out/still.csv"
 replay still --trajectory "$out/still.csv"
-cmp -s "$out/first/eyes_last.png" "$out/still/eyes_last.png" && fail "a still head rendered what the recorded head did"
+for png in "$out"/first/*.png; do
+  cmp -s "$png" "$out/still/$(basename "$png")" && fail "a still head rendered what the recorded head did ($(basename "$png"))"
+done
 
 # A recording cut off part way is refused with the reason, never rendered half silently.
 head -c $(( $(stat -c %s "$out/session.mcap") / 2 )) "$out/session.mcap" > "$out/cut.mcap"
