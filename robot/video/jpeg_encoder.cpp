@@ -11,6 +11,7 @@
 #include <csetjmp>
 #include <jpeglib.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace telesphere::robot::video {
@@ -30,6 +31,9 @@ struct JpegEncoder::Compressor {
   jpeg_compress_struct cinfo{};
   ErrorManager error{};
   Destination destination{};
+  /// encodeYuv420's rows padded to whole blocks (16 Y rows, 8 Cb and 8 Cr of one MCU row) when
+  /// the width is not a multiple of 16; kept between frames.
+  std::vector<std::uint8_t> padded_rows;
 
   Compressor() {
     cinfo.err = jpeg_std_error(&error.pub);
@@ -85,13 +89,9 @@ bool JpegEncoder::encodeGray(const std::uint8_t* gray, int width, int height, in
   return encode(gray, width, height, stride, 1, settings, out_jpeg, error);
 }
 
-bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int stride,
-                         int channels, const JpegSettings& settings,
-                         std::vector<std::uint8_t>& out_jpeg, std::string* error) {
-  if (width <= 0 || height <= 0 || width > 65500 || height > 65500 ||
-      stride < channels * width) {
-    *error = "bad image size " + std::to_string(width) + "x" + std::to_string(height) +
-             " with stride " + std::to_string(stride);
+bool JpegEncoder::checkInput(int width, int height, const JpegSettings& settings, std::string* error) {
+  if (width <= 0 || height <= 0 || width > 65500 || height > 65500) {
+    *error = "bad image size " + std::to_string(width) + "x" + std::to_string(height);
     return false;
   }
   if (settings.quality < 1 || settings.quality > 100) {
@@ -103,6 +103,18 @@ bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int 
              " MCU rows is outside 0..65535";
     return false;
   }
+  return true;
+}
+
+bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int stride,
+                         int channels, const JpegSettings& settings,
+                         std::vector<std::uint8_t>& out_jpeg, std::string* error) {
+  if (stride < channels * width) {
+    *error = "bad image size " + std::to_string(width) + "x" + std::to_string(height) +
+             " with stride " + std::to_string(stride);
+    return false;
+  }
+  if (!checkInput(width, height, settings, error)) return false;
   // A first guess that fits most frames (q90 4:2:0 is about 0.3 bytes per pixel and channel);
   // the destination doubles it when it does not.
   out_jpeg.resize(static_cast<std::size_t>(width) * height * channels / 2 + 4096);
@@ -144,6 +156,94 @@ bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int 
     for (; n < 32 && cinfo.next_scanline + n < cinfo.image_height; ++n)
       rows[n] = const_cast<JSAMPROW>(pixels + static_cast<std::size_t>(cinfo.next_scanline + n) * stride);
     jpeg_write_scanlines(&cinfo, rows, n);
+  }
+  jpeg_finish_compress(&cinfo);
+  return true;
+}
+
+bool JpegEncoder::encodeYuv420(const cameras::Yuv420Image& image, const JpegSettings& settings,
+                               std::vector<std::uint8_t>& out_jpeg, std::string* error) {
+  const int width = image.width, height = image.height;
+  if (!checkInput(width, height, settings, error)) return false;
+  const bool gray_out = settings.subsampling == ChromaSubsampling::kGray;
+  if (!gray_out && settings.subsampling != ChromaSubsampling::k420) {
+    *error = std::string("YUV 4:2:0 planes cannot make a ") +
+             (settings.subsampling == ChromaSubsampling::k444 ? "4:4:4" : "4:2:2") +
+             " JPEG (their chroma has a quarter of the pixels): encode an RGB image, or ask for 4:2:0";
+    return false;
+  }
+  const int chroma_width = image.chromaWidth(), chroma_height = image.chromaHeight();
+  const std::size_t luma_size = static_cast<std::size_t>(width) * height;
+  const std::size_t chroma_size = static_cast<std::size_t>(chroma_width) * chroma_height;
+  if (image.y.size() < luma_size || (!gray_out && (image.u.size() < chroma_size || image.v.size() < chroma_size))) {
+    *error = "YUV planes hold " + std::to_string(image.y.size()) + "/" + std::to_string(image.u.size()) + "/" +
+             std::to_string(image.v.size()) + " bytes, fewer than a " + std::to_string(width) + "x" +
+             std::to_string(height) + " image needs";
+    return false;
+  }
+  // An MCU row: 16 Y rows and 8 of each chroma at 4:2:0 (8 Y rows in gray). libjpeg's DCT reads
+  // whole blocks, so rows narrower than the MCU grid are copied into padded rows first.
+  const int lines = gray_out ? 8 : 16;
+  const int luma_padded = (width + 15) / 16 * 16, chroma_padded = (chroma_width + 7) / 8 * 8;
+  const bool pad_columns = luma_padded != width;
+  Compressor& c = *compressor_;
+  if (pad_columns) c.padded_rows.resize(static_cast<std::size_t>(lines) * luma_padded + 16 * chroma_padded);
+  out_jpeg.resize(luma_size * 3 / 4 + 4096);  // first guess, as encode()'s
+
+  jpeg_compress_struct& cinfo = c.cinfo;
+  c.destination.out = &out_jpeg;
+  if (setjmp(c.error.jump) != 0) {
+    jpeg_abort_compress(&cinfo);
+    *error = std::string("libjpeg: ") + c.error.message;
+    return false;
+  }
+  cinfo.image_width = static_cast<JDIMENSION>(width);
+  cinfo.image_height = static_cast<JDIMENSION>(height);
+  cinfo.input_components = gray_out ? 1 : 3;
+  cinfo.in_color_space = gray_out ? JCS_GRAYSCALE : JCS_YCbCr;
+  jpeg_set_defaults(&cinfo);
+  jpeg_set_quality(&cinfo, settings.quality, TRUE);
+  if (!gray_out) {
+    cinfo.comp_info[0].h_samp_factor = cinfo.comp_info[0].v_samp_factor = 2;
+    for (int k = 1; k < 3; ++k) cinfo.comp_info[k].h_samp_factor = cinfo.comp_info[k].v_samp_factor = 1;
+  }
+  cinfo.raw_data_in = TRUE;
+#if JPEG_LIB_VERSION >= 70
+  cinfo.do_fancy_downsampling = FALSE;
+#endif
+  cinfo.dct_method = settings.quality >= 96 ? JDCT_ISLOW : JDCT_IFAST;  // as encode()
+  cinfo.restart_interval = 0;
+  cinfo.restart_in_rows = settings.restart_mcu_rows;
+  jpeg_start_compress(&cinfo, TRUE);
+
+  // Row r of a plane (rows past the end repeat the last, as libjpeg pads an image), padded into
+  // `slot` of the scratch rows when the width needs it.
+  const auto row = [&](const std::uint8_t* plane, int plane_width, int plane_height, int r, int padded_width,
+                       std::uint8_t* slot) -> JSAMPROW {
+    const std::uint8_t* source = plane + static_cast<std::size_t>(std::min(r, plane_height - 1)) * plane_width;
+    if (!pad_columns) return const_cast<JSAMPROW>(source);
+    std::copy_n(source, plane_width, slot);
+    std::fill(slot + plane_width, slot + padded_width, source[plane_width - 1]);
+    return slot;
+  };
+  JSAMPROW y_rows[16], cb_rows[8], cr_rows[8];
+  JSAMPARRAY planes[3] = {y_rows, cb_rows, cr_rows};
+  std::uint8_t* const scratch_y = c.padded_rows.data();
+  std::uint8_t* const scratch_cb = scratch_y + static_cast<std::size_t>(lines) * luma_padded;
+  std::uint8_t* const scratch_cr = scratch_cb + static_cast<std::size_t>(8) * chroma_padded;
+  while (cinfo.next_scanline < cinfo.image_height) {
+    const int y0 = static_cast<int>(cinfo.next_scanline);
+    for (int i = 0; i < lines; ++i)
+      y_rows[i] = row(image.y.data(), width, height, y0 + i, luma_padded,
+                      scratch_y + static_cast<std::size_t>(i) * luma_padded);
+    if (!gray_out) {
+      for (int i = 0; i < 8; ++i) {
+        const std::size_t at = static_cast<std::size_t>(i) * chroma_padded;
+        cb_rows[i] = row(image.u.data(), chroma_width, chroma_height, y0 / 2 + i, chroma_padded, scratch_cb + at);
+        cr_rows[i] = row(image.v.data(), chroma_width, chroma_height, y0 / 2 + i, chroma_padded, scratch_cr + at);
+      }
+    }
+    jpeg_write_raw_data(&cinfo, planes, static_cast<JDIMENSION>(lines));
   }
   jpeg_finish_compress(&cinfo);
   return true;

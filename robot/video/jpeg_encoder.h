@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "robot/cameras/yuv420_image.h"
 #include "robot/link/chroma_subsampling.h"
 
 namespace telesphere::robot::video {
@@ -41,6 +42,15 @@ class JpegEncoder {
                  const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
                  std::string* error);
 
+  /// Encodes YUV 4:2:0 planes (JFIF YCbCr, as cameras::DebayerToYuv420 makes them) as they are:
+  /// no colour conversion, no downsampling (libjpeg's raw-data path, restart markers as
+  /// encodeRgb). `settings.subsampling` must be 4:2:0, or gray (the Y plane alone); 4:2:2 and
+  /// 4:4:4 cannot come from 4:2:0 planes and are refused. Sizes that are not multiples of 16 are
+  /// padded by repeating the last row and column, as libjpeg pads an RGB image; the padding rows
+  /// are kept between calls (nothing allocated per frame once the size is known).
+  bool encodeYuv420(const cameras::Yuv420Image& image, const JpegSettings& settings,
+                    std::vector<std::uint8_t>& out_jpeg, std::string* error);
+
   /// Encodes an 8-bit single-channel image (a Mono8 camera) as a greyscale JPEG; `settings`'
   /// subsampling is ignored.
   bool encodeGray(const std::uint8_t* gray, int width, int height, int stride,
@@ -51,6 +61,8 @@ class JpegEncoder {
   bool encode(const std::uint8_t* pixels, int width, int height, int stride, int channels,
               const JpegSettings& settings, std::vector<std::uint8_t>& out_jpeg,
               std::string* error);
+  /// The checks every encode makes before libjpeg sees the image.
+  static bool checkInput(int width, int height, const JpegSettings& settings, std::string* error);
 
   struct Compressor;
   std::unique_ptr<Compressor> compressor_;
