@@ -3,16 +3,14 @@
 ///        (a deterministic synthetic scene, or --image PNG/PPM/BMP): encode and decode (to YUV
 ///        planes) frames/s per core, next to `tjbench` on the same image; decode frames/s of the
 ///        DecodePool on all cores against the goal of 2 cameras × 45 Hz; and the quality knob
-///        (50…95, 4:2:0 vs 4:4:4) against size, PSNR and encode/decode time.
-#include <sys/resource.h>
+///        (50…95, 4:2:0 vs 4:4:4) against size, PSNR and encode/decode time; a camera's Bayer
+///        mosaic to JPEG against the encoder's floor (bayer_to_jpeg_figures.h).
 #include <turbojpeg.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
-#include <ctime>
 #include <filesystem>
 #include <future>
 #include <optional>
@@ -24,7 +22,9 @@
 
 #include "robot/video/jpeg_encoder.h"
 #include "shaders/png_io.h"
+#include "app/bench/bayer_to_jpeg_figures.h"
 #include "app/bench/bench_table.h"
+#include "app/bench/cpu_time.h"
 #include "app/bench/bench_topic.h"
 #include "xr/video/decode_pool.h"
 #include "xr/video/jpeg_decoder.h"
@@ -159,38 +159,6 @@ std::optional<CodecImage> loadImage(const std::string& path, std::string* error)
   return img;
 }
 
-double threadCpuSeconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-double processCpuSeconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-double wallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-/// Frames per second of `reps` calls of f on this thread: by wall time and by this thread's CPU
-/// time (the latter is what one core does when the machine is shared).
-struct Rate {
-  double fps_wall = 0, fps_cpu = 0, ms_per_frame_cpu = 0;
-};
-
-template <typename F>
-Rate measure(int reps, F f) {
-  f();  // warm-up: buffers sized, caches primed
-  const double w0 = wallSeconds(), c0 = threadCpuSeconds();
-  for (int i = 0; i < reps; ++i) f();
-  const double wall = wallSeconds() - w0, cpu = threadCpuSeconds() - c0;
-  return {reps / wall, reps / cpu, 1e3 * cpu / reps};
-}
-
 robot::video::JpegSettings settingsFor(int quality, bool chroma444) {
   robot::video::JpegSettings s;
   s.quality = quality;
@@ -298,10 +266,10 @@ nlohmann::json runCodec(const BenchContext& ctx) {
     if (!encoder.encodeRgb(img.rgb.data(), img.width, img.height, img.width * 3, settingsFor(quality, c444), jpeg, &error))
       throw std::runtime_error("codec: encode: " + error);
   };
-  const Rate enc = measure(reps, [&] { encode(90, false); });
+  const Rate enc = measureRate(reps, [&] { encode(90, false); });
   const std::vector<std::uint8_t> jpeg90 = jpeg;
   xr::render::YuvPlanes planes;
-  const Rate dec = measure(reps, [&] {
+  const Rate dec = measureRate(reps, [&] {
     if (decoder.decode(jpeg90, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
       throw std::runtime_error("codec: decode: " + error);
   });
@@ -358,8 +326,8 @@ nlohmann::json runCodec(const BenchContext& ctx) {
   nlohmann::json knob_json = nlohmann::json::array();
   for (bool c444 : {false, true}) {
     for (int q : qualities) {
-      const Rate e = measure(qreps, [&] { encode(q, c444); });
-      const Rate d = measure(qreps, [&] {
+      const Rate e = measureRate(qreps, [&] { encode(q, c444); });
+      const Rate d = measureRate(qreps, [&] {
         if (decoder.decode(jpeg, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
           throw std::runtime_error("codec: decode: " + error);
       });
@@ -392,11 +360,11 @@ nlohmann::json runCodec(const BenchContext& ctx) {
   for (int every : {0, 1, 2, 4, 8}) {
     robot::video::JpegSettings s = settingsFor(90, false);
     s.restart_mcu_rows = every;
-    const Rate e = measure(qreps, [&] {
+    const Rate e = measureRate(qreps, [&] {
       if (!encoder.encodeRgb(img.rgb.data(), img.width, img.height, img.width * 3, s, jpeg, &error))
         throw std::runtime_error("codec: encode: " + error);
     });
-    const Rate d = measure(qreps, [&] {
+    const Rate d = measureRate(qreps, [&] {
       if (decoder.decode(jpeg, img.width, img.height, 8192, planes, &error) != xr::video::JpegDecodeError::kNone)
         throw std::runtime_error("codec: decode: " + error);
     });
@@ -415,6 +383,9 @@ nlohmann::json runCodec(const BenchContext& ctx) {
   out << "\nRestart markers (q90 4:2:0; a band is what one lost packet costs the Internet link):\n";
   restarts.print(out);
 
+  // A camera's raw mosaic to JPEG, through planes and through RGB, against the floor (#34).
+  const nlohmann::json bayer = bayerToJpegFigures(ctx, img.rgb.data(), img.width, img.height, img.source);
+
   nlohmann::json j = {{"image", {{"width", img.width}, {"height", img.height}, {"source", img.source}}},
                       {"cores", cores},
                       {"jpeg_bytes_q90_420", jpeg90.size()},
@@ -428,6 +399,7 @@ nlohmann::json runCodec(const BenchContext& ctx) {
                       {"goal_decode_fps", kCodecGoalFps},
                       {"quality_table", knob_json},
                       {"restart_table", restart_json}};
+  j.update(bayer);
   if (tj) {
     j["tjbench"] = {{"compress_fps", tj->compress_fps},
                     {"decompress_to_yuv_fps", tj->decompress_yuv_fps},
@@ -445,9 +417,15 @@ nlohmann::json runCodec(const BenchContext& ctx) {
 
 TELESPHERE_BENCH_TOPIC(codec, telesphere::bench::BenchTopic{
                                   "codec",
-                                  "JPEG encode/decode fps per core vs tjbench, decode pool fps, quality knob",
+                                  "JPEG encode/decode fps per core vs tjbench, decode pool fps, quality knob, Bayer to JPEG vs the floor",
                                   [](CLI::App& sub) {
                                     sub.add_option("--image", telesphere::bench::codecImagePath(),
                                                    "image to use (PNG, PPM, BMP) instead of the synthetic 4K scene");
+                                    auto& bayer = telesphere::bench::bayerInputOptions();
+                                    sub.add_option("--bayer", bayer.raw_path,
+                                                   "raw 8-bit Bayer mosaic for the Bayer -> JPEG figures (needs --size)");
+                                    sub.add_option("--size", bayer.size, "WxH of the --bayer file");
+                                    sub.add_option("--pattern", bayer.pattern,
+                                                   "colour filter: RGGB, BGGR, GRBG or GBRG (default RGGB)");
                                   },
                                   telesphere::bench::runCodec});

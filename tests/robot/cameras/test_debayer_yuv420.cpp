@@ -114,7 +114,9 @@ TEST(DebayerToYuv420, RandomMosaicsOfEveryLayoutAndSizeMatchTheReference) {
   std::mt19937 rng(20261127);
   for (cameras::PixelFormat layout : kLayouts)
     for (auto [w, h, stride] : {std::array{2, 2, 2}, std::array{3, 2, 3}, std::array{2, 3, 5}, std::array{3, 3, 3},
-                                std::array{5, 7, 8}, std::array{64, 48, 64}, std::array{67, 35, 80}, std::array{33, 64, 33}})
+                                std::array{5, 7, 8}, std::array{64, 48, 64}, std::array{67, 35, 80}, std::array{33, 64, 33},
+                                // rows long enough for the vector loops of every width (AVX2's 32 bytes) and their tails
+                                std::array{517, 9, 523}, std::array{1026, 4, 1026}})
       expectMatchesReference(randomMosaic(rng, w, h, stride), w, h, stride, layout);
 }
 
