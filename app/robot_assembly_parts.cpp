@@ -169,6 +169,9 @@ bool makeCameras(RobotAssembly::Parts& p, int* exit_code, std::string* error) {
       robot::cameras::AravisCameraOptions options;
       options.device_id = *id;
       options.frame_rate_hz = o.fps;
+      // A Bayer camera's raw mosaic goes to the encoder, which debayers it on its side's thread
+      // straight into the planes it compresses (#34): no RGB image on the camera's thread.
+      options.debayer = false;
       *out = std::make_unique<robot::cameras::AravisCamera>(options);
     }
   }

@@ -45,14 +45,10 @@ Mosaic sampleMosaic(const std::uint8_t* rgb, int width, int height, const std::s
                     const std::string& source) {
   Mosaic m{width, height, layoutOf(pattern), std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height),
            source + ", sampled through a " + pattern + " filter"};
-  const int red_x = (m.layout == PixelFormat::kBayerGR8 || m.layout == PixelFormat::kBayerBG8) ? 1 : 0;
-  const int red_y = (m.layout == PixelFormat::kBayerGB8 || m.layout == PixelFormat::kBayerBG8) ? 1 : 0;
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      const bool red_column = (x & 1) == red_x, red_row = (y & 1) == red_y;
-      const int channel = red_column && red_row ? 0 : (!red_column && !red_row ? 2 : 1);
-      m.samples[static_cast<std::size_t>(y) * width + x] = rgb[(static_cast<std::size_t>(y) * width + x) * 3 + channel];
-    }
+    for (int x = 0; x < width; ++x)
+      m.samples[static_cast<std::size_t>(y) * width + x] =
+          rgb[(static_cast<std::size_t>(y) * width + x) * 3 + robot::cameras::bayerChannelAt(m.layout, x, y)];
   return m;
 }
 

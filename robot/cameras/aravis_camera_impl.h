@@ -23,6 +23,7 @@
 
 #include "robot/clock/clock.h"
 #include "robot/cameras/debayer.h"
+#include "robot/cameras/reusable_buffers.h"
 #include "robot/cameras/frame_id_tracker.h"
 
 #include <memory>
@@ -171,6 +172,7 @@ struct AravisCamera::Impl {
   std::int64_t last_buffer_ns = 0;
   std::int64_t last_drop_log_ns = 0;
   std::uint64_t drops_since_log = 0;
+  ReusableBuffers frame_buffers;  ///< the frames' pixels, reused once nobody holds a frame
 
   std::string label() const {
     std::lock_guard lock(mutex);

@@ -91,7 +91,7 @@ void AravisCamera::Impl::processBuffer(ArvBuffer* buffer) {
   frame.width = width;
   frame.height = height;
 
-  auto pixels = std::make_shared<std::vector<std::uint8_t>>();
+  auto pixels = frame_buffers.acquire();
   if (isBayer(*format) && options.debayer) {
     std::string error;
     if (!debayerBilinear(data, width, height, stride, *format, *pixels, &error)) return dropBuffer("DEBAYER_FAILED");

@@ -59,9 +59,7 @@ bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_str
   if (src_stride < width)
     return fail("stride " + std::to_string(src_stride) + " bytes is less than the width " + std::to_string(width));
 
-  // Position of the red sample in the top-left 2×2 cell; blue sits diagonally opposite.
-  const int red_x = (layout == PixelFormat::kBayerGR8 || layout == PixelFormat::kBayerBG8) ? 1 : 0;
-  const int red_y = (layout == PixelFormat::kBayerGB8 || layout == PixelFormat::kBayerBG8) ? 1 : 0;
+  const int red_x = redSiteOf(layout).x, red_y = redSiteOf(layout).y;
 
   out_rgb.resize(static_cast<std::size_t>(width) * height * 3);
   for (int y = 0; y < height; ++y) {

@@ -17,6 +17,23 @@ constexpr bool isBayer(PixelFormat format) {
          format == PixelFormat::kBayerGB8 || format == PixelFormat::kBayerBG8;
 }
 
+/// Where a Bayer layout's red sample sits in its 2×2 cell (column x, row y; 0 or 1): BayerRG8
+/// (0, 0), BayerGR8 (1, 0), BayerGB8 (0, 1), BayerBG8 (1, 1). Blue sits diagonally opposite.
+struct BayerRedSite {
+  int x = 0, y = 0;
+};
+constexpr BayerRedSite redSiteOf(PixelFormat layout) {
+  return {(layout == PixelFormat::kBayerGR8 || layout == PixelFormat::kBayerBG8) ? 1 : 0,
+          (layout == PixelFormat::kBayerGB8 || layout == PixelFormat::kBayerBG8) ? 1 : 0};
+}
+
+/// The colour a Bayer layout samples at pixel (x, y): 0 red, 1 green, 2 blue.
+constexpr int bayerChannelAt(PixelFormat layout, int x, int y) {
+  const BayerRedSite red = redSiteOf(layout);
+  const bool red_column = (x & 1) == red.x, red_row = (y & 1) == red.y;
+  return red_column && red_row ? 0 : (!red_column && !red_row ? 2 : 1);
+}
+
 /// Bilinear demosaic of one 8-bit Bayer image into packed RGB8 (stride width·3, no padding).
 ///
 /// `layout` names the colours of the top-left 2×2 cell (BayerRG8: R at (0,0), G at (1,0) and

@@ -215,8 +215,7 @@ bool DebayerToYuv420::convert(const std::uint8_t* src, int width, int height, in
   if (src_stride < width)
     return fail("stride " + std::to_string(src_stride) + " bytes is less than the width " + std::to_string(width));
 
-  const int red_x = (layout == PixelFormat::kBayerGR8 || layout == PixelFormat::kBayerBG8) ? 1 : 0;
-  const int red_y = (layout == PixelFormat::kBayerGB8 || layout == PixelFormat::kBayerBG8) ? 1 : 0;
+  const int red_x = redSiteOf(layout).x, red_y = redSiteOf(layout).y;
   out.resize(width, height);
   const int n = (width + 1) / 2;  // pixel pairs per row = chroma samples per row
   const std::size_t split_size = static_cast<std::size_t>(n) + 2;

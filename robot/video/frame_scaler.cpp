@@ -4,6 +4,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "robot/cameras/debayer.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,6 +23,18 @@ std::pair<int, int> scaledSize(int width, int height, double scale) {
 cameras::CameraFrame scaleFrame(const cameras::CameraFrame& frame, double scale) {
   const auto [w, h] = scaledSize(frame.width, frame.height, scale);
   if ((w == frame.width && h == frame.height) || !frame.pixels) return frame;
+  if (cameras::isBayer(frame.format)) {
+    // A mosaic cannot be resampled as it is: debayered first, then scaled as an RGB image.
+    cameras::CameraFrame rgb = frame;
+    auto pixels = std::make_shared<std::vector<std::uint8_t>>();
+    if (!cameras::debayerBilinear(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes, frame.format,
+                                  *pixels, nullptr))
+      return frame;  // smaller than one 2 × 2 cell: sent as it is (the encoder says why it cannot)
+    rgb.format = cameras::PixelFormat::kRgb8;
+    rgb.stride_bytes = frame.width * 3;
+    rgb.pixels = std::move(pixels);
+    return scaleFrame(rgb, scale);
+  }
   const int channels = frame.format == cameras::PixelFormat::kMono8 ? 1 : 3;
   const int type = channels == 1 ? CV_8UC1 : CV_8UC3;
   const cv::Mat source(frame.height, frame.width, type, const_cast<std::uint8_t*>(frame.pixels->data()),

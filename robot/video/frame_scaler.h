@@ -13,7 +13,8 @@ namespace telesphere::robot::video {
 std::pair<int, int> scaledSize(int width, int height, double scale);
 
 /// `frame` (RGB8 or Mono8) resampled to scaledSize; the frame itself when scale is 1 (no copy).
-/// Stamps, sequence and exposure are kept.
+/// A Bayer mosaic is debayered (bilinear) and returned as a scaled RGB8 frame. Stamps, sequence
+/// and exposure are kept.
 cameras::CameraFrame scaleFrame(const cameras::CameraFrame& frame, double scale);
 
 }  // namespace telesphere::robot::video

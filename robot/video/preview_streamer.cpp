@@ -2,22 +2,60 @@
 /// @brief PreviewStreamer: newest pair → box-filtered reduction → small JPEGs → link.
 #include "robot/video/preview_streamer.h"
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 
+#include "robot/cameras/debayer.h"
 #include "robot/video/jpeg_encoder.h"
 
 namespace telesphere::robot::video {
 
+namespace {
+
+/// A Bayer mosaic in blocks of an even size k: each block holds k²/4 red, k²/2 green and k²/4
+/// blue samples, whose means are the preview pixel's colour (no demosaicing needed).
+std::optional<PreviewImage> reduceBayerForPreview(const cameras::CameraFrame& frame, int k) {
+  PreviewImage out;
+  out.width = frame.width / k;
+  out.height = frame.height / k;
+  out.channels = 3;
+  if (out.width < 1 || out.height < 1) return std::nullopt;
+  out.pixels.resize(std::size_t(out.width) * std::size_t(out.height) * 3u);
+  const std::uint32_t quarter = std::uint32_t(k) * std::uint32_t(k) / 4;  // red (blue) samples per block
+  std::vector<std::uint32_t> sums(std::size_t(out.width) * 3u);
+  for (int y = 0; y < out.height; ++y) {
+    std::fill(sums.begin(), sums.end(), 0u);
+    for (int dy = 0; dy < k; ++dy) {
+      const int row_y = y * k + dy;
+      const std::uint8_t* row = frame.pixels->data() + std::size_t(row_y) * std::size_t(frame.stride_bytes);
+      for (int x = 0; x < out.width; ++x)
+        for (int dx = 0; dx < k; ++dx) {
+          const int column = x * k + dx;
+          sums[std::size_t(x * 3 + cameras::bayerChannelAt(frame.format, column, row_y))] += row[column];
+        }
+    }
+    std::uint8_t* dst = out.pixels.data() + std::size_t(y) * std::size_t(out.width) * 3u;
+    for (int x = 0; x < out.width; ++x) {
+      dst[3 * x] = std::uint8_t((sums[std::size_t(3 * x)] + quarter / 2) / quarter);
+      dst[3 * x + 1] = std::uint8_t((sums[std::size_t(3 * x + 1)] + quarter) / (2 * quarter));
+      dst[3 * x + 2] = std::uint8_t((sums[std::size_t(3 * x + 2)] + quarter / 2) / quarter);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::optional<PreviewImage> reduceForPreview(const cameras::CameraFrame& frame, int max_width) {
   if (max_width < 1 || frame.width < 1 || frame.height < 1 || !frame.pixels) return std::nullopt;
-  if (frame.format != cameras::PixelFormat::kRgb8 && frame.format != cameras::PixelFormat::kMono8) return std::nullopt;
   const int channels = cameras::bytesPerPixel(frame.format);
   if (frame.stride_bytes < frame.width * channels ||
       frame.pixels->size() < std::size_t(frame.stride_bytes) * std::size_t(frame.height - 1) +
                                  std::size_t(frame.width * channels))
     return std::nullopt;
   const int k = (frame.width + max_width - 1) / max_width;
+  if (cameras::isBayer(frame.format)) return reduceBayerForPreview(frame, k + (k & 1));  // whole Bayer cells
   PreviewImage out;
   out.width = frame.width / k;
   out.height = frame.height / k;

@@ -36,8 +36,9 @@ struct PreviewImage {
 
 /// Reduces an RGB8 or Mono8 frame by the smallest integer factor k that makes it at most
 /// `max_width` wide (k = ceil(width / max_width)): each output pixel is the rounded mean of a
-/// k×k block; a last partial row or column of blocks is dropped. Nothing for other formats,
-/// empty frames or max_width < 1.
+/// k×k block; a last partial row or column of blocks is dropped. A Bayer mosaic (#34: cameras
+/// send their raw mosaic) becomes RGB with k rounded up to even, each colour the rounded mean of
+/// its samples in the block. Nothing for empty frames or max_width < 1.
 std::optional<PreviewImage> reduceForPreview(const cameras::CameraFrame& frame, int max_width);
 
 class PreviewStreamer {

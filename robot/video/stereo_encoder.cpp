@@ -8,49 +8,48 @@
 #include <mutex>
 #include <thread>
 
+#include "robot/cameras/debayer.h"
+#include "robot/cameras/debayer_yuv420.h"
+#include "robot/cameras/reusable_buffers.h"
+
 namespace telesphere::robot::video {
 namespace stereo_encoder_detail {  // named: Impl's members use it (-Wsubobject-linkage)
 
-/// Output buffers of one side: reuses a buffer nobody else holds any more.
-class StereoEncoderBufferPool {
- public:
-  std::shared_ptr<std::vector<std::uint8_t>> acquire() {
-    for (auto& buffer : buffers_) {
-      if (buffer.use_count() == 1) {
-        // The last other holder (the link's send) released it; order its reads before our writes.
-        std::atomic_thread_fence(std::memory_order_acquire);
-        return buffer;
-      }
-    }
-    if (buffers_.size() < kMaxBuffers) return buffers_.emplace_back(std::make_shared<std::vector<std::uint8_t>>());
-    return std::make_shared<std::vector<std::uint8_t>>();  // all in flight: a fresh one
-  }
-
- private:
-  static constexpr std::size_t kMaxBuffers = 8;
-  std::vector<std::shared_ptr<std::vector<std::uint8_t>>> buffers_;
+/// What one side keeps between frames: its encoder, and for a camera that sends its raw Bayer
+/// mosaic the planes (or, for 4:4:4 and 4:2:2, the RGB image) it is debayered into.
+struct StereoEncoderSide {
+  JpegEncoder jpeg;
+  cameras::ReusableBuffers pool;  ///< JPEG buffers, reused once the link has sent them
+  cameras::DebayerToYuv420 to_planes;
+  cameras::Yuv420Image planes;
+  std::vector<std::uint8_t> rgb;
 };
 
-bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const clock::Clock& clock,
-                 const cameras::CameraFrame& frame, const JpegSettings& settings, EncodedImage& out,
-                 std::string* error) {
+bool encodeFrame(StereoEncoderSide& side, const clock::Clock& clock, const cameras::CameraFrame& frame,
+                 const JpegSettings& settings, EncodedImage& out, std::string* error) {
   if (!frame.pixels || frame.width <= 0 || frame.height <= 0 ||
       frame.pixels->size() < static_cast<std::size_t>(frame.stride_bytes) * frame.height) {
     *error = "frame " + std::to_string(frame.sequence) + " has no or too few pixel bytes";
     return false;
   }
   const std::int64_t start_ns = clock.nowNs();
-  auto buffer = pool.acquire();
+  auto buffer = side.pool.acquire();
   bool ok = false;
+  const std::uint8_t* pixels = frame.pixels->data();
   if (frame.format == cameras::PixelFormat::kRgb8) {
-    ok = encoder.encodeRgb(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
-                           settings, *buffer, error);
+    ok = side.jpeg.encodeRgb(pixels, frame.width, frame.height, frame.stride_bytes, settings, *buffer, error);
   } else if (frame.format == cameras::PixelFormat::kMono8) {
-    ok = encoder.encodeGray(frame.pixels->data(), frame.width, frame.height, frame.stride_bytes,
-                            settings, *buffer, error);
+    ok = side.jpeg.encodeGray(pixels, frame.width, frame.height, frame.stride_bytes, settings, *buffer, error);
+  } else if (settings.subsampling == ChromaSubsampling::k420 || settings.subsampling == ChromaSubsampling::kGray) {
+    // A raw mosaic straight into the planes the encoder compresses (no RGB image, #34).
+    ok = side.to_planes.convert(pixels, frame.width, frame.height, frame.stride_bytes, frame.format, side.planes,
+                                error) &&
+         side.jpeg.encodeYuv420(side.planes, settings, *buffer, error);
   } else {
-    *error = std::string("cannot encode pixel format ") + cameras::pixelFormatName(frame.format) +
-             " (debayer to RGB8 first)";
+    // 4:4:4 and 4:2:2 need chroma at full (or half) width: through an RGB image, slower.
+    ok = cameras::debayerBilinear(pixels, frame.width, frame.height, frame.stride_bytes, frame.format, side.rgb,
+                                  error) &&
+         side.jpeg.encodeRgb(side.rgb.data(), frame.width, frame.height, frame.width * 3, settings, *buffer, error);
   }
   if (!ok) return false;
   out.encoded_ns = clock.nowNs();
@@ -62,15 +61,14 @@ bool encodeFrame(JpegEncoder& encoder, StereoEncoderBufferPool& pool, const cloc
 }  // namespace stereo_encoder_detail
 
 using stereo_encoder_detail::encodeFrame;
-using stereo_encoder_detail::StereoEncoderBufferPool;
+using stereo_encoder_detail::StereoEncoderSide;
 
 struct StereoEncoder::Impl {
   const clock::Clock& clock;
   JpegSettings settings;
   mutable std::mutex settings_mutex;
 
-  JpegEncoder left_encoder, right_encoder;
-  StereoEncoderBufferPool left_pool, right_pool;
+  StereoEncoderSide left, right;
 
   // Hand-off to the worker: one job at a time.
   std::mutex mutex;
@@ -96,7 +94,7 @@ struct StereoEncoder::Impl {
       EncodedImage* out = job_out;
       lock.unlock();
       std::string error;
-      const bool ok = encodeFrame(right_encoder, right_pool, clock, frame, s, *out, &error);
+      const bool ok = encodeFrame(right, clock, frame, s, *out, &error);
       lock.lock();
       job_ok = ok;
       job_error = std::move(error);
@@ -146,7 +144,7 @@ bool StereoEncoder::encode(const cameras::CameraFrame& left, const cameras::Came
   impl_->cv.notify_all();
   std::string left_error;
   const bool left_ok =
-      encodeFrame(impl_->left_encoder, impl_->left_pool, impl_->clock, left, s, out.left, &left_error);
+      encodeFrame(impl_->left, impl_->clock, left, s, out.left, &left_error);
   std::unique_lock lock(impl_->mutex);
   impl_->cv.wait(lock, [this] { return impl_->job_done; });
   impl_->job = nullptr;

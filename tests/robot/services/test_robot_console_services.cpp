@@ -17,6 +17,7 @@
 #include "robot/link/media/media_sender.h"
 #include "robot/video/preview_streamer.h"
 #include "robot/cameras/replay_camera.h"
+#include "robot/cameras/debayer.h"
 #include "robot/services/robot_control.h"
 #include "robot/services/robot_health_reporter.h"
 #include "robot/clock/sim_clock.h"
@@ -65,13 +66,51 @@ TEST(PreviewReduction, IsTheRoundedBlockMeanAndRefusesWhatItCannotReduce) {
         }
   }
   EXPECT_TRUE(video::reduceForPreview(randomFrame(320, 10, cameras::PixelFormat::kRgb8, 1), 320)->width == 320);  // k = 1
-  EXPECT_FALSE(video::reduceForPreview(randomFrame(64, 64, cameras::PixelFormat::kBayerRG8, 1), 32));
   EXPECT_FALSE(video::reduceForPreview(randomFrame(64, 64, cameras::PixelFormat::kRgb8, 1), 0));
   cameras::CameraFrame empty;
   EXPECT_FALSE(video::reduceForPreview(empty, 32));
   cameras::CameraFrame short_buffer = randomFrame(64, 64, cameras::PixelFormat::kRgb8, 1);
   short_buffer.height = 100;  // claims more rows than it has
   EXPECT_FALSE(video::reduceForPreview(short_buffer, 32));
+}
+
+TEST(PreviewReduction, ABayerMosaicBecomesRgbInWholeCells) {
+  // Cameras send their raw mosaic (#34): each preview pixel is the mean of each colour's samples
+  // in its block, the block size rounded up to even so every block holds whole 2 x 2 cells.
+  for (cameras::PixelFormat layout : {cameras::PixelFormat::kBayerRG8, cameras::PixelFormat::kBayerGR8,
+                                      cameras::PixelFormat::kBayerGB8, cameras::PixelFormat::kBayerBG8}) {
+    const cameras::CameraFrame f = randomFrame(1003, 517, layout, 5);
+    const auto img = video::reduceForPreview(f, 400);  // ceil(1003 / 400) = 3, rounded up to 4
+    ASSERT_TRUE(img) << cameras::pixelFormatName(layout);
+    const int k = 4;
+    EXPECT_EQ(img->width, 1003 / k);
+    EXPECT_EQ(img->height, 517 / k);
+    EXPECT_EQ(img->channels, 3);
+    for (int y = 0; y < img->height; y += 5)
+      for (int x = 0; x < img->width; x += 9) {
+        unsigned sum[3] = {0, 0, 0}, count[3] = {0, 0, 0};
+        for (int dy = 0; dy < k; ++dy)
+          for (int dx = 0; dx < k; ++dx) {
+            const int c = cameras::bayerChannelAt(layout, x * k + dx, y * k + dy);
+            sum[c] += (*f.pixels)[std::size_t((y * k + dy) * f.stride_bytes + x * k + dx)];
+            ++count[c];
+          }
+        for (int c = 0; c < 3; ++c)
+          EXPECT_EQ(img->pixels[std::size_t((y * img->width + x) * 3 + c)], (sum[c] + count[c] / 2) / count[c])
+              << cameras::pixelFormatName(layout) << " " << x << "," << y << " channel " << c;
+      }
+    // A uniform colour seen through the filter comes back as that colour.
+    cameras::CameraFrame uniform = f;
+    auto samples = std::make_shared<std::vector<std::uint8_t>>(f.pixels->size());
+    const std::uint8_t colour[3] = {200, 100, 50};
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x)
+        (*samples)[std::size_t(y * f.stride_bytes + x)] = colour[cameras::bayerChannelAt(layout, x, y)];
+    uniform.pixels = samples;
+    const auto flat = video::reduceForPreview(uniform, 100);
+    ASSERT_TRUE(flat);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(flat->pixels[std::size_t(c)], colour[c]) << cameras::pixelFormatName(layout);
+  }
 }
 
 using telesphere::test::smoothFrame;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief scaleFrame: sizes even and never below 16 px, the full-size frame passed through
 ///        untouched, area resampling that keeps a flat image flat and a ramp's mean, RGB and mono,
-///        stamps kept.
+///        stamps kept; a Bayer mosaic scaled as the RGB image it shows.
 #include <gtest/gtest.h>
 
 #include <numeric>
@@ -59,6 +59,25 @@ TEST(FrameScaler, AreaResamplingKeepsTheImagesMeanAndTheStamps) {
     const auto odd = video::scaleFrame(full, 0.35);
     EXPECT_NEAR(mean(odd), mean(full), 1.0);
     // The ramp stays a ramp: left edge dark, right edge bright.
+    EXPECT_LT((*half.pixels)[0], 5);
+    EXPECT_GT((*half.pixels)[static_cast<std::size_t>(half.stride_bytes) - 1], 250);
+  }
+}
+
+TEST(FrameScaler, ABayerMosaicIsScaledAsTheRgbImageItShows) {
+  // A camera's raw mosaic (#34) of a grey ramp: the scaled frame is RGB, the ramp and its mean kept,
+  // the stamps too; at scale 1 the mosaic passes untouched.
+  for (auto layout : {cameras::PixelFormat::kBayerRG8, cameras::PixelFormat::kBayerBG8}) {
+    cameras::CameraFrame mosaic = rampFrame(640, 360, cameras::PixelFormat::kMono8);
+    mosaic.format = layout;  // a grey ramp: every colour's samples equal
+    EXPECT_EQ(video::scaleFrame(mosaic, 1.0).pixels, mosaic.pixels);
+    const auto half = video::scaleFrame(mosaic, 0.5);
+    EXPECT_EQ(half.format, cameras::PixelFormat::kRgb8);
+    EXPECT_EQ(half.width, 320);
+    EXPECT_EQ(half.height, 180);
+    EXPECT_EQ(half.stride_bytes, 320 * 3);
+    EXPECT_EQ(half.sequence, 7u);
+    EXPECT_NEAR(mean(half), mean(mosaic), 0.5);
     EXPECT_LT((*half.pixels)[0], 5);
     EXPECT_GT((*half.pixels)[static_cast<std::size_t>(half.stride_bytes) - 1], 250);
   }

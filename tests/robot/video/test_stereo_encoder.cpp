@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: MIT
-/// @brief StereoEncoder: both sides encode (RGB8 and Mono8), decode back close to the input,
-///        formats it cannot encode are refused with the side named, settings change live, and
-///        output buffers are reused only once nobody else holds them.
+/// @brief StereoEncoder: both sides encode (RGB8, Mono8 and the four Bayer mosaics, #34), decode
+///        back close to the input, frames it cannot encode are refused with the side named,
+///        settings change live, and output buffers are reused only once nobody else holds them.
 #include <gtest/gtest.h>
 #include <turbojpeg.h>
 
 #include <cmath>
 #include <random>
 
+#include "robot/cameras/debayer.h"
+#include "robot/cameras/debayer_yuv420.h"
 #include "robot/video/stereo_encoder.h"
 
 namespace telesphere::robot {
@@ -65,17 +67,83 @@ TEST(StereoEncoder, EncodesBothSidesAndTheyDecodeBack) {
   }
 }
 
-TEST(StereoEncoder, RefusesBayerAndEmptyFramesNamingTheSide) {
+/// What a camera with this colour filter sends of the RGB frame's scene.
+cameras::CameraFrame mosaicOf(const cameras::CameraFrame& rgb, cameras::PixelFormat layout) {
+  cameras::CameraFrame f = rgb;
+  f.format = layout;
+  f.stride_bytes = rgb.width;
+  auto samples = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(rgb.width) * rgb.height);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x)
+      (*samples)[static_cast<std::size_t>(y) * rgb.width + x] =
+          (*rgb.pixels)[static_cast<std::size_t>(y) * rgb.stride_bytes + 3 * x + cameras::bayerChannelAt(layout, x, y)];
+  f.pixels = samples;
+  return f;
+}
+
+/// The mosaic debayered to RGB (what a JPEG of it should decode close to).
+cameras::CameraFrame debayered(const cameras::CameraFrame& mosaic) {
+  cameras::CameraFrame f = mosaic;
+  auto rgb = std::make_shared<std::vector<std::uint8_t>>();
+  std::string error;
+  EXPECT_TRUE(cameras::debayerBilinear(mosaic.pixels->data(), mosaic.width, mosaic.height, mosaic.stride_bytes,
+                                       mosaic.format, *rgb, &error)) << error;
+  f.format = cameras::PixelFormat::kRgb8;
+  f.stride_bytes = mosaic.width * 3;
+  f.pixels = rgb;
+  return f;
+}
+
+TEST(StereoEncoder, BayerMosaicsEncodeThroughPlanesOnEachSide) {
+  // Each layout, each side its own scene: the JPEG decodes close to the debayered image, the
+  // sides are not swapped, and at 4:2:0 it is exactly DebayerToYuv420 + encodeYuv420's JPEG.
+  clock::SteadyClock clock;
+  video::StereoEncoder encoder(clock, {90, video::ChromaSubsampling::k420});
+  for (cameras::PixelFormat layout : {cameras::PixelFormat::kBayerRG8, cameras::PixelFormat::kBayerGR8,
+                                      cameras::PixelFormat::kBayerGB8, cameras::PixelFormat::kBayerBG8}) {
+    const cameras::CameraFrame left = mosaicOf(testFrame(320, 240, cameras::PixelFormat::kRgb8, 1), layout);
+    const cameras::CameraFrame right = mosaicOf(testFrame(320, 240, cameras::PixelFormat::kRgb8, 2), layout);
+    video::EncodedPair out;
+    std::string error;
+    ASSERT_TRUE(encoder.encode(left, right, out, &error)) << cameras::pixelFormatName(layout) << ": " << error;
+    EXPECT_LT(rmsAfterRoundTrip(debayered(left), *out.left.jpeg), 4.0) << cameras::pixelFormatName(layout);
+    EXPECT_LT(rmsAfterRoundTrip(debayered(right), *out.right.jpeg), 4.0) << cameras::pixelFormatName(layout);
+    EXPECT_GT(rmsAfterRoundTrip(debayered(right), *out.left.jpeg), 20.0) << cameras::pixelFormatName(layout);
+
+    cameras::DebayerToYuv420 to_planes;
+    cameras::Yuv420Image planes;
+    video::JpegEncoder jpeg;
+    std::vector<std::uint8_t> expected;
+    ASSERT_TRUE(to_planes.convert(right.pixels->data(), 320, 240, 320, layout, planes, &error)) << error;
+    ASSERT_TRUE(jpeg.encodeYuv420(planes, {90, video::ChromaSubsampling::k420}, expected, &error)) << error;
+    EXPECT_EQ(*out.right.jpeg, expected) << cameras::pixelFormatName(layout);
+  }
+  // 4:4:4 and 4:2:2 cannot come from 4:2:0 planes: they go through RGB, and still decode close.
+  for (video::ChromaSubsampling s : {video::ChromaSubsampling::k444, video::ChromaSubsampling::k422}) {
+    const cameras::CameraFrame f = mosaicOf(testFrame(160, 120, cameras::PixelFormat::kRgb8, 3), cameras::PixelFormat::kBayerGR8);
+    video::EncodedPair out;
+    std::string error;
+    ASSERT_TRUE(encoder.encode(f, f, {90, s}, out, &error)) << error;
+    EXPECT_LT(rmsAfterRoundTrip(debayered(f), *out.left.jpeg), 3.0);
+    int w = 0, h = 0, subsampling = -1, colourspace = -1;
+    tjhandle d = tjInitDecompress();
+    ASSERT_EQ(tjDecompressHeader3(d, out.left.jpeg->data(), out.left.jpeg->size(), &w, &h, &subsampling, &colourspace), 0);
+    tjDestroy(d);
+    EXPECT_EQ(subsampling, s == video::ChromaSubsampling::k444 ? TJSAMP_444 : TJSAMP_422);
+  }
+}
+
+TEST(StereoEncoder, RefusesFramesItCannotEncodeNamingTheSide) {
   clock::SteadyClock clock;
   video::StereoEncoder encoder(clock, {});
   const cameras::CameraFrame good = testFrame(64, 48, cameras::PixelFormat::kRgb8, 1);
-  cameras::CameraFrame bayer = testFrame(64, 48, cameras::PixelFormat::kMono8, 1);
-  bayer.format = cameras::PixelFormat::kBayerRG8;
+  cameras::CameraFrame sliver = testFrame(1, 48, cameras::PixelFormat::kMono8, 1);  // no 2 x 2 Bayer cell
+  sliver.format = cameras::PixelFormat::kBayerRG8;
   video::EncodedPair out;
   std::string error;
-  EXPECT_FALSE(encoder.encode(good, bayer, out, &error));
+  EXPECT_FALSE(encoder.encode(good, sliver, out, &error));
   EXPECT_NE(error.find("right"), std::string::npos) << error;
-  EXPECT_NE(error.find("BayerRG8"), std::string::npos) << error;
+  EXPECT_NE(error.find("smaller than 2x2"), std::string::npos) << error;
   cameras::CameraFrame empty;
   EXPECT_FALSE(encoder.encode(empty, good, out, &error));
   EXPECT_NE(error.find("left"), std::string::npos) << error;
