@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "calib/camera_resolution.h"
+#include "robot/cameras/debayer.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
 
@@ -56,6 +57,21 @@ inline std::vector<robot::cameras::CameraFrame> prerender(int width, int height,
     frames.push_back(camera.renderAt(0));
   }
   return frames;
+}
+
+/// What a camera with this colour filter sends of an RGB frame: its raw 8-bit mosaic (#34).
+inline robot::cameras::CameraFrame mosaicOf(const robot::cameras::CameraFrame& rgb, robot::cameras::PixelFormat layout) {
+  robot::cameras::CameraFrame out = rgb;
+  auto samples = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(rgb.width) * rgb.height);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x)
+      (*samples)[static_cast<std::size_t>(y) * rgb.width + x] =
+          (*rgb.pixels)[static_cast<std::size_t>(y) * rgb.stride_bytes + 3 * x +
+                        robot::cameras::bayerChannelAt(layout, x, y)];
+  out.format = layout;
+  out.stride_bytes = rgb.width;
+  out.pixels = std::move(samples);
+  return out;
 }
 
 }  // namespace telesphere::bench

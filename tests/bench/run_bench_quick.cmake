@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: MIT
 # @brief Runs `telesphere-bench TOPIC --quick --json` and checks that it printed a JSON object,
 #        and the invariants the topic reports where CHECKS names them ("a.b<0.01;c>2": a JSON
-#        path, < or >, a bound). Invariants are accuracy bounds and counts, never timings
-#        (STYLE.md §22: speed figures are printed, not asserted).
+#        path, < or >, a bound; true and false count as 1 and 0). Invariants are accuracy bounds
+#        and counts, never timings (STYLE.md §22: speed figures are printed, not asserted).
 execute_process(COMMAND ${BENCH} ${TOPIC} --quick --json
   OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
 message("${err}")
@@ -25,6 +25,11 @@ foreach(check ${CHECKS})
   string(JSON value ERROR_VARIABLE get_error GET "${out}" ${keys})
   if(get_error)
     message(FATAL_ERROR "telesphere-bench ${TOPIC}: no figure ${path} (${get_error})")
+  endif()
+  if(value STREQUAL "ON")  # a JSON true (string(JSON) writes booleans as ON/OFF): 1
+    set(value 1)
+  elseif(value STREQUAL "OFF")
+    set(value 0)
   endif()
   if((op STREQUAL "<" AND NOT value LESS bound) OR (op STREQUAL ">" AND NOT value GREATER bound))
     message(FATAL_ERROR "telesphere-bench ${TOPIC}: ${path} = ${value}, the invariant is ${op} ${bound}")
