@@ -34,6 +34,8 @@ packages=(
   qt6-base-dev libqcustomplot-dev libsqlite3-dev libqt6sql6-sqlite
   # video path and link
   libturbojpeg0-dev libjpeg-turbo-progs libzmq3-dev cppzmq-dev libsodium-dev libprotobuf-dev protobuf-compiler
+  # H.264 and HEVC beside MJPEG (FFmpeg's libavcodec: x264, x265, NVENC where a GPU is)
+  libavcodec-dev libavutil-dev
   # the Internet link's forward error correction (Reed–Solomon erasure code)
   libisal-dev
   # SRT, the transport `telesphere-bench transport` compares the media path with (the GnuTLS
