@@ -4,7 +4,8 @@
 ///        planes) frames/s per core, next to `tjbench` on the same image; decode frames/s of the
 ///        DecodePool on all cores against the goal of 2 cameras × 45 Hz; and the quality knob
 ///        (50…95, 4:2:0 vs 4:4:4) against size, PSNR and encode/decode time; a camera's Bayer
-///        mosaic to JPEG against the encoder's floor (bayer_to_jpeg_figures.h).
+///        mosaic to JPEG against the encoder's floor (bayer_to_jpeg_figures.h); MJPEG, H.264 and
+///        HEVC at the link's rates (codec_comparison.h).
 #include <turbojpeg.h>
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 #include "shaders/png_io.h"
 #include "app/bench/bayer_to_jpeg_figures.h"
 #include "app/bench/bench_table.h"
+#include "app/bench/codec_comparison.h"
 #include "app/bench/cpu_time.h"
 #include "app/bench/bench_topic.h"
 #include "xr/video/decode_pool.h"
@@ -385,6 +387,8 @@ nlohmann::json runCodec(const BenchContext& ctx) {
 
   // A camera's raw mosaic to JPEG, through planes and through RGB, against the floor (#34).
   const nlohmann::json bayer = bayerToJpegFigures(ctx, img.rgb.data(), img.width, img.height, img.source);
+  // MJPEG, H.264 and HEVC at the link's rates on a moving sequence (#34).
+  const nlohmann::json codecs = codecComparison(ctx, img.rgb.data(), img.width, img.height);
 
   nlohmann::json j = {{"image", {{"width", img.width}, {"height", img.height}, {"source", img.source}}},
                       {"cores", cores},
@@ -400,6 +404,7 @@ nlohmann::json runCodec(const BenchContext& ctx) {
                       {"quality_table", knob_json},
                       {"restart_table", restart_json}};
   j.update(bayer);
+  j.update(codecs);
   if (tj) {
     j["tjbench"] = {{"compress_fps", tj->compress_fps},
                     {"decompress_to_yuv_fps", tj->decompress_yuv_fps},
