@@ -110,7 +110,7 @@ struct CodecRun {
 
 /// One camera of the pair at half the link's rate (the other is alike): its bytes doubled for the
 /// stereo frame, its quality and times per image.
-CodecRun runCodec(link::VideoCodec codec, double rate_mbit, const Yuv420Image& base, int frames) {
+CodecRun runCodecAtRate(link::VideoCodec codec, double rate_mbit, const Yuv420Image& base, int frames) {
   CodecRun run;
   run.codec = link::videoCodecName(codec);
   run.rate_mbit = rate_mbit;
@@ -228,7 +228,7 @@ nlohmann::json codecComparison(const BenchContext& ctx, const std::uint8_t* rgb,
       for (double rate : rates) {
         ctx.out << "codec: " << size.name << " " << link::videoCodecName(codec) << " at " << rate << " Mbit/s…\n"
                 << std::flush;
-        const CodecRun run = runCodec(codec, rate, base, frames);
+        const CodecRun run = runCodecAtRate(codec, rate, base, frames);
         table.addRow({size.name, run.codec, formatNumber(rate),
                       formatNumber(run.bytes_per_stereo_frame) + (run.fits_rate ? "" : " (over)"),
                       formatNumber(run.ssim, 4), formatNumber(run.psnr_db, 3), formatNumber(run.encode_ms),
