@@ -47,6 +47,29 @@ struct JpegEncoder::Compressor {
   }
   ~Compressor() { jpeg_destroy_compress(&cinfo); }
 
+  /// One image's parameters, from libjpeg's defaults on. Call after the caller's setjmp: a libjpeg
+  /// error long-jumps back there (nothing here has a destructor to skip).
+  void configure(int width, int height, int components, J_COLOR_SPACE in_color_space, bool gray_out, int h_samp,
+                 int v_samp, const JpegSettings& settings) {
+    cinfo.image_width = static_cast<JDIMENSION>(width);
+    cinfo.image_height = static_cast<JDIMENSION>(height);
+    cinfo.input_components = components;
+    cinfo.in_color_space = in_color_space;
+    jpeg_set_defaults(&cinfo);
+    if (gray_out) jpeg_set_colorspace(&cinfo, JCS_GRAYSCALE);
+    jpeg_set_quality(&cinfo, settings.quality, TRUE);
+    if (!gray_out) {
+      cinfo.comp_info[0].h_samp_factor = h_samp;
+      cinfo.comp_info[0].v_samp_factor = v_samp;
+      for (int k = 1; k < 3; ++k) cinfo.comp_info[k].h_samp_factor = cinfo.comp_info[k].v_samp_factor = 1;
+    }
+    // As TurboJPEG with TJFLAG_FASTDCT did: the fast integer DCT, except at the qualities where
+    // its rounding shows.
+    cinfo.dct_method = settings.quality >= 96 ? JDCT_ISLOW : JDCT_IFAST;
+    cinfo.restart_interval = 0;
+    cinfo.restart_in_rows = settings.restart_mcu_rows;
+  }
+
   [[noreturn]] static void onError(j_common_ptr common) {
     auto* manager = reinterpret_cast<ErrorManager*>(common->err);
     (*common->err->format_message)(common, manager->message);
@@ -131,23 +154,7 @@ bool JpegEncoder::encode(const std::uint8_t* pixels, int width, int height, int 
     *error = std::string("libjpeg: ") + c.error.message;
     return false;
   }
-  cinfo.image_width = static_cast<JDIMENSION>(width);
-  cinfo.image_height = static_cast<JDIMENSION>(height);
-  cinfo.input_components = channels;
-  cinfo.in_color_space = channels == 1 ? JCS_GRAYSCALE : JCS_RGB;
-  jpeg_set_defaults(&cinfo);
-  if (gray_out) jpeg_set_colorspace(&cinfo, JCS_GRAYSCALE);
-  jpeg_set_quality(&cinfo, settings.quality, TRUE);
-  if (!gray_out) {
-    cinfo.comp_info[0].h_samp_factor = h_samp;
-    cinfo.comp_info[0].v_samp_factor = v_samp;
-    for (int k = 1; k < 3; ++k) cinfo.comp_info[k].h_samp_factor = cinfo.comp_info[k].v_samp_factor = 1;
-  }
-  // As TurboJPEG with TJFLAG_FASTDCT did: the fast integer DCT, except at the qualities where
-  // its rounding shows.
-  cinfo.dct_method = settings.quality >= 96 ? JDCT_ISLOW : JDCT_IFAST;
-  cinfo.restart_interval = 0;
-  cinfo.restart_in_rows = settings.restart_mcu_rows;
+  c.configure(width, height, channels, channels == 1 ? JCS_GRAYSCALE : JCS_RGB, gray_out, h_samp, v_samp, settings);
   jpeg_start_compress(&cinfo, TRUE);
   while (cinfo.next_scanline < cinfo.image_height) {
     // Up to 32 rows per call, straight from the caller's memory.
@@ -197,23 +204,11 @@ bool JpegEncoder::encodeYuv420(const cameras::Yuv420Image& image, const JpegSett
     *error = std::string("libjpeg: ") + c.error.message;
     return false;
   }
-  cinfo.image_width = static_cast<JDIMENSION>(width);
-  cinfo.image_height = static_cast<JDIMENSION>(height);
-  cinfo.input_components = gray_out ? 1 : 3;
-  cinfo.in_color_space = gray_out ? JCS_GRAYSCALE : JCS_YCbCr;
-  jpeg_set_defaults(&cinfo);
-  jpeg_set_quality(&cinfo, settings.quality, TRUE);
-  if (!gray_out) {
-    cinfo.comp_info[0].h_samp_factor = cinfo.comp_info[0].v_samp_factor = 2;
-    for (int k = 1; k < 3; ++k) cinfo.comp_info[k].h_samp_factor = cinfo.comp_info[k].v_samp_factor = 1;
-  }
-  cinfo.raw_data_in = TRUE;
+  c.configure(width, height, gray_out ? 1 : 3, gray_out ? JCS_GRAYSCALE : JCS_YCbCr, gray_out, 2, 2, settings);
+  cinfo.raw_data_in = TRUE;  // the planes as they are: no colour conversion, no downsampling
 #if JPEG_LIB_VERSION >= 70
   cinfo.do_fancy_downsampling = FALSE;
 #endif
-  cinfo.dct_method = settings.quality >= 96 ? JDCT_ISLOW : JDCT_IFAST;  // as encode()
-  cinfo.restart_interval = 0;
-  cinfo.restart_in_rows = settings.restart_mcu_rows;
   jpeg_start_compress(&cinfo, TRUE);
 
   // Row r of a plane (rows past the end repeat the last, as libjpeg pads an image), padded into

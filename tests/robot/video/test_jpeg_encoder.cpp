@@ -8,9 +8,12 @@
 #include <random>
 
 #include "robot/video/jpeg_encoder.h"
+#include "tests/support/jpeg_restart_markers.h"
 
 namespace telesphere::robot {
 namespace {
+
+using test::countRestartMarkers;
 
 std::vector<std::uint8_t> testImage(int w, int h) {
   std::vector<std::uint8_t> rgb(static_cast<std::size_t>(w) * h * 3);
@@ -76,18 +79,6 @@ TEST(JpegEncoder, EverySubsamplingDecodes) {
   tjDestroy(d);
 }
 
-// The markers in a JPEG's entropy-coded data: RST0..RST7 (0xFFD0..0xFFD7) after the SOS segment.
-int countRestartMarkers(const std::vector<std::uint8_t>& jpeg) {
-  std::size_t i = 2;
-  while (i + 4 <= jpeg.size() && !(jpeg[i] == 0xFF && jpeg[i + 1] == 0xDA))
-    i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);  // skip a header segment
-  if (i + 4 > jpeg.size()) return -1;
-  i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);
-  int n = 0;
-  for (; i + 1 < jpeg.size(); ++i)
-    if (jpeg[i] == 0xFF && jpeg[i + 1] >= 0xD0 && jpeg[i + 1] <= 0xD7) ++n;
-  return n;
-}
 
 TEST(JpegEncoder, RestartMarkersAfterEveryFewMcuRowsChangeNoPixel) {
   // 64 × 50 at 4:2:0: four MCU rows of 16 (the last one partial); 4:4:4 and grey: seven of 8.

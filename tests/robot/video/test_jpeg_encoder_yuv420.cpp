@@ -13,9 +13,12 @@
 #include <random>
 
 #include "robot/video/jpeg_encoder.h"
+#include "tests/support/jpeg_restart_markers.h"
 
 namespace telesphere::robot {
 namespace {
+
+using test::countRestartMarkers;
 
 using cameras::Yuv420Image;
 
@@ -87,17 +90,6 @@ double psnr(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>&
   return se == 0 ? 99.0 : 10 * std::log10(255.0 * 255.0 / (se / static_cast<double>(a.size())));
 }
 
-int countRestartMarkers(const std::vector<std::uint8_t>& jpeg) {  // RST0..7 after the SOS segment
-  std::size_t i = 2;
-  while (i + 4 <= jpeg.size() && !(jpeg[i] == 0xFF && jpeg[i + 1] == 0xDA))
-    i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);
-  if (i + 4 > jpeg.size()) return -1;
-  i += 2 + (static_cast<std::size_t>(jpeg[i + 2]) << 8 | jpeg[i + 3]);
-  int n = 0;
-  for (; i + 1 < jpeg.size(); ++i)
-    if (jpeg[i] == 0xFF && jpeg[i + 1] >= 0xD0 && jpeg[i + 1] <= 0xD7) ++n;
-  return n;
-}
 
 TEST(JpegEncoderYuv420, TheSameBytesAsFromTheRgbImageTheyCameFrom) {
   // Sizes on the MCU grid (16 × 16 at 4:2:0), where libjpeg pads nothing: the RGB path differs
