@@ -218,7 +218,8 @@ bool AvVideoEncoder::encode(const cameras::Yuv420Image& image, bool key_frame, E
 }
 
 void AvVideoEncoder::setBitRate(std::int64_t bit_rate_bps) {
-  // libx264 and NVENC pick up a changed rate at the next image (their wrappers reconfigure).
+  // libx264 and NVENC pick up a changed rate at the next image (their wrappers reconfigure);
+  // libx265's does not (see the header).
   impl_->options.bit_rate_bps = bit_rate_bps;
   impl_->applyRate(bit_rate_bps);
 }

@@ -48,7 +48,9 @@ class AvVideoEncoder {
   /// when the encoder held the image back (counted in held_back()).
   bool encode(const cameras::Yuv420Image& image, bool key_frame, EncodedVideoFrame& out, std::string* error);
 
-  /// Changes the target rate from the next image on (the link's rate controller).
+  /// Changes the target rate from the next image on (the link's rate controller): libx264 and
+  /// NVENC reconfigure at the next image. FFmpeg 5.1's libx265 wrapper does not reconfigure, so
+  /// for HEVC on the CPU the new rate waits for the encoder to be opened again (not done yet).
   void setBitRate(std::int64_t bit_rate_bps);
 
   /// "libx264", "libx265", "h264_nvenc", "hevc_nvenc": what encodes.

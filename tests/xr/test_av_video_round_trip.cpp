@@ -140,6 +140,24 @@ TEST_P(AvVideoRoundTrip, TheRateSetsTheSize) {
   EXPECT_LT(bytes[1], bytes[0] * 2 / 3) << bytes[0] << " bytes at 4 Mbit/s, " << bytes[1] << " at 1 Mbit/s";
 }
 
+TEST(AvVideoEncoder, H264TakesANewRateAtTheNextImage) {
+  // The link's rate controller lowers the rate mid-stream: the images after it shrink.
+  std::string error;
+  auto o = options(VideoCodec::kH264);
+  o.bit_rate_bps = 4'000'000;
+  auto encoder = robot::video::AvVideoEncoder::open(o, &error);
+  ASSERT_TRUE(encoder) << error;
+  robot::video::EncodedVideoFrame packet;
+  std::size_t before = 0, after = 0;
+  for (int t = 0; t < 40; ++t) {
+    if (t == 20) encoder->setBitRate(1'000'000);
+    ASSERT_TRUE(encoder->encode(movingImage(320, 240, t, true), false, packet, &error)) << error;
+    if (t >= 10 && t < 20) before += packet.bytes.size();
+    if (t >= 30) after += packet.bytes.size();
+  }
+  EXPECT_LT(after, before * 2 / 3) << before << " bytes before, " << after << " after";
+}
+
 INSTANTIATE_TEST_SUITE_P(Codecs, AvVideoRoundTrip, ::testing::Values(VideoCodec::kH264, VideoCodec::kHevc),
                          [](const auto& info) { return std::string(link::videoCodecName(info.param)); });
 
