@@ -43,13 +43,9 @@ PixelFormat layoutOf(const std::string& pattern) {
 /// What a sensor with this colour filter would have seen of the RGB image.
 Mosaic sampleMosaic(const std::uint8_t* rgb, int width, int height, const std::string& pattern,
                     const std::string& source) {
-  Mosaic m{width, height, layoutOf(pattern), std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height),
-           source + ", sampled through a " + pattern + " filter"};
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      m.samples[static_cast<std::size_t>(y) * width + x] =
-          rgb[(static_cast<std::size_t>(y) * width + x) * 3 + robot::cameras::bayerChannelAt(m.layout, x, y)];
-  return m;
+  const PixelFormat layout = layoutOf(pattern);
+  return {width, height, layout, robot::cameras::bayerMosaicOf(rgb, width, height, width * 3, layout),
+          source + ", sampled through a " + pattern + " filter"};
 }
 
 Mosaic loadMosaic(const BayerInputOptions& options) {

@@ -62,15 +62,10 @@ inline std::vector<robot::cameras::CameraFrame> prerender(int width, int height,
 /// What a camera with this colour filter sends of an RGB frame: its raw 8-bit mosaic (#34).
 inline robot::cameras::CameraFrame mosaicOf(const robot::cameras::CameraFrame& rgb, robot::cameras::PixelFormat layout) {
   robot::cameras::CameraFrame out = rgb;
-  auto samples = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(rgb.width) * rgb.height);
-  for (int y = 0; y < rgb.height; ++y)
-    for (int x = 0; x < rgb.width; ++x)
-      (*samples)[static_cast<std::size_t>(y) * rgb.width + x] =
-          (*rgb.pixels)[static_cast<std::size_t>(y) * rgb.stride_bytes + 3 * x +
-                        robot::cameras::bayerChannelAt(layout, x, y)];
   out.format = layout;
   out.stride_bytes = rgb.width;
-  out.pixels = std::move(samples);
+  out.pixels = std::make_shared<std::vector<std::uint8_t>>(
+      robot::cameras::bayerMosaicOf(rgb.pixels->data(), rgb.width, rgb.height, rgb.stride_bytes, layout));
   return out;
 }
 

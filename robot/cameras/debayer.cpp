@@ -46,10 +46,10 @@ inline void debayerSite(const DebayerRow& r, bool colour_site, int x, int x_left
 
 }  // namespace
 
-bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_stride, PixelFormat layout,
-                     std::vector<std::uint8_t>& out_rgb, std::string* error) {
+bool checkMosaic(const char* who, const std::uint8_t* src, int width, int height, int src_stride,
+                 PixelFormat layout, std::string* error) {
   auto fail = [&](const std::string& message) {
-    if (error) *error = "debayerBilinear: " + message;
+    if (error) *error = std::string(who) + ": " + message;
     return false;
   };
   if (!isBayer(layout)) return fail(std::string(pixelFormatName(layout)) + " is not a Bayer layout");
@@ -58,6 +58,22 @@ bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_str
     return fail("image " + std::to_string(width) + "x" + std::to_string(height) + " is smaller than 2x2");
   if (src_stride < width)
     return fail("stride " + std::to_string(src_stride) + " bytes is less than the width " + std::to_string(width));
+  return true;
+}
+
+std::vector<std::uint8_t> bayerMosaicOf(const std::uint8_t* rgb, int width, int height, int rgb_stride,
+                                        PixelFormat layout) {
+  std::vector<std::uint8_t> samples(static_cast<std::size_t>(width) * height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      samples[static_cast<std::size_t>(y) * width + x] =
+          rgb[static_cast<std::size_t>(y) * rgb_stride + 3 * x + bayerChannelAt(layout, x, y)];
+  return samples;
+}
+
+bool debayerBilinear(const std::uint8_t* src, int width, int height, int src_stride, PixelFormat layout,
+                     std::vector<std::uint8_t>& out_rgb, std::string* error) {
+  if (!checkMosaic("debayerBilinear", src, width, height, src_stride, layout, error)) return false;
 
   const int red_x = redSiteOf(layout).x, red_y = redSiteOf(layout).y;
 

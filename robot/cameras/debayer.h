@@ -34,6 +34,17 @@ constexpr int bayerChannelAt(PixelFormat layout, int x, int y) {
   return red_column && red_row ? 0 : (!red_column && !red_row ? 2 : 1);
 }
 
+/// The checks every demosaic makes of its input: a Bayer layout, pixels, at least one 2×2 cell,
+/// rows at least `width` bytes apart. False with "<who>: <reason>" in *error (when given).
+bool checkMosaic(const char* who, const std::uint8_t* src, int width, int height, int src_stride,
+                 PixelFormat layout, std::string* error);
+
+/// What a sensor with this colour filter records of an RGB8 image (rows `rgb_stride` bytes
+/// apart): each pixel's sample of its filter's colour, rows `width` bytes apart. For benchmarks
+/// and tests that feed the Bayer path from rendered images.
+std::vector<std::uint8_t> bayerMosaicOf(const std::uint8_t* rgb, int width, int height, int rgb_stride,
+                                        PixelFormat layout);
+
 /// Bilinear demosaic of one 8-bit Bayer image into packed RGB8 (stride width·3, no padding).
 ///
 /// `layout` names the colours of the top-left 2×2 cell (BayerRG8: R at (0,0), G at (1,0) and

@@ -204,16 +204,7 @@ void DebayerToYuv420::demosaicRow(const SplitRow& up, const SplitRow& mid, const
 
 bool DebayerToYuv420::convert(const std::uint8_t* src, int width, int height, int src_stride, PixelFormat layout,
                               Yuv420Image& out, std::string* error) {
-  auto fail = [&](const std::string& message) {
-    if (error) *error = "DebayerToYuv420: " + message;
-    return false;
-  };
-  if (!isBayer(layout)) return fail(std::string(pixelFormatName(layout)) + " is not a Bayer layout");
-  if (src == nullptr) return fail("no source pixels");
-  if (width < 2 || height < 2)
-    return fail("image " + std::to_string(width) + "x" + std::to_string(height) + " is smaller than 2x2");
-  if (src_stride < width)
-    return fail("stride " + std::to_string(src_stride) + " bytes is less than the width " + std::to_string(width));
+  if (!checkMosaic("DebayerToYuv420", src, width, height, src_stride, layout, error)) return false;
 
   const int red_x = redSiteOf(layout).x, red_y = redSiteOf(layout).y;
   out.resize(width, height);

@@ -72,12 +72,8 @@ cameras::CameraFrame mosaicOf(const cameras::CameraFrame& rgb, cameras::PixelFor
   cameras::CameraFrame f = rgb;
   f.format = layout;
   f.stride_bytes = rgb.width;
-  auto samples = std::make_shared<std::vector<std::uint8_t>>(static_cast<std::size_t>(rgb.width) * rgb.height);
-  for (int y = 0; y < rgb.height; ++y)
-    for (int x = 0; x < rgb.width; ++x)
-      (*samples)[static_cast<std::size_t>(y) * rgb.width + x] =
-          (*rgb.pixels)[static_cast<std::size_t>(y) * rgb.stride_bytes + 3 * x + cameras::bayerChannelAt(layout, x, y)];
-  f.pixels = samples;
+  f.pixels = std::make_shared<std::vector<std::uint8_t>>(
+      cameras::bayerMosaicOf(rgb.pixels->data(), rgb.width, rgb.height, rgb.stride_bytes, layout));
   return f;
 }
 
