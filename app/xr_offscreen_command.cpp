@@ -129,7 +129,10 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
               options.trajectory       ? o.trajectory.c_str()
               : !options.views.empty() ? ("the live run's, " + o.views).c_str()
                                        : (std::to_string(stats->head_targets) + " recorded head targets").c_str(),
-              v.nominal_from_robot ? "yes" : "no");
+              !v.nominal_from_robot ? "no"
+              : stats->first_frame_with_nominal > 0
+                  ? ("yes, from display frame " + std::to_string(stats->first_frame_with_nominal)).c_str()
+                  : "yes");
   std::string missing;
   for (const std::uint64_t sequence : stats->views_missing) missing += " " + std::to_string(sequence);
   if (!options.views.empty())
@@ -145,6 +148,7 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
               {"undecodable", stats->undecodable},
               {"replaced_unshown", stats->replaced_unshown},
               {"head_targets", stats->head_targets},
+              {"first_frame_with_nominal", stats->first_frame_with_nominal},
               {"skipped", stats->skipped},
               {"calibration", calibration ? "--calib " + o.calib : stats->calibration},
               {"calibration_generation", v.calibration_generation},

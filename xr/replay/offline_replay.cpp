@@ -109,6 +109,8 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   bool taken_since_drawn = false, failed = false, ended = false;
   const auto draw = [&] {
     if (!loop.step(error)) return false;
+    if (stats.first_frame_with_nominal == 0 && view.stats().nominal_from_robot)
+      stats.first_frame_with_nominal = loop.stats().frames;
     if (!frame_loop::writeEveryNthEyesPng(options.png_dir, loop.stats().frames, options.png_every_frames, output.left(),
                               output.right(), error))
       return false;

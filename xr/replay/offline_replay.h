@@ -54,6 +54,10 @@ struct OfflineReplayStats {
   frame_loop::OperatorViewStats view;            ///< frames, camera frames shown, render and decode figures
   std::uint64_t recorded_frames = 0;  ///< stereo frames read from the recording
   std::uint64_t head_targets = 0;     ///< recorded head targets taken (0 with a trajectory)
+  /// The display frame (counted from 1, as the PNGs are named) from which the robot's nominal pose
+  /// was in; 0 when the recording never had one. Before it the view is anchored to the first eye
+  /// pose (the stand-in), so any head shows the camera's forward view alike.
+  std::uint64_t first_frame_with_nominal = 0;
   std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs did not decode
   std::uint64_t replaced_unshown = 0;  ///< recorded frames a newer one replaced within a display period
   std::uint64_t skipped = 0;          ///< messages passed over (RecordingReader::skipped)
