@@ -125,6 +125,11 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   video_config.jpeg.subsampling = o.subsampling == "444"   ? robot::video::ChromaSubsampling::k444
                                   : o.subsampling == "422" ? robot::video::ChromaSubsampling::k422
                                                            : robot::video::ChromaSubsampling::k420;
+  video_config.codec = link::parseVideoCodec(o.codec).value_or(link::VideoCodec::kMjpeg);
+  video_config.video.bit_rate_bps = static_cast<std::int64_t>(o.video_mbit * 1e6);
+  video_config.video.fps = std::max(1, static_cast<int>(std::lround(o.fps)));
+  video_config.video.key_frame_interval = o.key_frame_interval;
+  video_config.video.prefer_gpu = o.video_gpu;
   video_config.telemetry = &p->telemetry;
   video_config.on_sent = [parts = p.get()](const robot::stereo::StereoFrame& pair, std::uint64_t sequence) {
     parts->stills->offer(pair, sequence);
@@ -187,7 +192,8 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
   auto next_stats = t0 + std::chrono::duration<double>(o.stats_period_s);
   constexpr auto kHealthPeriod = std::chrono::milliseconds(500);
   auto next_health = t0;
-  std::uint64_t frames_before = 0;
+  std::uint64_t frames_before = 0, bytes_before = 0;
+  bool gpu_reason_said = false;
   while (!stop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const auto now = std::chrono::steady_clock::now();
@@ -207,6 +213,21 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
                    static_cast<unsigned long long>(pairs.dropped[0].total() + pairs.dropped[1].total()),
                    static_cast<unsigned long long>(v.poses_from_joints), static_cast<unsigned long long>(v.poses_fixed),
                    static_cast<long long>(p.loop->targetsSent()));
+      if (v.codec != link::VideoCodec::kMjpeg) {
+        const double seconds = std::max(o.stats_period_s, 1e-3);
+        std::fprintf(stderr,
+                     "telesphere-robot: video %s (%s), target %.1f Mbit/s, key frames %llu (%llu asked for by the "
+                     "operator), %.1f kB per pair in the last %.0f s\n",
+                     link::videoCodecName(v.codec), v.video.backend.c_str(), double(p.video->videoBitRateBps()) * 1e-6,
+                     static_cast<unsigned long long>(v.video.key_frames),
+                     static_cast<unsigned long long>(v.video.key_frames_requested),
+                     v.frames_sent > frames_before ? double(v.bytes_sent - bytes_before) / double(v.frames_sent - frames_before) * 1e-3 : 0.0,
+                     seconds);
+        if (!v.video.gpu_fallback_reason.empty() && !gpu_reason_said) {
+          std::fprintf(stderr, "telesphere-robot: no GPU encoder: %s\n", v.video.gpu_fallback_reason.c_str());
+          gpu_reason_said = true;
+        }
+      }
       if (p.media) {
         const auto m = p.media->stats();
         std::fprintf(stderr,
@@ -219,6 +240,7 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
                      static_cast<unsigned long long>(m.frames_sent), static_cast<unsigned long long>(m.frames_superseded));
       }
       frames_before = v.frames_sent;
+      bytes_before = v.bytes_sent;
       next_stats += std::chrono::duration<double>(o.stats_period_s);
     }
   }

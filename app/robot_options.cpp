@@ -38,6 +38,18 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
       ->capture_default_str();
   app.add_option("--fps", o.fps, "camera frame rate, Hz")->capture_default_str()->check(CLI::Range(0.1, 1000.0));
   app.add_option("--quality", o.quality, "JPEG quality")->capture_default_str()->check(CLI::Range(1, 100));
+  app.add_option("--codec", o.codec,
+                 "video codec: mjpeg (every image a JPEG; the UDP media path), h264 or hevc (each image predicted "
+                 "from the last, a fraction of the bytes; over the ZeroMQ link only so far: with --no-media)")
+      ->capture_default_str()->check(CLI::IsMember({"mjpeg", "h264", "hevc"}));
+  app.add_option("--video-mbit", o.video_mbit, "--codec h264|hevc: the encoders' target rate, both cameras together, Mbit/s")
+      ->capture_default_str()->check(CLI::Range(0.1, 10000.0));
+  app.add_option("--key-frame-interval", o.key_frame_interval,
+                 "--codec h264|hevc: pairs between key frames (a lost frame is repaired sooner: the operator asks for one)")
+      ->capture_default_str()->check(CLI::Range(1, 100000));
+  app.add_flag("--video-gpu", o.video_gpu,
+               "--codec h264|hevc: NVENC first where the machine has an NVIDIA GPU and driver (else the CPU encoder, "
+               "with the reason in the log)");
   app.add_option("--subsampling", o.subsampling, "JPEG chroma subsampling")
       ->capture_default_str()->check(CLI::IsMember({"420", "422", "444"}));
   app.add_option("--duration", o.duration_s, "stop after this many seconds (0: run until SIGINT)")
@@ -116,6 +128,12 @@ bool checkRobotOptions(RobotOptions& o, std::string* error) {
   if (o.replay() && (o.realArm() || !o.camera_left.empty() || o.sim_manipulator || !o.truth_path.empty() ||
                      !o.true_calib_path.empty())) {
     *error = "--replay serves a recording: no arm, cameras, manipulator or truth options with it";
+    return false;
+  }
+  if (o.codec != "mjpeg" && o.media) {
+    *error = "--codec " + o.codec +
+             " goes over the ZeroMQ link only so far (the UDP media path repairs losses band by band in a JPEG): "
+             "add --no-media";
     return false;
   }
   if (!o.replay() && (o.replay_rate != 1.0 || o.replay_loop)) {

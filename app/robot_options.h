@@ -21,6 +21,10 @@ struct RobotOptions {
   double fps = 45.0;
   int quality = 90;
   std::string subsampling = "420";
+  std::string codec = "mjpeg";   ///< mjpeg, h264, hevc (#34)
+  double video_mbit = 20;        ///< H.264/HEVC target, both cameras together
+  int key_frame_interval = 90;   ///< H.264/HEVC: pairs between key frames
+  bool video_gpu = false;        ///< H.264/HEVC: NVENC first
   double duration_s = 0.0;
   double stats_period_s = 2.0;
   std::string camera_left, camera_right;  ///< Aravis device ids; empty: synthetic cameras

@@ -65,9 +65,11 @@ zmq::socket_t bindSocket(zmq::context_t& context, zmq::socket_type type, const L
 std::string controlRefusal(const trust::ZapAuthenticator::Peer& peer, const proto::ControlRequest& request) {
   if (peer.role == trust::LinkRole::kSupervisor) return "";
   // What the operator's own view needs: the calibration in use (to follow a live change), the
-  // settings, and the media path's session key (the seat is checked by the caller).
+  // settings, the media path's session key (the seat is checked by the caller), and a key frame
+  // after its decoder lost one.
   if (peer.role == trust::LinkRole::kOperator &&
-      (request.has_open_media_session() || request.has_get_calibration() || request.has_get_settings()))
+      (request.has_open_media_session() || request.has_get_calibration() || request.has_get_settings() ||
+       request.has_request_key_frame()))
     return "";
   // A viewer may read the settings (they are in the health it receives anyway).
   if (peer.role == trust::LinkRole::kViewer && request.has_get_settings()) return "";

@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 /// @brief The link's enums ↔ their protobuf values, in one place (the enums themselves,
-///        robot/link/visual_mode.h and chroma_subsampling.h, need no protobuf).
+///        robot/link/visual_mode.h, chroma_subsampling.h and video_codec.h, need no protobuf).
 #pragma once
 
 #include <optional>
 
 #include "robot/link/chroma_subsampling.h"
 #include "robot/link/telesphere_link.pb.h"
+#include "robot/link/video_codec.h"
 #include "robot/link/visual_mode.h"
 
 namespace telesphere::link {
@@ -47,6 +48,25 @@ inline std::optional<ChromaSubsampling> fromProto(proto::ChromaSubsampling s) {
     case proto::CHROMA_422: return ChromaSubsampling::k422;
     case proto::CHROMA_444: return ChromaSubsampling::k444;
     case proto::CHROMA_GRAY: return ChromaSubsampling::kGray;
+    default: return std::nullopt;
+  }
+}
+
+inline proto::VideoCodecProto toProto(VideoCodec codec) {
+  switch (codec) {
+    case VideoCodec::kMjpeg: return proto::VIDEO_CODEC_MJPEG;
+    case VideoCodec::kH264: return proto::VIDEO_CODEC_H264;
+    case VideoCodec::kHevc: return proto::VIDEO_CODEC_HEVC;
+  }
+  return proto::VIDEO_CODEC_MJPEG;
+}
+
+/// Nothing for a value this build does not know (a newer peer).
+inline std::optional<VideoCodec> fromProto(proto::VideoCodecProto codec) {
+  switch (codec) {
+    case proto::VIDEO_CODEC_MJPEG: return VideoCodec::kMjpeg;
+    case proto::VIDEO_CODEC_H264: return VideoCodec::kH264;
+    case proto::VIDEO_CODEC_HEVC: return VideoCodec::kHevc;
     default: return std::nullopt;
   }
 }

@@ -46,6 +46,15 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
       media->setCapBps(cap_mbit * 1e6);
       reply.set_ok(true);
     }
+  } else if (request.request_case() == link::proto::ControlRequest::kRequestKeyFrame) {
+    // The operator's H.264/HEVC decoder lost a frame: both cameras' next images are key frames.
+    reply.set_id(request.id());
+    if (!video_)
+      reply.set_error("no video path on this robot");
+    else if (!video_->requestKeyFrame())
+      reply.set_error("this robot sends MJPEG: every image is a key frame");
+    else
+      reply.set_ok(true);
   } else if (request.request_case() == link::proto::ControlRequest::kOpenMediaSession) {
     // A keyed link's media path (DESIGN.md §10): a fresh key for this session, handed over the
     // authenticated control channel (the link checked who asks); the session before it ends.
@@ -136,6 +145,11 @@ void RobotControl::fillSettings(link::proto::RobotSettings* settings) const {
   const video::JpegSettings jpeg = video_->jpegSettings();
   settings->set_jpeg_quality(jpeg.quality);
   settings->set_jpeg_subsampling(link::toProto(jpeg.subsampling));
+  settings->set_video_codec(link::toProto(video_->codec()));
+  if (video_->codec() != link::VideoCodec::kMjpeg) {
+    settings->set_video_mbit(static_cast<double>(video_->videoBitRateBps()) * 1e-6);
+    settings->set_video_encoder(video_->stats().video.backend);
+  }
   if (const link::media::MediaSender* media = video_->mediaSender()) {
     settings->set_media_path(true);
     settings->set_media_cap_mbit(media->capBps() * 1e-6);

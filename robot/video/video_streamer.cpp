@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <stdexcept>
 
 namespace telesphere::robot::video {
 namespace {
@@ -29,7 +30,21 @@ VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& 
       clock_(clock),
       poses_(std::move(poses)),
       config_(config),
-      encoder_(clock, config.jpeg) {}
+      encoder_(clock, config.jpeg) {
+  if (config_.codec != link::VideoCodec::kMjpeg) {
+    if (config_.media)
+      throw std::invalid_argument(std::string("the media path carries MJPEG only: ") +
+                                  link::videoCodecName(config_.codec) + " goes over the ZeroMQ link");
+    config_.video.codec = config_.codec;
+    av_encoder_ = std::make_unique<StereoAvEncoder>(clock, config_.video);
+  }
+}
+
+bool VideoStreamer::requestKeyFrame() {
+  if (!av_encoder_) return false;
+  av_encoder_->requestKeyFrame();
+  return true;
+}
 
 VideoStreamer::~VideoStreamer() { stop(); }
 
@@ -45,7 +60,10 @@ void VideoStreamer::stop() {
 
 VideoStreamerStats VideoStreamer::stats() const {
   std::lock_guard lock(stats_mutex_);
-  return stats_;
+  VideoStreamerStats s = stats_;
+  s.codec = config_.codec;
+  if (av_encoder_) s.video = av_encoder_->stats();
+  return s;
 }
 
 void VideoStreamer::run() {
@@ -94,7 +112,20 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   last_sent_ns_ = start_ns;
   EncodedPair encoded;
   std::string error;
-  if (!encoder_.encode(left, right, jpeg, encoded, &error)) {
+  bool key_frame = false;
+  bool encoded_ok = false;
+  if (av_encoder_) {
+    EncodedAccessUnitPair units;
+    encoded_ok = av_encoder_->encode(left, right, units, &error);
+    if (encoded_ok) {
+      encoded.left = {units.left.bytes, units.left.encoded_ns, units.left.encode_ms};
+      encoded.right = {units.right.bytes, units.right.encoded_ns, units.right.encode_ms};
+      key_frame = units.key_frame;
+    }
+  } else {
+    encoded_ok = encoder_.encode(left, right, jpeg, encoded, &error);
+  }
+  if (!encoded_ok) {
     std::lock_guard lock(stats_mutex_);
     if (stats_.encode_failures++ % 100 == 0)  // one line per 100, not one per frame
       std::cerr << "telesphere-robot: frame dropped, encode failed: " << error << '\n';
@@ -112,9 +143,13 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     image->set_capture_ns(frame.capture_ns);
     image->set_width(static_cast<std::uint32_t>(frame.width));
     image->set_height(static_cast<std::uint32_t>(frame.height));
-    image->set_subsampling(protoSubsampling(frame, settings.subsampling));
+    image->set_subsampling(av_encoder_ ? link::proto::CHROMA_420 : protoSubsampling(frame, settings.subsampling));
     image->set_exposure_us(frame.exposure_us);
     image->set_camera_sequence(frame.sequence);
+    if (av_encoder_) {
+      image->set_codec(link::toProto(config_.codec));
+      image->set_key_frame(key_frame);
+    }
     const bool left = side == cameras::CameraSide::kLeft;
     if (left ? poses.measured_l : poses.measured_r) {
       image->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
@@ -171,6 +206,7 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   if (config_.on_sent) config_.on_sent(pair, sequence);
   std::lock_guard lock(stats_mutex_);
   ++stats_.frames_sent;
+  stats_.bytes_sent += jpeg_bytes;
   stats_.poses_from_joints += from_joints;
   stats_.poses_fixed += fixed;
   stats_.encode_ms_last = static_cast<double>(

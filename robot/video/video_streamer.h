@@ -20,6 +20,7 @@
 #include "robot/head/joint_state_buffer.h"
 #include "robot/link/link_server.h"
 #include "robot/link/media/media_sender.h"
+#include "robot/video/stereo_av_encoder.h"
 #include "robot/video/stereo_encoder.h"
 #include "robot/video/stream_settings_controller.h"
 #include "robot/stereo/stereo_pairer.h"
@@ -41,6 +42,10 @@ struct VideoStreamerConfig {
   /// receiver, frame rate, scale and quality follow its send rate (StreamSettingsController,
   /// never above `jpeg.quality` or the cameras' rate).
   link::media::MediaSender* media = nullptr;
+  /// MJPEG (each image a JPEG, `jpeg`'s settings), or H.264/HEVC through `video` (#34): then
+  /// over the ZeroMQ link only (media must be null) at video.bit_rate_bps.
+  link::VideoCodec codec = link::VideoCodec::kMjpeg;
+  StereoAvEncoderOptions video;
   /// For the adaptation: nominal_fps (the cameras'), the scales, the quality floor;
   /// pixels_per_frame and nominal_quality are taken from the first pair and `jpeg`.
   StreamSettingsLimits adaptive;
@@ -48,6 +53,7 @@ struct VideoStreamerConfig {
 
 struct VideoStreamerStats {
   std::uint64_t frames_sent = 0;
+  std::uint64_t bytes_sent = 0;         ///< both images' encoded bytes, every frame sent
   std::uint64_t encode_failures = 0;
   std::uint64_t poses_from_joints = 0;  ///< camera images whose pose came from joint states
   std::uint64_t poses_fixed = 0;        ///< … from the fixed calibration
@@ -61,6 +67,8 @@ struct VideoStreamerStats {
   StreamSettings stream;                       ///< the last pair's settings (fps, scale, quality, why)
   bool stream_adapted = false;                 ///< stream is the media path's, not the nominal one
   StreamSettingsStats stream_decisions;
+  link::VideoCodec codec = link::VideoCodec::kMjpeg;  ///< what the frames carry
+  StereoAvEncoderStats video;                          ///< H.264/HEVC: key frames, backend
 };
 
 class VideoStreamer {
@@ -79,6 +87,12 @@ class VideoStreamer {
   bool publish(const stereo::StereoFrame& pair);
 
   void setJpegSettings(const JpegSettings& settings) { encoder_.setSettings(settings); }
+  /// H.264/HEVC: the next pair is a key-frame pair (the operator lost a frame); false (nothing
+  /// to do) for MJPEG, whose every image stands alone. Any thread.
+  bool requestKeyFrame();
+  link::VideoCodec codec() const { return config_.codec; }
+  /// H.264/HEVC: the encoders' target, both cameras together (0 for MJPEG).
+  std::int64_t videoBitRateBps() const { return av_encoder_ ? config_.video.bit_rate_bps : 0; }
   JpegSettings jpegSettings() const { return encoder_.settings(); }
   VideoStreamerStats stats() const;
   /// The media path's sender (null: the ZeroMQ link only).
@@ -93,6 +107,7 @@ class VideoStreamer {
   StereoPosesAt poses_;
   VideoStreamerConfig config_;
   StereoEncoder encoder_;
+  std::unique_ptr<StereoAvEncoder> av_encoder_;  ///< H.264/HEVC (null for MJPEG)
   std::optional<StreamSettingsController> stream_settings_;
   std::int64_t last_sent_ns_ = 0;
   std::int64_t last_pair_ns_ = 0;
