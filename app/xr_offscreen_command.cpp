@@ -146,6 +146,7 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
               {"recording_s", stats->recording_s},
               {"recorded_frames", stats->recorded_frames},
               {"undecodable", stats->undecodable},
+              {"awaiting_key_frame", stats->awaiting_key_frame},
               {"replaced_unshown", stats->replaced_unshown},
               {"head_targets", stats->head_targets},
               {"first_frame_with_nominal", stats->first_frame_with_nominal},

@@ -402,6 +402,9 @@ OperatorViewStats OperatorView::stats() const {
   out.frames_concealed = decoded.frames_concealed;
   out.rows_concealed = decoded.rows_concealed;
   out.rows_grey = decoded.rows_grey;
+  out.video_codec = decoded.codec;
+  out.key_frames_requested = decoded.key_frames_requested;
+  out.frames_awaiting_key_frame = decoded.dropped(video::FrameDropReason::kAwaitingKeyFrame);
   if (media_) {
     const auto m = media_->stats();
     out.video_link = "udp";

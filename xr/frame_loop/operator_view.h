@@ -116,6 +116,9 @@ struct OperatorViewStats {
   std::uint64_t media_chunks_requested = 0, media_chunks_repaired = 0;  ///< asked for again, arrived in time
   std::uint64_t media_frames_superseded = 0;  ///< incomplete when a newer one was delivered
   std::uint64_t frames_concealed = 0, rows_concealed = 0, rows_grey = 0;  ///< painted from the previous frame
+  std::string video_codec = "mjpeg";      ///< what the frames carry (#34)
+  std::uint64_t key_frames_requested = 0;  ///< H.264/HEVC: key frames asked of the robot after a loss
+  std::uint64_t frames_awaiting_key_frame = 0;  ///< H.264/HEVC: frames refused until that key frame
   /// Display frames with the link's cues (link_state_overlay.h): border tinted (image older than
   /// 250 ms), stale (older than 1 s: grey), the stream below nominal, the robot behind.
   std::uint64_t frames_tinted = 0, frames_stale = 0, frames_stream_below_nominal = 0, frames_robot_behind = 0;

@@ -220,6 +220,7 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
   stats.view = view.stats();
   stats.recorded_frames = session->frames();
   stats.undecodable = view.undecodable();
+  stats.awaiting_key_frame = view.awaitingKeyFrame();
   stats.replaced_unshown = view.replacedUnshown();
   stats.skipped = session->skipped();
   stats.recording_s = double((views_mode ? clock.nowNs() : *next_start_ns) - *first_start_ns) * 1e-9;

@@ -58,7 +58,8 @@ struct OfflineReplayStats {
   /// was in; 0 when the recording never had one. Before it the view is anchored to the first eye
   /// pose (the stand-in), so any head shows the camera's forward view alike.
   std::uint64_t first_frame_with_nominal = 0;
-  std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs did not decode
+  std::uint64_t undecodable = 0;      ///< recorded frames whose JPEGs (access units) did not decode
+  std::uint64_t awaiting_key_frame = 0;  ///< H.264/HEVC frames passed over until a key frame after a gap
   std::uint64_t replaced_unshown = 0;  ///< recorded frames a newer one replaced within a display period
   std::uint64_t skipped = 0;          ///< messages passed over (RecordingReader::skipped)
   double recording_s = 0;             ///< recording time rendered, from the first frame

@@ -8,6 +8,7 @@
 
 #include "robot/link/link_pose.h"
 #include "robot/link/link_schema.h"
+#include "robot/link/proto_enums.h"
 #include "calib/calibration_file.h"
 #include "xr/frame_loop/robot_view_state.h"
 #include "xr/frame_loop/trial_indicator.h"
@@ -63,8 +64,69 @@ bool RecordedView::takeCalibration(const record::RecordedCalibration& recorded, 
 }
 
 void RecordedView::takeFrame(record::RecordedFrame&& frame) {
-  if (pending_) ++replaced_unshown_;
+  const auto codec = link::fromProto(frame.frame.left().codec());
+  if (codec && *codec != link::VideoCodec::kMjpeg && frame.frame.right().codec() == frame.frame.left().codec()) {
+    const auto decode_start = std::chrono::steady_clock::now();
+    auto decoded = decodeVideoPair(frame, *codec);
+    if (!decoded) return;  // counted; the pair before stays pending or on show
+    decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+    if (pending_ || pending_decoded_) ++replaced_unshown_;
+    pending_.reset();
+    pending_decoded_ = std::move(decoded);
+    return;
+  }
+  if (pending_ || pending_decoded_) ++replaced_unshown_;
+  pending_decoded_.reset();
   pending_ = std::move(frame);
+}
+
+std::shared_ptr<const video::DecodedStereoFrame> RecordedView::decodeVideoPair(record::RecordedFrame& recorded,
+                                                                               link::VideoCodec codec) {
+  std::string why;
+  if (!av_[0] || av_codec_ != codec) {
+    for (auto& decoder : av_) {
+      if (!(decoder = video::AvVideoDecoder::open(codec, 1, &why))) {
+        if (undecodable_++ == 0) spdlog::warn("replay: frame {}: {}", recorded.frame.sequence(), why);
+        return nullptr;
+      }
+      decoder->markLost();  // start at a key frame
+    }
+    av_codec_ = codec;
+  }
+  const bool gap = recorded.frame.sequence() != next_video_sequence_;
+  next_video_sequence_ = recorded.frame.sequence() + 1;
+  auto decoded = std::make_shared<video::DecodedStereoFrame>();
+  const link::proto::CameraImage* images[2] = {&recorded.frame.left(), &recorded.frame.right()};
+  const std::vector<std::uint8_t>* bytes[2] = {recorded.left.get(), recorded.right.get()};
+  bool ok = true, awaiting = false;
+  for (int side = 0; side < 2; ++side) {
+    if (gap) av_[side]->markLost();
+    auto planes = std::make_shared<render::YuvPlanes>();
+    const auto result = av_[side]->decode(*bytes[side], images[side]->key_frame(), *planes, &why);
+    if (result == video::AvDecodeResult::kFrame && planes->width == int(images[side]->width()) &&
+        planes->height == int(images[side]->height())) {
+      (side == 0 ? decoded->left : decoded->right) = std::move(planes);
+      continue;
+    }
+    ok = false;
+    if (result == video::AvDecodeResult::kWaitingForKeyFrame) {
+      awaiting = true;
+    } else if (result == video::AvDecodeResult::kFrame) {
+      why = "decoded " + std::to_string(planes->width) + "x" + std::to_string(planes->height) + ", the frame says " +
+            std::to_string(images[side]->width()) + "x" + std::to_string(images[side]->height());
+    } else if (result == video::AvDecodeResult::kNoFrame) {
+      why = "the decoder held the frame back";
+    }
+  }
+  if (!ok) {
+    if (awaiting)
+      ++awaiting_key_frame_;
+    else if (undecodable_++ == 0)
+      spdlog::warn("replay: frame {}: {} (the previous frame stays on show)", recorded.frame.sequence(), why);
+    return nullptr;
+  }
+  decoded->frame = std::move(recorded.frame);
+  return decoded;
 }
 
 bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std::string* error) {
@@ -82,6 +144,11 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
     }
   }
   uploaded_this_frame_ = false;
+  if (pending_decoded_) {
+    const auto decoded = std::move(pending_decoded_);
+    pending_decoded_.reset();
+    return show(decoded, error);
+  }
   if (!pending_) return true;
   record::RecordedFrame recorded = std::move(*pending_);
   pending_.reset();
@@ -93,6 +160,10 @@ bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std:
     return true;
   }
   decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+  return show(decoded, error);
+}
+
+bool RecordedView::show(const std::shared_ptr<const video::DecodedStereoFrame>& decoded, std::string* error) {
   // The frame's own calibration: poses and camera models of one frame belong together.
   const std::uint64_t generation = decoded->frame.calibration_generation();
   if (follow_calibrations_ && generation != 0 && generation != stats_.calibration_generation) {
@@ -158,6 +229,8 @@ frame_loop::OperatorViewStats RecordedView::stats() const {
   out.upload_ms_render_thread_p50 = upload.p50_ms;
   out.upload_ms_render_thread_p99 = upload.p99_ms;
   out.decode_ms_p50 = decode.p50_ms;
+  out.video_codec = av_[0] ? link::videoCodecName(av_codec_) : "mjpeg";
+  out.frames_awaiting_key_frame = awaiting_key_frame_;
   return out;
 }
 

@@ -14,6 +14,10 @@
 ///        follow_recorded_calibrations off (a --calib given to override it) the one given
 ///        is used throughout.
 ///
+///        H.264/HEVC frames (#34) are decoded as they are taken, every one in order (a predicted
+///        frame needs the one before it); the newest decoded pair is shown. A gap in the sequence
+///        (a recording begun part way, frames the robot never logged) waits for the next key frame.
+///
 ///        Not replayed: the live view's holding of the last measured frame while unmeasured ones
 ///        arrive (frames without measured camera poses are shown dimmed at once).
 #pragma once
@@ -30,6 +34,7 @@
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/frame_loop/operator_view.h"
 #include "xr/frame_loop/stereo_view_renderer.h"
+#include "xr/video/av_video_decoder.h"
 #include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::xr::replay {
@@ -63,8 +68,10 @@ class RecordedView final : public frame_loop::OperatorScene {
   const std::shared_ptr<const video::DecodedStereoFrame>& frame() const { return renderer_.frame(); }
   /// The live view's figures where they apply (times on the robot's clock: the recording's).
   frame_loop::OperatorViewStats stats() const;
-  /// Frames whose JPEGs did not decode (the previous frame stayed on show).
+  /// Frames whose JPEGs (or H.264/HEVC access units) did not decode (the previous frame stayed on show).
   std::uint64_t undecodable() const { return undecodable_; }
+  /// H.264/HEVC frames passed over until a key frame after a gap in the recording.
+  std::uint64_t awaitingKeyFrame() const { return awaiting_key_frame_; }
   /// Frames replaced by a newer one before a display frame began (logged within one display period).
   std::uint64_t replacedUnshown() const { return replaced_unshown_; }
 
@@ -73,14 +80,23 @@ class RecordedView final : public frame_loop::OperatorScene {
   bool follow_settings_;
   bool follow_calibrations_;
   std::map<std::uint64_t, calib::SystemCalibration> calibrations_;  ///< by generation
+  /// H.264/HEVC: both frames decoded in order as they are taken; nothing when one did not.
+  std::shared_ptr<const video::DecodedStereoFrame> decodeVideoPair(record::RecordedFrame& frame, link::VideoCodec codec);
+  /// The decoded pair on the GPU, with its calibration, gain and counts.
+  bool show(const std::shared_ptr<const video::DecodedStereoFrame>& decoded, std::string* error);
+
   video::JpegDecoder decoder_;
+  std::unique_ptr<video::AvVideoDecoder> av_[2];  ///< H.264/HEVC, per camera (opened with the first frame)
+  link::VideoCodec av_codec_ = link::VideoCodec::kMjpeg;
+  std::uint64_t next_video_sequence_ = 0;
   std::optional<record::RecordedFrame> pending_;
+  std::shared_ptr<const video::DecodedStereoFrame> pending_decoded_;  ///< H.264/HEVC: decoded at take time
   std::optional<link::proto::RobotState> state_;
   std::optional<frame_loop::LinkState> link_cues_;  ///< views mode: the live run's cues
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;
   bool uploaded_this_frame_ = false;
-  std::uint64_t undecodable_ = 0, replaced_unshown_ = 0;
+  std::uint64_t undecodable_ = 0, replaced_unshown_ = 0, awaiting_key_frame_ = 0;
   frame_loop::OperatorViewStats stats_;
   std::vector<double> render_ms_, age_ms_, upload_ms_, decode_ms_;
 };

@@ -26,6 +26,8 @@
 
 namespace telesphere::xr::video {
 
+struct DecodeResult;
+
 struct DecodeJob {
   std::span<const std::uint8_t> jpeg;  ///< must stay valid until the result is ready
   std::shared_ptr<const void> keep_alive;  ///< owner of the bytes (e.g. the link message); held until then
@@ -33,6 +35,10 @@ struct DecodeJob {
   int expected_height = 0;  ///< px
   int max_side = 8192;      ///< px; larger headers are refused before anything is allocated
   std::shared_ptr<render::UploadSlotSource> upload_slots;  ///< decode into a slot of it when one is free
+  /// Set: the worker runs this instead of decoding `jpeg` (H.264/HEVC, VideoStreamDecoder): it
+  /// fills the planes it is given (the pool's own memory, recycled like a JPEG's) and the result's
+  /// error and message.
+  std::function<void(render::YuvPlanes& planes, DecodeResult& result)> decode_into;
 };
 
 struct DecodeResult {
@@ -41,6 +47,9 @@ struct DecodeResult {
   std::shared_ptr<const render::YuvPlanes> planes;  ///< set when error == kNone
   double decode_ms = 0;                     ///< wall time of the decode on its worker
   bool in_upload_slot = false;              ///< the planes are in GL buffer memory (planes->slot)
+  /// H.264/HEVC: refused because a frame before it was lost (error kCorrupt): the stream's decoder
+  /// waits for a key frame.
+  bool awaiting_key_frame = false;
 };
 
 class DecodePool {

@@ -5,6 +5,8 @@
 
 #include "xr/video/lost_row_concealment.h"
 
+#include "robot/link/proto_enums.h"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -41,6 +43,7 @@ std::string_view frameDropReasonName(FrameDropReason reason) {
     case FrameDropReason::kTooLarge: return "too_large";
     case FrameDropReason::kSizeMismatch: return "size_mismatch";
     case FrameDropReason::kUnsupported: return "unsupported";
+    case FrameDropReason::kAwaitingKeyFrame: return "awaiting_key_frame";
     case FrameDropReason::kCount: break;
   }
   return "unknown";
@@ -96,8 +99,78 @@ void StereoFrameDecoder::receive() {
   }
 }
 
+void StereoFrameDecoder::requestKeyFrame() {
+  const std::int64_t now = link::linkNowNs();
+  {
+    std::lock_guard lock(key_frame_mutex_);
+    if (last_key_frame_request_ns_ != 0 && now - last_key_frame_request_ns_ < kKeyFrameRequestPeriodMs * 1'000'000)
+      return;
+    last_key_frame_request_ns_ = now;
+    ++key_frames_requested_;
+    if (!key_frame_requests_)
+      key_frame_requests_ = std::make_unique<link::ControlQueue>(client_, std::chrono::milliseconds(1000));
+  }
+  link::proto::ControlRequest request;
+  request.set_request_key_frame(true);
+  key_frame_requests_->send(std::move(request), [](const std::optional<link::proto::ControlReply>& reply) {
+    if (reply && !reply->ok()) spdlog::warn("stereo decoder: the robot refused a key frame: {}", reply->error());
+  });
+}
+
+void StereoFrameDecoder::submitVideoPair(link::ReceivedFrame received, link::VideoCodec codec, PairInFlight& pair) {
+  const auto& f = received.frame;
+  for (auto& decoder : video_)
+    if (!decoder || decoder->codec() != codec) decoder = std::make_shared<VideoStreamDecoder>(codec, 1);
+  // A gap in the sequence (the link or the client's latest-wins slot dropped frames, or the
+  // robot started again): the frames after it need a key frame.
+  const bool lost_before = f.sequence() != next_video_sequence_;
+  next_video_sequence_ = f.sequence() + 1;
+  const bool key = f.left().key_frame() && f.right().key_frame();
+  if (lost_before && !key) requestKeyFrame();
+  const auto job = [&](int side, std::span<const std::uint8_t> bytes, const link::proto::CameraImage& image) {
+    DecodeJob j;
+    j.jpeg = bytes;
+    j.keep_alive = received.storage;
+    j.max_side = options_.max_side;
+    const std::uint64_t ticket = video_[side]->reserve();
+    const int width = options_.check_message_size ? static_cast<int>(image.width()) : 0;
+    const int height = options_.check_message_size ? static_cast<int>(image.height()) : 0;
+    j.decode_into = [decoder = video_[side], ticket, bytes, key_frame = image.key_frame(), lost_before, width,
+                     height](render::YuvPlanes& planes, DecodeResult& result) {
+      decoder->decode(ticket, bytes, key_frame, lost_before, planes, result);
+      if (result.error == JpegDecodeError::kNone && width > 0 && (planes.width != width || planes.height != height)) {
+        result.error = JpegDecodeError::kSizeMismatch;
+        result.message = "decoded " + std::to_string(planes.width) + "x" + std::to_string(planes.height) +
+                         ", the message says " + std::to_string(width) + "x" + std::to_string(height);
+      }
+    };
+    return j;
+  };
+  pair.left = pool_.submit(job(0, received.left_jpeg, f.left()));
+  pair.right = pool_.submit(job(1, received.right_jpeg, f.right()));
+}
+
 void StereoFrameDecoder::submitPair(link::ReceivedFrame received) {
   const auto& f = received.frame;
+  const auto codec = link::fromProto(f.left().codec());
+  if (!codec || f.left().codec() != f.right().codec()) {
+    drop(FrameDropReason::kUnsupported, f.sequence(), "both",
+         "codec " + std::to_string(int(f.left().codec())) + " / " + std::to_string(int(f.right().codec())) +
+             ": not one codec this build decodes");
+    return;
+  }
+  last_codec_ = static_cast<int>(*codec);
+  if (*codec != link::VideoCodec::kMjpeg) {
+    PairInFlight pair;
+    submitVideoPair(received, *codec, pair);
+    pair.received = std::move(received);
+    {
+      std::lock_guard lock(in_flight_mutex_);
+      in_flight_.push_back(std::move(pair));
+    }
+    in_flight_changed_.notify_all();
+    return;
+  }
   const auto job = [&](std::span<const std::uint8_t> jpeg, const link::proto::CameraImage& image) {
     DecodeJob j;
     j.jpeg = jpeg;
@@ -147,12 +220,13 @@ void StereoFrameDecoder::finishPair(PairInFlight& pair) {
   DecodeResult left = pair.left.get();
   DecodeResult right = pair.right.get();
   const std::int64_t decoded_ns = link::linkNowNs();
-  if (left.error != JpegDecodeError::kNone) {
-    drop(stereoDropReason(left.error), f.sequence(), "left", left.message);
-    return;
-  }
-  if (right.error != JpegDecodeError::kNone) {
-    drop(stereoDropReason(right.error), f.sequence(), "right", right.message);
+  const bool predicted = f.left().codec() != link::proto::VIDEO_CODEC_MJPEG;
+  for (const auto& [result, side] : {std::pair{&left, "left"}, std::pair{&right, "right"}}) {
+    if (result->error == JpegDecodeError::kNone) continue;
+    // A predicted stream that lost a frame, or one that did not decode, needs a key frame.
+    if (predicted) requestKeyFrame();
+    drop(result->awaiting_key_frame ? FrameDropReason::kAwaitingKeyFrame : stereoDropReason(result->error),
+         f.sequence(), side, result->message);
     return;
   }
 
@@ -255,6 +329,11 @@ StereoDecodeStats StereoFrameDecoder::stats() const {
   s.rows_concealed = rows_concealed_;
   s.rows_grey = rows_grey_;
   s.dropped_by_reason = dropped_;
+  s.codec = link::videoCodecName(static_cast<link::VideoCodec>(last_codec_.load()));
+  {
+    std::lock_guard key_lock(key_frame_mutex_);
+    s.key_frames_requested = key_frames_requested_;
+  }
   s.dropped_by_reason[static_cast<int>(FrameDropReason::kSuperseded)] = superseded;
   // Publications within the window before now (a stalled stream reads 0 fps).
   std::size_t recent = 0;

@@ -23,11 +23,14 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <string_view>
 #include <thread>
 
+#include "robot/link/control_queue.h"
 #include "robot/link/link_client.h"
 #include "xr/video/decode_pool.h"
+#include "xr/video/video_stream_decoder.h"
 #include "xr/video/latency_figure.h"
 
 namespace telesphere::xr::video {
@@ -47,7 +50,8 @@ enum class FrameDropReason : int {
   kCorrupt,       ///< corrupt or truncated JPEG data
   kTooLarge,      ///< a JPEG header beyond the side limit (refused before any allocation)
   kSizeMismatch,  ///< JPEG header size differs from the message's width × height
-  kUnsupported,   ///< a chroma subsampling the renderer does not take
+  kUnsupported,   ///< a chroma subsampling the renderer does not take, or a codec this build lacks
+  kAwaitingKeyFrame,  ///< H.264/HEVC: a frame before it was lost; the decoder waits for a key frame
   kCount
 };
 
@@ -62,6 +66,10 @@ struct StereoDecodeStats {
   std::uint64_t frames_concealed = 0;        ///< pairs published with rows painted from the previous pair
   std::uint64_t rows_concealed = 0;          ///< image rows so painted (both images)
   std::uint64_t rows_grey = 0;               ///< lost rows left grey (no previous image of that size)
+  /// H.264/HEVC: key frames asked of the robot (a frame lost or undecodable; at most one per
+  /// kKeyFrameRequestPeriodMs), and the codec of the last frame ("mjpeg" before any).
+  std::uint64_t key_frames_requested = 0;
+  std::string codec = "mjpeg";
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> dropped_by_reason{};
   std::uint64_t dropped(FrameDropReason r) const { return dropped_by_reason[static_cast<int>(r)]; }
   LatencyFigure decode;               ///< one JPEG's decode on a worker
@@ -74,6 +82,9 @@ struct StereoDecodeStats {
 
 class StereoFrameDecoder {
  public:
+  /// H.264/HEVC: key-frame requests at most this often (a lost key frame is asked for again).
+  static constexpr std::int64_t kKeyFrameRequestPeriodMs = 250;
+
   struct Options {
     int threads = 0;  ///< decode threads; ≤ 0: hardware_concurrency
     int max_side = static_cast<int>(link::kMaxImageSide);  ///< px per side
@@ -120,6 +131,11 @@ class StereoFrameDecoder {
   void publish();
   void finishPair(PairInFlight& pair);
   void drop(FrameDropReason reason, std::uint64_t sequence, const char* side, const std::string& why);
+  /// H.264/HEVC frames go to each camera's stream decoder in arrival order; a gap in the
+  /// sequence marks a loss and asks the robot for a key frame.
+  void submitVideoPair(link::ReceivedFrame received, link::VideoCodec codec, PairInFlight& pair);
+  /// Asks the robot for a key-frame pair, at most once per kKeyFrameRequestPeriodMs (any thread).
+  void requestKeyFrame();
 
   link::LinkClient& client_;
   Options options_;
@@ -140,6 +156,16 @@ class StereoFrameDecoder {
   std::array<std::uint64_t, static_cast<int>(FrameDropReason::kCount)> unlogged_{};
   std::deque<std::int64_t> publish_ns_;
   std::array<std::deque<double>, 6> samples_ms_;
+
+  mutable std::mutex key_frame_mutex_;
+  std::int64_t last_key_frame_request_ns_ = 0;
+  std::uint64_t key_frames_requested_ = 0;
+  std::unique_ptr<link::ControlQueue> key_frame_requests_;  ///< made on the first request
+  /// The receive thread's: each camera's stream decoder (null until an H.264/HEVC frame) and the
+  /// sequence the next frame should have (0: none seen).
+  std::shared_ptr<VideoStreamDecoder> video_[2];
+  std::uint64_t next_video_sequence_ = 0;
+  std::atomic<int> last_codec_{0};  ///< link::VideoCodec of the last frame submitted
 
   DecodePool pool_;  // after the state its workers' results feed; before the thread that uses it
   std::size_t max_in_flight_ = 1;
