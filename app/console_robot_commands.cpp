@@ -89,6 +89,11 @@ void printStatus(const std::string& robot, const link::proto::RobotState& s, con
               mode ? std::string(link::visualModeName(*mode)).c_str() : "?", st.sphere_radius(), st.jpeg_quality(),
               std::isinf(st.filter_cutoff_hz()) ? "off" : (std::to_string(int(std::lround(st.filter_cutoff_hz()))) + " Hz").c_str(),
               st.jump_position_m() * 100.0, st.jump_angle_deg());
+  if (const auto codec = link::fromProto(st.video_codec()); codec && *codec != link::VideoCodec::kMjpeg)
+    std::printf("video      %s (%s), %g Mbit/s\n", link::videoCodecName(*codec),
+                st.video_encoder().empty() ? "opening" : st.video_encoder().c_str(), st.video_mbit());
+  else
+    std::printf("video      %s\n", codec ? "mjpeg" : "unknown codec (a newer robot?)");
   std::printf("calibration generation %llu\n", static_cast<unsigned long long>(s.calibration_generation()));
   std::printf("link       %s\n", link::trustSummary(h.trust()).c_str());
   if (const std::string refused = link::refusalSummary(h.trust()); !refused.empty())

@@ -56,6 +56,7 @@ TEST_F(ConsoleRobotCommands, StatusStopClearModeRadiusHoldAndRecording) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("arm        ok (simulated xArm 6)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("hold       none"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("video      mjpeg"), std::string::npos) << r.out;  // the codec in use (#34)
   nlohmann::json s = status();
   ASSERT_FALSE(s.is_discarded());
   EXPECT_EQ(s["state"]["arm_ok"], true);
