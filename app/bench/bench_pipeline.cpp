@@ -11,7 +11,9 @@
 ///        time per stereo frame (robot and client ends together, both in this process); goal
 ///        ≤ 2 % more CPU and ≤ 0.5 ms more latency per frame. And 2×4K as the cameras send it,
 ///        a raw Bayer mosaic (#34): debayered into planes by the encoder, against the same floor
-///        from the mosaic (debayer + encode + decode of one image).
+///        from the mosaic (debayer + encode + decode of one image). And 2×1080p as H.264 and HEVC
+///        at 20 Mbit/s (#34, libavcodec on the CPU), against the floor of that codec: one
+///        single-threaded encode + decode of a predicted image in the same sequence.
 #include <unistd.h>
 
 #include <algorithm>
@@ -24,6 +26,8 @@
 #include <vector>
 
 #include "robot/cameras/debayer_yuv420.h"
+#include "robot/video/av_video_encoder.h"
+#include "robot/video/frame_to_yuv420.h"
 #include "robot/video/jpeg_encoder.h"
 #include "app/bench/bench_table.h"
 #include "app/bench/bench_topic.h"
@@ -32,6 +36,7 @@
 #include "robot/link/media/media_packet.h"
 #include "robot/link/media/media_seal.h"
 #include "robot/link/trust/link_key_files.h"
+#include "xr/video/av_video_decoder.h"
 #include "xr/video/jpeg_decoder.h"
 #include "xr/video/stereo_frame_decoder.h"
 
@@ -44,7 +49,48 @@ struct PipelineResolution {
   const char* key;  ///< json suffix
   int width, height;
   bool bayer = false;  ///< the cameras send an RGGB mosaic (no CURVE rounds for it)
+  link::VideoCodec codec = link::VideoCodec::kMjpeg;  ///< H.264/HEVC: no CURVE rounds either
 };
+
+/// The H.264/HEVC link rate of the codec rows (both cameras together), Mbit/s.
+constexpr double kPipelineVideoMbit = 20.0;
+
+/// H.264/HEVC: one single-threaded encode plus one decode of a predicted image (median over a
+/// sequence of `frames` cycled `reps` times; the first, a key frame, not counted), and the mean
+/// access unit's size.
+double videoFloorMs(const std::vector<robot::cameras::CameraFrame>& frames, link::VideoCodec codec, int reps,
+                    std::size_t* bytes_per_image) {
+  robot::video::FrameToYuv420 to_planes;
+  robot::cameras::Yuv420Image planes;
+  robot::video::AvVideoEncoderOptions o;
+  o.codec = codec;
+  o.width = frames[0].width;
+  o.height = frames[0].height;
+  o.bit_rate_bps = static_cast<std::int64_t>(kPipelineVideoMbit * 1e6 / 2);
+  o.threads = 1;
+  std::string error;
+  auto encoder = robot::video::AvVideoEncoder::open(o, &error);
+  auto decoder = xr::video::AvVideoDecoder::open(codec, 1, &error);
+  if (!encoder || !decoder) throw std::runtime_error("pipeline: " + error);
+  robot::video::EncodedVideoFrame packet;
+  xr::render::YuvPlanes decoded;
+  std::vector<double> ms;
+  std::size_t bytes = 0;
+  const int images = reps * static_cast<int>(frames.size()) + 1;
+  for (int i = 0; i < images; ++i) {
+    const auto& frame = frames[static_cast<std::size_t>(i) % frames.size()];
+    const auto t0 = std::chrono::steady_clock::now();
+    if (!to_planes.convert(frame, planes, &error) || !encoder->encode(planes, i == 0, packet, &error) ||
+        decoder->decode(packet.bytes, packet.key_frame, decoded, &error) != xr::video::AvDecodeResult::kFrame)
+      throw std::runtime_error("pipeline: " + std::string(link::videoCodecName(codec)) + " floor: " + error);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (i == 0) continue;
+    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    bytes += packet.bytes.size();
+  }
+  *bytes_per_image = bytes / ms.size();
+  return quantile(ms, 0.5);
+}
 
 /// One single-core encode plus one decode of `frame` (median of `reps`), and the JPEG size; for a
 /// Bayer mosaic the encode includes its debayering into planes.
@@ -142,7 +188,8 @@ struct PipelineRun {
 
 PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_frames,
                         const std::vector<robot::cameras::CameraFrame>& right_frames, double rate_hz,
-                        double seconds, int port, const PipelineKeys* keys = nullptr) {
+                        double seconds, int port, const PipelineKeys* keys = nullptr,
+                        link::VideoCodec codec = link::VideoCodec::kMjpeg) {
   link::LinkEndpoints endpoints;
   endpoints.base_port = port;
   link::LinkEndpoints client_endpoints = endpoints;
@@ -150,7 +197,12 @@ PipelineRun runPipeline(const std::vector<robot::cameras::CameraFrame>& left_fra
     endpoints.credentials = keys->robot;
     client_endpoints.credentials = keys->client;
   }
-  ReplayVideoSource robot_side(endpoints, left_frames, right_frames, rate_hz, {}, 300ms);
+  robot::video::VideoStreamerConfig config;
+  config.codec = codec;
+  config.video.bit_rate_bps = static_cast<std::int64_t>(kPipelineVideoMbit * 1e6);
+  config.video.fps = static_cast<int>(std::lround(rate_hz));
+  config.video.threads_per_camera = 1;
+  ReplayVideoSource robot_side(endpoints, left_frames, right_frames, rate_hz, {}, 300ms, config);
   link::LinkClient client(client_endpoints);
   xr::video::StereoFrameDecoder decoder(client);
 
@@ -203,7 +255,11 @@ std::string ms(const xr::video::LatencyFigure& f) {
 nlohmann::json runPipelineBench(const BenchContext& ctx) {
   nlohmann::json json;
   const std::vector<PipelineResolution> resolutions = {
-      {"4k", 3840, 2160}, {"1080p", 1920, 1080}, {"4k_bayer", 3840, 2160, true}};
+      {"4k", 3840, 2160},
+      {"1080p", 1920, 1080},
+      {"4k_bayer", 3840, 2160, true},
+      {"1080p_h264", 1920, 1080, false, link::VideoCodec::kH264},
+      {"1080p_hevc", 1920, 1080, false, link::VideoCodec::kHevc}};
   const std::vector<double> rates = {45.0, 30.0, 22.5, 15.0, 10.0, 5.0};
   const double seconds = ctx.quick ? 2.0 : 10.0;
   const robot::video::JpegSettings settings;  // quality 90, 4:2:0: the robot's default
@@ -225,15 +281,21 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
       for (auto* frames : {&left, &right})
         for (auto& frame : *frames) frame = mosaicOf(frame, robot::cameras::PixelFormat::kBayerRG8);
     std::size_t jpeg_bytes = 0;
-    const double floor_ms = codecFloorMs(left[0], settings, ctx.quick ? 3 : 9, &jpeg_bytes);
+    const bool predicted = res.codec != link::VideoCodec::kMjpeg;
+    const double floor_ms = predicted ? videoFloorMs(left, res.codec, ctx.quick ? 2 : 5, &jpeg_bytes)
+                                      : codecFloorMs(left[0], settings, ctx.quick ? 3 : 9, &jpeg_bytes);
     PipelineRun best;
     for (double rate : rates) {
       ctx.out << "pipeline: " << res.key << " at " << rate << " Hz…\n" << std::flush;
-      best = runPipeline(left, right, rate, seconds, port);
+      best = runPipeline(left, right, rate, seconds, port, nullptr, res.codec);
       port += 10;
       if (best.sustained) break;
     }
-    const std::string name = std::string("2×") + (res.bayer ? std::string("4K Bayer RGGB") : std::string(res.key));
+    const std::string name =
+        std::string("2×") + (res.bayer                                   ? std::string("4K Bayer RGGB")
+                             : res.codec == link::VideoCodec::kH264 ? std::string("1080p H.264 20 Mbit/s")
+                             : res.codec == link::VideoCodec::kHevc ? std::string("1080p HEVC 20 Mbit/s")
+                                                                    : std::string(res.key));
     summary.addRow({name, formatNumber(best.rate_hz), best.sustained ? "yes" : "no",
                     formatNumber(best.p50_ms), formatNumber(best.p99_ms), formatNumber(floor_ms),
                     formatNumber(best.p50_ms / floor_ms), formatNumber(best.bandwidth_mb_s),
@@ -254,7 +316,9 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
     json["jpeg_bytes_" + k] = jpeg_bytes;
     json["cpu_ms_per_frame_" + k] = best.cpu_ms_per_frame;
     json["encode_p50_ms_" + k] = best.decode.capture_to_encoded.p50_ms;
-    if (res.bayer) continue;  // the cost of encryption does not depend on what the camera sent
+    // The cost of encryption depends on neither what the camera sent nor the codec (bytes per frame
+    // aside, which the MJPEG rows bound from above).
+    if (res.bayer || predicted) continue;
 
     // The cost of encryption: the same rate with and without keys, one after the other twice (so a
     // slow second does not count against one side only); the medians of the two.
@@ -285,9 +349,11 @@ nlohmann::json runPipelineBench(const BenchContext& ctx) {
     json["plain_cpu_ms_per_frame_" + k] = cpu_plain;
     json["secure_cpu_added_pct_" + k] = cpu_added_pct;
   }
-  ctx.out << "\nEnd to end on loopback, JPEG quality 90 4:2:0, " << seconds
+  ctx.out << "\nEnd to end on loopback, JPEG quality 90 4:2:0 (H.264/HEVC: libx264/libx265 ultrafast zerolatency at "
+          << kPipelineVideoMbit << " Mbit/s for both cameras, one thread each), " << seconds
           << " s per rate after 1 s warm-up; latency = capture → both images decoded; floor = one "
-             "single-core encode + decode of one image (from a Bayer mosaic: debayer + encode + decode); CPU = "
+             "single-core encode + decode of one image (from a Bayer mosaic: debayer + encode + decode; H.264/HEVC: "
+             "a predicted image of the same replayed sequence); CPU = "
              "this process, robot and operator ends together, per decoded stereo frame\n";
   summary.print(ctx.out);
   ctx.out << "\nPer stage, p50 / p99 ms\n";

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief The robot side of the video path for benchmarks, in-process: two replay cameras
-///        sharing a start instant (a triggered pair) → stereo pairing → parallel encode → a link
-///        server on `endpoints`. Frames start flowing `delay` after construction (so a client
+///        sharing a start instant (a triggered pair) → stereo pairing → parallel encode (MJPEG, or
+///        the codec `config` names) → a link server on `endpoints`. Frames start flowing `delay` after construction (so a client
 ///        can subscribe first) and stop when it is destroyed.
 #pragma once
 
@@ -24,13 +24,14 @@ struct ReplayVideoSource {
 
   ReplayVideoSource(const link::LinkEndpoints& endpoints, const std::vector<robot::cameras::CameraFrame>& left_frames,
                     const std::vector<robot::cameras::CameraFrame>& right_frames, double rate_hz,
-                    robot::video::StereoPosesAt poses, std::chrono::milliseconds delay)
+                    robot::video::StereoPosesAt poses, std::chrono::milliseconds delay,
+                    const robot::video::VideoStreamerConfig& config = {})
       : start_ns(clock.nowNs() + delay.count() * 1'000'000),
         server(endpoints),
         left(clock, left_frames, cameraConfig("left", rate_hz)),
         right(clock, right_frames, cameraConfig("right", rate_hz)),
         pairs(left, right, pairing()),
-        streamer(pairs, server, clock, std::move(poses), {}) {
+        streamer(pairs, server, clock, std::move(poses), config) {
     std::string error;
     left.start(&error);
     right.start(&error);
