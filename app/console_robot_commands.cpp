@@ -135,6 +135,14 @@ std::optional<link::proto::ControlRequest> requestOf(const std::vector<std::stri
       return std::nullopt;
     }
     r.set_set_sphere_radius(radius);  // the robot checks the range and says it
+  } else if (verb == "codec") {
+    if (!arguments(1)) return std::nullopt;
+    const auto codec = link::parseVideoCodec(a[1]);
+    if (!codec) {
+      *error = "codec '" + a[1] + "': mjpeg, h264 or hevc";
+      return std::nullopt;
+    }
+    r.set_set_video_codec(link::toProto(*codec));  // the robot says when it cannot (its media path)
   } else if (verb == "release-hold") {
     if (!arguments(0)) return std::nullopt;
     r.mutable_calibration_head_pose()->set_release(true);
@@ -154,7 +162,7 @@ std::optional<link::proto::ControlRequest> requestOf(const std::vector<std::stri
     r.mutable_hand_over_operator_seat()->set_name(a[1] == "free" ? "" : a[1]);
   } else {
     *error = "unknown action '" + verb +
-             "': stop, clear-fault, mode M, radius R, release-hold, record start NAME, record stop, seat NAME|free";
+             "': stop, clear-fault, mode M, radius R, codec C, release-hold, record start NAME, record stop, seat NAME|free";
     return std::nullopt;
   }
   return r;
@@ -197,7 +205,7 @@ CLI::App* addStatusCommand(CLI::App& app, RobotCommandOptions& o) {
 
 CLI::App* addControlCommand(CLI::App& app, RobotCommandOptions& o) {
   CLI::App* control = app.add_subcommand(
-      "control", "one control request: stop | clear-fault | mode M | radius R | release-hold | record start NAME | record stop | seat NAME|free");
+      "control", "one control request: stop | clear-fault | mode M | radius R | codec mjpeg|h264|hevc | release-hold | record start NAME | record stop | seat NAME|free");
   control->add_option("--robot", o.robot, "the robot's link, tcp://HOST:PORT")->capture_default_str();
   control->add_option("--wait", o.wait_s, "seconds to wait for the robot's reply (clear-fault: for the arm's outcome)")
       ->capture_default_str()->check(CLI::Range(0.1, 600.0));

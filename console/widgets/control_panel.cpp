@@ -82,6 +82,18 @@ ControlPanel::ControlPanel(ConsoleSession& session, QWidget* parent) : QWidget(p
     send(QString("set_jpeg_quality %1").arg(quality_->value()), r);
   });
 
+  codec_ = new QComboBox;
+  codec_->addItem("MJPEG", int(link::proto::VIDEO_CODEC_MJPEG));
+  codec_->addItem("H.264", int(link::proto::VIDEO_CODEC_H264));
+  codec_->addItem("HEVC", int(link::proto::VIDEO_CODEC_HEVC));
+  codec_->setToolTip("Video codec of the stereo stream: MJPEG (every image alone; the UDP media path) or H.264/HEVC "
+                     "(a fraction of the bytes, a key frame after a loss; a robot without the media path)");
+  addRow("video codec", codec_, nullptr, codec_now_, [this] {
+    link::proto::ControlRequest r;
+    r.set_set_video_codec(static_cast<link::proto::VideoCodecProto>(codec_->currentData().toInt()));
+    send("set_video_codec " + codec_->currentText(), r);
+  });
+
   cutoff_ = new QDoubleSpinBox;
   cutoff_->setRange(0.1, 1000.0);
   cutoff_->setDecimals(1);
@@ -236,6 +248,16 @@ void ControlPanel::refresh() {
   mode_now_->setText(visualModeLabel(st.visual_mode()));
   radius_now_->setText(QString("%1 m").arg(st.sphere_radius()));
   quality_now_->setText(QString::number(st.jpeg_quality()));
+  switch (st.video_codec()) {
+    case link::proto::VIDEO_CODEC_MJPEG: codec_now_->setText("MJPEG"); break;
+    case link::proto::VIDEO_CODEC_H264:
+    case link::proto::VIDEO_CODEC_HEVC:
+      codec_now_->setText(QString("%1 %2 Mbit/s")
+                              .arg(st.video_codec() == link::proto::VIDEO_CODEC_H264 ? "H.264" : "HEVC")
+                              .arg(st.video_mbit()));
+      break;
+    default: codec_now_->setText(QString("unknown (%1)").arg(int(st.video_codec())));
+  }
   cutoff_now_->setText(std::isinf(st.filter_cutoff_hz()) ? QString("off")
                                                          : QString("%1 Hz").arg(st.filter_cutoff_hz()));
   jump_now_->setText(QString("%1 cm / %2°").arg(st.jump_position_m() * 100.0).arg(st.jump_angle_deg()));

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief The knobs the supervisor turns live (DESIGN.md §7: every change is a control request
 ///        with an explicit reply, shown; nothing is assumed to have worked): visual mode, sphere
-///        radius, JPEG quality, filter cut-off, jump threshold, arm stop and clear fault, who holds
+///        radius, JPEG quality, video codec, filter cut-off, jump threshold, arm stop and clear fault, who holds
 ///        the head for calibration and "release head". Each row shows what the robot has in force
 ///        now next to the editor.
 #pragma once
@@ -34,6 +34,7 @@ class ControlPanel : public QWidget {
   QComboBox* modeBox() const { return mode_; }
   QDoubleSpinBox* radiusBox() const { return radius_; }
   QSpinBox* qualityBox() const { return quality_; }
+  QComboBox* codecBox() const { return codec_; }
   QDoubleSpinBox* cutoffBox() const { return cutoff_; }
   QCheckBox* cutoffOffBox() const { return cutoff_off_; }
   QDoubleSpinBox* jumpPositionBox() const { return jump_cm_; }
@@ -58,11 +59,12 @@ class ControlPanel : public QWidget {
   QComboBox* mode_;
   QDoubleSpinBox* radius_;
   QSpinBox* quality_;
+  QComboBox* codec_;
   QDoubleSpinBox* cutoff_;
   QCheckBox* cutoff_off_;
   QDoubleSpinBox* jump_cm_;
   QDoubleSpinBox* jump_deg_;
-  QLabel *mode_now_, *radius_now_, *quality_now_, *cutoff_now_, *jump_now_;
+  QLabel *mode_now_, *radius_now_, *quality_now_, *codec_now_, *cutoff_now_, *jump_now_;
   QPushButton* stop_;
   QPushButton* clear_;
   QPushButton* record_;

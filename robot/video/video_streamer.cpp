@@ -30,18 +30,39 @@ VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& 
       clock_(clock),
       poses_(std::move(poses)),
       config_(config),
-      encoder_(clock, config.jpeg) {
-  if (config_.codec != link::VideoCodec::kMjpeg) {
-    if (config_.media)
-      throw std::invalid_argument(std::string("the media path carries MJPEG only: ") +
-                                  link::videoCodecName(config_.codec) + " goes over the ZeroMQ link");
-    config_.video.codec = config_.codec;
-    av_encoder_ = std::make_unique<StereoAvEncoder>(clock, config_.video);
+      encoder_(clock, config.jpeg),
+      codec_(config.codec) {
+  if (config_.codec != link::VideoCodec::kMjpeg && config_.media)
+    throw std::invalid_argument(std::string("the media path carries MJPEG only: ") +
+                                link::videoCodecName(config_.codec) + " goes over the ZeroMQ link");
+}
+
+bool VideoStreamer::setCodec(link::VideoCodec codec, std::string* error) {
+  if (codec != link::VideoCodec::kMjpeg && config_.media) {
+    *error = std::string(link::videoCodecName(codec)) +
+             " goes over the ZeroMQ link only so far, and this robot serves the UDP media path (MJPEG): start it "
+             "with --no-media to choose H.264 or HEVC";
+    return false;
   }
+  codec_ = codec;
+  return true;
+}
+
+std::shared_ptr<StereoAvEncoder> VideoStreamer::avEncoderFor(link::VideoCodec codec) {
+  std::lock_guard lock(av_encoder_mutex_);
+  if (codec == link::VideoCodec::kMjpeg) {
+    av_encoder_.reset();
+  } else if (!av_encoder_ || av_encoder_->options().codec != codec) {
+    StereoAvEncoderOptions options = config_.video;
+    options.codec = codec;
+    av_encoder_ = std::make_shared<StereoAvEncoder>(clock_, options);
+  }
+  return av_encoder_;
 }
 
 bool VideoStreamer::requestKeyFrame() {
-  if (!av_encoder_) return false;
+  std::lock_guard lock(av_encoder_mutex_);
+  if (!av_encoder_) return codec() != link::VideoCodec::kMjpeg;  // the next pair is a new stream's first
   av_encoder_->requestKeyFrame();
   return true;
 }
@@ -61,7 +82,8 @@ void VideoStreamer::stop() {
 VideoStreamerStats VideoStreamer::stats() const {
   std::lock_guard lock(stats_mutex_);
   VideoStreamerStats s = stats_;
-  s.codec = config_.codec;
+  s.codec = codec();
+  std::lock_guard encoder_lock(av_encoder_mutex_);
   if (av_encoder_) s.video = av_encoder_->stats();
   return s;
 }
@@ -114,9 +136,11 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   std::string error;
   bool key_frame = false;
   bool encoded_ok = false;
-  if (av_encoder_) {
+  const link::VideoCodec codec = codec_.load();
+  const std::shared_ptr<StereoAvEncoder> av = avEncoderFor(codec);
+  if (av) {
     EncodedAccessUnitPair units;
-    encoded_ok = av_encoder_->encode(left, right, units, &error);
+    encoded_ok = av->encode(left, right, units, &error);
     if (encoded_ok) {
       encoded.left = {units.left.bytes, units.left.encoded_ns, units.left.encode_ms};
       encoded.right = {units.right.bytes, units.right.encoded_ns, units.right.encode_ms};
@@ -143,11 +167,11 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     image->set_capture_ns(frame.capture_ns);
     image->set_width(static_cast<std::uint32_t>(frame.width));
     image->set_height(static_cast<std::uint32_t>(frame.height));
-    image->set_subsampling(av_encoder_ ? link::proto::CHROMA_420 : protoSubsampling(frame, settings.subsampling));
+    image->set_subsampling(av ? link::proto::CHROMA_420 : protoSubsampling(frame, settings.subsampling));
     image->set_exposure_us(frame.exposure_us);
     image->set_camera_sequence(frame.sequence);
-    if (av_encoder_) {
-      image->set_codec(link::toProto(config_.codec));
+    if (av) {
+      image->set_codec(link::toProto(codec));
       image->set_key_frame(key_frame);
     }
     const bool left = side == cameras::CameraSide::kLeft;

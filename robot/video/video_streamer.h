@@ -90,9 +90,13 @@ class VideoStreamer {
   /// H.264/HEVC: the next pair is a key-frame pair (the operator lost a frame); false (nothing
   /// to do) for MJPEG, whose every image stands alone. Any thread.
   bool requestKeyFrame();
-  link::VideoCodec codec() const { return config_.codec; }
+  /// The codec from the next pair on (the supervisor's choice; a new H.264/HEVC stream starts with
+  /// a key frame). False with the reason for H.264/HEVC while the media path serves (it carries
+  /// MJPEG only). Any thread.
+  bool setCodec(link::VideoCodec codec, std::string* error);
+  link::VideoCodec codec() const { return codec_.load(); }
   /// H.264/HEVC: the encoders' target, both cameras together (0 for MJPEG).
-  std::int64_t videoBitRateBps() const { return av_encoder_ ? config_.video.bit_rate_bps : 0; }
+  std::int64_t videoBitRateBps() const { return codec() != link::VideoCodec::kMjpeg ? config_.video.bit_rate_bps : 0; }
   JpegSettings jpegSettings() const { return encoder_.settings(); }
   VideoStreamerStats stats() const;
   /// The media path's sender (null: the ZeroMQ link only).
@@ -100,6 +104,9 @@ class VideoStreamer {
 
  private:
   void run();
+  /// The H.264/HEVC encoder for `codec` (made, or made again for another codec, here; null for
+  /// MJPEG, whose pairs StereoEncoder encodes).
+  std::shared_ptr<StereoAvEncoder> avEncoderFor(link::VideoCodec codec);
 
   stereo::StereoPairSource& pairs_;
   link::LinkServer& server_;
@@ -107,7 +114,9 @@ class VideoStreamer {
   StereoPosesAt poses_;
   VideoStreamerConfig config_;
   StereoEncoder encoder_;
-  std::unique_ptr<StereoAvEncoder> av_encoder_;  ///< H.264/HEVC (null for MJPEG)
+  std::atomic<link::VideoCodec> codec_;
+  mutable std::mutex av_encoder_mutex_;
+  std::shared_ptr<StereoAvEncoder> av_encoder_;  ///< H.264/HEVC (null for MJPEG); under av_encoder_mutex_
   std::optional<StreamSettingsController> stream_settings_;
   std::int64_t last_sent_ns_ = 0;
   std::int64_t last_pair_ns_ = 0;

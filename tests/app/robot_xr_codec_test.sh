@@ -7,14 +7,16 @@
 #        the recording replays twice into byte-equal PNGs with nothing undecodable, every recorded
 #        frame shown; and every PNG of the live run, rendered again from the recording with the
 #        frame and head pose it showed (views.csv), is byte-equal to the live one: the operator
-#        saw what the recording holds. Refused with the reason: a codec over the media path, an
-#        unknown codec.
+#        saw what the recording holds. The supervisor switches a running robot from MJPEG to HEVC
+#        (`telesphere-console control codec`) and the operator app follows without a gap. Refused
+#        with the reason: a codec over the media path, an unknown codec.
 # Usage: robot_xr_codec_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
 out=$(mktemp -d -t telesphere-codec.XXXXXX)
 robot=
-cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
+xr=
+cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; [ -n "$xr" ] && kill "$xr" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
 fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
 json() { sed -n "s/^ *\"$2\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$1"; }
@@ -47,7 +49,7 @@ for codec in h264 hevc; do
   live="$out/$codec-live/stats.json"
   [ "$(json "$live" video_codec)" = "$codec" ] || fail "$codec: the operator app decoded $(json "$live" video_codec)"
   shown=$(json "$live" stereo_frames_shown)
-  [ "$shown" -ge 40 ] || fail "$codec: $shown camera frames shown in 4 s of a 15 Hz stream"
+  [ "$shown" -ge 30 ] || fail "$codec: $shown camera frames shown in 4 s of a 15 Hz stream (60 when idle)"
   # Joined part way: the first frames it saw were predicted ones; it asked for a key frame (unless it
   # happened to join on one) and every frame from there decoded.
   awaiting=$(json "$live" frames_awaiting_key_frame)
@@ -86,4 +88,28 @@ for codec in h264 hevc; do
   done < "$out/$codec-live/views.csv"
   echo "$codec: $shown frames shown live ($requested key frames asked for, $awaiting frames waited), $recorded recorded, $pngs PNGs twice, $views live views equal"
 done
-echo "PASS: H.264 and HEVC from the robot to the operator app and from the recording"
+# The supervisor's choice, live: a robot without the media path starts with MJPEG; two seconds into
+# the operator's run the console switches it to HEVC; the operator app follows (the new stream
+# starts with a key frame) and ends showing HEVC frames, having shown frames all along.
+"$bin/telesphere-robot" --insecure --sim --no-media --size 320x180 --fps 15 --port "$port" --duration 120 \
+  --stats-period 1 > "$out/robot.log" 2>&1 &
+robot=$!
+"$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 6 \
+  --wait 60 --out "$out/switch" > "$out/switch.txt" &
+xr=$!
+for _ in $(seq 100); do grep -q "nominal pose captured" "$out/robot.log" && break; sleep 0.1; done
+sleep 2
+"$bin/telesphere-console" control codec hevc --insecure --robot "tcp://127.0.0.1:$port" > "$out/control.txt" 2>&1 ||
+  { cat "$out/control.txt"; fail "the console could not switch the codec"; }
+wait "$xr" || fail "switch: telesphere-xr offscreen exited with $?"
+xr=
+"$bin/telesphere-console" status --insecure --robot "tcp://127.0.0.1:$port" > "$out/status.txt" 2>&1 || true
+kill -INT "$robot"
+wait "$robot" || true
+robot=
+grep -q "video      hevc (libx265)" "$out/status.txt" || { cat "$out/status.txt"; fail "the status does not show the chosen codec"; }
+[ "$(json "$out/switch/stats.json" video_codec)" = hevc ] || fail "after the switch the operator app decoded $(json "$out/switch/stats.json" video_codec)"
+shown=$(json "$out/switch/stats.json" stereo_frames_shown)
+[ "$shown" -ge 45 ] || fail "switch: $shown camera frames shown in 6 s of a 15 Hz stream (90 when idle)"
+echo "switch: MJPEG then HEVC, $shown frames shown in 6 s"
+echo "PASS: H.264 and HEVC from the robot to the operator app and from the recording; the codec switched live"

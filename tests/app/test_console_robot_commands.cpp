@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief `telesphere-console status|control` against a real `telesphere-robot --sim` on loopback
 ///        (issue #30): the status as text and JSON, a stop and a clear-fault that waits for the
-///        arm, a mode and a radius (one the robot refuses, with its reason), a hold released by
+///        arm, a mode and a radius (one the robot refuses, with its reason), a codec (H.264 refused
+///        beside the media path), a hold released by
 ///        script, a recording started and stopped, bad arguments, and no robot at all.
 #include <gtest/gtest.h>
 
@@ -80,6 +81,17 @@ TEST_F(ConsoleRobotCommands, StatusStopClearModeRadiusHoldAndRecording) {
   r = console("control radius 0.001");
   EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
   EXPECT_NE(r.out.find("refused: sphere radius"), std::string::npos) << r.out;
+  // The codec (#34): this robot serves the UDP media path, which carries MJPEG only: H.264 is
+  // refused with what to do; MJPEG is taken; an unknown codec never leaves the console.
+  r = console("control codec h264");
+  EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
+  EXPECT_NE(r.out.find("--no-media"), std::string::npos) << r.out;
+  r = console("control codec mjpeg");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(status()["health"]["settings"].value("video_codec", "VIDEO_CODEC_MJPEG"), "VIDEO_CODEC_MJPEG");
+  r = console("control codec vp9");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("mjpeg, h264 or hevc"), std::string::npos) << r.err;
 
   // A hold that a wizard left: released by script, and the status says so.
   link::LinkEndpoints endpoints;
