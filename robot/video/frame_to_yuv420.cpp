@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "robot/cameras/debayer_yuv420.h"
 
@@ -14,6 +15,7 @@ namespace telesphere::robot::video {
 struct FrameToYuv420::Impl {
   tjhandle rgb = nullptr;  ///< TurboJPEG's RGB → YCbCr (made on the first RGB image)
   cameras::DebayerToYuv420 debayer;
+  std::vector<std::uint8_t> padded_y;  ///< TurboJPEG's Y plane of an odd-sized image (scratch)
   ~Impl() {
     if (rgb) tjDestroy(rgb);
   }
@@ -49,13 +51,23 @@ bool FrameToYuv420::convert(const cameras::CameraFrame& frame, cameras::Yuv420Im
         return false;
       }
       out.resize(frame.width, frame.height);
-      unsigned char* planes[3] = {out.y.data(), out.u.data(), out.v.data()};
-      int strides[3] = {frame.width, out.chromaWidth(), out.chromaWidth()};
+      // TurboJPEG writes the Y plane of an odd-sized image padded to even width and height (one
+      // more column and row than ours): there it writes into scratch rows, copied over after.
+      const int y_width = tjPlaneWidth(0, frame.width, TJSAMP_420);
+      const int y_height = tjPlaneHeight(0, frame.height, TJSAMP_420);
+      const bool padded = y_width != frame.width || y_height != frame.height;
+      if (padded) impl_->padded_y.resize(static_cast<std::size_t>(y_width) * y_height);
+      unsigned char* planes[3] = {padded ? impl_->padded_y.data() : out.y.data(), out.u.data(), out.v.data()};
+      int strides[3] = {padded ? y_width : frame.width, out.chromaWidth(), out.chromaWidth()};
       if (tjEncodeYUVPlanes(impl_->rgb, src, frame.width, frame.stride_bytes, frame.height, TJPF_RGB, planes, strides,
                             TJSAMP_420, 0) != 0) {
         *error = std::string("TurboJPEG RGB → YUV: ") + tjGetErrorStr2(impl_->rgb);
         return false;
       }
+      if (padded)
+        for (int row = 0; row < frame.height; ++row)
+          std::memcpy(out.y.data() + static_cast<std::size_t>(row) * frame.width,
+                      impl_->padded_y.data() + static_cast<std::size_t>(row) * y_width, static_cast<std::size_t>(frame.width));
       return true;
     }
     case cameras::PixelFormat::kBayerRG8:

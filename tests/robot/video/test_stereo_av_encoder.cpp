@@ -56,7 +56,7 @@ CameraFrame movingScene(int width, int height, int t) {
 }
 
 TEST(FrameToYuv420, RgbIsJfifBt601FullRangeWithinOne) {
-  const CameraFrame f = randomFrame(PixelFormat::kRgb8, 37, 22, 5, 1);  // odd width, padded rows
+  const CameraFrame f = randomFrame(PixelFormat::kRgb8, 37, 23, 5, 1);  // odd width and height, padded rows
   FrameToYuv420 convert;
   cameras::Yuv420Image planes;
   std::string error;

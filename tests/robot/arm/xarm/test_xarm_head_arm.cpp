@@ -116,6 +116,9 @@ TEST_F(XArmHeadArmTest, StartsUpMovesToTheNominalJointsAndStreamsServoTargets) {
   while (arm->pollState()) {
   }
   stream(40, 0.005);  // 0.5 rad/s on J1
+  // Every target reached the controller, no more: the last may still be on its way over TCP when
+  // sendTarget returns (39 of 40 seen at once under ASan beside another test).
+  EXPECT_TRUE(eventually([&] { return sim->snapshot().servo_commands >= 40u; }, 2000ms));
   s = sim->snapshot();
   EXPECT_EQ(s.servo_commands, 40u);
   // The last target reaches the servos after the arm's command latency.
