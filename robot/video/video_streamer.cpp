@@ -31,10 +31,8 @@ VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& 
       poses_(std::move(poses)),
       config_(config),
       encoder_(clock, config.jpeg),
-      codec_(config.codec) {
-  if (config_.codec != link::VideoCodec::kMjpeg && config_.media)
-    throw std::invalid_argument(std::string("the media path carries MJPEG only: ") +
-                                link::videoCodecName(config_.codec) + " goes over the ZeroMQ link");
+      codec_(link::VideoCodec::kMjpeg) {
+  if (std::string why; !setCodec(config.codec, &why)) throw std::invalid_argument(why);
 }
 
 bool VideoStreamer::setCodec(link::VideoCodec codec, std::string* error) {
