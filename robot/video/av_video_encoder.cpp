@@ -224,6 +224,7 @@ void AvVideoEncoder::setBitRate(std::int64_t bit_rate_bps) {
   impl_->applyRate(bit_rate_bps);
 }
 
+bool AvVideoEncoder::changesRateInPlace() const { return impl_->backend != "libx265"; }
 std::string AvVideoEncoder::backend() const { return impl_->backend; }
 std::string AvVideoEncoder::gpuFallbackReason() const { return impl_->gpu_fallback_reason; }
 std::int64_t AvVideoEncoder::heldBack() const { return impl_->held_back; }

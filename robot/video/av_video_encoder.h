@@ -52,6 +52,9 @@ class AvVideoEncoder {
   /// NVENC reconfigure at the next image. FFmpeg 5.1's libx265 wrapper does not reconfigure, so
   /// for HEVC on the CPU the new rate waits for the encoder to be opened again (not done yet).
   void setBitRate(std::int64_t bit_rate_bps);
+  /// Whether setBitRate() takes effect in place (libx264, NVENC); false for libx265, whose rate
+  /// changes only when the encoder is opened again.
+  bool changesRateInPlace() const;
 
   /// "libx264", "libx265", "h264_nvenc", "hevc_nvenc": what encodes.
   std::string backend() const;

@@ -22,7 +22,7 @@ struct StereoAvEncoder::Side {
     const std::int64_t t0 = clock.nowNs();
     if (!to_planes.convert(frame, planes, error)) return false;
     if (!encoder->encode(planes, key_frame, packet, error)) return false;
-    out.bytes = std::make_shared<const std::vector<std::uint8_t>>(packet.bytes);
+    out.bytes = std::make_shared<const std::vector<std::uint8_t>>(std::move(packet.bytes));
     out.encoded_ns = clock.nowNs();
     out.encode_ms = static_cast<double>(out.encoded_ns - t0) * 1e-6;
     was_key = packet.key_frame;
@@ -84,11 +84,11 @@ bool StereoAvEncoder::encode(const cameras::CameraFrame& left, const cameras::Ca
     return false;
   }
   const std::int64_t rate = bit_rate_bps_.load();
-  const bool hevc_cpu = left_ && left_->encoder->backend() == "libx265";
+  const bool in_place = left_ && left_->encoder->changesRateInPlace();
   const bool rate_moved = std::abs(static_cast<double>(rate - opened_rate_bps_)) > 0.1 * static_cast<double>(opened_rate_bps_);
-  if (!left_ || left.width != width_ || left.height != height_ || (hevc_cpu && rate_moved)) {
+  if (!left_ || left.width != width_ || left.height != height_ || (!in_place && rate_moved)) {
     if (!open(left.width, left.height, error)) return false;
-  } else if (rate != opened_rate_bps_ && !hevc_cpu) {
+  } else if (rate != opened_rate_bps_ && in_place) {
     left_->encoder->setBitRate(rate / 2);
     right_->encoder->setBitRate(rate / 2);
     opened_rate_bps_ = rate;
