@@ -82,51 +82,37 @@ void RecordedView::takeFrame(record::RecordedFrame&& frame) {
 
 std::shared_ptr<const video::DecodedStereoFrame> RecordedView::decodeVideoPair(record::RecordedFrame& recorded,
                                                                                link::VideoCodec codec) {
-  std::string why;
-  if (!av_[0] || av_codec_ != codec) {
-    for (auto& decoder : av_) {
-      if (!(decoder = video::AvVideoDecoder::open(codec, 1, &why))) {
-        if (undecodable_++ == 0) spdlog::warn("replay: frame {}: {}", recorded.frame.sequence(), why);
-        return nullptr;
-      }
-      decoder->markLost();  // start at a key frame
-    }
-    av_codec_ = codec;
-  }
-  const bool gap = recorded.frame.sequence() != next_video_sequence_;
-  next_video_sequence_ = recorded.frame.sequence() + 1;
+  for (auto& decoder : video_)
+    if (!decoder || decoder->codec() != codec) decoder = std::make_unique<video::VideoStreamDecoder>(codec, 1);
   auto decoded = std::make_shared<video::DecodedStereoFrame>();
   const link::proto::CameraImage* images[2] = {&recorded.frame.left(), &recorded.frame.right()};
   const std::vector<std::uint8_t>* bytes[2] = {recorded.left.get(), recorded.right.get()};
-  bool ok = true, awaiting = false;
+  bool awaiting = false;
+  std::string why;
   for (int side = 0; side < 2; ++side) {
-    if (gap) av_[side]->markLost();
     auto planes = std::make_shared<render::YuvPlanes>();
-    const auto result = av_[side]->decode(*bytes[side], images[side]->key_frame(), *planes, &why);
-    if (result == video::AvDecodeResult::kFrame && planes->width == int(images[side]->width()) &&
-        planes->height == int(images[side]->height())) {
+    video::DecodeResult result;
+    video_[side]->decode(video_[side]->reserve(recorded.frame.sequence()), *bytes[side], images[side]->key_frame(),
+                         static_cast<int>(images[side]->width()), static_cast<int>(images[side]->height()), *planes,
+                         result);
+    if (result.error == video::JpegDecodeError::kNone)
       (side == 0 ? decoded->left : decoded->right) = std::move(planes);
-      continue;
-    }
-    ok = false;
-    if (result == video::AvDecodeResult::kWaitingForKeyFrame) {
+    else if (result.awaiting_key_frame)
       awaiting = true;
-    } else if (result == video::AvDecodeResult::kFrame) {
-      why = "decoded " + std::to_string(planes->width) + "x" + std::to_string(planes->height) + ", the frame says " +
-            std::to_string(images[side]->width()) + "x" + std::to_string(images[side]->height());
-    } else if (result == video::AvDecodeResult::kNoFrame) {
-      why = "the decoder held the frame back";
-    }
+    else if (why.empty())
+      why = std::string(side == 0 ? "left" : "right") + " image: " + result.message;
   }
-  if (!ok) {
-    if (awaiting)
-      ++awaiting_key_frame_;
-    else if (undecodable_++ == 0)
+  if (decoded->left && decoded->right) {
+    decoded->frame = std::move(recorded.frame);
+    return decoded;
+  }
+  if (!why.empty()) {
+    if (undecodable_++ == 0)
       spdlog::warn("replay: frame {}: {} (the previous frame stays on show)", recorded.frame.sequence(), why);
-    return nullptr;
+  } else if (awaiting) {
+    ++awaiting_key_frame_;
   }
-  decoded->frame = std::move(recorded.frame);
-  return decoded;
+  return nullptr;
 }
 
 bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std::string* error) {
@@ -229,7 +215,7 @@ frame_loop::OperatorViewStats RecordedView::stats() const {
   out.upload_ms_render_thread_p50 = upload.p50_ms;
   out.upload_ms_render_thread_p99 = upload.p99_ms;
   out.decode_ms_p50 = decode.p50_ms;
-  out.video_codec = av_[0] ? link::videoCodecName(av_codec_) : "mjpeg";
+  out.video_codec = video_[0] ? link::videoCodecName(video_[0]->codec()) : "mjpeg";
   out.frames_awaiting_key_frame = awaiting_key_frame_;
   return out;
 }

@@ -34,7 +34,7 @@
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/frame_loop/operator_view.h"
 #include "xr/frame_loop/stereo_view_renderer.h"
-#include "xr/video/av_video_decoder.h"
+#include "xr/video/video_stream_decoder.h"
 #include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::xr::replay {
@@ -86,9 +86,7 @@ class RecordedView final : public frame_loop::OperatorScene {
   bool show(const std::shared_ptr<const video::DecodedStereoFrame>& decoded, std::string* error);
 
   video::JpegDecoder decoder_;
-  std::unique_ptr<video::AvVideoDecoder> av_[2];  ///< H.264/HEVC, per camera (opened with the first frame)
-  link::VideoCodec av_codec_ = link::VideoCodec::kMjpeg;
-  std::uint64_t next_video_sequence_ = 0;
+  std::unique_ptr<video::VideoStreamDecoder> video_[2];  ///< H.264/HEVC, per camera (made with the first frame)
   std::optional<record::RecordedFrame> pending_;
   std::shared_ptr<const video::DecodedStereoFrame> pending_decoded_;  ///< H.264/HEVC: decoded at take time
   std::optional<link::proto::RobotState> state_;

@@ -113,17 +113,14 @@ void DecodePool::work() {
     }
     DecodeResult result;
     const auto t0 = std::chrono::steady_clock::now();
-    if (task.job.decode_into) {
+    // H.264/HEVC, or a JPEG with no upload slot free: into the pool's own planes.
+    if (task.job.decode_into || !decodeIntoSlot(decoder, task.job, result)) {
       std::unique_ptr<render::YuvPlanes> planes = recycler_->take();
-      task.job.decode_into(*planes, result);
-      if (result.error == JpegDecodeError::kNone)
-        result.planes = Recycler::share(std::move(planes), recycler_);
+      if (task.job.decode_into)
+        task.job.decode_into(*planes, result);
       else
-        recycler_->give(std::move(planes));
-    } else if (!decodeIntoSlot(decoder, task.job, result)) {
-      std::unique_ptr<render::YuvPlanes> planes = recycler_->take();
-      result.error = decoder.decode(task.job.jpeg, task.job.expected_width, task.job.expected_height,
-                                    task.job.max_side, *planes, &result.message);
+        result.error = decoder.decode(task.job.jpeg, task.job.expected_width, task.job.expected_height,
+                                      task.job.max_side, *planes, &result.message);
       if (result.error == JpegDecodeError::kNone)
         result.planes = Recycler::share(std::move(planes), recycler_);
       else

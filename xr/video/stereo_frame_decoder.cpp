@@ -117,39 +117,6 @@ void StereoFrameDecoder::requestKeyFrame() {
   });
 }
 
-void StereoFrameDecoder::submitVideoPair(link::ReceivedFrame received, link::VideoCodec codec, PairInFlight& pair) {
-  const auto& f = received.frame;
-  for (auto& decoder : video_)
-    if (!decoder || decoder->codec() != codec) decoder = std::make_shared<VideoStreamDecoder>(codec, 1);
-  // A gap in the sequence (the link or the client's latest-wins slot dropped frames, or the
-  // robot started again): the frames after it need a key frame.
-  const bool lost_before = f.sequence() != next_video_sequence_;
-  next_video_sequence_ = f.sequence() + 1;
-  const bool key = f.left().key_frame() && f.right().key_frame();
-  if (lost_before && !key) requestKeyFrame();
-  const auto job = [&](int side, std::span<const std::uint8_t> bytes, const link::proto::CameraImage& image) {
-    DecodeJob j;
-    j.jpeg = bytes;
-    j.keep_alive = received.storage;
-    j.max_side = options_.max_side;
-    const std::uint64_t ticket = video_[side]->reserve();
-    const int width = options_.check_message_size ? static_cast<int>(image.width()) : 0;
-    const int height = options_.check_message_size ? static_cast<int>(image.height()) : 0;
-    j.decode_into = [decoder = video_[side], ticket, bytes, key_frame = image.key_frame(), lost_before, width,
-                     height](render::YuvPlanes& planes, DecodeResult& result) {
-      decoder->decode(ticket, bytes, key_frame, lost_before, planes, result);
-      if (result.error == JpegDecodeError::kNone && width > 0 && (planes.width != width || planes.height != height)) {
-        result.error = JpegDecodeError::kSizeMismatch;
-        result.message = "decoded " + std::to_string(planes.width) + "x" + std::to_string(planes.height) +
-                         ", the message says " + std::to_string(width) + "x" + std::to_string(height);
-      }
-    };
-    return j;
-  };
-  pair.left = pool_.submit(job(0, received.left_jpeg, f.left()));
-  pair.right = pool_.submit(job(1, received.right_jpeg, f.right()));
-}
-
 void StereoFrameDecoder::submitPair(link::ReceivedFrame received) {
   const auto& f = received.frame;
   const auto codec = link::fromProto(f.left().codec());
@@ -160,30 +127,37 @@ void StereoFrameDecoder::submitPair(link::ReceivedFrame received) {
     return;
   }
   last_codec_ = static_cast<int>(*codec);
-  if (*codec != link::VideoCodec::kMjpeg) {
-    PairInFlight pair;
-    submitVideoPair(received, *codec, pair);
-    pair.received = std::move(received);
-    {
-      std::lock_guard lock(in_flight_mutex_);
-      in_flight_.push_back(std::move(pair));
-    }
-    in_flight_changed_.notify_all();
-    return;
-  }
-  const auto job = [&](std::span<const std::uint8_t> jpeg, const link::proto::CameraImage& image) {
+  // H.264/HEVC: each camera's frames to its stream decoder in arrival order (one per codec).
+  const bool predicted = *codec != link::VideoCodec::kMjpeg;
+  if (predicted)
+    for (auto& decoder : video_)
+      if (!decoder || decoder->codec() != *codec) decoder = std::make_shared<VideoStreamDecoder>(*codec, 1);
+  bool after_gap = false;
+  const auto job = [&](int side, std::span<const std::uint8_t> bytes, const link::proto::CameraImage& image) {
     DecodeJob j;
-    j.jpeg = jpeg;
+    j.jpeg = bytes;
     j.keep_alive = received.storage;
     j.expected_width = options_.check_message_size ? static_cast<int>(image.width()) : 0;
     j.expected_height = options_.check_message_size ? static_cast<int>(image.height()) : 0;
     j.max_side = options_.max_side;
-    j.upload_slots = options_.upload_slots;
+    if (!predicted) {
+      j.upload_slots = options_.upload_slots;
+      return j;
+    }
+    const VideoStreamDecoder::Turn turn = video_[side]->reserve(f.sequence());
+    after_gap = turn.after_gap;
+    j.decode_into = [decoder = video_[side], turn, bytes, key_frame = image.key_frame(), width = j.expected_width,
+                     height = j.expected_height](render::YuvPlanes& planes, DecodeResult& result) {
+      decoder->decode(turn, bytes, key_frame, width, height, planes, result);
+    };
     return j;
   };
   PairInFlight pair;
-  pair.left = pool_.submit(job(received.left_jpeg, f.left()));
-  pair.right = pool_.submit(job(received.right_jpeg, f.right()));
+  pair.left = pool_.submit(job(0, received.left_jpeg, f.left()));
+  pair.right = pool_.submit(job(1, received.right_jpeg, f.right()));
+  // A gap (the link or the client's latest-wins slot dropped frames, the app joined part way, the
+  // robot started again): the frames after it need a key frame.
+  if (after_gap && !(f.left().key_frame() && f.right().key_frame())) requestKeyFrame();
   pair.received = std::move(received);
   {
     std::lock_guard lock(in_flight_mutex_);

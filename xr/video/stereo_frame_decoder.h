@@ -131,9 +131,6 @@ class StereoFrameDecoder {
   void publish();
   void finishPair(PairInFlight& pair);
   void drop(FrameDropReason reason, std::uint64_t sequence, const char* side, const std::string& why);
-  /// H.264/HEVC frames go to each camera's stream decoder in arrival order; a gap in the
-  /// sequence marks a loss and asks the robot for a key frame.
-  void submitVideoPair(link::ReceivedFrame received, link::VideoCodec codec, PairInFlight& pair);
   /// Asks the robot for a key-frame pair, at most once per kKeyFrameRequestPeriodMs (any thread).
   void requestKeyFrame();
 
@@ -161,10 +158,8 @@ class StereoFrameDecoder {
   std::int64_t last_key_frame_request_ns_ = 0;
   std::uint64_t key_frames_requested_ = 0;
   std::unique_ptr<link::ControlQueue> key_frame_requests_;  ///< made on the first request
-  /// The receive thread's: each camera's stream decoder (null until an H.264/HEVC frame) and the
-  /// sequence the next frame should have (0: none seen).
+  /// The receive thread's: each camera's stream decoder (null until an H.264/HEVC frame).
   std::shared_ptr<VideoStreamDecoder> video_[2];
-  std::uint64_t next_video_sequence_ = 0;
   std::atomic<int> last_codec_{0};  ///< link::VideoCodec of the last frame submitted
 
   DecodePool pool_;  // after the state its workers' results feed; before the thread that uses it
