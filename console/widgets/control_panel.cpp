@@ -248,16 +248,7 @@ void ControlPanel::refresh() {
   mode_now_->setText(visualModeLabel(st.visual_mode()));
   radius_now_->setText(QString("%1 m").arg(st.sphere_radius()));
   quality_now_->setText(QString::number(st.jpeg_quality()));
-  switch (st.video_codec()) {
-    case link::proto::VIDEO_CODEC_MJPEG: codec_now_->setText("MJPEG"); break;
-    case link::proto::VIDEO_CODEC_H264:
-    case link::proto::VIDEO_CODEC_HEVC:
-      codec_now_->setText(QString("%1 %2 Mbit/s")
-                              .arg(st.video_codec() == link::proto::VIDEO_CODEC_H264 ? "H.264" : "HEVC")
-                              .arg(st.video_mbit()));
-      break;
-    default: codec_now_->setText(QString("unknown (%1)").arg(int(st.video_codec())));
-  }
+  codec_now_->setText(videoCodecLabel(st));
   cutoff_now_->setText(std::isinf(st.filter_cutoff_hz()) ? QString("off")
                                                          : QString("%1 Hz").arg(st.filter_cutoff_hz()));
   jump_now_->setText(QString("%1 cm / %2°").arg(st.jump_position_m() * 100.0).arg(st.jump_angle_deg()));

@@ -147,16 +147,7 @@ void HealthPanel::refresh() {
     setRow("Cameras", "encode", QString("%1 ms (both images, last pair)").arg(number(health->encode_ms_last())));
     const auto& st = health->settings();
     // What the frames carry (#34): MJPEG at a quality, or H.264/HEVC at a rate, and who encodes.
-    const auto codec = link::fromProto(st.video_codec());
-    setRow("Cameras", "codec",
-           !codec ? QString("unknown (%1)").arg(int(st.video_codec()))
-           : *codec == link::VideoCodec::kMjpeg
-               ? QString("MJPEG q%1").arg(st.jpeg_quality())
-               : QString("%1 (%2) · %3 Mbit/s")
-                     .arg(*codec == link::VideoCodec::kH264 ? "H.264" : "HEVC")
-                     .arg(st.video_encoder().empty() ? QString("opening") : QString::fromStdString(st.video_encoder()))
-                     .arg(number(st.video_mbit())),
-           !codec);
+    setRow("Cameras", "codec", videoCodecLabel(st), !link::fromProto(st.video_codec()));
     setRow("Arm and head", "arm", health->arm_ok() ? "ok" : "FAULT: " + QString::fromStdString(health->fault()),
            !health->arm_ok());
     setRow("Arm and head", "mode / radius", QString("%1 · r = %2 m").arg(visualModeLabel(st.visual_mode())).arg(st.sphere_radius()));

@@ -19,6 +19,18 @@ inline QString visualModeLabel(link::proto::VisualMode mode) {
   return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 
+/// What the frames carry (#34), as the panels name it: "MJPEG q90", "H.264 (libx264) · 20 Mbit/s",
+/// "HEVC (opening) · 20 Mbit/s" before the first frame; "unknown (7)" for a codec this console lacks.
+inline QString videoCodecLabel(const link::proto::RobotSettings& settings) {
+  const auto codec = link::fromProto(settings.video_codec());
+  if (!codec) return QString("unknown (%1)").arg(int(settings.video_codec()));
+  if (*codec == link::VideoCodec::kMjpeg) return QString("MJPEG q%1").arg(settings.jpeg_quality());
+  return QString("%1 (%2) · %3 Mbit/s")
+      .arg(*codec == link::VideoCodec::kH264 ? "H.264" : "HEVC")
+      .arg(settings.video_encoder().empty() ? QString("opening") : QString::fromStdString(settings.video_encoder()))
+      .arg(settings.video_mbit());
+}
+
 inline QString nominalStepLabel(link::proto::NominalStep step) {
   switch (step) {
     case link::proto::NOMINAL_STEP_FOLLOWING: return "following the operator";
