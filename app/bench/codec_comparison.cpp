@@ -2,8 +2,6 @@
 /// @brief MJPEG, H.264 and HEVC at the same rates on the same moving sequence (#34).
 #include "app/bench/codec_comparison.h"
 
-#include <turbojpeg.h>
-
 #include <opencv2/core.hpp>
 #include <opencv2/quality/qualityssim.hpp>
 
@@ -16,6 +14,7 @@
 #include "app/bench/bench_table.h"
 #include "app/bench/cpu_time.h"
 #include "robot/video/av_video_encoder.h"
+#include "robot/video/frame_to_yuv420.h"
 #include "robot/video/jpeg_encoder.h"
 #include "xr/video/av_video_decoder.h"
 #include "xr/video/jpeg_decoder.h"
@@ -29,17 +28,17 @@ constexpr int kComparisonFps = 45;
 constexpr int kPanPxPerImage = 4;  // a head turning at ~10°/s seen through a 4K fisheye lens
 constexpr int kKeyFrameInterval = 90;
 
-/// The image as YUV 4:2:0 planes (TurboJPEG's conversion, what a JPEG of it would hold).
-Yuv420Image planesOf(const std::vector<std::uint8_t>& rgb, int width, int height) {
+/// The image as YUV 4:2:0 planes (what the robot's H.264/HEVC encoders and a JPEG of it take).
+Yuv420Image planesOf(std::vector<std::uint8_t> rgb, int width, int height) {
+  robot::cameras::CameraFrame frame;
+  frame.format = robot::cameras::PixelFormat::kRgb8;
+  frame.width = width;
+  frame.height = height;
+  frame.stride_bytes = width * 3;
+  frame.pixels = std::make_shared<const std::vector<std::uint8_t>>(std::move(rgb));
   Yuv420Image planes;
-  planes.resize(width, height);
-  unsigned char* pointers[3] = {planes.y.data(), planes.u.data(), planes.v.data()};
-  int strides[3] = {width, planes.chromaWidth(), planes.chromaWidth()};
-  tjhandle tj = tjInitCompress();
-  const int rc = tjEncodeYUVPlanes(tj, rgb.data(), width, 0, height, TJPF_RGB, pointers, strides, TJSAMP_420, 0);
-  const std::string why = rc != 0 ? tjGetErrorStr2(tj) : "";
-  tjDestroy(tj);
-  if (rc != 0) throw std::runtime_error("codec: tjEncodeYUVPlanes: " + why);
+  std::string error;
+  if (!robot::video::FrameToYuv420().convert(frame, planes, &error)) throw std::runtime_error("codec: " + error);
   return planes;
 }
 
