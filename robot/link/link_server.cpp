@@ -115,6 +115,16 @@ struct LinkServer::Impl {
   static constexpr std::size_t kMaxHeadSenders = 16;
   std::mutex handler_mutex;
   ControlHandler handler;
+  bool handler_ever_set = false;  ///< under handler_mutex: none yet means starting, none again stopping
+  /// Control requests that came before the first handler (service thread only), oldest first.
+  struct WaitingRequest {
+    zmq::message_t identity;
+    proto::ControlRequest request;
+    std::int64_t since_ns = 0;
+  };
+  std::deque<WaitingRequest> waiting;
+  static constexpr std::size_t kMaxWaiting = 64;
+  const std::chrono::milliseconds control_wait_at_start;
   std::function<void(const std::string&)> seat_handler;  ///< under handler_mutex
   const std::uint64_t instance = newLinkInstanceId();
   std::atomic<bool> running{true};
@@ -135,7 +145,7 @@ struct LinkServer::Impl {
   // A PUB past its high-water mark drops the newest message. Frames: keep the queue short, at
   // most two stereo frames (three parts each) wait per subscriber, older ones never pile up.
   // State: long enough that telemetry survives a busy subscriber (LinkServer::kStateQueueMessages).
-  explicit Impl(const LinkEndpoints& e)
+  Impl(const LinkEndpoints& e, std::chrono::milliseconds wait_at_start)
       : secure(e.credentials.secure()),
         allowed(secure ? std::make_unique<trust::AllowedKeys>(e.credentials.allowed_dir) : nullptr),
         authenticator(secure ? std::make_unique<trust::ZapAuthenticator>(context.handle(), *allowed, refusals,
@@ -145,7 +155,8 @@ struct LinkServer::Impl {
         state(bindSocket(context, zmq::socket_type::pub, e, LinkEndpoints::kState, "state",
                          LinkServer::kStateQueueMessages)),
         uplink(bindSocket(context, zmq::socket_type::pull, e, LinkEndpoints::kUplink, "uplink")),
-        control(bindSocket(context, zmq::socket_type::router, e, LinkEndpoints::kControl, "control")) {
+        control(bindSocket(context, zmq::socket_type::router, e, LinkEndpoints::kControl, "control")),
+        control_wait_at_start(wait_at_start) {
     uplink.set(zmq::sockopt::rcvhwm, 64);
     if (secure)
       handshakes = std::make_unique<trust::HandshakeMonitor>(
@@ -223,7 +234,47 @@ struct LinkServer::Impl {
       zmq::poll(items, 2, std::chrono::milliseconds(20));
       if (items[0].revents & ZMQ_POLLIN) drainUplink();
       if (items[1].revents & ZMQ_POLLIN) drainControl();
+      if (!waiting.empty()) answerWaiting();
     }
+  }
+
+  /// Answers what waited for the first handler: by it once there is one, "still starting" to
+  /// what waited too long.
+  void answerWaiting() {
+    const std::int64_t now = linkNowNs();
+    std::lock_guard lock(handler_mutex);
+    while (!waiting.empty()) {
+      WaitingRequest& w = waiting.front();
+      proto::ControlReply answer;
+      if (handler) {
+        answer = handler(w.request);
+      } else if (now - w.since_ns >= std::chrono::nanoseconds(control_wait_at_start).count() || handler_ever_set) {
+        answer = notServing();
+      } else {
+        return;  // the oldest may still wait, so may every later one
+      }
+      answer.set_id(w.request.id());
+      proto::Envelope reply;
+      *reply.mutable_control_reply() = std::move(answer);
+      sendReply(w.identity, reply);
+      waiting.pop_front();
+    }
+  }
+
+  /// The answer when no handler serves control (handler_mutex held): not yet, or no longer.
+  proto::ControlReply notServing() const {
+    proto::ControlReply reply;
+    reply.set_ok(false);
+    reply.set_error(handler_ever_set ? "the robot is shutting down" : "the robot is still starting: ask again in a moment");
+    return reply;
+  }
+
+  void sendReply(zmq::message_t& identity, proto::Envelope& reply) {
+    reply.set_schema_version(kSchemaVersion);
+    reply.set_sender_clock_ns(linkNowNs());
+    control.send(identity, zmq::send_flags::sndmore | zmq::send_flags::dontwait);
+    if (control.send(serialise(reply), zmq::send_flags::dontwait)) stats.countSent();
+    if (reply.has_control_reply()) tell(LinkTap::Direction::kSent, reply);
   }
 
   void drainUplink() {
@@ -349,30 +400,29 @@ struct LinkServer::Impl {
           reply.mutable_control_reply()->set_ok(true);
           reply.mutable_control_reply()->set_id(envelope->control_request().id());
         } else {
-        tell(LinkTap::Direction::kReceived, *envelope);
-        std::lock_guard lock(handler_mutex);
-        if (handler) {
-          *reply.mutable_control_reply() = handler(envelope->control_request());
-        } else {
-          reply.mutable_control_reply()->set_ok(false);
-          reply.mutable_control_reply()->set_error("no handler");
-        }
-        reply.mutable_control_reply()->set_id(envelope->control_request().id());
+          tell(LinkTap::Direction::kReceived, *envelope);
+          std::lock_guard lock(handler_mutex);
+          if (handler) {
+            *reply.mutable_control_reply() = handler(envelope->control_request());
+          } else if (!handler_ever_set && waiting.size() < kMaxWaiting) {
+            waiting.push_back({std::move(parts[0]), std::move(*envelope->mutable_control_request()), linkNowNs()});
+            continue;  // answered by answerWaiting
+          } else {
+            *reply.mutable_control_reply() = notServing();
+          }
+          reply.mutable_control_reply()->set_id(envelope->control_request().id());
         }
       } else {
         stats.countDrop(DropReason::kUnexpectedBody, "control");
         continue;
       }
-      reply.set_schema_version(kSchemaVersion);
-      reply.set_sender_clock_ns(linkNowNs());
-      control.send(parts[0], zmq::send_flags::sndmore | zmq::send_flags::dontwait);
-      if (control.send(serialise(reply), zmq::send_flags::dontwait)) stats.countSent();
-      if (reply.has_control_reply()) tell(LinkTap::Direction::kSent, reply);
+      sendReply(parts[0], reply);
     }
   }
 };
 
-LinkServer::LinkServer(const LinkEndpoints& endpoints) : impl_(std::make_unique<Impl>(endpoints)) {
+LinkServer::LinkServer(const LinkEndpoints& endpoints, std::chrono::milliseconds control_wait_at_start)
+    : impl_(std::make_unique<Impl>(endpoints, control_wait_at_start)) {
   spdlog::info("link server on ports {}..{} ({})", endpoints.base_port, endpoints.base_port + 3,
                endpoints.credentials.secure() ? "CURVE: keys in " + endpoints.credentials.allowed_dir.string()
                                               : std::string("INSECURE: no keys"));
@@ -446,6 +496,7 @@ std::optional<proto::HeadTarget> LinkServer::latestHeadTarget() const {
 
 void LinkServer::setControlHandler(ControlHandler handler) {
   std::lock_guard lock(impl_->handler_mutex);
+  impl_->handler_ever_set = impl_->handler_ever_set || handler != nullptr;
   impl_->handler = std::move(handler);
 }
 

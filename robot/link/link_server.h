@@ -16,6 +16,7 @@
 ///        socket has a way back (control replies carry the reason).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -38,8 +39,15 @@ class LinkServer {
   /// Messages queued per state subscriber before the newest are dropped (ZeroMQ's PUB HWM).
   static constexpr int kStateQueueMessages = 20000;
 
+  /// How long a control request that came before the first handler waits for one.
+  static constexpr std::chrono::milliseconds kControlWaitAtStart{15000};
+
   /// Binds the four sockets; throws std::runtime_error naming the endpoint when a port is taken.
-  explicit LinkServer(const LinkEndpoints& endpoints);
+  /// The ports open before the program has built what answers control requests: a request that
+  /// comes before the first setControlHandler waits for it (at most `control_wait_at_start`, then
+  /// it is answered "still starting").
+  explicit LinkServer(const LinkEndpoints& endpoints,
+                      std::chrono::milliseconds control_wait_at_start = kControlWaitAtStart);
   ~LinkServer();
   LinkServer(const LinkServer&) = delete;
   LinkServer& operator=(const LinkServer&) = delete;
@@ -64,7 +72,8 @@ class LinkServer {
   /// latest under the same rule as the uplink's. False when its sender already sent a newer one.
   bool offerHeadTarget(const proto::HeadTarget& target);
   /// Called on the link's thread for every control request; the reply goes back to its sender.
-  /// Without a handler requests are answered {ok: false, error: "no handler"}.
+  /// Before the first handler requests wait for it (see the constructor); once it is set to null
+  /// again they are answered {ok: false, error: "the robot is shutting down"}.
   void setControlHandler(ControlHandler handler);
 
   /// Called on the link's thread after a supervisor handed the operator seat over (the new

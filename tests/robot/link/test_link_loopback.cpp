@@ -140,6 +140,43 @@ TEST(LinkLoopback, HeadTargetsLatestWinsAndControlRoundTrips) {
   EXPECT_EQ(refused->error(), "unknown mode");
 }
 
+// A console that starts beside the robot asks before the robot has installed its handler (the
+// server's ports open first): the request waits for the handler instead of failing with a reason
+// that means nothing to a user. Once the handler is gone again (shutting down) a request is
+// answered at once, and one that waited longer than the server allows says the robot is starting.
+TEST(LinkLoopback, ControlBeforeTheHandlerWaitsForItAndAfterItIsRefusedAsStopping) {
+  LinkServer server(endpoints(42), 1500ms);
+  LinkClient client(endpoints(42));
+  proto::ControlRequest request;
+  request.set_set_visual_mode(proto::VISUAL_MODE_FIXED);
+  std::optional<proto::ControlReply> early;
+  std::thread asker([&] { early = client.request(request, 5000ms); });
+  std::this_thread::sleep_for(400ms);
+  server.setControlHandler([](const proto::ControlRequest& r) {
+    proto::ControlReply reply;
+    reply.set_ok(r.has_set_visual_mode());
+    return reply;
+  });
+  asker.join();
+  ASSERT_TRUE(early) << "a request sent before the handler was never answered";
+  EXPECT_TRUE(early->ok()) << early->error();
+
+  server.setControlHandler(nullptr);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto late = client.request(request, 5000ms);
+  ASSERT_TRUE(late);
+  EXPECT_FALSE(late->ok());
+  EXPECT_NE(late->error().find("shutting down"), std::string::npos) << late->error();
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, 1000ms) << "a stopping robot answers at once";
+
+  LinkServer never(endpoints(43), 300ms);
+  LinkClient patient(endpoints(43));
+  const auto waited = patient.request(request, 5000ms);
+  ASSERT_TRUE(waited);
+  EXPECT_FALSE(waited->ok());
+  EXPECT_NE(waited->error().find("still starting"), std::string::npos) << waited->error();
+}
+
 TEST(LinkLoopback, HeadTargetsAreOrderedPerSenderSoARestartedOperatorIsHeard) {
   LinkServer server(endpoints(40));
   const auto send = [](LinkClient& client, std::int64_t t_ns) {
