@@ -340,8 +340,12 @@ std::optional<AssembledFrame> FrameAssembler::build(const Pending& p) {
   };
   if (!meta.ParseFromArray(p.bytes.data(), h.meta_bytes)) return malformed();
   const std::uint64_t left = meta.frame().left().jpeg_bytes(), right = meta.frame().right().jpeg_bytes();
-  if (std::uint64_t{h.meta_bytes} + left + right != h.frame_bytes || layoutBytes(meta.left()) != left ||
-      layoutBytes(meta.right()) != right || checkStereoFrame(meta.frame(), left, right))
+  // JPEG: the layout adds up to each image; H.264/HEVC: no layout (nothing to conceal).
+  const bool jpeg = meta.frame().left().codec() == proto::VIDEO_CODEC_MJPEG &&
+                    meta.frame().right().codec() == proto::VIDEO_CODEC_MJPEG;
+  const std::uint64_t layout_left = jpeg ? left : 0, layout_right = jpeg ? right : 0;
+  if (std::uint64_t{h.meta_bytes} + left + right != h.frame_bytes || layoutBytes(meta.left()) != layout_left ||
+      layoutBytes(meta.right()) != layout_right || checkStereoFrame(meta.frame(), left, right))
     return malformed();
   AssembledFrame f;
   f.stream = h.stream;
@@ -349,6 +353,11 @@ std::optional<AssembledFrame> FrameAssembler::build(const Pending& p) {
   f.first_arrival_ns = p.first_ns;
   f.last_arrival_ns = p.last_ns;
   f.chunks_missing = static_cast<std::uint32_t>(p.have.size() - p.chunks_have);
+  if (!jpeg && !f.whole()) {  // a predicted image with a hole would smear every image after it
+    ++stats_.frames_lost;
+    ++stats_.video_frames_lost;
+    return std::nullopt;
+  }
   if (!assembleEye(p.bytes, p.have, chunk, h.meta_bytes, left, meta.left(), f.left_jpeg, f.left_lost, &f.bands_lost) ||
       !assembleEye(p.bytes, p.have, chunk, h.meta_bytes + left, right, meta.right(), f.right_jpeg, f.right_lost,
                    &f.bands_lost)) {

@@ -6,7 +6,8 @@
 ///        never shows as garbage. Latest wins: a frame a newer complete one overtook is dropped,
 ///        never repaired. A frame whose packets stopped coming for `reorder_grace_ns` is given
 ///        up: delivered with its lost bands filled, or counted lost when its meta or a JPEG
-///        header is missing. Parity shards (block_erasure_code.h) rebuild a block's lost chunks
+///        header is missing. An H.264/HEVC frame (#34) has no bands: it is delivered whole or
+///        counted lost, and the decoder that misses it asks the robot for a key frame. Parity shards (block_erasure_code.h) rebuild a block's lost chunks
 ///        as soon as enough of the block has arrived. With retransmission on (Config::repair), the
 ///        chunks of the newest frame that its parity cannot rebuild are asked for again
 ///        (takeRepairRequests, repair_request.h) once the evidence says they are lost, and the
@@ -48,7 +49,8 @@ struct FrameAssemblerStats {
   std::uint64_t datagrams = 0;           ///< taken (placed in a frame)
   std::uint64_t frames_whole = 0;        ///< delivered with every chunk
   std::uint64_t frames_concealed = 0;    ///< delivered with filled bands
-  std::uint64_t frames_lost = 0;         ///< given up without their meta or a JPEG header
+  std::uint64_t frames_lost = 0;         ///< given up without their meta or a JPEG header, or an H.264/HEVC frame with a chunk missing
+  std::uint64_t video_frames_lost = 0;   ///< of those, H.264/HEVC frames (the receiver's decoder then asks for a key frame)
   std::uint64_t frames_malformed = 0;    ///< complete enough, but meta and sizes disagree
   std::uint64_t frames_superseded = 0;   ///< incomplete when a newer frame was delivered
   std::uint64_t bands_lost = 0;          ///< filled in delivered frames

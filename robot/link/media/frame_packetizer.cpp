@@ -44,8 +44,12 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
   frame.mutable_left()->set_jpeg_bytes(static_cast<std::uint32_t>(left_jpeg.size()));
   frame.mutable_right()->set_jpeg_bytes(static_cast<std::uint32_t>(right_jpeg.size()));
   *meta.mutable_frame() = std::move(frame);
-  if (!layoutOf(left_jpeg, "left", meta.mutable_left(), error) ||
-      !layoutOf(right_jpeg, "right", meta.mutable_right(), error))
+  // An H.264/HEVC access unit has no bands to conceal (a frame comes whole or not at all): its
+  // layout stays empty and the repeats cover the meta alone.
+  const bool jpeg = meta.frame().left().codec() == proto::VIDEO_CODEC_MJPEG &&
+                    meta.frame().right().codec() == proto::VIDEO_CODEC_MJPEG;
+  if (jpeg && (!layoutOf(left_jpeg, "left", meta.mutable_left(), error) ||
+               !layoutOf(right_jpeg, "right", meta.mutable_right(), error)))
     return false;
   const std::string meta_bytes = meta.SerializeAsString();
   const std::uint64_t total = meta_bytes.size() + left_jpeg.size() + right_jpeg.size();
@@ -83,6 +87,8 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
   h.meta_bytes = static_cast<std::uint16_t>(meta_bytes.size());
   out->frame = h.frame;
   out->frame_bytes = h.frame_bytes;
+  out->predicted_codec = !jpeg;
+  out->key_frame = !jpeg && meta.frame().left().key_frame() && meta.frame().right().key_frame();
   out->datagrams.clear();
   out->chunk_datagram.assign(chunks, 0);
   out->datagrams.reserve(static_cast<std::size_t>(static_cast<double>(chunks) * (1.0 + config_.fec_overhead)) + 8);

@@ -23,6 +23,9 @@ struct PacketizedFrame {
   std::uint32_t frame_bytes = 0;  ///< meta and both JPEGs
   std::vector<std::vector<std::uint8_t>> datagrams;  ///< in the order to send them
   std::vector<std::uint32_t> chunk_datagram;         ///< per chunk: the datagram that carries it first
+  /// H.264/HEVC (#34): each image predicted from the one before, so the sender never drops one
+  /// silently; key_frame: decodable without the frames before it.
+  bool predicted_codec = false, key_frame = false;
 };
 
 class FramePacketizer {

@@ -437,6 +437,73 @@ TEST(FrameAssembler, TheMetaChunkLostCostsTheFrameUnlessItsRepeatArrives) {
   }
 }
 
+// H.264/HEVC (#34): an access unit has no bands, so the packetizer takes any bytes (no JPEG
+// scan) and the assembler delivers the frame whole or not at all: a predicted image with a hole
+// would smear every image after it. Parity still rebuilds what it can.
+TEST(FrameAssembler, AnH264FrameComesWholeOrNotAtAll) {
+  SentFrame sent;
+  sent.left.resize(9000);
+  sent.right.resize(7000);
+  for (std::size_t i = 0; i < sent.left.size(); ++i) sent.left[i] = static_cast<std::uint8_t>(i * 13 + 1);
+  for (std::size_t i = 0; i < sent.right.size(); ++i) sent.right[i] = static_cast<std::uint8_t>(i * 7 + 3);
+  sent.stereo.set_sequence(4);
+  for (auto* image : {sent.stereo.mutable_left(), sent.stereo.mutable_right()}) {
+    image->set_width(320);
+    image->set_height(240);
+    image->set_codec(proto::VIDEO_CODEC_H264);
+    image->set_key_frame(false);
+  }
+  std::string error;
+  for (const double fec : {0.0, 0.1}) {
+    SCOPED_TRACE(fec > 0 ? "with parity" : "without parity");
+    FramePacketizer packetizer(11, {kMaxChunkBytes, fec, 16, false});
+    PacketizedFrame packets;
+    ASSERT_TRUE(packetizer.packetize(sent.stereo, sent.left, sent.right, &packets, &error)) << error;
+    EXPECT_TRUE(packets.predicted_codec);
+    EXPECT_FALSE(packets.key_frame);
+    {  // whole: byte-identical, the codec kept
+      FrameAssembler assembler;
+      std::vector<AssembledFrame> out;
+      for (const auto& d : packets.datagrams) assembler.add(d, 0, out);
+      ASSERT_EQ(out.size(), 1u);
+      EXPECT_EQ(out[0].left_jpeg, sent.left);
+      EXPECT_EQ(out[0].right_jpeg, sent.right);
+      EXPECT_EQ(out[0].stereo.left().codec(), proto::VIDEO_CODEC_H264);
+      EXPECT_TRUE(out[0].left_lost.empty());
+    }
+    {  // one chunk of the left image lost: rebuilt by parity, or the frame is not delivered
+      FrameAssembler assembler;
+      std::vector<AssembledFrame> out;
+      for (std::size_t i = 0; i < packets.datagrams.size(); ++i)
+        if (i != packets.chunk_datagram[2]) assembler.add(packets.datagrams[i], 0, out);
+      assembler.expire(100 * kMs, out);
+      if (fec > 0) {
+        ASSERT_EQ(out.size(), 1u);
+        EXPECT_EQ(out[0].left_jpeg, sent.left);
+        EXPECT_EQ(assembler.stats().chunks_recovered, 1u);
+      } else {
+        EXPECT_TRUE(out.empty()) << "a predicted frame with a hole was delivered";
+        EXPECT_EQ(assembler.stats().frames_lost, 1u);
+        EXPECT_EQ(assembler.stats().video_frames_lost, 1u);
+        EXPECT_EQ(assembler.stats().frames_concealed, 0u);
+      }
+    }
+  }
+  // A key frame is named as one; a JPEG frame is not predicted.
+  for (auto* image : {sent.stereo.mutable_left(), sent.stereo.mutable_right()}) image->set_key_frame(true);
+  FramePacketizer packetizer(12, {});
+  PacketizedFrame packets;
+  ASSERT_TRUE(packetizer.packetize(sent.stereo, sent.left, sent.right, &packets, &error)) << error;
+  EXPECT_TRUE(packets.key_frame);
+  FramePacketizer jpeg_packetizer(13, {});
+  const SentFrame jpeg = sendFrame(jpeg_packetizer, 64, 48, 1, 1);
+  EXPECT_FALSE(jpeg.packets.predicted_codec);
+  // The same bytes named MJPEG are refused: not a JPEG.
+  sent.stereo.mutable_left()->set_codec(proto::VIDEO_CODEC_MJPEG);
+  sent.stereo.mutable_right()->set_codec(proto::VIDEO_CODEC_MJPEG);
+  EXPECT_FALSE(packetizer.packetize(sent.stereo, sent.left, sent.right, &packets, &error));
+}
+
 TEST(FrameAssembler, LatestWinsAndAnOvertakenFrameIsNeverRepaired) {
   FramePacketizer packetizer(11, {kMaxChunkBytes, 0.0, 16, false});
   const SentFrame f0 = sendFrame(packetizer, 320, 240, 4, 0);
