@@ -15,6 +15,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "robot/link/link_endpoints.h"
@@ -116,10 +117,49 @@ bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std
   for (const auto& d : packets.datagrams) wire += d.size() + seal_bytes + 28;
   const double ratio = static_cast<double>(wire) / static_cast<double>(std::max<std::size_t>(1, left_jpeg.size() + right_jpeg.size()));
   wire_per_payload_ = 0.8 * wire_per_payload_ + 0.2 * ratio;
-  if (waiting_) ++stats_.frames_superseded;
-  waiting_ = std::move(packets);
+  // The framing's bytes per frame, and how often frames come: what the framing takes off the
+  // target does not shrink with the payload (the meta, the last chunk's parity shard).
+  const double overhead = static_cast<double>(wire) - static_cast<double>(left_jpeg.size() + right_jpeg.size());
+  overhead_bytes_per_frame_ = overhead_bytes_per_frame_ == 0 ? overhead : 0.8 * overhead_bytes_per_frame_ + 0.2 * overhead;
+  const std::int64_t now_ns = linkNowNs();
+  if (last_frame_ns_ != 0) {
+    const auto dt = static_cast<double>(now_ns - last_frame_ns_);
+    frame_interval_ns_ = frame_interval_ns_ == 0 ? dt : 0.8 * frame_interval_ns_ + 0.2 * dt;
+  }
+  last_frame_ns_ = now_ns;
+  if (!packets.predicted_codec) {
+    stats_.frames_superseded += waiting_.size();
+    waiting_.clear();
+  } else if (packets.key_frame) {
+    stats_.frames_superseded += waiting_.size();  // the key frame needs none of them
+    waiting_.clear();
+    video_chain_broken_ = false;
+  } else if (video_chain_broken_) {
+    ++stats_.video_frames_waiting_for_key;
+    return true;
+  } else if (waiting_.size() >= options_.max_video_frames_waiting) {
+    breakVideoChain();
+    ++stats_.video_frames_waiting_for_key;
+    return true;
+  }
+  waiting_.push_back(std::move(packets));
   const std::uint64_t one = 1;
   (void)!::write(wake_fd_, &one, sizeof one);
+  return true;
+}
+
+void MediaSender::breakVideoChain() {
+  const bool waited = !waiting_.empty() && waiting_.back().predicted_codec;
+  if (waited) stats_.frames_superseded += waiting_.size();
+  if (waited) waiting_.clear();
+  video_chain_broken_ = true;
+  key_frame_wanted_ = true;
+}
+
+bool MediaSender::takeKeyFrameRequest() {
+  std::lock_guard lock(mutex_);
+  if (!std::exchange(key_frame_wanted_, false)) return false;
+  ++stats_.video_key_frames_asked;
   return true;
 }
 
@@ -130,7 +170,12 @@ double MediaSender::targetBps() const {
 
 double MediaSender::payloadBudgetBps() const {
   std::lock_guard lock(mutex_);
-  return rate_.targetBps() / wire_per_payload_;
+  // The target less the framing's rate: the same budget as target / (wire per payload byte) for
+  // a source that fills it, and the right one for a source that does not (H.264 of a still scene
+  // makes frames of a few hundred bytes whose framing would otherwise look like most of the cost).
+  if (frame_interval_ns_ <= 0) return rate_.targetBps() / wire_per_payload_;
+  const double framing_bps = 8.0 * overhead_bytes_per_frame_ * 1e9 / frame_interval_ns_;
+  return std::max(0.0, rate_.targetBps() - framing_bps);
 }
 
 void MediaSender::setCapBps(double cap_bps) {
@@ -151,9 +196,10 @@ void MediaSender::setSealKey(const MediaSealKey& key) {
   ++stats_.seal_sessions;
   receiver_.reset();
   current_.reset();
-  waiting_.reset();
+  waiting_.clear();
   last_sent_.reset();
   repairs_.clear();
+  breakVideoChain();
 }
 
 bool MediaSender::hasReceiver() const {
@@ -224,6 +270,7 @@ void MediaSender::readReceiver(std::int64_t now_ns) {
       // A new receiver (or the first): its path is new, so is what we know of it.
       if (receiver_) ++stats_.receiver_changes;
       receiver_ = std::make_unique<Receiver>();
+      breakVideoChain();  // its decoder starts at a key frame
       receiver_->id = datagram->receiver;
       rate_ = SendRateController(options_.rate);
       rate_.setCapBps(cap_bps_);  // the supervisor's cap outlives any receiver
@@ -280,9 +327,10 @@ void MediaSender::sendDue(std::int64_t now_ns) {
   if (receiver_ && now_ns - receiver_->last_heard_ns > options_.receiver_timeout_ns) {
     receiver_.reset();
     current_.reset();
-    waiting_.reset();
+    waiting_.clear();
     last_sent_.reset();
     repairs_.clear();
+    breakVideoChain();
   }
   if (!receiver_ || (options_.sealed && !sealer_)) return;
   // No credit for idle time beyond 2 ms: a frame after a pause does not leave as one burst.
@@ -299,9 +347,9 @@ void MediaSender::sendDue(std::int64_t now_ns) {
         last_sent_ = std::move(current_);
       }
       current_.reset();
-      if (!waiting_) return;
-      current_ = std::move(waiting_);
-      waiting_.reset();
+      if (waiting_.empty()) return;
+      current_ = std::move(waiting_.front());
+      waiting_.pop_front();
       next_datagram_ = 0;
       last_sent_.reset();  // a newer frame has begun: the last one is superseded
     }
@@ -335,7 +383,7 @@ void MediaSender::run() {
     {
       std::lock_guard lock(mutex_);
       const bool has_data =
-          receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || waiting_ || !repairs_.empty());
+          receiver_ && ((current_ && next_datagram_ < current_->datagrams.size()) || !waiting_.empty() || !repairs_.empty());
       if (has_data) wait_ns = std::clamp<std::int64_t>(next_send_ns_ - linkNowNs(), 0, wait_ns);
     }
     pollfd fds[2] = {{fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};

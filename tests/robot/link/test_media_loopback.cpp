@@ -223,6 +223,82 @@ RepairRun runRepair(bool repair) {
   return out;
 }
 
+/// An H.264 stereo frame of `bytes` per image (the framing never parses an access unit).
+TestFrame videoFrame(std::uint64_t sequence, bool key, std::size_t bytes) {
+  TestFrame f;
+  f.left.assign(bytes, static_cast<std::uint8_t>(sequence));
+  f.right.assign(bytes, static_cast<std::uint8_t>(sequence + 100));
+  f.stereo.set_sequence(sequence);
+  for (auto* image : {f.stereo.mutable_left(), f.stereo.mutable_right()}) {
+    image->set_width(320);
+    image->set_height(240);
+    image->set_codec(proto::VIDEO_CODEC_H264);
+    image->set_key_frame(key);
+  }
+  return f;
+}
+
+// H.264/HEVC (#34): each frame is predicted from the one before, so the sender queues them
+// instead of letting a newer one replace a waiting one; past the queue's bound it drops what
+// waits, refuses predicted frames until a key frame and asks its encoder for one. A new
+// receiver is asked for too. The receiver never gets a predicted frame whose reference it missed.
+TEST(MediaLoopback, PredictedFramesQueueAndAnOverflowRestartsTheStreamAtAKeyFrame) {
+  std::string error;
+  MediaSenderOptions so;
+  so.bind_address = "127.0.0.1";
+  so.rate.initial_bps = 1e6;  // 2 × 6 kB take about 80 ms a frame at 1.25 × 1 Mbit/s
+  so.rate.min_bps = 1e6;
+  so.rate.max_bps = 1e6;
+  so.max_video_frames_waiting = 3;
+  auto sender = MediaSender::start(so, &error);
+  ASSERT_TRUE(sender) << error;
+  MediaReceiverOptions ro;
+  ro.sender_port = sender->port();
+  auto receiver = MediaReceiver::start(ro, &error);
+  ASSERT_TRUE(receiver) << error;
+  ASSERT_TRUE(telesphere::test::eventually([&] { return sender->hasReceiver(); }, 3000ms));
+  EXPECT_TRUE(sender->takeKeyFrameRequest()) << "a new receiver starts at a key frame";
+  EXPECT_FALSE(sender->takeKeyFrameRequest()) << "asked once";
+
+  std::vector<std::uint64_t> got;
+  std::mutex got_mutex;
+  std::atomic<bool> done{false};
+  std::thread consumer([&] {
+    while (!done) {
+      if (auto f = receiver->waitNewest(20ms)) {
+        std::lock_guard lock(got_mutex);
+        got.push_back(f->stereo.sequence());
+      }
+    }
+  });
+  // A predicted frame before any key frame is useless to the receiver: refused.
+  const auto offer = [&](const TestFrame& f) { EXPECT_TRUE(sender->sendFrame(f.stereo, f.left, f.right, &error)) << error; };
+  offer(videoFrame(1, false, 6000));
+  // A key frame, then 8 predicted ones at once: the key frame goes, 3 wait, the 4th overflows.
+  offer(videoFrame(2, true, 6000));
+  std::this_thread::sleep_for(5ms);  // the pacer has begun the key frame
+  for (std::uint64_t s = 3; s <= 10; ++s) offer(videoFrame(s, false, 6000));
+  EXPECT_TRUE(sender->takeKeyFrameRequest()) << "the overflow asks the encoder for a key frame";
+  auto stats = sender->stats();
+  EXPECT_EQ(stats.frames_superseded, 3u) << "what waited (3, 4, 5) is dropped with the chain";
+  EXPECT_EQ(stats.video_frames_waiting_for_key, 1u + 5u) << "1, and 6 to 10 after the overflow";
+  // The encoder's key frame restarts the stream; the frames after it go in order.
+  offer(videoFrame(11, true, 6000));
+  offer(videoFrame(12, false, 6000));
+  offer(videoFrame(13, false, 6000));
+  ASSERT_TRUE(telesphere::test::eventually([&] { return sender->stats().frames_sent >= 4; }, 3000ms));
+  std::this_thread::sleep_for(200ms);
+  done = true;
+  consumer.join();
+  stats = sender->stats();
+  EXPECT_EQ(stats.frames_sent, 4u) << "2, 11, 12, 13";
+  EXPECT_EQ(stats.video_key_frames_asked, 2u);
+  const std::set<std::uint64_t> received(got.begin(), got.end());
+  for (const std::uint64_t s : received) EXPECT_TRUE(s == 2 || s >= 11) << "frame " << s << " reached the receiver";
+  EXPECT_TRUE(received.count(13)) << "the stream went on after its key frame";
+  EXPECT_FALSE(sender->takeKeyFrameRequest()) << "nothing broke the chain since";
+}
+
 TEST(MediaLoopback, RetransmissionRepairsWhatParityCannotWhileTheFrameIsStillDue) {
   // 10 Hz, 20 ms RTT: a repair arrives long before the next frame. Without parity a 640×480
   // stereo frame (~65 datagrams) at 5 % loss is rarely whole; asked for again, nearly always.
