@@ -215,10 +215,16 @@ std::uint64_t RobotAssembly::run(std::atomic<bool>& stop) {
                    static_cast<long long>(p.loop->targetsSent()));
       if (v.codec != link::VideoCodec::kMjpeg) {
         const double seconds = std::max(o.stats_period_s, 1e-3);
+        char budget[96] = "";
+        if (v.stream.limited_by == robot::video::StreamLimitedBy::kBitRate)
+          std::snprintf(budget, sizeof budget, " (the media path's budget; nominal %.1f)",
+                        double(p.video->videoBitRateBps()) * 1e-6);
         std::fprintf(stderr,
-                     "telesphere-robot: video %s (%s), target %.1f Mbit/s, key frames %llu (%llu asked for by the "
-                     "operator), %.1f kB per pair in the last %.0f s\n",
-                     link::videoCodecName(v.codec), v.video.backend.c_str(), double(p.video->videoBitRateBps()) * 1e-6,
+                     "telesphere-robot: video %s (%s), target %.1f Mbit/s%s, key frames %llu (%llu asked for by the "
+                     "operator or the media path), %.1f kB per pair in the last %.0f s\n",
+                     link::videoCodecName(v.codec), v.video.backend.c_str(),
+                     double(v.video.bit_rate_bps > 0 ? v.video.bit_rate_bps : p.video->videoBitRateBps()) * 1e-6,
+                     budget,
                      static_cast<unsigned long long>(v.video.key_frames),
                      static_cast<unsigned long long>(v.video.key_frames_requested),
                      v.frames_sent > frames_before ? double(v.bytes_sent - bytes_before) / double(v.frames_sent - frames_before) * 1e-3 : 0.0,

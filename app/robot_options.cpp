@@ -40,7 +40,7 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
   app.add_option("--quality", o.quality, "JPEG quality")->capture_default_str()->check(CLI::Range(1, 100));
   app.add_option("--codec", o.codec,
                  "video codec: mjpeg (every image a JPEG; the UDP media path), h264 or hevc (each image predicted "
-                 "from the last, a fraction of the bytes; over the ZeroMQ link only so far: with --no-media)")
+                 "from the last, a fraction of the bytes; on the media path at its rate up to --video-mbit)")
       ->capture_default_str()->check(CLI::IsMember({"mjpeg", "h264", "hevc"}));
   app.add_option("--video-mbit", o.video_mbit, "--codec h264|hevc: the encoders' target rate, both cameras together, Mbit/s")
       ->capture_default_str()->check(CLI::Range(0.1, 10000.0));
@@ -128,12 +128,6 @@ bool checkRobotOptions(RobotOptions& o, std::string* error) {
   if (o.replay() && (o.realArm() || !o.camera_left.empty() || o.sim_manipulator || !o.truth_path.empty() ||
                      !o.true_calib_path.empty())) {
     *error = "--replay serves a recording: no arm, cameras, manipulator or truth options with it";
-    return false;
-  }
-  if (o.codec != "mjpeg" && o.media) {
-    *error = "--codec " + o.codec +
-             " goes over the ZeroMQ link only so far (the UDP media path repairs losses band by band in a JPEG): "
-             "add --no-media";
     return false;
   }
   if (!o.replay() && (o.replay_rate != 1.0 || o.replay_loop)) {

@@ -41,7 +41,9 @@ void StereoAvEncoder::setBitRate(std::int64_t bit_rate_bps) { bit_rate_bps_ = bi
 
 StereoAvEncoderStats StereoAvEncoder::stats() const {
   std::lock_guard lock(stats_mutex_);
-  return stats_;
+  StereoAvEncoderStats s = stats_;
+  s.bit_rate_bps = bit_rate_bps_.load();
+  return s;
 }
 
 bool StereoAvEncoder::open(int width, int height, std::string* error) {

@@ -46,6 +46,7 @@ struct StereoAvEncoderStats {
   std::uint64_t key_frames = 0;             ///< key-frame pairs sent (first, interval, requested, reopened)
   std::uint64_t key_frames_requested = 0;   ///< requests taken (several before one pair count once)
   std::uint64_t reopened = 0;               ///< encoders opened again (size or HEVC rate change)
+  std::int64_t bit_rate_bps = 0;            ///< the target now, both cameras (setBitRate's last)
   std::string backend;                      ///< "libx264", "hevc_nvenc", …; empty before the first pair
   std::string gpu_fallback_reason;
 };

@@ -31,6 +31,7 @@ const char* streamLimitedByName(StreamLimitedBy reason) {
     case StreamLimitedBy::kScale: return "scale";
     case StreamLimitedBy::kQuality: return "quality";
     case StreamLimitedBy::kFrameRateBelowFloor: return "frame rate below floor";
+    case StreamLimitedBy::kBitRate: return "bit rate";
     case StreamLimitedBy::kCount: break;
   }
   return "?";

@@ -41,7 +41,8 @@ struct StreamSettingsLimits {
 std::string checkStreamSettingsLimits(const StreamSettingsLimits& limits);
 
 /// Which sacrifice limited a decision (the link statistics count them).
-enum class StreamLimitedBy { kNothing, kFrameRate, kScale, kQuality, kFrameRateBelowFloor, kCount };
+/// kBitRate: H.264/HEVC (#34), whose encoder's rate follows the budget at the full frame rate and scale.
+enum class StreamLimitedBy { kNothing, kFrameRate, kScale, kQuality, kFrameRateBelowFloor, kBitRate, kCount };
 const char* streamLimitedByName(StreamLimitedBy reason);
 
 struct StreamSettings {

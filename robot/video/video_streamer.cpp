@@ -10,6 +10,7 @@
 #include "robot/video/frame_scaler.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <stdexcept>
 
@@ -35,13 +36,7 @@ VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& 
   if (std::string why; !setCodec(config.codec, &why)) throw std::invalid_argument(why);
 }
 
-bool VideoStreamer::setCodec(link::VideoCodec codec, std::string* error) {
-  if (codec != link::VideoCodec::kMjpeg && config_.media) {
-    *error = std::string(link::videoCodecName(codec)) +
-             " goes over the ZeroMQ link only so far, and this robot serves the UDP media path (MJPEG): start it "
-             "with --no-media to choose H.264 or HEVC";
-    return false;
-  }
+bool VideoStreamer::setCodec(link::VideoCodec codec, std::string*) {
   codec_ = codec;
   return true;
 }
@@ -54,6 +49,7 @@ std::shared_ptr<StereoAvEncoder> VideoStreamer::avEncoderFor(link::VideoCodec co
     StereoAvEncoderOptions options = config_.video;
     options.codec = codec;
     av_encoder_ = std::make_shared<StereoAvEncoder>(clock_, options);
+    video_rate_bps_ = 0;  // a new encoder starts at the nominal rate (this thread only, as followBudget)
   }
   return av_encoder_;
 }
@@ -63,6 +59,23 @@ bool VideoStreamer::requestKeyFrame() {
   if (!av_encoder_) return codec() != link::VideoCodec::kMjpeg;  // the next pair is a new stream's first
   av_encoder_->requestKeyFrame();
   return true;
+}
+
+StreamLimitedBy VideoStreamer::followBudget(StereoAvEncoder& encoder, double budget_bps, std::int64_t now_ns) {
+  const auto nominal = static_cast<double>(config_.video.bit_rate_bps);
+  // A margin under the budget: the encoder's rate control meets its target on average, not per frame.
+  const double wanted = std::clamp(kVideoBudgetShare * budget_bps, kMinVideoBitRateBps, nominal);
+  const auto now_rate = static_cast<double>(video_rate_bps_ > 0 ? video_rate_bps_ : config_.video.bit_rate_bps);
+  // Down at once when the budget fell by more than a fifth; otherwise at most every 250 ms and
+  // by more than 5 % (HEVC's encoder opens again on a change of more than 10 %).
+  const bool fell = wanted < 0.8 * now_rate;
+  const bool due = now_ns - video_rate_changed_ns_ >= 250'000'000 && std::abs(wanted - now_rate) > 0.05 * now_rate;
+  if (video_rate_bps_ == 0 || fell || due) {
+    video_rate_bps_ = static_cast<std::int64_t>(wanted);
+    video_rate_changed_ns_ = now_ns;
+    encoder.setBitRate(video_rate_bps_);
+  }
+  return static_cast<double>(video_rate_bps_) < 0.95 * nominal ? StreamLimitedBy::kBitRate : StreamLimitedBy::kNothing;
 }
 
 VideoStreamer::~VideoStreamer() { stop(); }
@@ -107,7 +120,18 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   const bool adapted = config_.media && config_.media->hasReceiver();
   cameras::CameraFrame left = pair.left, right = pair.right;
   if (config_.media) jpeg.restart_mcu_rows = 1;
-  if (adapted) {
+  const link::VideoCodec codec = codec_.load();
+  const std::shared_ptr<StereoAvEncoder> av = avEncoderFor(codec);
+  if (av && config_.media) {
+    // H.264/HEVC on the media path: every frame at full size (each predicted from the one
+    // before), the encoder's rate following the path's budget; a chain the sender broke (a
+    // dropped frame, a new receiver) restarts at a key frame.
+    if (config_.media->takeKeyFrameRequest()) av->requestKeyFrame();
+    if (adapted) {
+      stream.limited_by = followBudget(*av, config_.media->payloadBudgetBps(), start_ns);
+      stream.predicted_bits_per_s = static_cast<double>(video_rate_bps_);
+    }
+  } else if (adapted) {
     if (!stream_settings_) {
       StreamSettingsLimits limits = config_.adaptive;
       limits.pixels_per_frame = static_cast<double>(pair.left.width) * pair.left.height +
@@ -134,8 +158,6 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
   std::string error;
   bool key_frame = false;
   bool encoded_ok = false;
-  const link::VideoCodec codec = codec_.load();
-  const std::shared_ptr<StereoAvEncoder> av = avEncoderFor(codec);
   if (av) {
     EncodedAccessUnitPair units;
     encoded_ok = av->encode(left, right, units, &error);
@@ -210,7 +232,7 @@ bool VideoStreamer::publish(const stereo::StereoFrame& pair) {
     }
   }
   const std::size_t jpeg_bytes = encoded.left.jpeg->size() + encoded.right.jpeg->size();
-  if (adapted) stream_settings_->observeFrame(stream, jpeg_bytes);
+  if (adapted && !av) stream_settings_->observeFrame(stream, jpeg_bytes);
   const std::int64_t link_sent_ns =
       server_.publishStereoFrame(std::move(message), encoded.left.jpeg, encoded.right.jpeg);
 

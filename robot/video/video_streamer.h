@@ -42,8 +42,9 @@ struct VideoStreamerConfig {
   /// receiver, frame rate, scale and quality follow its send rate (StreamSettingsController,
   /// never above `jpeg.quality` or the cameras' rate).
   link::media::MediaSender* media = nullptr;
-  /// MJPEG (each image a JPEG, `jpeg`'s settings), or H.264/HEVC through `video` (#34): then
-  /// over the ZeroMQ link only (media must be null) at video.bit_rate_bps.
+  /// MJPEG (each image a JPEG, `jpeg`'s settings), or H.264/HEVC through `video` (#34) at
+  /// video.bit_rate_bps: on the media path, while it has a receiver, at most that and otherwise
+  /// kVideoBudgetShare of its budget (frame rate and scale stay nominal).
   link::VideoCodec codec = link::VideoCodec::kMjpeg;
   StereoAvEncoderOptions video;
   /// For the adaptation: nominal_fps (the cameras'), the scales, the quality floor;
@@ -73,6 +74,11 @@ struct VideoStreamerStats {
 
 class VideoStreamer {
  public:
+  /// H.264/HEVC on the media path aim at this share of its budget (rate control meets its
+  /// target on average, not per frame), never below kMinVideoBitRateBps.
+  static constexpr double kVideoBudgetShare = 0.9;
+  static constexpr double kMinVideoBitRateBps = 200e3;
+
   VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& server, const clock::Clock& clock,
                 StereoPosesAt poses, const VideoStreamerConfig& config);
   ~VideoStreamer();
@@ -107,6 +113,9 @@ class VideoStreamer {
   /// The H.264/HEVC encoder for `codec` (made, or made again for another codec, here; null for
   /// MJPEG, whose pairs StereoEncoder encodes).
   std::shared_ptr<StereoAvEncoder> avEncoderFor(link::VideoCodec codec);
+  /// H.264/HEVC on the media path: sets `encoder`'s rate from the path's budget (down at once
+  /// on a fall of a fifth, else every 250 ms at most); kBitRate while below nominal.
+  StreamLimitedBy followBudget(StereoAvEncoder& encoder, double budget_bps, std::int64_t now_ns);
 
   stereo::StereoPairSource& pairs_;
   link::LinkServer& server_;
@@ -118,6 +127,8 @@ class VideoStreamer {
   mutable std::mutex av_encoder_mutex_;
   std::shared_ptr<StereoAvEncoder> av_encoder_;  ///< H.264/HEVC (null for MJPEG); under av_encoder_mutex_
   std::optional<StreamSettingsController> stream_settings_;
+  std::int64_t video_rate_bps_ = 0;  ///< what followBudget set last on this encoder (0: nothing yet)
+  std::int64_t video_rate_changed_ns_ = 0;
   std::int64_t last_sent_ns_ = 0;
   std::int64_t last_pair_ns_ = 0;
   double pair_interval_ns_ = 0;  ///< averaged time between pairs

@@ -81,11 +81,11 @@ TEST_F(ConsoleRobotCommands, StatusStopClearModeRadiusHoldAndRecording) {
   r = console("control radius 0.001");
   EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
   EXPECT_NE(r.out.find("refused: sphere radius"), std::string::npos) << r.out;
-  // The codec (#34): this robot serves the UDP media path, which carries MJPEG only: H.264 is
-  // refused with what to do; MJPEG is taken; an unknown codec never leaves the console.
+  // The codec (#34): H.264 taken by this robot, which serves the UDP media path too; back to
+  // MJPEG; an unknown codec never leaves the console.
   r = console("control codec h264");
-  EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
-  EXPECT_NE(r.out.find("--no-media"), std::string::npos) << r.out;
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(status()["health"]["settings"].value("video_codec", "VIDEO_CODEC_MJPEG"), "VIDEO_CODEC_H264");
   r = console("control codec mjpeg");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(status()["health"]["settings"].value("video_codec", "VIDEO_CODEC_MJPEG"), "VIDEO_CODEC_MJPEG");

@@ -62,9 +62,26 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
     }
     if (Clock::now() > first_deadline) {
       const std::string refused = operator_view.client().activity().refused_reason;
+      // Frames that came but were not shown say why (a codec this build lacks, a stream that
+      // never sent the key frame asked for) better than "is it running?".
+      const auto decoded = operator_view.decoder().stats();
+      std::string dropped;
+      for (int r = 0; r < static_cast<int>(video::FrameDropReason::kCount); ++r)
+        if (const auto n = decoded.dropped_by_reason[static_cast<std::size_t>(r)]; n > 0)
+          dropped += (dropped.empty() ? "" : ", ") + std::to_string(n) + " " +
+                     std::string(video::frameDropReasonName(static_cast<video::FrameDropReason>(r)));
+      if (const auto* media = operator_view.media(); media && dropped.empty()) {
+        const auto m = media->stats().assembler;
+        if (m.datagrams > 0)
+          dropped = "the media path took " + std::to_string(m.datagrams) + " datagrams and made no frame of them (" +
+                    std::to_string(m.frames_malformed) + " malformed, " + std::to_string(m.frames_lost) + " lost)";
+      }
       *error = "no stereo frame from the robot at " + options.endpoints.connect(0) + " within " +
                std::to_string(options.wait_first_frame.count()) + " ms (" +
-               (refused.empty() ? std::string("is telesphere-robot running?") : refused) + ")";
+               (!refused.empty()   ? refused
+                : !dropped.empty() ? "frames came, none was shown: " + dropped
+                                   : std::string("is telesphere-robot running?")) +
+               ")";
       return std::nullopt;
     }
   }

@@ -3,7 +3,8 @@
 ///        pairs → VideoStreamer → MediaSender (capped at 1 Mbit/s by the supervisor) →
 ///        MediaReceiver. The stream gives up frame rate, then scale, to fit; the frames that
 ///        arrive are smaller, decode, and together stay near the cap; without a receiver the
-///        stream stays nominal. About 5 s.
+///        stream stays nominal. H.264 (#34) keeps frame rate and size and lowers the encoder's
+///        rate instead; every frame arrives in order, the first a key frame. About 10 s.
 #include <gtest/gtest.h>
 #include <turbojpeg.h>
 
@@ -13,6 +14,7 @@
 #include "robot/cameras/replay_camera.h"
 #include "robot/clock/clock.h"
 #include "robot/link/link_server.h"
+#include "robot/link/proto_enums.h"
 #include "robot/link/media/media_receiver.h"
 #include "robot/link/media/media_sender.h"
 #include "robot/video/video_streamer.h"
@@ -34,7 +36,7 @@ cameras::ReplayCameraConfig camera(const char* name) {
 }
 
 struct MediaRig {
-  explicit MediaRig(int port, double cap_bps)
+  MediaRig(int port, double cap_bps, link::VideoCodec codec = link::VideoCodec::kMjpeg)
       : server(endpoints(port)),
         left(clock, {smoothFrame(640, 360, 0.0)}, camera("left")),
         right(clock, {smoothFrame(640, 360, 1.0)}, camera("right")),
@@ -49,6 +51,9 @@ struct MediaRig {
     video::VideoStreamerConfig config;
     config.media = media.get();
     config.adaptive.nominal_fps = 30;
+    config.codec = codec;
+    config.video.fps = 30;
+    config.video.bit_rate_bps = 8'000'000;
     streamer = std::make_unique<video::VideoStreamer>(pairs, server, clock, nullptr, config);
     left.start(&error);
     right.start(&error);
@@ -118,6 +123,49 @@ TEST(VideoStreamerMedia, ACapOfOneMegabitGivesUpFrameRateThenScaleAndTheFramesSt
     EXPECT_EQ(static_cast<std::uint32_t>(w), f.stereo.left().width()) << "the message says the scaled size";
   }
   tjDestroy(d);
+}
+
+TEST(VideoStreamerMedia, H264UnderACapLowersTheEncodersRateAndKeepsEveryFrameInOrder) {
+  MediaRig rig(27430, 1e6, link::VideoCodec::kH264);
+  link::media::MediaReceiverOptions options;
+  options.sender_port = static_cast<std::uint16_t>(27430 + link::LinkEndpoints::kMedia);
+  std::string error;
+  auto receiver = link::media::MediaReceiver::start(options, &error);
+  ASSERT_TRUE(receiver) << error;
+  ASSERT_TRUE(telesphere::test::eventually([&] { return rig.media->hasReceiver(); }, 3000ms));
+  std::vector<link::media::AssembledFrame> got;
+  const auto settle = std::chrono::steady_clock::now() + 2s;
+  while (std::chrono::steady_clock::now() < settle)
+    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
+  ASSERT_FALSE(got.empty()) << "nothing arrived while settling";
+  EXPECT_TRUE(got.front().stereo.left().key_frame()) << "a new receiver's first frame is a key frame";
+  const auto before = rig.media->stats();
+  got.clear();
+  const auto end = std::chrono::steady_clock::now() + 3s;
+  while (std::chrono::steady_clock::now() < end)
+    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
+  const auto after = rig.media->stats();
+  const auto s = rig.streamer->stats();
+  const double mbit_per_s = 8.0 * static_cast<double>(after.bytes_sent - before.bytes_sent) / 3.0 * 1e-6;
+  std::printf("H.264 capped at 1 Mbit/s: %.2f Mbit/s sent, encoder at %.2f Mbit/s (%s), %zu frames in 3 s, "
+              "%llu waited for a key frame\n",
+              mbit_per_s, static_cast<double>(s.video.bit_rate_bps) * 1e-6, video::streamLimitedByName(s.stream.limited_by),
+              got.size(), static_cast<unsigned long long>(after.video_frames_waiting_for_key));
+  EXPECT_EQ(s.stream.limited_by, video::StreamLimitedBy::kBitRate);
+  EXPECT_LE(static_cast<double>(s.video.bit_rate_bps), 0.9 * 1e6) << "the encoder aims under the cap's budget";
+  EXPECT_GE(static_cast<double>(s.video.bit_rate_bps), video::VideoStreamer::kMinVideoBitRateBps);
+  EXPECT_EQ(s.frames_skipped_for_rate, 0u) << "H.264 keeps the frame rate";
+  EXPECT_EQ(s.width, 640) << "and the size";
+  EXPECT_LT(mbit_per_s, 1.15);
+  ASSERT_GE(got.size(), 45u) << "30 Hz for 3 s, the receiver's hand-over latest-wins";
+  std::uint64_t gaps = 0;
+  for (std::size_t i = 1; i < got.size(); ++i) {
+    EXPECT_TRUE(got[i].whole());
+    EXPECT_EQ(got[i].stereo.left().codec(), link::proto::VIDEO_CODEC_H264);
+    if (got[i].stereo.sequence() != got[i - 1].stereo.sequence() + 1) ++gaps;
+  }
+  EXPECT_EQ(after.frames_superseded - before.frames_superseded, 0u) << "no predicted frame dropped at the sender";
+  EXPECT_LE(gaps, 2u) << "frames skipped between the receiver and this test's reads";
 }
 
 }  // namespace
