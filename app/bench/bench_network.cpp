@@ -59,6 +59,7 @@ struct NetworkOptions {
   bool udp_relay_only = false;  ///< the media path through the UDP relay only, even with the privilege
   bool competing_tcp = false;   ///< a bulk TCP download beside the robot's video (relay on IP packets)
   bool media_repair = true;     ///< the media path asks for what parity cannot rebuild
+  std::string codec = "mjpeg";  ///< the robot's --codec (#34): both links carry it
 };
 
 NetworkOptions& networkOptions() {
@@ -120,6 +121,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
                                       formatNumber(o.fps), "--port", std::to_string(port), "--duration", "600",
                                       "--stats-period", "2", "--render-threads", "1", "--preview-rate", "0"};
   if (!media) robot_args.push_back("--no-media");
+  robot_args.insert(robot_args.end(), {"--codec", o.codec});
   ChildProcess robot(robot_args, (dir / "robot.log").string());
   if (!robot.running()) throw std::runtime_error("network: cannot start " + robot_args[0]);
 
@@ -396,7 +398,7 @@ Measured measureRun(const NetworkOptions& o, double duration, const RateTrace& t
   detail << m.row[0] << ": capture → sent " << formatNumber(quantileOr(robot_ms, 0.5)) << " ms p50 (robot), sent → received "
          << formatNumber(quantileOr(network_ms, 0.5)) << " ms (path), received → displayed "
          << formatNumber(quantileOr(operator_ms, 0.5)) << " ms (operator); " << formatNumber(source_mbit)
-         << " Mbit/s of JPEG sent in " << frames_sent << " frames";
+         << " Mbit/s of " << (o.codec == "mjpeg" ? "JPEG" : o.codec) << " sent in " << frames_sent << " frames";
   if (media)
     detail << ", " << xr_stats.value("media_frames_concealed", 0) << " with lost bands, " << xr_stats.value("media_frames_lost", 0)
            << " lost, " << xr_stats.value("media_frames_superseded", 0) << " superseded incomplete; chunks rebuilt from parity "
@@ -461,7 +463,7 @@ nlohmann::json runNetwork(const BenchContext& ctx) {
   ctx.out << media->detail << (baseline ? baseline->detail : "baseline not measured: " + baseline_why + "\n")
           << "path: " << media->keys["path"].get<std::string>()
           << (baseline ? "; TCP congestion control CUBIC, pinned on both routes" : "") << "\n"
-          << "goodput = video shown (both JPEGs of every frame displayed) / capacity; head targets on the media path\n"
+          << "codec " << o.codec << "; goodput = video shown (both images of every frame displayed) / capacity; head targets on the media path\n"
           << "only (--head-link udp), on TCP for the baseline; pose late = older than one-way + 100 ms\n"
           << "logs: " << dir.string() << "\n";
 
@@ -470,6 +472,7 @@ nlohmann::json runNetwork(const BenchContext& ctx) {
   return {{"rtt_ms", o.rtt_ms},         {"jitter_ms", o.jitter_ms}, {"loss", o.loss},
           {"loss_burst", o.loss_burst}, {"rate_mbit", o.rate_mbit}, {"rate_steps", o.rate_steps},
           {"duration_s", duration},     {"size", o.size},           {"fps", o.fps},
+          {"codec", o.codec},
           {"media", media->keys},       {"baseline", baseline_keys}};
 }
 
@@ -492,6 +495,8 @@ TELESPHERE_BENCH_TOPIC(network, telesphere::bench::BenchTopic{
       sub.add_option("--size", o.size, "camera size WxH (synthetic cameras)")->capture_default_str();
       sub.add_option("--fps", o.fps, "camera rate, Hz")->capture_default_str()->check(CLI::Range(1.0, 120.0));
       sub.add_option("--out", o.out, "folder for the programs' logs and stats")->capture_default_str();
+      sub.add_option("--codec", o.codec, "the robot's video codec (mjpeg, h264, hevc)")
+          ->capture_default_str()->check(CLI::IsMember({"mjpeg", "h264", "hevc"}));
       sub.add_flag("--media-repair,!--no-media-repair", o.media_repair,
                    "the media path asks again for chunks its parity cannot rebuild (default on)");
       sub.add_flag("--competing-tcp", o.competing_tcp,
