@@ -77,7 +77,9 @@ for codec in h264 hevc; do
   [ "$pngs" -ge 8 ] || fail "$codec: only $pngs PNGs from the replay"
   replay views --views "$out/$codec-live/views.csv"
   views=$(tail -n +2 "$out/$codec-live/views.csv" | grep -c . || true)
-  [ "$views" -ge 8 ] || fail "$codec: only $views views logged by the live run"
+  # 9-10 views here under ASan, 7 on a loaded CI machine (the app renders fewer display frames in
+  # its 4 s): what matters is that every one of them equals the replay, and that there are some.
+  [ "$views" -ge 4 ] || fail "$codec: only $views views logged by the live run"
   while IFS=, read -r png _; do
     [ "$png" = png ] && continue
     cmp -s "$out/$codec-live/$png" "$out/$codec-views/$png" || fail "$codec: $png: the replay differs from what the live run showed"
