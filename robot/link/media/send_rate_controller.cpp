@@ -216,12 +216,12 @@ void SendRateController::update(std::int64_t now_ns) {
     }
     target_bps_ *= std::pow(near ? options_.growth_near_per_s : options_.growth_far_per_s, dt_s);
     RateDecision d = near ? RateDecision::kIncreaseNear : RateDecision::kIncreaseFar;
-    if (delivered > 0) {
-      const double limit = options_.max_over_delivered * delivered + options_.headroom_bps;
-      if (target_bps_ > limit) {
-        target_bps_ = std::max(before, limit);
-        d = RateDecision::kLimitedByDelivery;
-      }
+    // Nothing delivered in the window (a source slower than it, or idle) is no evidence that the
+    // path carries more: hold. Otherwise never far above what arrived.
+    const double limit = delivered > 0 ? options_.max_over_delivered * delivered + options_.headroom_bps : before;
+    if (target_bps_ > limit) {
+      target_bps_ = std::max(before, limit);
+      d = RateDecision::kLimitedByDelivery;
     }
     const double max = cap_bps_ > 0 ? std::min(cap_bps_, options_.max_bps) : options_.max_bps;
     if (target_bps_ > max) {

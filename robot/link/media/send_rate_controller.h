@@ -18,7 +18,8 @@
 ///        - loss: below loss_congestive it is taken as the path's own (long links lose without
 ///          queuing); above it, target ← target · (1 − loss / 2);
 ///        - never above max_over_delivered × the delivered rate plus headroom_bps (a source that
-///          sends less than it may does not push the target to the sky), nor the supervisor's cap.
+///          sends less than it may does not push the target to the sky; nothing delivered in the
+///          window holds it), nor the supervisor's cap.
 ///        Every decision is counted by its reason.
 #pragma once
 

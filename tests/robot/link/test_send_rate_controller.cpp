@@ -31,6 +31,10 @@ struct Scenario {
   PathOptions path;
   std::int64_t duration_ns = 20 * kS;
   double source_limit_bps = 0;  ///< 0: the source sends whatever the target allows
+  /// A sparse source (a slow encoder): a frame of frame_bytes every frame_period_ns, paced at the
+  /// target, nothing between (0: a continuous source).
+  std::int64_t frame_period_ns = 0;
+  std::size_t frame_bytes = 0;
   double cap_bps = 0;
   std::int64_t feedback_interval_ns = 25 * kMs;
   std::int64_t clock_offset_ns = 123'456'789;  ///< the receiver's clock against the sender's
@@ -106,6 +110,8 @@ Outcome simulate(const Scenario& sc, SendRateOptions options = {}) {
       double rate = controller.targetBps();
       if (sc.source_limit_bps > 0) rate = std::min(rate, sc.source_limit_bps);
       next_send = t + static_cast<std::int64_t>(8.0 * kPacketBytes * 1e9 / rate);
+      if (sc.frame_period_ns > 0 && seq % (sc.frame_bytes / kPacketBytes) == 0)  // the frame is out
+        next_send = std::max(next_send, (t / sc.frame_period_ns + 1) * sc.frame_period_ns);
     } else {
       // The receiver reports what arrived since its last report.
       std::vector<PacketReport> reports;
@@ -266,6 +272,21 @@ TEST(SendRateController, KeepsToTheSupervisorsCapAndToWhatTheSourceSends) {
   // 1.5 × what arrived + 1 Mbit/s, the arrival rate measured over 300 ms of ±5 ms jitter (±4 %).
   EXPECT_LE(l.samples.back().target_bps, 1.5 * 12e6 * 1.04 + 1e6);
   EXPECT_GT(l.stats.decided(RateDecision::kLimitedByDelivery), 0u);
+}
+
+// A source slower than the delivered rate's window (HEVC at 3 Hz on a slow CPU: a frame every
+// 330 ms) leaves windows with nothing delivered. Nothing delivered is no evidence that the path
+// carries more: the target must not grow then (it ran to the 1 Gbit/s maximum, and paced at that
+// every frame left as one burst into the bottleneck).
+TEST(SendRateController, ASparseSourceDoesNotPushTheTargetToTheSky) {
+  Scenario sparse;
+  sparse.path = internetPath(20e6, 100 * kMs, 0.01);
+  sparse.frame_period_ns = 400 * kMs;
+  sparse.frame_bytes = 84 * kPacketBytes;  // about 100 kB a frame: 2 Mbit/s
+  const Outcome o = simulate(sparse);
+  std::printf("sparse source (2 Mbit/s in frames every 400 ms): target max %.1f Mbit/s, at the end %.1f\n",
+              o.max_target_bps * 1e-6, o.samples.back().target_bps * 1e-6);
+  EXPECT_LE(o.max_target_bps, 20e6) << "above what the source could ever show the path carries";
 }
 
 TEST(SendRateController, RefusesOptionsThatCannotWork) {
