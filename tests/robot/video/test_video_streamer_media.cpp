@@ -66,6 +66,19 @@ struct MediaRig {
     left.stop();
     right.stop();
   }
+  /// A receiver on the rig's media path, once the sender has heard it (null, with a failure, if not).
+  std::unique_ptr<link::media::MediaReceiver> listen(int port) {
+    link::media::MediaReceiverOptions options;
+    options.sender_port = static_cast<std::uint16_t>(port + link::LinkEndpoints::kMedia);
+    std::string error;
+    auto receiver = link::media::MediaReceiver::start(options, &error);
+    EXPECT_TRUE(receiver) << error;
+    if (!receiver || !telesphere::test::eventually([&] { return media->hasReceiver(); }, 3000ms)) {
+      ADD_FAILURE() << "the media sender never heard the receiver";
+      return nullptr;
+    }
+    return receiver;
+  }
   static link::LinkEndpoints endpoints(int port) {
     link::LinkEndpoints e;
     e.base_port = port;
@@ -92,12 +105,8 @@ TEST(VideoStreamerMedia, WithoutAReceiverTheStreamStaysNominalButCarriesRestartM
 
 TEST(VideoStreamerMedia, ACapOfOneMegabitGivesUpFrameRateThenScaleAndTheFramesStillDecode) {
   MediaRig rig(27420, 1e6);
-  link::media::MediaReceiverOptions options;
-  options.sender_port = static_cast<std::uint16_t>(27420 + link::LinkEndpoints::kMedia);
-  std::string error;
-  auto receiver = link::media::MediaReceiver::start(options, &error);
-  ASSERT_TRUE(receiver) << error;
-  ASSERT_TRUE(telesphere::test::eventually([&] { return rig.media->hasReceiver(); }, 3000ms));
+  auto receiver = rig.listen(27420);
+  ASSERT_TRUE(receiver);
   // Two seconds to settle, then three measured.
   std::this_thread::sleep_for(2s);
   const auto before = rig.media->stats();
@@ -127,12 +136,8 @@ TEST(VideoStreamerMedia, ACapOfOneMegabitGivesUpFrameRateThenScaleAndTheFramesSt
 
 TEST(VideoStreamerMedia, H264UnderACapLowersTheEncodersRateAndKeepsEveryFrameInOrder) {
   MediaRig rig(27430, 1e6, link::VideoCodec::kH264);
-  link::media::MediaReceiverOptions options;
-  options.sender_port = static_cast<std::uint16_t>(27430 + link::LinkEndpoints::kMedia);
-  std::string error;
-  auto receiver = link::media::MediaReceiver::start(options, &error);
-  ASSERT_TRUE(receiver) << error;
-  ASSERT_TRUE(telesphere::test::eventually([&] { return rig.media->hasReceiver(); }, 3000ms));
+  auto receiver = rig.listen(27430);
+  ASSERT_TRUE(receiver);
   std::vector<link::media::AssembledFrame> got;
   const auto settle = std::chrono::steady_clock::now() + 2s;
   while (std::chrono::steady_clock::now() < settle)
