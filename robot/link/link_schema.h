@@ -54,6 +54,11 @@ std::optional<proto::Envelope> parseEnvelope(const void* data, std::size_t size,
                                              std::uint32_t* peer_version = nullptr,
                                              std::size_t max_bytes = kMaxEnvelopeBytes);
 
+/// Both images of `frame` are JPEGs (MJPEG: each stands alone), not H.264/HEVC access units.
+inline bool carriesJpegs(const proto::StereoFrame& frame) {
+  return frame.left().codec() == proto::VIDEO_CODEC_MJPEG && frame.right().codec() == proto::VIDEO_CODEC_MJPEG;
+}
+
 /// Checks a stereo frame's description against the sizes of its two image parts.
 std::optional<DropReason> checkStereoFrame(const proto::StereoFrame& frame, std::size_t left_bytes,
                                            std::size_t right_bytes);

@@ -59,15 +59,14 @@ link::proto::ControlReply RobotControl::handle(const link::proto::ControlRequest
     // The supervisor's choice of codec (#34), from the next pair on.
     reply.set_id(request.id());
     const auto codec = link::fromProto(request.set_video_codec());
-    std::string error;
-    if (!video_)
+    if (!video_) {
       reply.set_error("no video path on this robot");
-    else if (!codec)
+    } else if (!codec) {
       reply.set_error("codec " + std::to_string(int(request.set_video_codec())) + " is not one this robot knows");
-    else if (!video_->setCodec(*codec, &error))
-      reply.set_error(error);
-    else
+    } else {
+      video_->setCodec(*codec);
       reply.set_ok(true);
+    }
   } else if (request.request_case() == link::proto::ControlRequest::kOpenMediaSession) {
     // A keyed link's media path (DESIGN.md §10): a fresh key for this session, handed over the
     // authenticated control channel (the link checked who asks); the session before it ends.

@@ -32,14 +32,7 @@ VideoStreamer::VideoStreamer(stereo::StereoPairSource& pairs, link::LinkServer& 
       poses_(std::move(poses)),
       config_(config),
       encoder_(clock, config.jpeg),
-      codec_(link::VideoCodec::kMjpeg) {
-  if (std::string why; !setCodec(config.codec, &why)) throw std::invalid_argument(why);
-}
-
-bool VideoStreamer::setCodec(link::VideoCodec codec, std::string*) {
-  codec_ = codec;
-  return true;
-}
+      codec_(config.codec) {}
 
 std::shared_ptr<StereoAvEncoder> VideoStreamer::avEncoderFor(link::VideoCodec codec) {
   std::lock_guard lock(av_encoder_mutex_);

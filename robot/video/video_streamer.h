@@ -97,9 +97,8 @@ class VideoStreamer {
   /// to do) for MJPEG, whose every image stands alone. Any thread.
   bool requestKeyFrame();
   /// The codec from the next pair on (the supervisor's choice; a new H.264/HEVC stream starts with
-  /// a key frame). False with the reason for H.264/HEVC while the media path serves (it carries
-  /// MJPEG only). Any thread.
-  bool setCodec(link::VideoCodec codec, std::string* error);
+  /// a key frame). Any thread.
+  void setCodec(link::VideoCodec codec) { codec_ = codec; }
   link::VideoCodec codec() const { return codec_.load(); }
   /// H.264/HEVC: the encoders' target, both cameras together (0 for MJPEG).
   std::int64_t videoBitRateBps() const { return codec() != link::VideoCodec::kMjpeg ? config_.video.bit_rate_bps : 0; }

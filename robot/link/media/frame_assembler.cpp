@@ -341,8 +341,7 @@ std::optional<AssembledFrame> FrameAssembler::build(const Pending& p) {
   if (!meta.ParseFromArray(p.bytes.data(), h.meta_bytes)) return malformed();
   const std::uint64_t left = meta.frame().left().jpeg_bytes(), right = meta.frame().right().jpeg_bytes();
   // JPEG: the layout adds up to each image; H.264/HEVC: no layout (nothing to conceal).
-  const bool jpeg = meta.frame().left().codec() == proto::VIDEO_CODEC_MJPEG &&
-                    meta.frame().right().codec() == proto::VIDEO_CODEC_MJPEG;
+  const bool jpeg = carriesJpegs(meta.frame());
   const std::uint64_t layout_left = jpeg ? left : 0, layout_right = jpeg ? right : 0;
   if (std::uint64_t{h.meta_bytes} + left + right != h.frame_bytes || layoutBytes(meta.left()) != layout_left ||
       layoutBytes(meta.right()) != layout_right || checkStereoFrame(meta.frame(), left, right))

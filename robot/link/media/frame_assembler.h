@@ -7,7 +7,8 @@
 ///        never repaired. A frame whose packets stopped coming for `reorder_grace_ns` is given
 ///        up: delivered with its lost bands filled, or counted lost when its meta or a JPEG
 ///        header is missing. An H.264/HEVC frame (#34) has no bands: it is delivered whole or
-///        counted lost, and the decoder that misses it asks the robot for a key frame. Parity shards (block_erasure_code.h) rebuild a block's lost chunks
+///        counted lost, and the decoder that misses it asks the robot for a key frame.
+///        Parity shards (block_erasure_code.h) rebuild a block's lost chunks
 ///        as soon as enough of the block has arrived. With retransmission on (Config::repair), the
 ///        chunks of the newest frame that its parity cannot rebuild are asked for again
 ///        (takeRepairRequests, repair_request.h) once the evidence says they are lost, and the

@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "robot/link/link_schema.h"
 #include "robot/link/media/block_erasure_code.h"
 #include "robot/link/media/jpeg_bands.h"
 
@@ -46,8 +47,7 @@ bool FramePacketizer::packetize(proto::StereoFrame frame, std::span<const std::u
   *meta.mutable_frame() = std::move(frame);
   // An H.264/HEVC access unit has no bands to conceal (a frame comes whole or not at all): its
   // layout stays empty and the repeats cover the meta alone.
-  const bool jpeg = meta.frame().left().codec() == proto::VIDEO_CODEC_MJPEG &&
-                    meta.frame().right().codec() == proto::VIDEO_CODEC_MJPEG;
+  const bool jpeg = carriesJpegs(meta.frame());
   if (jpeg && (!layoutOf(left_jpeg, "left", meta.mutable_left(), error) ||
                !layoutOf(right_jpeg, "right", meta.mutable_right(), error)))
     return false;

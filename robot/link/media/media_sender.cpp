@@ -149,9 +149,10 @@ bool MediaSender::sendFrame(const proto::StereoFrame& frame, std::span<const std
 }
 
 void MediaSender::breakVideoChain() {
-  const bool waited = !waiting_.empty() && waiting_.back().predicted_codec;
-  if (waited) stats_.frames_superseded += waiting_.size();
-  if (waited) waiting_.clear();
+  if (!waiting_.empty() && waiting_.back().predicted_codec) {  // they depend on each other: all go
+    stats_.frames_superseded += waiting_.size();
+    waiting_.clear();
+  }
   video_chain_broken_ = true;
   key_frame_wanted_ = true;
 }

@@ -40,6 +40,21 @@ TestFrame makeFrame(int width, int height, std::uint64_t sequence) {
   return f;
 }
 
+/// A receiver on loopback that `sender` has heard (null, with the reason as a failure, otherwise).
+std::unique_ptr<MediaReceiver> listenTo(MediaSender& sender) {
+  MediaReceiverOptions ro;
+  ro.sender_port = sender.port();
+  std::string error;
+  auto receiver = MediaReceiver::start(ro, &error);
+  EXPECT_TRUE(receiver) << error;
+  if (!receiver) return nullptr;
+  if (!telesphere::test::eventually([&] { return sender.hasReceiver(); }, 3000ms)) {
+    ADD_FAILURE() << "no hello reached the sender";
+    return nullptr;
+  }
+  return receiver;
+}
+
 /// Sends `frames` at `fps` while a consumer takes what the receiver hands over.
 std::vector<AssembledFrame> run(MediaSender& sender, MediaReceiver& receiver, const std::vector<TestFrame>& frames,
                                 double fps) {
@@ -85,11 +100,8 @@ TEST(MediaLoopback, FramesArriveByteIdenticalOnACleanPath) {
   so.rate.initial_bps = 40e6;
   auto sender = MediaSender::start(so, &error);
   ASSERT_TRUE(sender) << error;
-  MediaReceiverOptions ro;
-  ro.sender_port = sender->port();
-  auto receiver = MediaReceiver::start(ro, &error);
-  ASSERT_TRUE(receiver) << error;
-  ASSERT_TRUE(telesphere::test::eventually([&] { return sender->hasReceiver(); }, 3000ms)) << "no hello reached the sender";
+  auto receiver = listenTo(*sender);
+  ASSERT_TRUE(receiver);
 
   std::vector<TestFrame> frames;
   for (std::uint64_t i = 0; i < 20; ++i) frames.push_back(makeFrame(320, 240, i));
@@ -252,11 +264,8 @@ TEST(MediaLoopback, PredictedFramesQueueAndAnOverflowRestartsTheStreamAtAKeyFram
   so.max_video_frames_waiting = 3;
   auto sender = MediaSender::start(so, &error);
   ASSERT_TRUE(sender) << error;
-  MediaReceiverOptions ro;
-  ro.sender_port = sender->port();
-  auto receiver = MediaReceiver::start(ro, &error);
-  ASSERT_TRUE(receiver) << error;
-  ASSERT_TRUE(telesphere::test::eventually([&] { return sender->hasReceiver(); }, 3000ms));
+  auto receiver = listenTo(*sender);
+  ASSERT_TRUE(receiver);
   EXPECT_TRUE(sender->takeKeyFrameRequest()) << "a new receiver starts at a key frame";
   EXPECT_FALSE(sender->takeKeyFrameRequest()) << "asked once";
 

@@ -93,6 +93,16 @@ struct MediaRig {
   std::unique_ptr<video::VideoStreamer> streamer;
 };
 
+/// Every frame `receiver` hands over in the next `duration`.
+std::vector<link::media::AssembledFrame> framesFor(link::media::MediaReceiver& receiver,
+                                                   std::chrono::milliseconds duration) {
+  std::vector<link::media::AssembledFrame> got;
+  const auto end = std::chrono::steady_clock::now() + duration;
+  while (std::chrono::steady_clock::now() < end)
+    if (auto f = receiver.waitNewest(50ms)) got.push_back(std::move(*f));
+  return got;
+}
+
 TEST(VideoStreamerMedia, WithoutAReceiverTheStreamStaysNominalButCarriesRestartMarkers) {
   MediaRig rig(27410, 0);
   ASSERT_TRUE(telesphere::test::eventually([&] { return rig.streamer->stats().frames_sent >= 10; }, 5000ms));
@@ -110,10 +120,7 @@ TEST(VideoStreamerMedia, ACapOfOneMegabitGivesUpFrameRateThenScaleAndTheFramesSt
   // Two seconds to settle, then three measured.
   std::this_thread::sleep_for(2s);
   const auto before = rig.media->stats();
-  std::vector<link::media::AssembledFrame> got;
-  const auto end = std::chrono::steady_clock::now() + 3s;
-  while (std::chrono::steady_clock::now() < end)
-    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
+  const std::vector<link::media::AssembledFrame> got = framesFor(*receiver, 3s);
   const auto after = rig.media->stats();
   const auto s = rig.streamer->stats();
   const double mbit_per_s = 8.0 * static_cast<double>(after.bytes_sent - before.bytes_sent) / 3.0 * 1e-6;
@@ -138,17 +145,11 @@ TEST(VideoStreamerMedia, H264UnderACapLowersTheEncodersRateAndKeepsEveryFrameInO
   MediaRig rig(27430, 1e6, link::VideoCodec::kH264);
   auto receiver = rig.listen(27430);
   ASSERT_TRUE(receiver);
-  std::vector<link::media::AssembledFrame> got;
-  const auto settle = std::chrono::steady_clock::now() + 2s;
-  while (std::chrono::steady_clock::now() < settle)
-    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
-  ASSERT_FALSE(got.empty()) << "nothing arrived while settling";
-  EXPECT_TRUE(got.front().stereo.left().key_frame()) << "a new receiver's first frame is a key frame";
+  const auto settling = framesFor(*receiver, 2s);
+  ASSERT_FALSE(settling.empty()) << "nothing arrived while settling";
+  EXPECT_TRUE(settling.front().stereo.left().key_frame()) << "a new receiver's first frame is a key frame";
   const auto before = rig.media->stats();
-  got.clear();
-  const auto end = std::chrono::steady_clock::now() + 3s;
-  while (std::chrono::steady_clock::now() < end)
-    if (auto f = receiver->waitNewest(50ms)) got.push_back(std::move(*f));
+  const std::vector<link::media::AssembledFrame> got = framesFor(*receiver, 3s);
   const auto after = rig.media->stats();
   const auto s = rig.streamer->stats();
   const double mbit_per_s = 8.0 * static_cast<double>(after.bytes_sent - before.bytes_sent) / 3.0 * 1e-6;
