@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief AravisCamera: a GenICam camera (GigE Vision, USB3 Vision, Aravis's fake camera) through
 ///        Aravis 0.8 as a CameraSource: configured at start, streamed through a buffer pool on
-///        its own thread, Bayer debayered to RGB8, hardware timestamps mapped to the host clock,
+///        its own thread, 10–16-bit samples narrowed to 8, Bayer debayered to RGB8 (or passed on
+///        raw), hardware timestamps mapped to the host clock,
 ///        incomplete and lost frames counted, re-opened when the camera disappears.
 #pragma once
 
@@ -25,7 +26,9 @@ struct AravisCameraOptions {
   std::string device_id;
   int width = 0;   ///< px; 0 keeps the camera's
   int height = 0;  ///< px; 0 keeps the camera's
-  /// PixelFormat to set; nullopt keeps the camera's (it must be one of PixelFormat's).
+  /// PixelFormat to set; where the camera does not offer it, the narrowest of its 10/12/14/16-bit
+  /// unpacked forms it offers (BayerRG12 for BayerRG8), narrowed to 8 bits at capture. nullopt keeps
+  /// the camera's, which must be one of PixelFormat's or such a wider form.
   std::optional<PixelFormat> pixel_format;
   double frame_rate_hz = 0;  ///< AcquisitionFrameRate; 0 keeps the camera's
   double exposure_us = 0;    ///< fixed ExposureTime (ExposureAuto off); 0 keeps the camera's
@@ -44,7 +47,8 @@ struct AravisCameraOptions {
   clock::DeviceClockMappingOptions clock;
   /// Called with the ArvCamera* after each open and configuration, before acquisition starts (on
   /// the thread that opens: start()'s caller, later the stream thread). For features this class
-  /// does not set, and for tests (the fake camera's fill pattern). Must not keep the pointer
+  /// does not set, and for tests (the fake camera's fill pattern); the PixelFormat is read back
+  /// after it. Must not keep the pointer
   /// beyond the camera's life without taking a GObject reference.
   std::function<void(void* arv_camera)> on_open;
 };
@@ -56,7 +60,8 @@ struct AravisCameraSettings {
   std::string model;
   int width = 0;
   int height = 0;
-  PixelFormat camera_format = PixelFormat::kMono8;  ///< as the camera sends it
+  PixelFormat camera_format = PixelFormat::kMono8;  ///< as the camera sends it (its layout at 8 bits)
+  int camera_sample_bits = 8;  ///< bits per sample on the wire: 8, or 10–16 narrowed to 8 at capture
   PixelFormat output_format = PixelFormat::kMono8;  ///< as frames are delivered
   double frame_rate_hz = 0;
   double exposure_us = 0;

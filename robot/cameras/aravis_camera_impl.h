@@ -25,6 +25,7 @@
 #include "robot/cameras/debayer.h"
 #include "robot/cameras/reusable_buffers.h"
 #include "robot/cameras/frame_id_tracker.h"
+#include "robot/cameras/narrow_samples.h"
 
 #include <memory>
 #include <optional>
@@ -57,12 +58,51 @@ inline ArvPixelFormat aravisPixelFormat(PixelFormat format) {
   return ARV_PIXEL_FORMAT_MONO_8;
 }
 
-inline std::optional<PixelFormat> aravisToPixelFormat(ArvPixelFormat format) {
-  for (PixelFormat f : {PixelFormat::kMono8, PixelFormat::kRgb8, PixelFormat::kBayerRG8, PixelFormat::kBayerGR8,
-                        PixelFormat::kBayerGB8, PixelFormat::kBayerBG8})
-    if (aravisPixelFormat(f) == format) return f;
+/// A layout the camera may send: the 8-bit PixelFormat frames carry, and the bits per sample on the
+/// wire (8, or 10–16 in unpacked 16-bit words, narrowed to 8 at capture).
+struct AravisLayout {
+  ArvPixelFormat arv = ARV_PIXEL_FORMAT_MONO_8;
+  const char* name = "";  ///< GenICam name
+  PixelFormat format = PixelFormat::kMono8;
+  int sample_bits = 8;
+  int bytesPerPixel() const { return sample_bits > 8 ? 2 : cameras::bytesPerPixel(format); }
+};
+
+inline constexpr AravisLayout kAravisLayouts[] = {
+    {ARV_PIXEL_FORMAT_MONO_8, "Mono8", PixelFormat::kMono8, 8},
+    {ARV_PIXEL_FORMAT_RGB_8_PACKED, "RGB8", PixelFormat::kRgb8, 8},
+    {ARV_PIXEL_FORMAT_BAYER_RG_8, "BayerRG8", PixelFormat::kBayerRG8, 8},
+    {ARV_PIXEL_FORMAT_BAYER_GR_8, "BayerGR8", PixelFormat::kBayerGR8, 8},
+    {ARV_PIXEL_FORMAT_BAYER_GB_8, "BayerGB8", PixelFormat::kBayerGB8, 8},
+    {ARV_PIXEL_FORMAT_BAYER_BG_8, "BayerBG8", PixelFormat::kBayerBG8, 8},
+    // Wider sensors, narrowest first (the order open() tries them in when 8 bits are not offered).
+    {ARV_PIXEL_FORMAT_MONO_10, "Mono10", PixelFormat::kMono8, 10},
+    {ARV_PIXEL_FORMAT_BAYER_RG_10, "BayerRG10", PixelFormat::kBayerRG8, 10},
+    {ARV_PIXEL_FORMAT_BAYER_GR_10, "BayerGR10", PixelFormat::kBayerGR8, 10},
+    {ARV_PIXEL_FORMAT_BAYER_GB_10, "BayerGB10", PixelFormat::kBayerGB8, 10},
+    {ARV_PIXEL_FORMAT_BAYER_BG_10, "BayerBG10", PixelFormat::kBayerBG8, 10},
+    {ARV_PIXEL_FORMAT_MONO_12, "Mono12", PixelFormat::kMono8, 12},
+    {ARV_PIXEL_FORMAT_BAYER_RG_12, "BayerRG12", PixelFormat::kBayerRG8, 12},
+    {ARV_PIXEL_FORMAT_BAYER_GR_12, "BayerGR12", PixelFormat::kBayerGR8, 12},
+    {ARV_PIXEL_FORMAT_BAYER_GB_12, "BayerGB12", PixelFormat::kBayerGB8, 12},
+    {ARV_PIXEL_FORMAT_BAYER_BG_12, "BayerBG12", PixelFormat::kBayerBG8, 12},
+    {ARV_PIXEL_FORMAT_MONO_14, "Mono14", PixelFormat::kMono8, 14},
+    {ARV_PIXEL_FORMAT_MONO_16, "Mono16", PixelFormat::kMono8, 16},
+    {ARV_PIXEL_FORMAT_BAYER_RG_16, "BayerRG16", PixelFormat::kBayerRG8, 16},
+    {ARV_PIXEL_FORMAT_BAYER_GR_16, "BayerGR16", PixelFormat::kBayerGR8, 16},
+    {ARV_PIXEL_FORMAT_BAYER_GB_16, "BayerGB16", PixelFormat::kBayerGB8, 16},
+    {ARV_PIXEL_FORMAT_BAYER_BG_16, "BayerBG16", PixelFormat::kBayerBG8, 16},
+};
+
+inline std::optional<AravisLayout> aravisLayoutOf(ArvPixelFormat format) {
+  for (const AravisLayout& layout : kAravisLayouts)
+    if (layout.arv == format) return layout;
   return std::nullopt;
 }
+
+/// "Mono8, RGB8, BayerRG8/GR8/GB8/BG8 and their 10/12/14/16-bit unpacked forms": for errors.
+inline constexpr const char* kAravisLayoutsAccepted =
+    "Mono8, RGB8, BayerRG8/GR8/GB8/BG8, or Mono and Bayer at 10, 12, 14 or 16 bits unpacked";
 
 inline const char* aravisBufferStatusName(ArvBufferStatus status) {
   switch (status) {
@@ -173,6 +213,7 @@ struct AravisCamera::Impl {
   std::int64_t last_drop_log_ns = 0;
   std::uint64_t drops_since_log = 0;
   ReusableBuffers frame_buffers;  ///< the frames' pixels, reused once nobody holds a frame
+  std::vector<std::uint8_t> narrowed;  ///< a wide sensor's samples at 8 bits, before the debayer
 
   std::string label() const {
     std::lock_guard lock(mutex);

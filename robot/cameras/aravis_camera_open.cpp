@@ -68,27 +68,25 @@ std::unique_ptr<AravisSession> AravisCamera::Impl::open(AravisCameraSettings* ou
     const char** available = arv_camera_dup_available_pixel_formats_as_strings(camera, &n, &gerror);
     if (failed("PixelFormat list", &message)) return fail(message);
     std::string list;
-    bool supported = false;
+    std::vector<std::string> offered;
     for (guint i = 0; i < n; ++i) {
       list.append(i ? ", " : "").append(available[i]);
-      supported = supported || std::string(available[i]) == wanted_format;
+      offered.emplace_back(available[i]);
     }
     g_free(available);
-    if (!supported) return fail(std::string("PixelFormat ") + wanted_format + " not offered; the camera has: " + list);
-    arv_camera_set_pixel_format(camera, aravisPixelFormat(*options.pixel_format), &gerror);
+    // The 8-bit layout asked for, else the narrowest wider form of it (narrowed at capture): a
+    // sensor that streams only 12 bits still gives the video path its 8.
+    const AravisLayout* chosen = nullptr;
+    for (const AravisLayout& layout : kAravisLayouts)
+      if (!chosen && layout.format == *options.pixel_format &&
+          std::find(offered.begin(), offered.end(), layout.name) != offered.end())
+        chosen = &layout;
+    if (!chosen) return fail(std::string("PixelFormat ") + wanted_format + " not offered (nor a 10-16-bit form of it); the camera has: " + list);
+    if (chosen->sample_bits > 8)
+      log(std::string("PixelFormat ") + wanted_format + " not offered: using " + chosen->name + ", narrowed to 8 bits at capture");
+    arv_camera_set_pixel_format(camera, chosen->arv, &gerror);
     if (failed("PixelFormat", &message)) return fail(message);
   }
-  const ArvPixelFormat camera_format = arv_camera_get_pixel_format(camera, &gerror);
-  if (failed("PixelFormat read-back", &message)) return fail(message);
-  const std::optional<PixelFormat> format = aravisToPixelFormat(camera_format);
-  if (!format) {
-    const char* name = arv_camera_get_pixel_format_as_string(camera, nullptr);
-    return fail(std::string("camera PixelFormat ") + (name ? name : "?") +
-                " is not one of Mono8, RGB8, BayerRG8/GR8/GB8/BG8; set options.pixel_format");
-  }
-  out->camera_format = *format;
-  out->output_format = (isBayer(*format) && options.debayer) ? PixelFormat::kRgb8 : *format;
-
   if (options.width > 0 || options.height > 0) {
     gint x = 0, y = 0, w = 0, h = 0;
     arv_camera_get_region(camera, &x, &y, &w, &h, &gerror);
@@ -157,6 +155,19 @@ std::unique_ptr<AravisSession> AravisCamera::Impl::open(AravisCameraSettings* ou
   }
 
   if (options.on_open) options.on_open(camera);
+
+  // Read back after on_open, which may set features of its own (a test's PixelFormat).
+  const ArvPixelFormat camera_format = arv_camera_get_pixel_format(camera, &gerror);
+  if (failed("PixelFormat read-back", &message)) return fail(message);
+  const std::optional<AravisLayout> layout = aravisLayoutOf(camera_format);
+  if (!layout) {
+    const char* name = arv_camera_get_pixel_format_as_string(camera, nullptr);
+    return fail(std::string("camera PixelFormat ") + (name ? name : "?") + " is not one of " + kAravisLayoutsAccepted +
+                "; set options.pixel_format");
+  }
+  out->camera_format = layout->format;
+  out->camera_sample_bits = layout->sample_bits;
+  out->output_format = (isBayer(layout->format) && options.debayer) ? PixelFormat::kRgb8 : layout->format;
 
   session->stream = arv_camera_create_stream(camera, nullptr, nullptr, &gerror);
   if (failed("create stream", &message) || !session->stream) {

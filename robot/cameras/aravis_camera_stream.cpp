@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief AravisCamera's stream thread: each buffer dropped with its reason or turned into a CameraFrame
-///        (frame id → sequence, hardware stamp → our clock, debayer), the camera lost and re-opened.
+///        (frame id → sequence, hardware stamp → our clock, wide samples → 8 bits, debayer), the camera lost and re-opened.
 #include "robot/cameras/aravis_camera_impl.h"
 
 #include <algorithm>
@@ -46,17 +46,19 @@ void AravisCamera::Impl::processBuffer(ArvBuffer* buffer) {
   // Aravis reports no received size for a fake camera filled by a custom pattern (tests); the data
   // then lies within our allocation.
   if (size == 0) size = session->payload_bytes;
-  const std::optional<PixelFormat> format = aravisToPixelFormat(arv_buffer_get_image_pixel_format(buffer));
-  if (!format) return dropBuffer("UNSUPPORTED_FORMAT");
+  const std::optional<AravisLayout> layout = aravisLayoutOf(arv_buffer_get_image_pixel_format(buffer));
+  if (!layout) return dropBuffer("UNSUPPORTED_FORMAT");
+  const PixelFormat format = layout->format;
   const int width = arv_buffer_get_image_width(buffer);
   const int height = arv_buffer_get_image_height(buffer);
   gint padding_x = 0, padding_y = 0;
   arv_buffer_get_image_padding(buffer, &padding_x, &padding_y);
-  const int row_bytes = width * bytesPerPixel(*format);
-  const int stride = row_bytes + std::max(padding_x, 0);
+  const int wire_row_bytes = width * layout->bytesPerPixel();
+  const int wire_stride = wire_row_bytes + std::max(padding_x, 0);
   if (width < 2 || height < 2 ||
-      size < static_cast<std::size_t>(stride) * static_cast<std::size_t>(height - 1) + static_cast<std::size_t>(row_bytes))
+      size < static_cast<std::size_t>(wire_stride) * static_cast<std::size_t>(height - 1) + static_cast<std::size_t>(wire_row_bytes))
     return dropBuffer("SHORT_IMAGE");
+  const int row_bytes = width * bytesPerPixel(format);  // at 8 bits per sample
 
   // Frame ids: gaps among complete frames, less the incomplete ones dropped in between.
   const FrameIdTracker::Step step = frame_ids.next(arv_buffer_get_frame_id(buffer));
@@ -92,17 +94,30 @@ void AravisCamera::Impl::processBuffer(ArvBuffer* buffer) {
   frame.height = height;
 
   auto pixels = frame_buffers.acquire();
-  if (isBayer(*format) && options.debayer) {
+  const bool debayer = isBayer(format) && options.debayer;
+  if (layout->sample_bits > 8) {
+    // A wide sensor: its samples at 8 bits, into the frame itself or, before a debayer, into a
+    // buffer kept from frame to frame.
+    std::vector<std::uint8_t>& into = debayer ? narrowed : *pixels;
+    into.resize(static_cast<std::size_t>(row_bytes) * height);
+    if (!narrowSamplesTo8Bits(data, width, height, wire_stride, layout->sample_bits, into.data(), row_bytes, nullptr))
+      return dropBuffer("NARROW_FAILED");
+    data = into.data();
+  }
+  const int stride = layout->sample_bits > 8 ? row_bytes : wire_stride;
+  if (debayer) {
     std::string error;
-    if (!debayerBilinear(data, width, height, stride, *format, *pixels, &error)) return dropBuffer("DEBAYER_FAILED");
+    if (!debayerBilinear(data, width, height, stride, format, *pixels, &error)) return dropBuffer("DEBAYER_FAILED");
     frame.format = PixelFormat::kRgb8;
     frame.stride_bytes = width * 3;
   } else {
-    pixels->resize(static_cast<std::size_t>(row_bytes) * height);
-    for (int y = 0; y < height; ++y)
-      std::copy_n(data + static_cast<std::ptrdiff_t>(y) * stride, row_bytes,
-                  pixels->data() + static_cast<std::ptrdiff_t>(y) * row_bytes);
-    frame.format = *format;
+    if (layout->sample_bits == 8) {
+      pixels->resize(static_cast<std::size_t>(row_bytes) * height);
+      for (int y = 0; y < height; ++y)
+        std::copy_n(data + static_cast<std::ptrdiff_t>(y) * stride, row_bytes,
+                    pixels->data() + static_cast<std::ptrdiff_t>(y) * row_bytes);
+    }
+    frame.format = format;
     frame.stride_bytes = row_bytes;
   }
   frame.pixels = std::move(pixels);

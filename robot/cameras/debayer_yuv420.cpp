@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "robot/cameras/debayer.h"
+#include "robot/cameras/row_kernel.h"
 
 namespace telesphere::robot::cameras {
 namespace {
@@ -22,18 +23,6 @@ constexpr std::int32_t kChromaOffset = (128 << 20) + (1 << 19) - 1;
 inline std::uint8_t luma(std::uint32_t r, std::uint32_t g, std::uint32_t b) {
   return static_cast<std::uint8_t>((kYr * r + kYg * g + kYb * b + (1u << 17)) >> 18);
 }
-
-// The row kernels in two versions on x86-64, picked once at start by the CPU (GCC's and Clang's
-// function multi-versioning): AVX2's 32-byte vectors and 32-bit multiply where the CPU has them,
-// SSE2 (every x86-64) elsewhere. Other machines get their compiler's default vectors.
-// -DTELESPHERE_ROW_KERNEL= builds the default version alone (to test it on an AVX2 machine).
-#if !defined(TELESPHERE_ROW_KERNEL)
-#if defined(__x86_64__) && defined(__ELF__)
-#define TELESPHERE_ROW_KERNEL __attribute__((target_clones("avx2", "default")))
-#else
-#define TELESPHERE_ROW_KERNEL
-#endif
-#endif
 
 /// Row y with the border mirrored without repeating the edge (row −1 reads row 1, row h row h − 2).
 inline int mirrorRow(int y, int height) {

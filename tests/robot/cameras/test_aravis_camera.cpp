@@ -2,7 +2,7 @@
 /// @brief AravisCamera against Aravis's in-process fake camera ("Fake_1", no network): open by
 ///        name and serial, clear errors for a wrong name or size, configure and read back, stream
 ///        with increasing sequence and host-clock capture times, stop/start, Bayer → RGB8 against a
-///        known pattern, incomplete buffers (a frame that does not fit: SIZE_MISMATCH) dropped and
+///        known pattern, 16-bit samples narrowed to 8, incomplete buffers (a frame that does not fit: SIZE_MISMATCH) dropped and
 ///        counted while the stream goes on, frame-id gaps counted as lost, hardware stamps on a
 ///        foreign clock mapped to the host, and the camera lost (control-lost, interface gone) and
 ///        re-opened.
@@ -18,6 +18,7 @@
 #include "robot/cameras/aravis_camera.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/debayer.h"
+#include "robot/cameras/narrow_samples.h"
 
 namespace telesphere::robot {
 namespace {
@@ -50,6 +51,9 @@ std::int64_t monotonicNs() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+/// What a 16-bit fake camera draws at (x, y): every word value crossed many times over the image.
+int wideSample(int x, int y) { return (x * 257 + y * 4099) & 0xFFFF; }
+
 /// What the fake camera draws, and the fakes' devices (held with a GObject reference).
 struct FakeScene {
   std::atomic<int> skip_every{0};          // every n-th frame id jumps by skip_amount
@@ -76,8 +80,14 @@ struct FakeScene {
     const bool bayer = format == ARV_PIXEL_FORMAT_BAYER_RG_8 || format == ARV_PIXEL_FORMAT_BAYER_GR_8 ||
                        format == ARV_PIXEL_FORMAT_BAYER_GB_8 || format == ARV_PIXEL_FORMAT_BAYER_BG_8;
     for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
+      for (int x = 0; x < w; ++x) {
+        if (format == ARV_PIXEL_FORMAT_MONO_16) {  // little-endian words
+          p[2 * (y * w + x)] = static_cast<std::uint8_t>(wideSample(x, y) & 0xFF);
+          p[2 * (y * w + x) + 1] = static_cast<std::uint8_t>(wideSample(x, y) >> 8);
+          continue;
+        }
         p[y * w + x] = static_cast<std::uint8_t>(bayer ? barColour(x)[mosaicChannel(format, x, y)] : (x + 2 * y) & 0xFF);
+      }
     const std::uint64_t n = scene->filled++;
     if (const int every = scene->skip_every.load(); every > 0)
       arv_buffer_set_frame_id(buffer, arv_buffer_get_frame_id(buffer) + scene->skip_amount.load() * (n / every));
@@ -297,6 +307,45 @@ TEST_F(AravisCameraFake, RawBayerIsDeliveredUnchangedWhenDebayerIsOff) {
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 64; ++x)
       ASSERT_EQ((*frame->pixels)[y * 64 + x], barColour(x)[mosaicChannel(ARV_PIXEL_FORMAT_BAYER_GB_8, x, y)]);
+}
+
+TEST_F(AravisCameraFake, SixteenBitSamplesAreNarrowedToEightBitsAtCapture) {
+  // The fake camera streams Mono16 (a sensor at full depth); frames carry Mono8, each sample the
+  // rounded 8-bit value of its word. BayerXX10/12/16 go the same way, then to the debayer.
+  FakeScene scene;
+  cameras::AravisCameraOptions o = fakeOptions(scene);
+  o.pixel_format.reset();
+  o.on_open = [draw = scene.hook()](void* arv_camera) {
+    draw(arv_camera);
+    GError* error = nullptr;
+    arv_camera_set_pixel_format(ARV_CAMERA(arv_camera), ARV_PIXEL_FORMAT_MONO_16, &error);
+    EXPECT_EQ(error, nullptr) << error->message;
+    g_clear_error(&error);
+  };
+  cameras::AravisCamera camera(o);
+  std::string error;
+  ASSERT_TRUE(camera.start(&error)) << error;
+  EXPECT_EQ(camera.settings().camera_format, cameras::PixelFormat::kMono8);
+  EXPECT_EQ(camera.settings().camera_sample_bits, 16);
+  EXPECT_EQ(camera.settings().output_format, cameras::PixelFormat::kMono8);
+  for (int n = 0; n < 3; ++n) {
+    const std::optional<cameras::CameraFrame> frame = camera.nextFrame(5s);
+    ASSERT_TRUE(frame) << camera.stats().last_error;
+    ASSERT_EQ(frame->format, cameras::PixelFormat::kMono8);
+    ASSERT_EQ(frame->width, 640);
+    ASSERT_EQ(frame->stride_bytes, 640);
+    ASSERT_EQ(frame->pixels->size(), 640u * 480u);
+    int mismatches = 0;
+    for (int y = 0; y < 480; ++y)
+      for (int x = 0; x < 640; ++x) {
+        const int want = cameras::narrowSampleTo8Bits(static_cast<std::uint16_t>(wideSample(x, y)), 16);
+        if ((*frame->pixels)[y * 640 + x] != want && ++mismatches <= 3)
+          ADD_FAILURE() << "at " << x << "," << y << ": " << int{(*frame->pixels)[y * 640 + x]} << ", want " << want;
+      }
+    EXPECT_EQ(mismatches, 0);
+  }
+  EXPECT_EQ(camera.details().stats.incomplete, 0u);
+  camera.stop();
 }
 
 TEST_F(AravisCameraFake, IncompleteFramesAreDroppedCountedAndTheStreamResumes) {

@@ -4,7 +4,8 @@
 ///        mirrored borders, JFIF's RGB → YCbCr on each pixel and on each 2×2 block's mean): every
 ///        layout, odd and tiny sizes, padded strides, random and extreme content; every Y, Cb and Cr
 ///        within 0.51 of the reference (rounding plus libjpeg's 16-bit coefficients). Planes keep
-///        their memory between frames; non-mosaics and bad sizes are refused.
+///        their memory between frames; non-mosaics and bad sizes are refused. 10-, 12- and 16-bit
+///        sensors, narrowed at capture, against the reference of their full samples.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -12,6 +13,7 @@
 #include <random>
 
 #include "robot/cameras/debayer_yuv420.h"
+#include "robot/cameras/narrow_samples.h"
 
 namespace telesphere::robot {
 namespace {
@@ -37,7 +39,8 @@ struct Reference {
 /// Bilinear demosaic in doubles: a pixel keeps its own sample; a missing colour is the mean of
 /// that colour's samples among the 4 edge neighbours, or among the 4 diagonal ones when no edge
 /// neighbour has it. Borders mirror without repeating the edge (−1 reads 1). Then JFIF YCbCr.
-Reference reference(const std::vector<std::uint8_t>& raw, int w, int h, int stride, cameras::PixelFormat layout) {
+/// `raw` holds the samples on the 0–255 scale (fractions where a wider sensor's samples are scaled).
+Reference reference(const std::vector<double>& raw, int w, int h, int stride, cameras::PixelFormat layout) {
   const auto mirror = [](int i, int n) { return i < 0 ? -i : i >= n ? 2 * (n - 1) - i : i; };
   std::vector<std::array<double, 3>> rgb(static_cast<std::size_t>(w) * h);
   for (int y = 0; y < h; ++y)
@@ -77,6 +80,10 @@ Reference reference(const std::vector<std::uint8_t>& raw, int w, int h, int stri
       r.v.push_back(0.5 * mean[0] - 0.418688 * mean[1] - 0.081312 * mean[2] + 128);
     }
   return r;
+}
+
+Reference reference(const std::vector<std::uint8_t>& raw, int w, int h, int stride, cameras::PixelFormat layout) {
+  return reference(std::vector<double>(raw.begin(), raw.end()), w, h, stride, layout);
 }
 
 /// Largest |out − reference| over one plane.
@@ -144,6 +151,43 @@ TEST(DebayerToYuv420, ExtremeContentStaysInRange) {
     for (int y = 0; y < 17; ++y)
       for (int x = 0; x < 31; ++x) checker[y * 31 + x] = ((x + y) & 1) ? 255 : 0;
     expectMatchesReference(checker, 31, 17, 31, layout);
+  }
+}
+
+TEST(DebayerToYuv420, WideSensorsNarrowedAtCaptureMatchTheReferenceOfTheirFullSamples) {
+  // A 10-, 12- or 16-bit sensor: AravisCamera narrows its samples to 8 bits (narrowSamplesTo8Bits)
+  // before this demosaic. The reference demosaics the full samples scaled to 0–255 without
+  // rounding them; narrowing adds at most half a step to each sample, and every Y, Cb and Cr is a
+  // combination whose weights' magnitudes sum to at most 1: within 0.51 + 0.5.
+  std::mt19937 rng(20261128);
+  for (const int bits : {10, 12, 16}) {
+    const int max = (1 << bits) - 1;
+    std::uniform_int_distribution<int> sample(0, max);
+    for (cameras::PixelFormat layout : kLayouts)
+      for (auto [w, h, stride16] : {std::array{2, 2, 4}, std::array{7, 5, 14}, std::array{67, 35, 150}, std::array{1026, 4, 2052}}) {
+        SCOPED_TRACE(std::to_string(bits) + " bits, " + cameras::pixelFormatName(layout) + " " + std::to_string(w) + "x" +
+                     std::to_string(h));
+        std::vector<std::uint8_t> wide(static_cast<std::size_t>(stride16) * h, 0xEE);
+        std::vector<double> scaled(static_cast<std::size_t>(w) * h);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            // Extremes first (black and full scale), then random values.
+            const int v = y == 0 && x < 2 ? (x == 0 ? 0 : max) : sample(rng);
+            wide[y * stride16 + 2 * x] = static_cast<std::uint8_t>(v & 0xFF);
+            wide[y * stride16 + 2 * x + 1] = static_cast<std::uint8_t>(v >> 8);
+            scaled[y * w + x] = v * 255.0 / max;
+          }
+        std::vector<std::uint8_t> narrow(static_cast<std::size_t>(w) * h);
+        std::string error;
+        ASSERT_TRUE(cameras::narrowSamplesTo8Bits(wide.data(), w, h, stride16, bits, narrow.data(), w, &error)) << error;
+        cameras::DebayerToYuv420 debayer;
+        cameras::Yuv420Image out;
+        ASSERT_TRUE(debayer.convert(narrow.data(), w, h, w, layout, out, &error)) << error;
+        const Reference ref = reference(scaled, w, h, w, layout);
+        EXPECT_LE(worst(out.y, ref.y), 1.01);
+        EXPECT_LE(worst(out.u, ref.u), 1.01);
+        EXPECT_LE(worst(out.v, ref.v), 1.01);
+      }
   }
 }
 
