@@ -15,6 +15,7 @@
 #include "app/bench/cpu_time.h"
 #include "robot/cameras/debayer.h"
 #include "robot/cameras/debayer_yuv420.h"
+#include "robot/cameras/narrow_samples.h"
 #include "robot/video/jpeg_encoder.h"
 
 namespace telesphere::bench {
@@ -30,7 +31,23 @@ struct Mosaic {
   PixelFormat layout = PixelFormat::kBayerRG8;
   std::vector<std::uint8_t> samples;  ///< rows width bytes apart
   std::string source;
+  /// A wide sensor's words (little-endian, rows 2 · width bytes apart) and their significant bits:
+  /// the file's, else `samples` scaled to 12 bits; `samples` is their narrowing.
+  std::vector<std::uint8_t> wide_words;
+  int wide_bits = 12;
 };
+
+/// `samples` as a `bits`-bit sensor would have given them: v · (2^bits − 1) / 255, rounded.
+std::vector<std::uint8_t> widen(const std::vector<std::uint8_t>& samples, int bits) {
+  const int max = (1 << bits) - 1;
+  std::vector<std::uint8_t> words(2 * samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const int v = (samples[i] * max * 2 + 255) / 510;
+    words[2 * i] = static_cast<std::uint8_t>(v & 0xFF);
+    words[2 * i + 1] = static_cast<std::uint8_t>(v >> 8);
+  }
+  return words;
+}
 
 PixelFormat layoutOf(const std::string& pattern) {
   if (pattern == "RGGB") return PixelFormat::kBayerRG8;
@@ -45,7 +62,7 @@ Mosaic sampleMosaic(const std::uint8_t* rgb, int width, int height, const std::s
                     const std::string& source) {
   const PixelFormat layout = layoutOf(pattern);
   return {width, height, layout, robot::cameras::bayerMosaicOf(rgb, width, height, width * 3, layout),
-          source + ", sampled through a " + pattern + " filter"};
+          source + ", sampled through a " + pattern + " filter", {}, 12};
 }
 
 Mosaic loadMosaic(const BayerInputOptions& options) {
@@ -57,16 +74,27 @@ Mosaic loadMosaic(const BayerInputOptions& options) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(options.raw_path, ec);
   if (ec) throw std::runtime_error("codec: --bayer " + options.raw_path + ": " + ec.message());
-  if (bytes == 2 * samples)
-    throw std::runtime_error("codec: --bayer " + options.raw_path + " holds 16 bits per sample; only 8-bit mosaics "
-                             "are converted so far (#34)");
-  if (bytes != samples)
+  const bool wide = bytes == 2 * samples;
+  if (bytes != samples && !wide)
     throw std::runtime_error("codec: --bayer " + options.raw_path + " has " + std::to_string(bytes) + " bytes; " +
-                             options.size + " at 8 bits per sample is " + std::to_string(samples));
-  Mosaic m{width, height, layoutOf(options.pattern), std::vector<std::uint8_t>(samples), options.raw_path};
+                             options.size + " is " + std::to_string(samples) + " at 8 bits per sample, " +
+                             std::to_string(2 * samples) + " at 16");
+  Mosaic m{width, height, layoutOf(options.pattern), std::vector<std::uint8_t>(samples), options.raw_path, {}, 12};
+  std::vector<std::uint8_t>& into = wide ? m.wide_words : m.samples;
+  into.resize(bytes);
   std::ifstream file(options.raw_path, std::ios::binary);
-  if (!file.read(reinterpret_cast<char*>(m.samples.data()), static_cast<std::streamsize>(samples)))
+  if (!file.read(reinterpret_cast<char*>(into.data()), static_cast<std::streamsize>(bytes)))
     throw std::runtime_error("codec: --bayer " + options.raw_path + ": cannot read");
+  if (wide) {
+    m.wide_bits = options.bits;
+    m.source += ", " + std::to_string(options.bits) + "-bit samples";
+    std::string error;
+    if (!robot::cameras::narrowSamplesTo8Bits(m.wide_words.data(), width, height, 2 * width, m.wide_bits,
+                                              m.samples.data(), width, &error))
+      throw std::runtime_error("codec: --bayer " + options.raw_path + ": " + error);
+  } else {
+    m.wide_words = widen(m.samples, m.wide_bits);
+  }
   return m;
 }
 
@@ -100,8 +128,9 @@ BayerInputOptions& bayerInputOptions() {
 nlohmann::json bayerToJpegFigures(const BenchContext& ctx, const std::uint8_t* rgb, int width, int height,
                                   const std::string& source) {
   const BayerInputOptions& options = bayerInputOptions();
-  const Mosaic mosaic = options.raw_path.empty() ? sampleMosaic(rgb, width, height, options.pattern, source)
-                                                 : loadMosaic(options);
+  Mosaic mosaic = options.raw_path.empty() ? sampleMosaic(rgb, width, height, options.pattern, source)
+                                           : loadMosaic(options);
+  if (mosaic.wide_words.empty()) mosaic.wide_words = widen(mosaic.samples, mosaic.wide_bits);
   const int reps = ctx.quick ? 3 : 20;
   const int w = mosaic.width, h = mosaic.height;
   std::string error;
@@ -117,6 +146,12 @@ nlohmann::json bayerToJpegFigures(const BenchContext& ctx, const std::uint8_t* r
   robot::video::JpegEncoder encoder;
   std::vector<std::uint8_t> jpeg_planes, jpeg_rgb, rgb_image;
 
+  std::vector<std::uint8_t> narrowed(mosaic.samples.size());
+  const StageCost narrow = measureStage(reps, [&] {
+    check(robot::cameras::narrowSamplesTo8Bits(mosaic.wide_words.data(), w, h, 2 * w, mosaic.wide_bits, narrowed.data(),
+                                               w, &error),
+          "narrow samples");
+  });
   const StageCost debayer = measureStage(reps, [&] {
     check(to_planes.convert(mosaic.samples.data(), w, h, w, mosaic.layout, planes, &error), "debayer to YUV");
   });
@@ -162,6 +197,7 @@ nlohmann::json bayerToJpegFigures(const BenchContext& ctx, const std::uint8_t* r
   row("debayer to YUV 4:2:0 planes", debayer, "-");
   row("Bayer -> JPEG through planes", bayer_to_jpeg, std::to_string(jpeg_planes.size()));
   row("Bayer -> JPEG through RGB (today)", via_rgb, std::to_string(jpeg_rgb.size()));
+  row("narrow " + std::to_string(mosaic.wide_bits) + "-bit samples to 8 (wide sensors, at capture)", narrow, "-");
   auto& out = ctx.out;
   out << "\nBayer to JPEG, " << w << "x" << h << " mosaic (" << mosaic.source << "), " << reps << " repetitions:\n";
   table.print(out);
@@ -170,7 +206,9 @@ nlohmann::json bayerToJpegFigures(const BenchContext& ctx, const std::uint8_t* r
   out << "ratio to the floor " << formatNumber(ratio) << " (goal <= 1.25); ours from planes "
       << (same_bytes ? "writes TurboJPEG's bytes" : "differs from TurboJPEG's bytes") << "\n"
       << "2 cameras x 45 Hz of these images need " << formatNumber(cores_planes) << " cores through planes, "
-      << formatNumber(cores_rgb) << " through RGB (CPU time of one core each, encode included)\n";
+      << formatNumber(cores_rgb) << " through RGB (CPU time of one core each, encode included); a "
+      << mosaic.wide_bits << "-bit sensor adds " << formatNumber(kStereoImagesPerSecond * narrow.ms / 1e3)
+      << " for narrowing at capture\n";
 
   const auto stage = [](const StageCost& c) { return nlohmann::json{{"ms", c.ms}, {"page_faults_per_image", c.faults_per_image}}; };
   return {{"bayer_to_jpeg_ms", bayer_to_jpeg.ms},
@@ -185,6 +223,8 @@ nlohmann::json bayerToJpegFigures(const BenchContext& ctx, const std::uint8_t* r
             {"encode_from_planes", stage(encode_planes)},
             {"through_planes", stage(bayer_to_jpeg)},
             {"through_rgb", stage(via_rgb)},
+            {"narrow_wide_samples", stage(narrow)},
+            {"wide_sample_bits", mosaic.wide_bits},
             {"floor", stage(floor)},
             {"same_bytes_as_floor", same_bytes},
             {"cores_for_2_cameras_at_45_hz", cores_planes},

@@ -428,7 +428,11 @@ TELESPHERE_BENCH_TOPIC(codec, telesphere::bench::BenchTopic{
                                                    "image to use (PNG, PPM, BMP) instead of the synthetic 4K scene");
                                     auto& bayer = telesphere::bench::bayerInputOptions();
                                     sub.add_option("--bayer", bayer.raw_path,
-                                                   "raw 8-bit Bayer mosaic for the Bayer -> JPEG figures (needs --size)");
+                                                   "raw Bayer mosaic for the Bayer -> JPEG figures (needs --size): 8-bit "
+                                                   "samples, or 16-bit little-endian words (see --bits)");
+                                    sub.add_option("--bits", bayer.bits,
+                                                   "significant bits of a 16-bit --bayer file's samples, 9-16 (default 16)")
+                                        ->check(CLI::Range(9, 16));
                                     sub.add_option("--size", bayer.size, "WxH of the --bayer file");
                                     sub.add_option("--pattern", bayer.pattern,
                                                    "colour filter: RGGB, BGGR, GRBG or GBRG (default RGGB)");
