@@ -5,8 +5,10 @@
 ///        eye ray shows the scene point the camera sees through the proxy's point on that ray;
 ///        the error is the angle between the eye ray and the direction from the eye to that
 ///        point. Eye pixels whose true point the camera cannot see (disoccluded) are counted apart.
-///        The proxies take their depth from the scene's truth (an oracle): the table says what
-///        each representation can reach, before any depth estimate from the stereo pair.
+///        Each proxy twice: with the scene's true depth (an oracle: what the representation can
+///        reach) and with the depth the sphere sweep (xr/depth/sphere_sweep.h) finds in the
+///        synthetic stereo pair rendered through the simulated 195° lenses, 64 mm apart; and the
+///        sweep's speed against its accuracy for a few settings.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,7 +19,11 @@
 
 #include "app/bench/bench_table.h"
 #include "app/bench/bench_topic.h"
+#include "app/bench/cpu_time.h"
+#include "app/bench/prerendered_frames.h"
+#include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_scene.h"
+#include "xr/depth/sphere_sweep.h"
 #include "xr/render/depth_proxy.h"
 
 namespace telesphere::bench {
@@ -97,6 +103,37 @@ xr::render::InverseDepthGrid trueGrid(const SceneView& camera, double tile_deg) 
   return grid;
 }
 
+/// The grey (JFIF luma) of an RGB8 frame, rows `width` bytes apart.
+std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
+  std::vector<std::uint8_t> grey(static_cast<std::size_t>(frame.width) * frame.height);
+  for (int y = 0; y < frame.height; ++y)
+    for (int x = 0; x < frame.width; ++x) {
+      const std::uint8_t* p = frame.pixels->data() + static_cast<std::ptrdiff_t>(y) * frame.stride_bytes + 3 * x;
+      grey[static_cast<std::size_t>(y) * frame.width + x] = static_cast<std::uint8_t>((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8);
+    }
+  return grey;
+}
+
+/// The stereo pair of a scene through the simulated rig (the left camera at the scene's origin).
+struct StereoGrey {
+  std::vector<std::uint8_t> left, right;
+};
+StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height, int supersampling) {
+  const auto shared = std::make_shared<const SyntheticScene>(scene);
+  robot::clock::SteadyClock clock;
+  robot::cameras::SyntheticCameraOptions options;
+  options.supersampling = supersampling;
+  options.threads = 2;
+  StereoGrey pair;
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::Isometry3d T_world_cam = side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r;
+    const robot::cameras::SyntheticCamera camera(rig.cameras[side].camera, width, height, shared,
+                                                 robot::cameras::fixedPose(T_world_cam), clock, options);
+    (side == 0 ? pair.left : pair.right) = greyOf(camera.renderAt(0));
+  }
+  return pair;
+}
+
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return std::nan("");
   std::sort(v.begin(), v.end());
@@ -111,7 +148,7 @@ struct ErrorSet {
 
 struct Proxy {
   std::string name, label;
-  double radius_m = 0;                                  // the sphere proxies
+  double radius_m = 0;                               // the sphere proxies
   std::optional<xr::render::InverseDepthGrid> grid;  // the grid proxies
   ErrorSet rest, moving;
 };
@@ -123,87 +160,184 @@ nlohmann::json stats(const ErrorSet& e) {
           {"fovea_p90_deg", quantile(e.fovea, 0.9)}};
 }
 
-nlohmann::json runDepth(const BenchContext& ctx) {
-  std::vector<double> depths = ctx.quick ? std::vector<double>{0.3, 1.5} : std::vector<double>{0.3, 0.5, 0.8, 1.5, 3.0, 10.0};
-  if (sceneDepthOption() > 0) depths = {sceneDepthOption()};
-  const int rays = ctx.quick ? 41 : 121;  // per side of the eye image
-  std::vector<double> scene_depths = {0.0};  // the room alone first
-  scene_depths.insert(scene_depths.end(), depths.begin(), depths.end());
-
-  // Offsets of the eye from the camera: 8 directions across the view and 2 along it.
+/// The eye's offsets from the camera: 8 directions across the view and 2 along it.
+std::vector<Vector3d> offsetDirections() {
   std::vector<Vector3d> directions;
   for (int k = 0; k < 8; ++k) directions.emplace_back(std::cos(k * std::numbers::pi / 4), std::sin(k * std::numbers::pi / 4), 0.0);
   directions.emplace_back(0, 0, 1);
   directions.emplace_back(0, 0, -1);
+  return directions;
+}
+
+/// Each proxy's eye-image errors at rest and moving (or moving only); the fraction of moving eye
+/// rays whose true point the camera cannot see (left out of every proxy's errors).
+double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, std::vector<Proxy>& proxies, int rays,
+                         bool with_rest) {
+  std::size_t evaluated_moving = 0, disoccluded_moving = 0;
+  for (const bool moving : {false, true}) {
+    if (!moving && !with_rest) continue;
+    for (const Vector3d& dir : offsetDirections()) {
+      const Vector3d o = (moving ? kMovingOffsetM : kRestOffsetM) * dir;
+      for (int iy = 0; iy < rays; ++iy)
+        for (int ix = 0; ix < rays; ++ix) {
+          const double ax = (-1.0 + 2.0 * ix / (rays - 1)) * kEyeHalfFovDeg * kDeg;
+          const double ay = (-1.0 + 2.0 * iy / (rays - 1)) * kEyeHalfFovDeg * kDeg;
+          const Vector3d d = Vector3d(std::tan(ax), std::tan(ay), 1.0).normalized();
+          const std::optional<double> t_true = hitDistance(scene, o, d);
+          if (!t_true) continue;
+          const Vector3d X = o + *t_true * d;
+          SceneHit seen;
+          const bool visible = camera.intersect(X.normalized(), &seen) && seen.distance >= X.norm() - 1e-3;
+          if (moving) {
+            ++evaluated_moving;
+            if (!visible) ++disoccluded_moving;
+          }
+          if (!visible) continue;
+          const bool fovea = std::acos(std::clamp(d.z(), -1.0, 1.0)) <= kFoveaDeg * kDeg;
+          for (Proxy& proxy : proxies) {
+            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, o, d, kGridSteps)
+                                                         : xr::render::sphereProxyHit(proxy.radius_m, o, d);
+            if (!p) continue;
+            SceneHit shown;
+            if (!camera.intersect(p->normalized(), &shown)) continue;
+            const Vector3d S = shown.distance * p->normalized() - o;
+            const double err = std::atan2(S.cross(d).norm(), S.dot(d)) / kDeg;
+            ErrorSet& set = moving ? proxy.moving : proxy.rest;
+            set.whole.push_back(err);
+            if (fovea) set.fovea.push_back(err);
+          }
+        }
+    }
+  }
+  return evaluated_moving ? static_cast<double>(disoccluded_moving) / evaluated_moving : 0.0;
+}
+
+/// Both cameras' sweeps for one setting (tables built once; the first pair is swept once untimed,
+/// so that the tables' first touch is not counted against every frame after it).
+struct StereoSweeps {
+  std::string name;
+  xr::depth::SphereSweep left, right;
+  bool warm = false;
+};
+
+StereoSweeps makeSweeps(const std::string& name, const calib::SystemCalibration& rig, int width, int height,
+                        const xr::depth::SphereSweepOptions& options) {
+  return {name,
+          xr::depth::SphereSweep(rig.cameras[0].camera, width, height, rig.cameras[1].camera, width, height,
+                                 rig.T_cam_l_cam_r->inverse(), options),
+          xr::depth::SphereSweep(rig.cameras[1].camera, width, height, rig.cameras[0].camera, width, height,
+                                 *rig.T_cam_l_cam_r, options)};
+}
+
+/// One pair through both sweeps: the left camera's grid, the CPU time of both, and the grid's
+/// inverse-depth error over the tiles the left camera sees against the truth at the same tiles.
+struct StereoDepth {
+  xr::depth::SweepResult left;
+  double ms = 0;
+  int matched = 0, seen = 0;
+  std::vector<double> inverse_depth_error;
+};
+
+StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, int height, const SceneView& camera,
+                      const calib::CameraCalibration& left_camera) {
+  const xr::depth::GreyImage left{pair.left.data(), width, height, width};
+  const xr::depth::GreyImage right{pair.right.data(), width, height, width};
+  if (!sweeps.warm) {
+    sweeps.left.estimate(left, right);
+    sweeps.right.estimate(right, left);
+    sweeps.warm = true;
+  }
+  StereoDepth out;
+  const double cpu0 = threadCpuSeconds();
+  out.left = sweeps.left.estimate(left, right);
+  const xr::depth::SweepResult right_result = sweeps.right.estimate(right, left);
+  out.ms = 1e3 * (threadCpuSeconds() - cpu0);
+  out.matched = out.left.tiles_matched + right_result.tiles_matched;
+  out.seen = out.left.tiles_seen + right_result.tiles_seen;
+  const xr::render::InverseDepthGrid truth = trueGrid(camera, sweeps.left.options().tile_deg);
+  for (int row = 0; row < truth.rows(); ++row)
+    for (int col = 0; col < truth.cols(); ++col) {
+      Eigen::Vector2d px;
+      if (!left_camera.camera.project(truth.tileCentre(row, col), px)) continue;
+      if (px.x() < 0 || px.y() < 0 || px.x() > width - 1 || px.y() > height - 1) continue;
+      out.inverse_depth_error.push_back(std::abs(out.left.inverse_depth.at(row, col) - truth.at(row, col)));
+    }
+  return out;
+}
+
+std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
+  std::vector<Proxy> proxies;
+  proxies.push_back({"radius", "one radius, sigma " + formatNumber(kCentreSigmaDeg) + " deg, stereo",
+                     xr::render::centreWeightedRadius(depth.left.inverse_depth, {0, 0, 1}, kCentreSigmaDeg * kDeg),
+                     std::nullopt, {}, {}});
+  proxies.push_back({"grid", "grid " + formatNumber(depth.left.inverse_depth.tileDeg()) + " deg, stereo", 0.0,
+                     depth.left.inverse_depth, {}, {}});
+  return proxies;
+}
+
+nlohmann::json runDepth(const BenchContext& ctx) {
+  std::vector<double> depths = ctx.quick ? std::vector<double>{0.3, 1.5} : std::vector<double>{0.3, 0.5, 0.8, 1.5, 3.0, 10.0};
+  if (sceneDepthOption() > 0) depths = {sceneDepthOption()};
+  const int rays = ctx.quick ? 41 : 121;     // per side of the eye image
+  std::vector<double> scene_depths = {0.0};  // the room alone first
+  scene_depths.insert(scene_depths.end(), depths.begin(), depths.end());
+
+  // The stereo rig at the sweep's working resolution (the 4K lens scaled; the renderer's 4K
+  // images would be box-filtered down to it), rendered with 2 × 2 rays a pixel.
+  const int depth_width = 480, depth_height = 270;
+  const calib::SystemCalibration rig = simulatedRig(depth_width, depth_height);
+  const xr::depth::SphereSweepOptions sweep_options;
+  const auto tables_t0 = std::chrono::steady_clock::now();
+  StereoSweeps sweeps = makeSweeps("default", rig, depth_width, depth_height, sweep_options);
+  const double tables_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - tables_t0).count();
 
   auto& out = ctx.out;
-  out << "depth: eye-image error per proxy, oracle depth; eye " << 2 * kEyeHalfFovDeg << " deg square, " << rays << "x"
-      << rays << " rays, fovea +-" << kFoveaDeg << " deg; eye offset at rest " << kRestOffsetM * 1e3 << " mm, moving "
-      << kMovingOffsetM * 1e3 << " mm (" << directions.size() << " directions)\n";
+  out << "depth: sphere sweep on " << depth_width << "x" << depth_height << " grey pairs (195 deg lenses, 64 mm apart), "
+      << sweep_options.tile_deg << " deg tiles, " << sweep_options.hypotheses << " inverse depths to "
+      << sweep_options.min_depth_m << " m, " << sweep_options.samples_per_side << "x" << sweep_options.samples_per_side
+      << " samples a tile; tables " << formatNumber(sweeps.left.tableBytes() / 1e6) << " MB a camera, built in "
+      << formatNumber(tables_s) << " s for both\n";
+  out << "depth: eye-image error per proxy; eye " << 2 * kEyeHalfFovDeg << " deg square, " << rays << "x" << rays
+      << " rays, fovea +-" << kFoveaDeg << " deg; eye offset at rest " << kRestOffsetM * 1e3 << " mm, moving "
+      << kMovingOffsetM * 1e3 << " mm (" << offsetDirections().size() << " directions)\n";
 
   nlohmann::json scenes = nlohmann::json::array();
   nlohmann::json worst = nlohmann::json::object();
   const auto keepWorst = [&](const std::string& key, double v) {
     if (!worst.contains(key) || v > worst[key].get<double>()) worst[key] = v;
   };
+  std::vector<SyntheticScene> built;
+  std::vector<StereoGrey> pairs;
   for (double near_m : scene_depths) {
-    const SyntheticScene scene = makeScene(near_m);
+    const SyntheticScene& scene = built.emplace_back(makeScene(near_m));
     const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
+    const StereoGrey& pair = pairs.emplace_back(renderPair(scene, rig, depth_width, depth_height, 2));
     const auto t0 = std::chrono::steady_clock::now();
-    const xr::render::InverseDepthGrid truth_2deg = trueGrid(camera, 2.0);
+    const StereoDepth stereo = sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0]);
+
     std::vector<Proxy> proxies;
     proxies.push_back({"fixed", "fixed sphere r = 1 m", 1.0, std::nullopt, {}, {}});
+    for (Proxy& p : stereoProxies(stereo)) proxies.push_back(std::move(p));
+    const xr::render::InverseDepthGrid truth_2deg = trueGrid(camera, 2.0);
     for (double sigma_deg : {kCentreSigmaDeg, 2.0 * kCentreSigmaDeg}) {
       const double radius = xr::render::centreWeightedRadius(truth_2deg, {0, 0, 1}, sigma_deg * kDeg);
-      proxies.push_back({sigma_deg == kCentreSigmaDeg ? "radius" : "radius_sigma_" + formatNumber(sigma_deg) + "deg",
-                         "one radius, centre sigma " + formatNumber(sigma_deg) + " deg", radius, std::nullopt, {}, {}});
+      proxies.push_back({sigma_deg == kCentreSigmaDeg ? "radius_oracle" : "radius_oracle_sigma_" + formatNumber(sigma_deg) + "deg",
+                         "one radius, sigma " + formatNumber(sigma_deg) + " deg, oracle", radius, std::nullopt, {}, {}});
     }
     for (double tile : {10.0, 4.0, 2.0}) {
       const std::string t = formatNumber(tile);
-      proxies.push_back({tile == 4.0 ? "grid" : "grid_" + t + "deg", "grid " + t + " deg, " + std::to_string(kGridSteps) + " steps",
-                         0.0, tile == 2.0 ? truth_2deg : trueGrid(camera, tile), {}, {}});
+      proxies.push_back({tile == 4.0 ? "grid_oracle" : "grid_oracle_" + t + "deg", "grid " + t + " deg, oracle", 0.0,
+                         tile == 2.0 ? truth_2deg : trueGrid(camera, tile), {}, {}});
     }
-
-    std::size_t evaluated_moving = 0, disoccluded_moving = 0;
-    for (const bool moving : {false, true})
-      for (const Vector3d& dir : directions) {
-        const Vector3d o = (moving ? kMovingOffsetM : kRestOffsetM) * dir;
-        for (int iy = 0; iy < rays; ++iy)
-          for (int ix = 0; ix < rays; ++ix) {
-            const double ax = (-1.0 + 2.0 * ix / (rays - 1)) * kEyeHalfFovDeg * kDeg;
-            const double ay = (-1.0 + 2.0 * iy / (rays - 1)) * kEyeHalfFovDeg * kDeg;
-            const Vector3d d = Vector3d(std::tan(ax), std::tan(ay), 1.0).normalized();
-            const std::optional<double> t_true = hitDistance(scene, o, d);
-            if (!t_true) continue;
-            const Vector3d X = o + *t_true * d;
-            SceneHit seen;
-            const bool visible = camera.intersect(X.normalized(), &seen) && seen.distance >= X.norm() - 1e-3;
-            if (moving) {
-              ++evaluated_moving;
-              if (!visible) ++disoccluded_moving;
-            }
-            if (!visible) continue;
-            const bool fovea = std::acos(std::clamp(d.z(), -1.0, 1.0)) <= kFoveaDeg * kDeg;
-            for (Proxy& proxy : proxies) {
-              const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, o, d, kGridSteps)
-                                                           : xr::render::sphereProxyHit(proxy.radius_m, o, d);
-              if (!p) continue;
-              SceneHit shown;
-              if (!camera.intersect(p->normalized(), &shown)) continue;
-              const Vector3d S = shown.distance * p->normalized() - o;
-              const double err = std::atan2(S.cross(d).norm(), S.dot(d)) / kDeg;
-              ErrorSet& set = moving ? proxy.moving : proxy.rest;
-              set.whole.push_back(err);
-              if (fovea) set.fovea.push_back(err);
-            }
-          }
-      }
+    const double disoccluded = evaluateEyeErrors(scene, camera, proxies, rays, true);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     const std::string scene_name = near_m > 0 ? "near objects at " + formatNumber(near_m) + " m" : "room alone (front wall 3 m)";
-    const double disoccluded = evaluated_moving ? static_cast<double>(disoccluded_moving) / evaluated_moving : 0.0;
-    out << "\n" << scene_name << ": disoccluded while moving " << formatNumber(100.0 * disoccluded) << " % of eye rays ("
-        << formatNumber(seconds) << " s)\n";
+    out << "\n" << scene_name << ": disoccluded while moving " << formatNumber(100.0 * disoccluded)
+        << " % of eye rays; stereo: " << stereo.matched << " of " << stereo.seen << " tiles matched, inverse depth error p50 "
+        << formatNumber(quantile(stereo.inverse_depth_error, 0.5)) << " / p90 "
+        << formatNumber(quantile(stereo.inverse_depth_error, 0.9)) << " 1/m, both sweeps " << formatNumber(stereo.ms)
+        << " ms CPU (" << formatNumber(seconds) << " s in all)\n";
     Table table({"proxy", "radius m", "rest p50 deg", "rest p90", "moving p50", "moving p90", "fovea moving p50",
                  "fovea moving p90"});
     nlohmann::json proxies_json = nlohmann::json::array();
@@ -216,7 +350,8 @@ nlohmann::json runDepth(const BenchContext& ctx) {
       if (!proxy.grid) p["radius_m"] = proxy.radius_m;
       if (proxy.grid) p["tile_deg"] = proxy.grid->tileDeg();
       proxies_json.push_back(p);
-      if (proxy.name == "fixed" || proxy.name == "radius" || proxy.name == "grid") {
+      if (proxy.name == "fixed" || proxy.name == "radius" || proxy.name == "grid" || proxy.name == "radius_oracle" ||
+          proxy.name == "grid_oracle") {
         for (const auto& [state, set] : {std::pair{"moving", &proxy.moving}, std::pair{"rest", &proxy.rest}}) {
           keepWorst(std::string("eye_error_") + state + "_p50_deg_" + proxy.name, quantile(set->whole, 0.5));
           keepWorst(std::string("eye_error_") + state + "_p90_deg_" + proxy.name, quantile(set->whole, 0.9));
@@ -227,16 +362,83 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     }
     table.print(out);
     keepWorst("disoccluded_fraction", disoccluded);
-    scenes.push_back({{"scene", scene_name}, {"near_depth_m", near_m}, {"disoccluded_fraction", disoccluded}, {"proxies", proxies_json}});
+    keepWorst("depth_ms_per_pair", stereo.ms);
+    keepWorst("inverse_depth_error_p50_per_m", quantile(stereo.inverse_depth_error, 0.5));
+    keepWorst("inverse_depth_error_p90_per_m", quantile(stereo.inverse_depth_error, 0.9));
+    scenes.push_back({{"scene", scene_name},
+                      {"near_depth_m", near_m},
+                      {"disoccluded_fraction", disoccluded},
+                      {"depth_ms_per_pair", stereo.ms},
+                      {"tiles_matched", stereo.matched},
+                      {"tiles_seen", stereo.seen},
+                      {"inverse_depth_error_p50_per_m", quantile(stereo.inverse_depth_error, 0.5)},
+                      {"inverse_depth_error_p90_per_m", quantile(stereo.inverse_depth_error, 0.9)},
+                      {"proxies", proxies_json}});
   }
-  out << "\nworst over the scenes (the goals hold for every scene): radius fovea moving p50 "
-      << formatNumber(worst["eye_error_moving_fovea_p50_deg_radius"].get<double>()) << " deg (goal <= 0.15), grid moving p50 "
-      << formatNumber(worst["eye_error_moving_p50_deg_grid"].get<double>()) << " / p90 "
-      << formatNumber(worst["eye_error_moving_p90_deg_grid"].get<double>()) << " deg (goal <= 0.1 / 0.5)\n"
-      << "depth from the stereo pair, its cost, the renderer's cost and the image latency: not measured yet (#35)\n";
-  worst["depth_source"] = "oracle (the scene's true depth)";
+
+  // The sweep's speed against its accuracy: fewer samples and hypotheses, other tiles; the worst
+  // scene of each column, moving.
+  struct Setting {
+    std::string name;
+    xr::depth::SphereSweepOptions options;
+  };
+  std::vector<Setting> settings = {{"5x5 samples, 48 depths, 4 deg (default)", sweep_options}};
+  const auto variant = [&](const std::string& name, int side, int hypotheses, double tile) {
+    xr::depth::SphereSweepOptions o = sweep_options;
+    o.samples_per_side = side;
+    o.hypotheses = hypotheses;
+    o.tile_deg = tile;
+    settings.push_back({name, o});
+  };
+  variant("4x4 samples, 32 depths, 4 deg", 4, 32, 4.0);
+  variant("3x3 samples, 24 depths, 4 deg", 3, 24, 4.0);
+  variant("4x4 samples, 32 depths, 6 deg", 4, 32, 6.0);
+  variant("5x5 samples, 48 depths, 3 deg", 5, 48, 3.0);
+  Table knob({"sweep", "ms/pair (CPU)", "tables MB", "grid moving p50 deg", "grid moving p90", "radius fovea moving p50",
+              "inverse depth err p90 1/m"});
+  nlohmann::json knob_json = nlohmann::json::array();
+  for (const Setting& setting : settings) {
+    StereoSweeps s = makeSweeps(setting.name, rig, depth_width, depth_height, setting.options);
+    double ms = 0, grid_p50 = 0, grid_p90 = 0, radius_fovea = 0, rho_p90 = 0;
+    for (std::size_t i = 0; i < built.size(); ++i) {
+      const SceneView camera = built[i].view(0, Eigen::Isometry3d::Identity());
+      const StereoDepth depth = sweepPair(s, pairs[i], depth_width, depth_height, camera, rig.cameras[0]);
+      std::vector<Proxy> proxies = stereoProxies(depth);
+      evaluateEyeErrors(built[i], camera, proxies, ctx.quick ? 21 : 61, false);
+      ms = std::max(ms, depth.ms);
+      radius_fovea = std::max(radius_fovea, quantile(proxies[0].moving.fovea, 0.5));
+      grid_p50 = std::max(grid_p50, quantile(proxies[1].moving.whole, 0.5));
+      grid_p90 = std::max(grid_p90, quantile(proxies[1].moving.whole, 0.9));
+      rho_p90 = std::max(rho_p90, quantile(depth.inverse_depth_error, 0.9));
+    }
+    knob.addRow({setting.name, formatNumber(ms), formatNumber(s.left.tableBytes() / 1e6), formatNumber(grid_p50),
+                 formatNumber(grid_p90), formatNumber(radius_fovea), formatNumber(rho_p90)});
+    knob_json.push_back({{"sweep", setting.name},
+                         {"samples_per_side", setting.options.samples_per_side},
+                         {"hypotheses", setting.options.hypotheses},
+                         {"tile_deg", setting.options.tile_deg},
+                         {"depth_ms_per_pair", ms},
+                         {"eye_error_moving_p50_deg_grid", grid_p50},
+                         {"eye_error_moving_p90_deg_grid", grid_p90},
+                         {"eye_error_moving_fovea_p50_deg_radius", radius_fovea},
+                         {"inverse_depth_error_p90_per_m", rho_p90}});
+  }
+  out << "\nThe sweep's speed against its accuracy (worst scene of each column; eye errors moving, "
+      << (ctx.quick ? 21 : 61) << "x" << (ctx.quick ? 21 : 61) << " rays):\n";
+  knob.print(out);
+
+  const auto w = [&](const char* key) { return formatNumber(worst[key].get<double>()); };
+  out << "\nworst over the scenes (the goals hold for every scene), stereo (oracle): radius fovea moving p50 "
+      << w("eye_error_moving_fovea_p50_deg_radius") << " (" << w("eye_error_moving_fovea_p50_deg_radius_oracle")
+      << ") deg, goal <= 0.15; grid moving p50 " << w("eye_error_moving_p50_deg_grid") << " ("
+      << w("eye_error_moving_p50_deg_grid_oracle") << ") / p90 " << w("eye_error_moving_p90_deg_grid") << " ("
+      << w("eye_error_moving_p90_deg_grid_oracle") << ") deg, goal <= 0.1 / 0.5; depth " << w("depth_ms_per_pair")
+      << " ms a pair (both cameras, one core), goal <= 10\n"
+      << "not measured here: the renderer's cost with a proxy and the image latency (no proxy in the renderer yet, #35)\n";
+  worst["depth_resolution"] = {depth_width, depth_height};
   worst["eye_offset_rest_m"] = kRestOffsetM;
   worst["eye_offset_moving_m"] = kMovingOffsetM;
+  worst["sweep_settings"] = knob_json;
   worst["scenes"] = scenes;
   return worst;
 }

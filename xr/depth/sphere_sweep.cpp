@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+/// @brief The sphere sweep: sample tables at construction, correlation per tile and hypothesis per
+///        frame, then holes filled and a 3×3 median.
+#include "xr/depth/sphere_sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace telesphere::xr::depth {
+namespace {
+
+/// Bilinear grey value at pixel position p (pixel centres at integers); p is inside
+/// [0, w − 1] × [0, h − 1] (checked when the tables are built).
+inline float sampleGrey(const GreyImage& image, const Eigen::Vector2f& p) {
+  const int x0 = std::min(static_cast<int>(p.x()), image.width - 2);
+  const int y0 = std::min(static_cast<int>(p.y()), image.height - 2);
+  const float fx = p.x() - static_cast<float>(x0), fy = p.y() - static_cast<float>(y0);
+  const std::uint8_t* row0 = image.pixels + static_cast<std::ptrdiff_t>(y0) * image.stride + x0;
+  const std::uint8_t* row1 = row0 + image.stride;
+  const float top = row0[0] + fx * (row0[1] - row0[0]);
+  const float bottom = row1[0] + fx * (row1[1] - row1[0]);
+  return top + fy * (bottom - top);
+}
+
+bool inside(const Eigen::Vector2d& px, int width, int height) {
+  return px.x() >= 0.0 && px.y() >= 0.0 && px.x() <= width - 1.0 && px.y() <= height - 1.0;
+}
+
+float median(std::vector<float>& v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_width, int reference_height,
+                         const calib::GenericCamera& other, int other_width, int other_height,
+                         const Eigen::Isometry3d& T_other_reference, SphereSweepOptions options)
+    : options_(options),
+      reference_width_(reference_width),
+      reference_height_(reference_height),
+      other_width_(other_width),
+      other_height_(other_height) {
+  options_.hypotheses = std::max(options_.hypotheses, 3);
+  options_.samples_per_side = std::max(options_.samples_per_side, 2);
+  samples_ = options_.samples_per_side * options_.samples_per_side;
+  const render::InverseDepthGrid grid(options_.tile_deg);  // throws on a tile size that does not fit
+  const Eigen::Matrix3d R = T_other_reference.linear();
+  const Eigen::Vector3d t = T_other_reference.translation();
+  const int n = options_.samples_per_side;
+  std::vector<Eigen::Vector3d> directions(samples_);
+  std::vector<Eigen::Vector2f> reference_px(samples_);
+  for (int row = 0; row < grid.rows(); ++row)
+    for (int col = 0; col < grid.cols(); ++col) {
+      bool seen = true;
+      for (int i = 0; i < n && seen; ++i)
+        for (int j = 0; j < n && seen; ++j) {
+          const int s = i * n + j;
+          directions[s] = grid.direction(row + (i + 0.5) / n, col + (j + 0.5) / n);
+          Eigen::Vector2d px;
+          seen = reference.project(directions[s], px) && inside(px, reference_width, reference_height);
+          reference_px[s] = px.cast<float>();
+        }
+      if (!seen) continue;
+      Tile tile;
+      tile.row = row;
+      tile.col = col;
+      tile.first = reference_px_.size();
+      tile.other = other_px_.size();
+      tile.usable.assign(options_.hypotheses, true);
+      bool any = false;
+      for (int k = 0; k < options_.hypotheses; ++k) {
+        const double rho = hypothesis(k);
+        for (int s = 0; s < samples_; ++s) {
+          Eigen::Vector2d px(0, 0);
+          // The point at depth 1/ρ along d, in the other camera, up to its positive scale 1/ρ.
+          const bool ok = other.project(R * directions[s] + rho * t, px) && inside(px, other_width, other_height);
+          if (!ok) tile.usable[k] = false;
+          other_px_.push_back(ok ? px.cast<float>() : Eigen::Vector2f(0, 0));
+        }
+        any = any || tile.usable[k];
+      }
+      if (!any) {
+        other_px_.resize(tile.other);
+        continue;
+      }
+      reference_px_.insert(reference_px_.end(), reference_px.begin(), reference_px.end());
+      tiles_.push_back(std::move(tile));
+    }
+}
+
+double SphereSweep::hypothesis(int k) const {
+  return k * (1.0 / options_.min_depth_m) / (options_.hypotheses - 1);
+}
+
+std::size_t SphereSweep::tableBytes() const {
+  return (reference_px_.size() + other_px_.size()) * sizeof(Eigen::Vector2f);
+}
+
+SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other) const {
+  SweepResult result;
+  result.inverse_depth = render::InverseDepthGrid(options_.tile_deg, 0.0F);
+  render::InverseDepthGrid& grid = result.inverse_depth;
+  result.confidence.assign(static_cast<std::size_t>(grid.rows()) * grid.cols(), 0.0F);
+  result.tiles_seen = static_cast<int>(tiles_.size());
+  if (!reference.pixels || !other.pixels || reference.width != reference_width_ || reference.height != reference_height_ ||
+      other.width != other_width_ || other.height != other_height_ || reference.width < 2 || reference.height < 2 ||
+      other.width < 2 || other.height < 2)
+    return result;
+
+  std::vector<float> a(samples_), cost(options_.hypotheses);
+  const float inv_n = 1.0F / static_cast<float>(samples_);
+  for (const Tile& tile : tiles_) {
+    float sum_a = 0, sum_aa = 0;
+    for (int s = 0; s < samples_; ++s) {
+      a[s] = sampleGrey(reference, reference_px_[tile.first + s]);
+      sum_a += a[s];
+    }
+    const float mean_a = sum_a * inv_n;
+    for (int s = 0; s < samples_; ++s) {
+      a[s] -= mean_a;
+      sum_aa += a[s] * a[s];
+    }
+    if (std::sqrt(sum_aa * inv_n) < options_.min_texture) continue;
+    int best = -1;
+    for (int k = 0; k < options_.hypotheses; ++k) {
+      cost[k] = std::numeric_limits<float>::infinity();
+      if (!tile.usable[k]) continue;
+      const Eigen::Vector2f* q = &other_px_[tile.other + static_cast<std::size_t>(k) * samples_];
+      float sum_b = 0, sum_bb = 0, sum_ab = 0;
+      for (int s = 0; s < samples_; ++s) {
+        const float b = sampleGrey(other, q[s]);
+        sum_b += b;
+        sum_bb += b * b;
+        sum_ab += a[s] * b;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
+      }
+      const float var_b = sum_bb - sum_b * sum_b * inv_n;
+      if (var_b <= 1e-6F) continue;
+      cost[k] = 1.0F - sum_ab / std::sqrt(sum_aa * var_b);
+      if (best < 0 || cost[k] < cost[best]) best = k;
+    }
+    if (best < 0 || 1.0F - cost[best] < options_.min_correlation) continue;
+    float runner_up = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < options_.hypotheses; ++k)
+      if (std::abs(k - best) > 1) runner_up = std::min(runner_up, cost[k]);
+    if (runner_up - cost[best] < options_.min_margin) continue;
+    // A parabola through the best and its neighbours (where both are usable) places the minimum
+    // between hypotheses.
+    double rho = hypothesis(best);
+    if (best > 0 && best + 1 < options_.hypotheses && std::isfinite(cost[best - 1]) && std::isfinite(cost[best + 1])) {
+      const double c0 = cost[best - 1], c1 = cost[best], c2 = cost[best + 1];
+      const double curvature = c0 - 2.0 * c1 + c2;
+      if (curvature > 1e-9) rho += std::clamp(0.5 * (c0 - c2) / curvature, -0.5, 0.5) * hypothesis(1);
+    }
+    grid.at(tile.row, tile.col) = static_cast<float>(std::max(rho, 0.0));
+    result.confidence[static_cast<std::size_t>(tile.row) * grid.cols() + tile.col] = 1.0F - cost[best];
+    ++result.tiles_matched;
+  }
+  fillAndSmooth(grid, result.confidence);
+  return result;
+}
+
+void fillAndSmooth(render::InverseDepthGrid& grid, const std::vector<float>& confidence) {
+  const int rows = grid.rows(), cols = grid.cols();
+  std::vector<char> known(confidence.size());
+  std::vector<float> all_known;
+  for (std::size_t i = 0; i < confidence.size(); ++i) {
+    known[i] = confidence[i] > 0.0F;
+    if (known[i]) all_known.push_back(grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols));
+  }
+  if (all_known.empty()) return;
+  const float fallback = median(all_known);
+  std::vector<float> neighbours;
+  // Grow the known region a ring at a time: a hole takes the median of its known neighbours.
+  for (bool grew = true; grew;) {
+    grew = false;
+    std::vector<std::pair<std::size_t, float>> filled;
+    for (int row = 0; row < rows; ++row)
+      for (int col = 0; col < cols; ++col) {
+        const std::size_t i = static_cast<std::size_t>(row) * cols + col;
+        if (known[i]) continue;
+        neighbours.clear();
+        for (int dr = -1; dr <= 1; ++dr)
+          for (int dc = -1; dc <= 1; ++dc) {
+            const int r = row + dr, c = (col + dc + cols) % cols;
+            if ((dr || dc) && r >= 0 && r < rows && known[static_cast<std::size_t>(r) * cols + c]) neighbours.push_back(grid.at(r, c));
+          }
+        if (!neighbours.empty()) filled.emplace_back(i, median(neighbours));
+      }
+    for (const auto& [i, value] : filled) {
+      grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols) = value;
+      known[i] = 1;
+      grew = true;
+    }
+  }
+  for (std::size_t i = 0; i < known.size(); ++i)
+    if (!known[i]) grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols) = fallback;
+  // 3×3 median (rows clamped at the poles, longitude wrapping).
+  const render::InverseDepthGrid before = grid;
+  std::vector<float> window;
+  for (int row = 0; row < rows; ++row)
+    for (int col = 0; col < cols; ++col) {
+      window.clear();
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) window.push_back(before.at(std::clamp(row + dr, 0, rows - 1), (col + dc + cols) % cols));
+      grid.at(row, col) = median(window);
+    }
+}
+
+}  // namespace telesphere::xr::depth
