@@ -3,6 +3,8 @@
 //        camera image (RGB or float texture, or JPEG-native YUV planes converted here; greyscale
 //        is YUV with neutral 1×1 chroma planes) at the image saturation, times the image gain,
 //        with the border colour outside the image. TS_SOURCE_YUV selects the YUV planes.
+//        TS_DEPTH_GRID replaces the sphere of radius r by the inverse-depth grid proxy
+//        (xr/render/depth_proxy.h): TS_GRID_STEPS fixed-point steps per eye ray.
 
 uniform vec4 u_border;      // colour of pixels the camera did not see
 uniform vec2 u_image_size;  // camera image width, height (px)
@@ -31,6 +33,42 @@ bool sphereFarHit(vec3 o, vec3 d, float c, out vec3 p) {
   if (!(t >= 0.0)) return false;
   p = o + t * d;
   return true;
+}
+
+uniform vec3 u_origin_cam;  // eye position in the camera frame (m); zero in orientation3d
+uniform float u_sphere_c;   // |origin|² − r², computed in double on the CPU
+
+#if TS_DEPTH_GRID
+// Inverse depth (1/m) per tile, cols × rows texels: longitude λ = atan(x, z) along s (repeating
+// round the seam), latitude asin(−y) along t (clamped at the poles); texel centres are tile
+// centres, filtering bilinear: the CPU's InverseDepthGrid::sample.
+layout(binding = 4) uniform sampler2D u_inverse_depth;
+uniform vec2 u_radius_range;  // kMinProxyRadiusM, kMaxProxyRadiusM
+
+float proxyRadius(vec3 dir) {
+  const float pi = 3.14159265358979;
+  float lat = asin(clamp(-dir.y / length(dir), -1.0, 1.0));
+  float lon = atan(dir.x, dir.z);
+  float rho = texture(u_inverse_depth, vec2((lon + pi) / (2.0 * pi), (lat + 0.5 * pi) / pi)).r;
+  return rho > 1.0 / u_radius_range.y ? clamp(1.0 / rho, u_radius_range.x, u_radius_range.y) : u_radius_range.y;
+}
+#endif
+
+// The point on the scene proxy an eye ray (from o, unit d) shows: the far sphere hit, or with the
+// grid the sphere at the grid's radius toward d, then TS_GRID_STEPS times the sphere at the
+// radius where the last point lies (gridProxyHit). False where a sphere is missed.
+bool proxyHit(vec3 o, vec3 d, out vec3 p) {
+#if TS_DEPTH_GRID
+  float r = proxyRadius(d);
+  if (!sphereFarHit(o, d, dot(o, o) - r * r, p)) return false;
+  for (int k = 0; k < TS_GRID_STEPS; ++k) {
+    r = proxyRadius(p);
+    if (!sphereFarHit(o, d, dot(o, o) - r * r, p)) return false;
+  }
+  return true;
+#else
+  return sphereFarHit(o, d, u_sphere_c, p);
+#endif
 }
 
 // Bilinear sample at camera pixel px (origin at the centre of the top-left pixel); the border

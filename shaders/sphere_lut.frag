@@ -1,14 +1,12 @@
 #version 450 core
 // SPDX-License-Identifier: MIT
-// @brief Look-up-table path: eye ray → far sphere hit → direction from the camera centre →
+// @brief Look-up-table path: eye ray → far sphere hit (or the grid proxy's point) → direction from the camera centre →
 //        camera pixel from a precomputed direction→pixel texture → bilinear sample. The table is
 //        indexed by the azimuthal equidistant projection about the optical axis (θ/π·(cos φ,
 //        sin φ) mapped to [0, 1]²), so it covers the whole sphere of directions; validity is the
 //        model's own θ < maxAngle() test, exact per fragment.
 #include "sphere_common.glsl"
 
-uniform vec3 u_origin_cam;
-uniform float u_sphere_c;
 uniform float u_max_angle;  // the camera model's maxAngle() (rad)
 layout(binding = 3) uniform sampler2D u_lut;  // RG32F camera pixel per direction
 
@@ -17,7 +15,7 @@ out vec4 o_colour;
 
 void main() {
   vec3 p;
-  if (!sphereFarHit(u_origin_cam, normalize(v_ray_cam), u_sphere_c, p)) {
+  if (!proxyHit(u_origin_cam, normalize(v_ray_cam), p)) {
     o_colour = u_border;
     return;
   }

@@ -20,6 +20,7 @@
 #include "shaders/shader_program.h"
 #include "tests/xr/gamma_scene.h"
 #include "tests/xr/render_fixtures.h"
+#include "xr/render/depth_proxy.h"
 #include "xr/render/reference_renderer.h"
 #include "xr/render/sphere_geometry.h"
 #include "xr/render/spherical_renderer.h"
@@ -176,6 +177,80 @@ TEST_F(RendererGl, LutPathErrorFallsWithTableSize) {
     EXPECT_LT(e_large.max_px, 0.5) << e_large;
     EXPECT_LE(e_large.validity_mismatch, e_large.total / 500 + 2) << e_large;
   }
+}
+
+/// A grid proxy of a room's depths: a wall 0.5 m ahead (z), nearer to the lower right, the
+/// floor 0.4 m below (y down), everything else 3 m away.
+std::shared_ptr<const render::InverseDepthGrid> roomGrid(double tile_deg) {
+  auto grid = std::make_shared<render::InverseDepthGrid>(tile_deg);
+  for (int row = 0; row < grid->rows(); ++row)
+    for (int col = 0; col < grid->cols(); ++col) {
+      const Eigen::Vector3d u = grid->tileCentre(row, col);
+      double rho = 1.0 / 3.0;
+      if (u.z() > 0.05) rho = std::max(rho, u.z() / 0.5 * (1.0 + 0.3 * u.x() + 0.2 * u.y()));
+      if (u.y() > 0.05) rho = std::max(rho, u.y() / 0.4);
+      grid->at(row, col) = static_cast<float>(rho);
+    }
+  return grid;
+}
+
+TEST_F(RendererGl, TheDepthGridProxyMatchesTheReferenceOnTheExactAndLutPaths) {
+  // Float32 on the GPU (texture filtering included) against the double reference's gridProxyHit,
+  // with the eye moved 6 cm from the camera (where the proxy matters) and at the camera.
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  double worst[2] = {0.0, 0.0};  // exact, LUT
+  for (const auto& [lens, camera] : test::allTypicalLenses()) {
+    render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
+    ASSERT_TRUE(gpu.upload(coords));
+    for (double tile : {4.0, 10.0}) {
+      const auto grid = roomGrid(tile);
+      for (const auto& [pose, T] : {std::pair{"moved 6 cm", eyePose({0.04, -0.03, 0.03}, rotation(0.2, {1, 2, 0}))},
+                                    std::pair{"at the camera", eyePose({0, 0, 0}, rotation(0.3, {0, 1, 0}))}}) {
+        for (render::RenderPath path : {render::RenderPath::kExact, render::RenderPath::kLut}) {
+          render::RenderSettings s;
+          s.path = path;
+          s.depth_grid = grid;
+          const MapError e = compare(gpu, coords, testEye(T), s);
+          SCOPED_TRACE(lens + " " + pose + " " + std::string(render::renderPathName(path)) + " tiles " + std::to_string(tile));
+          EXPECT_LT(e.max_px, path == render::RenderPath::kExact ? 0.05 : 0.5) << e;  // measured 0.0063 and 0.051
+          EXPECT_LE(e.validity_mismatch, e.total / 500 + 2) << e;
+          EXPECT_GT(e.compared, e.total / 4) << e;
+          double& w = worst[path == render::RenderPath::kExact ? 0 : 1];
+          w = std::max(w, e.max_px);
+        }
+      }
+    }
+  }
+  std::printf("grid proxy: worst max error exact %.4g, LUT %.4g camera px\n", worst[0], worst[1]);
+}
+
+TEST_F(RendererGl, AGridOfOneRadiusRendersAsThatSphereAndTheMeshPathRefusesAGrid) {
+  const auto camera = test::scaledTypicalLens<calib::DoubleSphereCamera>();
+  const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
+  render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
+  ASSERT_TRUE(gpu.upload(coords));
+  const render::EyeView view = testEye(test::testPoses()[1].T_cam_eye);
+  render::RenderSettings sphere, grid;
+  sphere.radius = 0.7;
+  grid.depth_grid = std::make_shared<render::InverseDepthGrid>(6.0, static_cast<float>(1.0 / 0.7));
+  sphere.border_rgba = grid.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
+  gl::OffscreenTarget a(view.width, view.height, GL_RGBA32F), b(view.width, view.height, GL_RGBA32F);
+  std::string error;
+  ASSERT_TRUE(renderer_->render(gpu, view, sphere, a.framebuffer(), &error)) << error;
+  ASSERT_TRUE(renderer_->render(gpu, view, grid, b.framebuffer(), &error)) << error;
+  const std::vector<float> pa = a.readRgbaF(), pb = b.readRgbaF();
+  double worst = 0;
+  for (std::size_t i = 0; i < pa.size(); i += 4)
+    if (pa[i + 3] > 0.5f && pb[i + 3] > 0.5f) worst = std::max({worst, double(std::abs(pa[i] - pb[i])), double(std::abs(pa[i + 1] - pb[i + 1]))});
+  EXPECT_LT(worst, 0.02) << "camera px";
+  // A changed grid (a new object) is uploaded again: the picture moves.
+  auto nearer = std::make_shared<render::InverseDepthGrid>(6.0, static_cast<float>(1.0 / 0.3));
+  grid.depth_grid = nearer;
+  ASSERT_TRUE(renderer_->render(gpu, view, grid, b.framebuffer(), &error)) << error;
+  EXPECT_GT(render::compareProjectionMap(b.readRgbaF(), camera, coords, view, sphere).max_px, 1.0);
+  grid.path = render::RenderPath::kMesh;
+  EXPECT_FALSE(renderer_->render(gpu, view, grid, b.framebuffer(), &error));
+  EXPECT_NE(error.find("needs the exact or look-up-table path"), std::string::npos) << error;
 }
 
 TEST_F(RendererGl, EveryPathHandlesEveryMode) {

@@ -12,6 +12,8 @@
 #include <numbers>
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "xr/render/depth_proxy.h"
 
 namespace telesphere::xr {

@@ -19,6 +19,8 @@ namespace telesphere::xr::render {
 /// depth 0: the sky, a far wall) every radius shows the same picture to a fraction of a pixel.
 constexpr double kMinProxyRadiusM = 0.1;
 constexpr double kMaxProxyRadiusM = 1000.0;
+/// Fixed-point steps the renderer (GPU and reference) takes per eye ray on a grid proxy.
+constexpr int kGridProxySteps = 3;
 
 /// 1/inverse_depth clamped to [kMinProxyRadiusM, kMaxProxyRadiusM]; NaN or negative → the far bound.
 double radiusFromInverseDepth(double inverse_depth_per_m);

@@ -73,6 +73,8 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& s) {
   if (s.mesh_rings < 2 || s.mesh_segments < 3 || s.mesh_rings > 4096 || s.mesh_segments > 8192)
     return "mesh tessellation must have 2..4096 rings and 3..8192 segments";
   if (s.lut_size < 2 || s.lut_size > 8192) return "look-up table size must be 2..8192";
+  if (s.depth_grid && s.path == RenderPath::kMesh)
+    return "the depth grid proxy needs the exact or look-up-table path (the mesh is a sphere)";
   return std::nullopt;
 }
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -18,6 +19,8 @@
 #include "robot/link/visual_mode.h"
 
 namespace telesphere::xr::render {
+
+class InverseDepthGrid;  // xr/render/depth_proxy.h
 
 /// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
 /// with the same origin and viewing direction (x right, y down, z forward): p_optical =
@@ -56,8 +59,13 @@ struct RenderSettings {
   /// tracked pose and uses T_cam_eye_fixed (head-locked).
   link::VisualMode mode = link::VisualMode::kFull6d;
   RenderPath path = RenderPath::kExact;
-  /// Sphere radius r (m), finite and > 0: the distance the whole scene is assumed to be at.
+  /// Sphere radius r (m), finite and > 0: the distance the whole scene is assumed to be at (the
+  /// fixed proxy, or one radius from depth: depth_proxy.h's centreWeightedRadius).
   double radius = 1.0;
+  /// The grid proxy (#35): when set, each eye ray meets this inverse-depth grid around the
+  /// camera (gridProxyHit, kGridProxySteps steps) instead of the sphere of `radius`. Exact and
+  /// look-up-table paths only; shared, never copied (the renderer uploads it once per grid).
+  std::shared_ptr<const InverseDepthGrid> depth_grid;
   /// Colour (RGBA, 0..1) of eye pixels the camera did not see: outside the model's valid region,
   /// outside the image, or rays that miss the sphere when the eye is outside it.
   Eigen::Vector4f border_rgba{0.0f, 0.0f, 0.0f, 1.0f};

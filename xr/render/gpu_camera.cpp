@@ -237,4 +237,19 @@ GLuint GpuCamera::lut(int size) const {
   return lut_.id();
 }
 
+GLuint GpuCamera::inverseDepthTexture(const std::shared_ptr<const InverseDepthGrid>& grid) const {
+  if (grid == inverse_depth_grid_ && inverse_depth_) return inverse_depth_.id();
+  if (!inverse_depth_grid_ || grid->rows() != inverse_depth_grid_->rows() || grid->cols() != inverse_depth_grid_->cols()) {
+    inverse_depth_ = makeTexture(GL_R32F, grid->cols(), grid->rows());
+    glTextureParameteri(inverse_depth_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);  // round the longitude seam
+  }
+  std::vector<float> values(static_cast<std::size_t>(grid->rows()) * grid->cols());
+  for (int row = 0; row < grid->rows(); ++row)
+    for (int col = 0; col < grid->cols(); ++col) values[static_cast<std::size_t>(row) * grid->cols() + col] = grid->at(row, col);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(inverse_depth_.id(), 0, 0, 0, grid->cols(), grid->rows(), GL_RED, GL_FLOAT, values.data());
+  inverse_depth_grid_ = grid;
+  return inverse_depth_.id();
+}
+
 }  // namespace telesphere::xr::render

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief One camera on the GPU: its model (as shader uniforms), its current image as textures
 ///        (RGB8, float, or three YUV planes), and, built on first use, the tessellated sphere of
-///        the mesh path and the direction→pixel table of the look-up-table path. Needs the GL
+///        the mesh path and the direction→pixel table of the look-up-table path; the inverse-depth
+///        grid of the grid proxy as a texture. Needs the GL
 ///        context it was created in to be current for every call and for its destruction.
 #pragma once
 
@@ -11,6 +12,7 @@
 
 #include "calib/generic_camera.h"
 #include "shaders/gl_objects.h"
+#include "xr/render/depth_proxy.h"
 #include "xr/render/source_image.h"
 
 namespace telesphere::xr::render {
@@ -54,6 +56,9 @@ class GpuCamera {
   const Mesh& mesh(int rings, int segments) const;
   /// The RG32F look-up table (size × size) of the LUT path, built once per size in double.
   GLuint lut(int size) const;
+  /// The R32F texture of a grid proxy (the grid's cols × rows, longitude repeating, latitude
+  /// clamped), uploaded when `grid` is not the grid uploaded last (which the camera holds on to).
+  GLuint inverseDepthTexture(const std::shared_ptr<const InverseDepthGrid>& grid) const;
 
  private:
   calib::GenericCamera camera_;
@@ -68,6 +73,8 @@ class GpuCamera {
   mutable std::unique_ptr<Mesh> mesh_;
   mutable gl::GlTexture lut_;
   mutable int lut_size_ = 0;
+  mutable gl::GlTexture inverse_depth_;
+  mutable std::shared_ptr<const InverseDepthGrid> inverse_depth_grid_;
 };
 
 }  // namespace telesphere::xr::render

@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "xr/render/depth_proxy.h"
 #include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr::render {
@@ -17,11 +18,12 @@ std::optional<Eigen::Vector2d> referenceCameraPixel(const calib::GenericCamera& 
   const Eigen::Vector3d o = T_cam_eye.translation();
   const Eigen::Vector3d d =
       (T_cam_eye.linear() * eyeRay(view.fov, view.width, view.height, col, row)).normalized();
-  const double c = o.squaredNorm() - settings.radius * settings.radius;
-  const auto t = sphereFarHit(o, d, c);
-  if (!t) return std::nullopt;
+  const std::optional<Eigen::Vector3d> p = settings.depth_grid
+                                               ? gridProxyHit(*settings.depth_grid, o, d, kGridProxySteps)
+                                               : sphereProxyHit(settings.radius, o, d);
+  if (!p) return std::nullopt;
   Eigen::Vector2d px;
-  if (!camera.project(o + *t * d, px)) return std::nullopt;
+  if (!camera.project(*p, px)) return std::nullopt;
   if (!(px.x() >= -0.5 && px.y() >= -0.5 && px.x() <= image_width - 0.5 &&
         px.y() <= image_height - 0.5))
     return std::nullopt;

@@ -27,7 +27,7 @@ struct RgbaImage {
 };
 
 /// The camera pixel that eye pixel (col, row) shows: eye ray (through the pixel centre) → far
-/// sphere hit → camera projection; nothing when the ray misses the sphere, the model has no
+/// sphere hit (or the grid proxy's point, settings.depth_grid) → camera projection; nothing when the ray misses the sphere, the model has no
 /// projection for the point, or the pixel lies outside [−0.5, W − 0.5] × [−0.5, H − 0.5] of an
 /// image_width × image_height image. Preconditions: view and settings pass their checks.
 std::optional<Eigen::Vector2d> referenceCameraPixel(const calib::GenericCamera& camera,

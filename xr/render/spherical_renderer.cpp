@@ -6,19 +6,22 @@
 #include <cmath>
 
 #include "shaders/shader_program.h"
+#include "xr/render/depth_proxy.h"
 #include "xr/render/sphere_geometry.h"
 
 namespace telesphere::xr::render {
 
 SphericalRenderer::SphericalRenderer() : empty_vao_(gl::createVertexArray()) {}
 
-const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderPath path,
+const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderPath path, bool depth_grid,
                                                 std::string* out_error) {
   const bool yuv = camera.format() == SourceImage::Format::kYuv;
-  const auto key = std::make_tuple(static_cast<int>(path), camera.modelIndex(), int(yuv));
+  const auto key = std::make_tuple(static_cast<int>(path), camera.modelIndex(), int(yuv), int(depth_grid));
   if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
   const std::vector<std::string> defines = {"TS_MODEL " + std::to_string(camera.modelIndex()),
-                                            std::string("TS_SOURCE_YUV ") + (yuv ? "1" : "0")};
+                                            std::string("TS_SOURCE_YUV ") + (yuv ? "1" : "0"),
+                                            std::string("TS_DEPTH_GRID ") + (depth_grid ? "1" : "0"),
+                                            "TS_GRID_STEPS " + std::to_string(kGridProxySteps)};
   std::optional<gl::GlProgram> p;
   switch (path) {
     case RenderPath::kExact:
@@ -36,7 +39,7 @@ const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderP
 }
 
 bool SphericalRenderer::prepare(const GpuCamera& camera, RenderPath path, std::string* out_error) {
-  return program(camera, path, out_error) != nullptr;
+  return program(camera, path, false, out_error) != nullptr;
 }
 
 bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
@@ -49,7 +52,7 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
     if (out_error) *out_error = *problem;
     return false;
   }
-  const gl::GlProgram* prog = program(camera, settings.path, out_error);
+  const gl::GlProgram* prog = program(camera, settings.path, settings.depth_grid != nullptr, out_error);
   if (!prog) return false;
   const GLuint id = prog->id();
 
@@ -109,6 +112,10 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
                        float(o.z()));
     glProgramUniform1f(id, glGetUniformLocation(id, "u_sphere_c"),
                        float(o.squaredNorm() - settings.radius * settings.radius));
+    if (settings.depth_grid) {
+      glProgramUniform2f(id, glGetUniformLocation(id, "u_radius_range"), float(kMinProxyRadiusM), float(kMaxProxyRadiusM));
+      glBindTextureUnit(4, camera.inverseDepthTexture(settings.depth_grid));
+    }
     if (settings.path == RenderPath::kLut) {
       glProgramUniform1f(id, glGetUniformLocation(id, "u_max_angle"),
                          float(camera.camera().maxAngle()));

@@ -7,6 +7,9 @@
 /// Eye outside the sphere (|t_cam_eye| > r in full6d): each eye ray takes the sphere's far hit
 /// (see sphereFarHit), i.e. the eye looks through the sphere at its inside surface; rays that
 /// miss the sphere get the border colour. All three paths and the CPU reference do the same.
+///
+/// With RenderSettings::depth_grid the exact and LUT paths meet the inverse-depth grid proxy
+/// instead of the sphere (depth_proxy.h; the grid is uploaded once per grid object).
 #pragma once
 
 #include <map>
@@ -38,9 +41,9 @@ class SphericalRenderer {
               GLuint framebuffer, std::string* out_error = nullptr);
 
  private:
-  const gl::GlProgram* program(const GpuCamera& camera, RenderPath path, std::string* out_error);
+  const gl::GlProgram* program(const GpuCamera& camera, RenderPath path, bool depth_grid, std::string* out_error);
 
-  std::map<std::tuple<int, int, int>, gl::GlProgram> programs_;
+  std::map<std::tuple<int, int, int, int>, gl::GlProgram> programs_;
   gl::GlVertexArray empty_vao_;
 };
 
