@@ -434,7 +434,8 @@ nlohmann::json runDepth(const BenchContext& ctx) {
       << w("eye_error_moving_p50_deg_grid_oracle") << ") / p90 " << w("eye_error_moving_p90_deg_grid") << " ("
       << w("eye_error_moving_p90_deg_grid_oracle") << ") deg, goal <= 0.1 / 0.5; depth " << w("depth_ms_per_pair")
       << " ms a pair (both cameras, one core), goal <= 10\n"
-      << "not measured here: the renderer's cost with a proxy and the image latency (no proxy in the renderer yet, #35)\n";
+      << "the renderer's cost with the grid: telesphere-bench render; the image latency with depth: not measured (the "
+         "operator app does not run the sweep yet, #35)\n";
   worst["depth_resolution"] = {depth_width, depth_height};
   worst["eye_offset_rest_m"] = kRestOffsetM;
   worst["eye_offset_moving_m"] = kMovingOffsetM;
