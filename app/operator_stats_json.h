@@ -45,7 +45,13 @@ inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats&
           {"frames_tinted", s.frames_tinted},
           {"frames_stale", s.frames_stale},
           {"frames_stream_below_nominal", s.frames_stream_below_nominal},
-          {"frames_robot_behind", s.frames_robot_behind}};
+          {"frames_robot_behind", s.frames_robot_behind},
+          {"depth_proxy", s.depth_proxy},
+          {"depth_estimates", s.depth_estimates},
+          {"depth_pairs_skipped", s.depth_pairs_skipped},
+          {"depth_sweep_ms", s.depth_sweep_ms},
+          {"depth_radius_left_m", s.depth_radius_left_m},
+          {"depth_matched_fraction", s.depth_matched_fraction}};
 }
 
 }  // namespace telesphere::app

@@ -66,6 +66,9 @@ CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
       ->capture_default_str();
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r (m), until the robot says otherwise")->capture_default_str();
+  c->add_option("--depth-proxy", o.depth_proxy,
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths)")
+      ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png at the end");
   return c;
 }
@@ -106,6 +109,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
+  view_options.depth_proxy = *xr::frame_loop::parseDepthProxy(o.depth_proxy);
   applyVideoLinkOptions(o.link, view_options);
   xr::frame_loop::OperatorView view(*calibration, view_options);
   xr::frame_loop::OperatorLoop loop(view, output);

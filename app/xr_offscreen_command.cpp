@@ -41,6 +41,9 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--mode", o.mode, "full6d | orientation3d | fixed")->capture_default_str();
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
+  c->add_option("--depth-proxy", o.depth_proxy,
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths)")
+      ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
   c->add_option("--wait", o.wait_s, "seconds to wait for the first frame")->capture_default_str();
@@ -74,6 +77,12 @@ void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
   std::printf("| camera frames shown | %llu |\n", static_cast<unsigned long long>(v.stereo_frames_shown));
   std::printf("| image age p50 / p99 ms (capture → display) | %.1f / %.1f |\n", v.image_age_p50_ms,
               v.image_age_p99_ms);
+  if (v.depth_proxy != "fixed")
+    std::printf("| scene proxy; depth estimates (pairs skipped); last sweep ms; left radius m; tiles matched | %s; %llu (%llu); "
+                "%.1f; %.2f; %.0f %% |\n",
+                v.depth_proxy.c_str(), static_cast<unsigned long long>(v.depth_estimates),
+                static_cast<unsigned long long>(v.depth_pairs_skipped), v.depth_sweep_ms, v.depth_radius_left_m,
+                100.0 * v.depth_matched_fraction);
   if (v.video_link == "udp")
     std::printf("| media path: datagrams, frames whole / with lost bands / lost | %llu, %llu / %llu / %llu |\n"
                 "| lost bands; rows painted from the previous frame / left grey | %llu; %llu / %llu |\n",
@@ -210,6 +219,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.media_port = o.link.media_port;
   options.media_repair = o.link.media_repair == "on";
   options.head_targets_on_zmq = o.link.head_link == "both";
+  options.depth_proxy = *xr::frame_loop::parseDepthProxy(o.depth_proxy);
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

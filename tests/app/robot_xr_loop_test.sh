@@ -7,7 +7,9 @@
 #        eye should have seen it (app/bench/truth, telesphere-truth-check). At rest (head still, arm
 #        settled, eyes at the cameras) the error is near zero (p99 ≤ 0.05°); with cameras whose
 #        real mounting differs from the calibration the robot uses by 5 mm, the same check must
-#        fail. Also: head targets reach the robot, both programs exit cleanly (the robot on SIGINT);
+#        fail; with the depth grid from the stereo pair (--depth-proxy grid) estimates are made
+#        and the view at rest stays as close. Also: head targets reach the robot, both programs
+#        exit cleanly (the robot on SIGINT);
 #        a media cap under 0.5 Mbit/s is refused.
 # Usage: robot_xr_loop_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
@@ -31,15 +33,16 @@ sed 's/T_flange_cam_l: {translation: \[-0.032, 0, 0.06\]/T_flange_cam_l: {transl
   "$calib" > "$out/mounted_5mm_off.yaml"
 cmp -s "$calib" "$out/mounted_5mm_off.yaml" && fail "could not make the mis-mounted calibration"
 
-# run NAME TRUE_CALIB: robot + offscreen operator with a still head; truth files in $out/NAME.
+# run NAME TRUE_CALIB [XR_ARGS...]: robot + offscreen operator with a still head; truth files in $out/NAME.
 run() {
   local name=$1 true_calib=$2
+  shift 2
   "$bin/telesphere-robot" --insecure --sim --size 320x180 --fps 15 --port "$port" --duration 120 \
     --stats-period 1 --sim-truth "$true_calib" --truth-out "$out/$name-robot.csv" > "$out/robot.log" 2>&1 &
   robot=$!
   "$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 \
     --duration 4 --trajectory "$out/still.csv" --out "$out/$name" --truth-out "$out/$name/truth" \
-    --truth-every 10 --wait 60 | tee "$out/$name-xr.txt" || fail "telesphere-xr offscreen exited with $?"
+    --truth-every 10 --wait 60 "$@" | tee "$out/$name-xr.txt" || fail "telesphere-xr offscreen exited with $?"
   kill -INT "$robot"
   local rc=0
   wait "$robot" || rc=$?
@@ -53,6 +56,14 @@ run() {
 run calibrated "$calib"
 "$bin/telesphere-truth-check" --robot-truth "$out/calibrated-robot.csv" --xr-truth "$out/calibrated/truth" \
   --calib "$calib" --max-p99-deg 0.05 --min-frames 5 || fail "the operator's view is not where the scene is"
+
+# The depth grid from the stereo pair (#35) in the operator app: estimates are made while it runs,
+# and at rest (eyes at the cameras) the view stays where the scene is, whatever the depth.
+run grid "$calib" --depth-proxy grid
+grep -Eq '"depth_estimates": [1-9]' "$out/grid/stats.json" || fail "the depth worker published no estimate"
+grep -q '"depth_proxy": "grid"' "$out/grid/stats.json" || fail "the grid proxy was not in use"
+"$bin/telesphere-truth-check" --robot-truth "$out/grid-robot.csv" --xr-truth "$out/grid/truth" \
+  --calib "$calib" --max-p99-deg 0.05 --min-frames 5 || fail "with the depth grid the operator's view is not where the scene is"
 
 run mounted_5mm_off "$out/mounted_5mm_off.yaml"
 rc=0

@@ -48,6 +48,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   view_options.media_port = options.media_port;
   view_options.media_repair = options.media_repair;
   view_options.head_targets_on_zmq = options.head_targets_on_zmq;
+  view_options.depth_proxy = options.depth_proxy;
   OperatorView operator_view(calibration, view_options);
 
   using Clock = std::chrono::steady_clock;

@@ -50,7 +50,9 @@ OperatorView::OperatorView(const calib::SystemCalibration& calibration,
       options_(options),
       frame_begin_ns_(link::linkNowNs()),
       last_new_frame_ns_(frame_begin_ns_),
-      control_(client_) {}
+      control_(client_) {
+  if (options.depth_proxy != DepthProxy::kFixed) depth_ = std::make_unique<DepthWorker>(calibration, options.depth);
+}
 
 OperatorView::~OperatorView() = default;
 
@@ -116,6 +118,12 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   }
   if (!renderer_.setFrame(show, error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
+  if (depth_) {
+    // The pair on show goes to the depth worker (a pointer swap); the eyes take the newest
+    // estimate it has, never waiting for one.
+    depth_->offer(renderer_.frame());
+    renderer_.setDepth(options_.depth_proxy, depth_->newest());
+  }
   // The link's cues for this display: the image's age when it is shown, the stream's settings.
   link_state_ = LinkState{};
   link_state_.insecure = options_.warn_insecure_link && !options_.endpoints.credentials.secure();
@@ -227,6 +235,10 @@ bool OperatorView::takeFetchedCalibration(const video::DecodedStereoFrame* frame
     fetched.swap(fetched_calibration_);
   }
   if (!renderer_.setCalibration(fetched->calibration, error)) return false;
+  if (depth_) {  // the sweep's sample positions follow the calibration; the old depth goes with it
+    depth_ = std::make_unique<DepthWorker>(fetched->calibration, options_.depth);
+    renderer_.setDepth(options_.depth_proxy, nullptr);
+  }
   if (stats_.calibration_generation != 0 || fetched->generation != 1)
     spdlog::info("operator view: calibration generation {} from the robot ({})", fetched->generation, fetched->source);
   stats_.calibration_generation = fetched->generation;
@@ -386,6 +398,17 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
 
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
+  out.depth_proxy = std::string(depthProxyName(options_.depth_proxy));
+  if (depth_) {
+    const DepthWorkerStats depth = depth_->stats();
+    out.depth_estimates = depth.estimated;
+    out.depth_pairs_skipped = depth.skipped;
+    out.depth_sweep_ms = depth.last_sweep_ms;
+    if (const auto estimate = depth_->newest()) {
+      out.depth_radius_left_m = estimate->radius_m[0];
+      out.depth_matched_fraction = estimate->matched_fraction[0];
+    }
+  }
   const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;

@@ -84,6 +84,10 @@ struct OperatorViewOptions {
   bool head_targets_on_zmq = true;
   /// When the picture is too old, the stream below nominal, the robot behind (link_state_overlay.h).
   LinkStateOptions link_state;
+  /// The scene proxy (#35): fixed (the sphere of render.radius, as the robot sets it), or one
+  /// radius or the grid from the stereo pair's depth (a DepthWorker beside the loop).
+  DepthProxy depth_proxy = DepthProxy::kFixed;
+  DepthWorkerOptions depth;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -123,6 +127,11 @@ struct OperatorViewStats {
   /// 250 ms), stale (older than 1 s: grey), the stream below nominal, the robot behind.
   std::uint64_t frames_tinted = 0, frames_stale = 0, frames_stream_below_nominal = 0, frames_robot_behind = 0;
   std::uint64_t calibration_changes = 0;     ///< calibrations taken from the robot
+  /// The scene proxy and its depth (#35): estimates published by the depth worker, the last
+  /// one's CPU ms (both cameras), the left camera's radius and matched tiles in it.
+  std::string depth_proxy = "fixed";
+  std::uint64_t depth_estimates = 0, depth_pairs_skipped = 0;
+  double depth_sweep_ms = 0, depth_radius_left_m = 0, depth_matched_fraction = 0;
 };
 
 class OperatorView final : public OperatorScene {
@@ -214,6 +223,7 @@ class OperatorView final : public OperatorScene {
   StereoViewRenderer renderer_;  ///< before the decoder: its upload ring outlives the decoder's frames
   std::unique_ptr<video::MediaFrameSource> media_;  ///< before the decoder, which takes frames from it
   video::StereoFrameDecoder decoder_;
+  std::unique_ptr<DepthWorker> depth_;  ///< null with the fixed proxy
   OperatorViewOptions options_;
   Eigen::Isometry3d T_robot_vr_ = Eigen::Isometry3d::Identity();
   std::optional<Eigen::Isometry3d> T_robot_vr_stand_in_;

@@ -84,7 +84,18 @@ bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
     return true;
   }
   if (!placeEye(eye, T_robot_vr, T_vr_eye, &view, error)) return false;
-  return renderer_.render(*cameras_[eye], view, settings_, framebuffer, error);
+  return renderer_.render(*cameras_[eye], view, settingsForEye(eye), framebuffer, error);
+}
+
+render::RenderSettings StereoViewRenderer::settingsForEye(int eye) const {
+  render::RenderSettings settings = settings_;
+  if (!depth_ || depth_proxy_ == DepthProxy::kFixed || eye < 0 || eye > 1) return settings;
+  if (depth_proxy_ == DepthProxy::kGrid && settings.path != render::RenderPath::kMesh) {
+    settings.depth_grid = depth_->grid[eye];
+  } else {
+    settings.radius = depth_->radius_m[eye];
+  }
+  return settings;
 }
 
 std::optional<Eigen::Isometry3d> StereoViewRenderer::cameraFromEye(int eye, const Eigen::Isometry3d& T_robot_vr,
@@ -119,7 +130,7 @@ bool StereoViewRenderer::renderProjectionMap(int eye, const Eigen::Isometry3d& T
       return false;
   }
   if (!placeEye(eye, T_robot_vr, T_vr_eye, &view, error)) return false;
-  render::RenderSettings settings = settings_;
+  render::RenderSettings settings = settingsForEye(eye);
   settings.border_rgba.setZero();  // alpha 0: no camera pixel
   settings.image_gain = 1.0f;      // coordinates, not colours
   settings.image_saturation = 1.0f;

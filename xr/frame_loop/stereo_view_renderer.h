@@ -20,6 +20,7 @@
 #include <string>
 
 #include "calib/system_calibration.h"
+#include "xr/frame_loop/depth_worker.h"
 #include "xr/render/gpu_camera.h"
 #include "xr/render/spherical_renderer.h"
 #include "xr/render/upload_ring.h"
@@ -74,6 +75,16 @@ class StereoViewRenderer {
 
   void setSettings(const render::RenderSettings& settings) { settings_ = settings; }
   const render::RenderSettings& settings() const { return settings_; }
+  /// The scene proxy (#35) and the depth it takes: with kRadius each eye's sphere has its camera's
+  /// estimated radius, with kGrid each eye meets its camera's grid (the mesh path, which cannot,
+  /// takes the radius). kFixed, or no estimate yet: settings().radius.
+  void setDepth(DepthProxy proxy, std::shared_ptr<const DepthEstimate> estimate) {
+    depth_proxy_ = proxy;
+    depth_ = std::move(estimate);
+  }
+  DepthProxy depthProxy() const { return depth_proxy_; }
+  /// settings() with eye `eye`'s depth applied (what renderEye and renderProjectionMap use).
+  render::RenderSettings settingsForEye(int eye) const;
 
   /// T_cam_eye = T_robot_cam⁻¹ · T_robot_vr · T_vr_eye, the eye in the camera of the frame on the
   /// GPU (T_robot_cam carried by that frame): the one place it is composed. Nothing without a frame.
@@ -88,6 +99,8 @@ class StereoViewRenderer {
   render::UploadRing ring_;  ///< first: destroyed after the frame and cameras that use its slots
   calib::SystemCalibration calibration_;
   render::RenderSettings settings_;
+  DepthProxy depth_proxy_ = DepthProxy::kFixed;
+  std::shared_ptr<const DepthEstimate> depth_;
   render::SphericalRenderer renderer_;
   std::array<std::unique_ptr<render::GpuCamera>, 2> cameras_;
   std::array<std::unique_ptr<render::GpuCamera>, 2> coordinates_;  ///< pixel-coordinate images, made on demand

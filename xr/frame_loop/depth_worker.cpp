@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+/// @brief DepthWorker: the newest pair in, luma box-filtered down, both sweeps and filters, the
+///        estimate out.
+#include "xr/frame_loop/depth_worker.h"
+
+#include <time.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "calib/camera_resolution.h"
+
+namespace telesphere::xr::frame_loop {
+namespace {
+
+double threadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
+}
+
+/// The mean of each factor × factor block of a width × height luma plane (rows tightly packed);
+/// a partial block at the right or bottom edge is dropped.
+void boxDown(std::span<const std::uint8_t> y, int width, int height, int factor, std::vector<std::uint8_t>& out,
+             int* out_width, int* out_height) {
+  const int w = width / factor, h = height / factor;
+  out.assign(static_cast<std::size_t>(w) * h, 0);
+  std::vector<std::uint32_t> sums(static_cast<std::size_t>(w));
+  const std::uint32_t n = static_cast<std::uint32_t>(factor * factor);
+  for (int by = 0; by < h; ++by) {
+    std::fill(sums.begin(), sums.end(), 0u);
+    for (int r = 0; r < factor; ++r) {
+      const std::uint8_t* row = y.data() + static_cast<std::size_t>(by * factor + r) * width;
+      for (int bx = 0; bx < w; ++bx) {
+        std::uint32_t s = 0;
+        for (int c = 0; c < factor; ++c) s += row[bx * factor + c];
+        sums[bx] += s;
+      }
+    }
+    for (int bx = 0; bx < w; ++bx) out[static_cast<std::size_t>(by) * w + bx] = static_cast<std::uint8_t>((sums[bx] + n / 2) / n);
+  }
+  *out_width = w;
+  *out_height = h;
+}
+
+}  // namespace
+
+std::string_view depthProxyName(DepthProxy proxy) {
+  switch (proxy) {
+    case DepthProxy::kFixed: return "fixed";
+    case DepthProxy::kRadius: return "radius";
+    case DepthProxy::kGrid: return "grid";
+  }
+  return "?";
+}
+
+std::optional<DepthProxy> parseDepthProxy(std::string_view name) {
+  for (DepthProxy p : {DepthProxy::kFixed, DepthProxy::kRadius, DepthProxy::kGrid})
+    if (depthProxyName(p) == name) return p;
+  return std::nullopt;
+}
+
+/// Both cameras' sweeps for one image size (built on the worker thread when the size appears).
+struct DepthWorker::Sweeps {
+  int source_width = 0, source_height = 0, factor = 1, width = 0, height = 0;
+  std::unique_ptr<depth::SphereSweep> left, right;
+};
+
+DepthWorker::DepthWorker(calib::SystemCalibration calibration, DepthWorkerOptions options)
+    : calibration_(std::move(calibration)),
+      options_(options),
+      filters_{depth::InverseDepthFilter(options.filter), depth::InverseDepthFilter(options.filter)},
+      thread_([this] { run(); }) {}
+
+DepthWorker::~DepthWorker() {
+  {
+    std::lock_guard lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void DepthWorker::offer(std::shared_ptr<const video::DecodedStereoFrame> frame) {
+  if (!frame) return;
+  {
+    std::lock_guard lock(mutex_);
+    // The same pair again (the renderer offers what it shows, every display frame): ignored. Only
+    // its sequence is kept, not the pair (which would hold its upload slots).
+    const std::uint64_t sequence = frame->frame.sequence();
+    if (any_offered_ && sequence == last_sequence_) return;
+    any_offered_ = true;
+    last_sequence_ = sequence;
+    ++stats_.offered;
+    if (pending_) ++stats_.skipped;
+    pending_ = std::move(frame);
+  }
+  wake_.notify_one();
+}
+
+std::shared_ptr<const DepthEstimate> DepthWorker::newest() const {
+  std::lock_guard lock(mutex_);
+  return newest_;
+}
+
+DepthWorkerStats DepthWorker::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void DepthWorker::run() {
+  for (;;) {
+    std::shared_ptr<const video::DecodedStereoFrame> frame;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return quit_ || pending_; });
+      if (quit_) return;
+      frame = std::move(pending_);
+    }
+    std::string error;
+    const bool ok = estimate(*frame, &error);
+    std::lock_guard lock(mutex_);
+    stats_.last_error = ok ? std::string() : error;
+  }
+}
+
+bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* error) {
+  if (calibration_.cameras.size() < 2 || !calibration_.T_cam_l_cam_r) {
+    *error = "the calibration has no stereo pair";
+    return false;
+  }
+  if (!frame.left || !frame.right || frame.left->width != frame.right->width || frame.left->height != frame.right->height) {
+    *error = "the pair's images differ in size or are missing";
+    return false;
+  }
+  const double cpu0 = threadCpuMs();
+  const int source_width = frame.left->width, source_height = frame.left->height;
+  if (!sweeps_ || sweeps_->source_width != source_width || sweeps_->source_height != source_height) {
+    auto s = std::make_unique<Sweeps>();
+    s->source_width = source_width;
+    s->source_height = source_height;
+    s->factor = std::max(1, static_cast<int>(std::lround(static_cast<double>(source_width) / std::max(options_.working_width, 16))));
+    s->width = source_width / s->factor;
+    s->height = source_height / s->factor;
+    if (s->width < 16 || s->height < 16) {
+      *error = "images of " + std::to_string(source_width) + "x" + std::to_string(source_height) + " are too small for depth";
+      return false;
+    }
+    // A block of factor × factor pixels maps like a pixel of the image scaled by 1/factor
+    // (atResolution's convention, pixel centres at integers).
+    // The models at the frames' size, cropped to whole blocks (the intrinsics stay), then at 1/factor.
+    std::array<std::optional<calib::CameraCalibration>, 2> at;
+    for (int i = 0; i < 2; ++i) {
+      at[i] = calib::atResolution(calibration_.cameras[i], source_width, source_height, error);
+      if (!at[i]) return false;
+      at[i]->width = s->width * s->factor;
+      at[i]->height = s->height * s->factor;
+      at[i] = calib::atResolution(*at[i], s->width, s->height, error);
+      if (!at[i]) return false;
+    }
+    const Eigen::Isometry3d& T_l_r = *calibration_.T_cam_l_cam_r;
+    s->left = std::make_unique<depth::SphereSweep>(at[0]->camera, s->width, s->height, at[1]->camera, s->width, s->height,
+                                                   T_l_r.inverse(), options_.sweep);
+    s->right = std::make_unique<depth::SphereSweep>(at[1]->camera, s->width, s->height, at[0]->camera, s->width, s->height,
+                                                    T_l_r, options_.sweep);
+    sweeps_ = std::move(s);
+  }
+  const Sweeps& s = *sweeps_;
+  int w = 0, h = 0;
+  boxDown(frame.left->yPlane(), source_width, source_height, s.factor, grey_[0], &w, &h);
+  boxDown(frame.right->yPlane(), source_width, source_height, s.factor, grey_[1], &w, &h);
+  const depth::GreyImage left{grey_[0].data(), w, h, w}, right{grey_[1].data(), w, h, w};
+  const depth::SweepResult results[2] = {s.left->estimate(left, right), s.right->estimate(right, left)};
+
+  auto out = std::make_shared<DepthEstimate>();
+  out->frame_sequence = frame.frame.sequence();
+  out->capture_ns = frame.frame.stamps().capture_ns();
+  for (int i = 0; i < 2; ++i) {
+    const render::InverseDepthGrid& filtered = filters_[i].update(results[i].inverse_depth, results[i].confidence, out->capture_ns);
+    out->grid[i] = std::make_shared<const render::InverseDepthGrid>(filtered);
+    out->radius_m[i] = render::centreWeightedRadius(filtered, {0, 0, 1}, options_.centre_sigma_deg * std::numbers::pi / 180.0);
+    out->matched_fraction[i] = results[i].tiles_seen ? static_cast<double>(results[i].tiles_matched) / results[i].tiles_seen : 0.0;
+  }
+  out->sweep_ms = threadCpuMs() - cpu0;
+  std::lock_guard lock(mutex_);
+  newest_ = std::move(out);
+  ++stats_.estimated;
+  stats_.last_sweep_ms = newest_->sweep_ms;
+  return true;
+}
+
+}  // namespace telesphere::xr::frame_loop

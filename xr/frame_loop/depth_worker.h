@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+/// @brief The operator side's depth (#35): a thread that takes the newest decoded stereo pair,
+///        box-filters both luma planes down to the sweep's working size, runs the sphere sweep
+///        with each camera as the reference (xr/depth/sphere_sweep.h), filters each grid over
+///        time (inverse_depth_filter.h) and publishes both grids with each camera's
+///        centre-weighted radius. It never delays a frame: offer() only swaps a pointer, the
+///        renderer takes whatever estimate is newest, and pairs that come while a sweep runs are
+///        skipped. The pair's planes are held only while they are filtered down (a few ms), not
+///        during the sweep, so the upload ring gets its slots back.
+#pragma once
+
+#include <array>
+#include <condition_variable>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "calib/system_calibration.h"
+#include "xr/depth/inverse_depth_filter.h"
+#include "xr/depth/sphere_sweep.h"
+#include "xr/video/stereo_frame_decoder.h"
+
+namespace telesphere::xr::frame_loop {
+
+/// Which scene proxy the operator's renderer uses (DESIGN.md §11).
+enum class DepthProxy { kFixed, kRadius, kGrid };
+std::string_view depthProxyName(DepthProxy proxy);  ///< "fixed", "radius", "grid"
+std::optional<DepthProxy> parseDepthProxy(std::string_view name);
+
+struct DepthWorkerOptions {
+  int working_width = 480;         ///< the luma planes are box-filtered by the integer nearest to width / this
+  double centre_sigma_deg = 5.0;   ///< the radius's centre weighting about each camera's optical axis
+  depth::SphereSweepOptions sweep;
+  depth::InverseDepthFilterOptions filter;
+};
+
+/// One published estimate: per camera (0 left, 1 right) its filtered grid and radius.
+struct DepthEstimate {
+  std::array<std::shared_ptr<const render::InverseDepthGrid>, 2> grid;
+  std::array<double, 2> radius_m{1.0, 1.0};
+  std::array<double, 2> matched_fraction{0.0, 0.0};  ///< tiles matched of those the camera sees
+  std::uint64_t frame_sequence = 0;                  ///< the stereo frame's link sequence
+  std::int64_t capture_ns = 0;                       ///< its capture time (robot clock)
+  double sweep_ms = 0;                               ///< CPU ms of both sweeps and filters
+};
+
+struct DepthWorkerStats {
+  std::uint64_t offered = 0;    ///< pairs offered
+  std::uint64_t estimated = 0;  ///< estimates published
+  std::uint64_t skipped = 0;    ///< pairs replaced by a newer one before the worker took them
+  double last_sweep_ms = 0;
+  std::string last_error;       ///< why the last pair gave no estimate (empty when it did)
+};
+
+class DepthWorker {
+ public:
+  /// `calibration` needs two cameras and T_cam_l_cam_r; models are rescaled to each pair's size.
+  explicit DepthWorker(calib::SystemCalibration calibration, DepthWorkerOptions options = {});
+  ~DepthWorker();
+  DepthWorker(const DepthWorker&) = delete;
+  DepthWorker& operator=(const DepthWorker&) = delete;
+
+  /// Hands the worker a new pair (any thread, never blocks; a pair of the sequence offered last is
+  /// ignored).
+  void offer(std::shared_ptr<const video::DecodedStereoFrame> frame);
+  /// The newest estimate, null before the first.
+  std::shared_ptr<const DepthEstimate> newest() const;
+  DepthWorkerStats stats() const;
+
+ private:
+  struct Sweeps;
+  void run();
+  bool estimate(const video::DecodedStereoFrame& frame, std::string* error);
+
+  const calib::SystemCalibration calibration_;
+  const DepthWorkerOptions options_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::shared_ptr<const video::DecodedStereoFrame> pending_;
+  std::uint64_t last_sequence_ = 0;
+  bool any_offered_ = false;
+  std::shared_ptr<const DepthEstimate> newest_;
+  DepthWorkerStats stats_;
+  bool quit_ = false;
+  // Worker thread only.
+  std::unique_ptr<Sweeps> sweeps_;
+  std::array<depth::InverseDepthFilter, 2> filters_;
+  std::array<std::vector<std::uint8_t>, 2> grey_;
+  std::thread thread_;
+};
+
+}  // namespace telesphere::xr::frame_loop
