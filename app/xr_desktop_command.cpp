@@ -114,7 +114,8 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   xr::frame_loop::OperatorView view(*calibration, view_options);
   xr::frame_loop::OperatorLoop loop(view, output);
   std::cout << "telesphere-xr desktop: W/A/S/D walk, R/F up/down, drag with the left mouse button to look, "
-               "N capture the nominal pose, M cycle the mode, +/- sphere radius, Home reset, Esc quit"
+               "N capture the nominal pose, M cycle the mode, P cycle the scene proxy (fixed, radius, grid), +/- sphere radius, "
+               "Home reset, Esc quit"
             << std::endl;
 
   std::signal(SIGINT, onDesktopSignal);
@@ -136,6 +137,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
     if (commands.reset_head) head.reset();
     if (commands.capture_nominal) view.requestCaptureNominal();
     if (commands.cycle_mode) view.requestNextMode();
+    if (commands.cycle_depth_proxy) view.cycleDepthProxy();
     if (commands.radius_up) view.requestRadiusScaled(1.25);
     if (commands.radius_down) view.requestRadiusScaled(1.0 / 1.25);
     if (!loop.step(&error)) {
@@ -152,9 +154,10 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
         std::snprintf(robot, sizeof robot, " — waiting for the robot");
       else if (view.secondsWithoutNewFrame() > xr::frame_loop::OperatorView::kSilentRobotS)
         std::snprintf(robot, sizeof robot, " — robot silent for %.0f s", view.secondsWithoutNewFrame());
-      std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m%s",
+      std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m, proxy %s%s",
                     double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
-                    std::string(telesphere::link::visualModeName(s.mode)).c_str(), s.radius, robot);
+                    std::string(telesphere::link::visualModeName(s.mode)).c_str(), s.radius,
+                    std::string(xr::frame_loop::depthProxyName(view.depthProxy())).c_str(), robot);
       window->setTitle(title);
       last_title = done;
       frames_at_title = frames;

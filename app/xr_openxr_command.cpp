@@ -77,7 +77,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
       ->capture_default_str();
   c->add_flag("--mirror", x.mirror,
               "also show both eyes in a desktop window (needs an X display); its keys: N capture the "
-              "nominal pose, M cycle the mode, +/- sphere radius, Esc quit");
+              "nominal pose, M cycle the mode, P cycle the scene proxy, +/- sphere radius, Esc quit");
   return c;
 }
 

@@ -81,6 +81,7 @@ class OpenXrEyeWork {
     if (view_) {
       if (c.capture_nominal) view_->requestCaptureNominal();
       if (c.cycle_mode) view_->requestNextMode();
+      if (c.cycle_depth_proxy) view_->cycleDepthProxy();
       if (c.radius_up) view_->requestRadiusScaled(1.25);
       if (c.radius_down) view_->requestRadiusScaled(1.0 / 1.25);
     }

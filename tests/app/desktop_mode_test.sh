@@ -5,8 +5,9 @@
 #        (simulated) on loopback, and keys and mouse sent through XTest (xdotool). Checks that W
 #        walks the head forward, that a drag with the left button turns it, that N asks the robot
 #        to capture the nominal pose again, that M changes the mode at the robot and the view
-#        follows, that camera frames are shown and the eye images written, and that Escape ends
-#        the app and both programs exit cleanly. Skips (exit 77) when there is no display or xdotool is missing.
+#        follows, that P P sets the grid scene proxy (#35), that camera frames are shown and the eye
+#        images written, and that Escape ends the app and both programs exit cleanly. Skips (exit 77)
+#        when there is no display or xdotool is missing.
 # Usage: desktop_mode_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -46,6 +47,8 @@ sleep 0.3; xdotool mouseup --window "$win" 1                                    
 xdotool key --window "$win" n                                                           # capture nominal
 sleep 1.0
 xdotool key --window "$win" m                                                           # next mode
+sleep 0.5
+xdotool key --window "$win" p; sleep 0.3; xdotool key --window "$win" p                 # scene proxy: radius, grid
 sleep 1.5
 xdotool key --window "$win" Escape                                                      # quit
 rc=0; wait "$app" || rc=$?
@@ -65,6 +68,7 @@ if s["stereo_frames_shown"] < 10: errors.append(f"only {s['stereo_frames_shown']
 if not s["nominal_from_robot"]: errors.append("no nominal mapping from the robot")
 if s["mode"] != "orientation3d": errors.append(f"M did not change the mode (mode = {s['mode']})")
 if "set_mode orientation3d: ok" not in s["last_control"]: errors.append(f"last control: {s['last_control']}")
+if s["depth_proxy"] != "grid": errors.append(f"P P did not set the grid proxy (depth_proxy = {s['depth_proxy']})")
 for e in errors: print(e)
 sys.exit(1 if errors else 0)
 PY

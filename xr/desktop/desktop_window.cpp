@@ -212,6 +212,7 @@ void DesktopWindow::onKey(GLFWwindow* window, int key, int /*scancode*/, int act
   switch (key) {
     case GLFW_KEY_N: commands.capture_nominal = true; break;
     case GLFW_KEY_M: commands.cycle_mode = true; break;
+    case GLFW_KEY_P: commands.cycle_depth_proxy = true; break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD: commands.radius_up = true; break;
     case GLFW_KEY_MINUS:

@@ -38,6 +38,7 @@ enum class DesktopContextApi { kEgl, kGlx };
 struct DesktopCommands {
   bool capture_nominal = false;  ///< N
   bool cycle_mode = false;       ///< M
+  bool cycle_depth_proxy = false;  ///< P: fixed → radius → grid (#35)
   bool radius_up = false;        ///< + / = / keypad +
   bool radius_down = false;      ///< − / keypad −
   bool reset_head = false;       ///< Home / 0

@@ -396,6 +396,22 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
   }
 }
 
+void OperatorView::setDepthProxy(DepthProxy proxy) {
+  if (proxy == options_.depth_proxy) return;
+  spdlog::info("operator view: scene proxy {} (was {})", depthProxyName(proxy), depthProxyName(options_.depth_proxy));
+  options_.depth_proxy = proxy;
+  if (proxy != DepthProxy::kFixed && !depth_) depth_ = std::make_unique<DepthWorker>(renderer_.calibration(), options_.depth);
+  renderer_.setDepth(proxy, depth_ ? depth_->newest() : nullptr);
+}
+
+void OperatorView::cycleDepthProxy() {
+  switch (options_.depth_proxy) {
+    case DepthProxy::kFixed: return setDepthProxy(DepthProxy::kRadius);
+    case DepthProxy::kRadius: return setDepthProxy(DepthProxy::kGrid);
+    case DepthProxy::kGrid: return setDepthProxy(DepthProxy::kFixed);
+  }
+}
+
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
   out.depth_proxy = std::string(depthProxyName(options_.depth_proxy));

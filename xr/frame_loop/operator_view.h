@@ -172,6 +172,11 @@ class OperatorView final : public OperatorScene {
   /// The operator's keys: the next mode of the cycle; the radius times `factor`, kept in the
   /// link's accepted range (robot/link/sphere_radius.h).
   void requestNextMode() { requestMode(link::nextVisualMode(settings().mode)); }
+  /// The scene proxy, live (#35): a depth worker starts with the first proxy that needs depth and
+  /// stays. The operator's key cycles fixed → radius → grid.
+  void setDepthProxy(DepthProxy proxy);
+  void cycleDepthProxy();
+  DepthProxy depthProxy() const { return options_.depth_proxy; }
   void requestRadiusScaled(double factor);
 
   /// The newest decoded frame is on the GPU (anything to show).

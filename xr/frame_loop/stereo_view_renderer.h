@@ -72,6 +72,8 @@ class StereoViewRenderer {
   /// live): the cameras are prepared again and the frame on the GPU is dropped, so that next
   /// setFrame uploads even the same frame again. Needs two cameras (false with the reason).
   bool setCalibration(const calib::SystemCalibration& calibration, std::string* error);
+  /// The calibration the eyes are rendered with (as given: not rescaled).
+  const calib::SystemCalibration& calibration() const { return calibration_; }
 
   void setSettings(const render::RenderSettings& settings) { settings_ = settings; }
   const render::RenderSettings& settings() const { return settings_; }
