@@ -46,18 +46,6 @@ inline std::mutex& aravisSystemMutex() {
   return mutex;
 }
 
-inline ArvPixelFormat aravisPixelFormat(PixelFormat format) {
-  switch (format) {
-    case PixelFormat::kMono8: return ARV_PIXEL_FORMAT_MONO_8;
-    case PixelFormat::kRgb8: return ARV_PIXEL_FORMAT_RGB_8_PACKED;
-    case PixelFormat::kBayerRG8: return ARV_PIXEL_FORMAT_BAYER_RG_8;
-    case PixelFormat::kBayerGR8: return ARV_PIXEL_FORMAT_BAYER_GR_8;
-    case PixelFormat::kBayerGB8: return ARV_PIXEL_FORMAT_BAYER_GB_8;
-    case PixelFormat::kBayerBG8: return ARV_PIXEL_FORMAT_BAYER_BG_8;
-  }
-  return ARV_PIXEL_FORMAT_MONO_8;
-}
-
 /// A layout the camera may send: the 8-bit PixelFormat frames carry, and the bits per sample on the
 /// wire (8, or 10–16 in unpacked 16-bit words, narrowed to 8 at capture).
 struct AravisLayout {

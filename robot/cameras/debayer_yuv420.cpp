@@ -41,9 +41,6 @@ void splitColumns(const std::uint8_t* __restrict row, std::uint16_t* __restrict 
   }
 }
 
-// The kernels take their rows as restrict parameters (GCC honours restrict there, not on local
-// pointers): without it the loops are not vectorised for the aliasing checks they would need.
-
 /// The demosaiced values of pixel pair i of a row (column 2i, column 2i + 1) at 4× scale: the
 /// row's own colour (R in a red row, B in a blue row), G, and the opposite colour.
 struct PairRgb4 {
