@@ -23,6 +23,7 @@
 #include "app/bench/prerendered_frames.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_scene.h"
+#include "robot/stereo/stereo_still.h"
 #include "xr/depth/sphere_sweep.h"
 #include "xr/render/depth_proxy.h"
 
@@ -103,15 +104,11 @@ xr::render::InverseDepthGrid trueGrid(const SceneView& camera, double tile_deg) 
   return grid;
 }
 
-/// The grey (JFIF luma) of an RGB8 frame, rows `width` bytes apart.
+/// The grey of a rendered frame (robot::stereo::toGray8), rows `width` bytes apart.
 std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
-  std::vector<std::uint8_t> grey(static_cast<std::size_t>(frame.width) * frame.height);
-  for (int y = 0; y < frame.height; ++y)
-    for (int x = 0; x < frame.width; ++x) {
-      const std::uint8_t* p = frame.pixels->data() + static_cast<std::ptrdiff_t>(y) * frame.stride_bytes + 3 * x;
-      grey[static_cast<std::size_t>(y) * frame.width + x] = static_cast<std::uint8_t>((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8);
-    }
-  return grey;
+  std::string grey, error;
+  if (!robot::stereo::toGray8(frame, &grey, &error)) throw std::runtime_error("depth: " + error);
+  return {grey.begin(), grey.end()};
 }
 
 /// The stereo pair of a scene through the simulated rig (the left camera at the scene's origin).
@@ -132,14 +129,6 @@ StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibratio
     (side == 0 ? pair.left : pair.right) = greyOf(camera.renderAt(0));
   }
   return pair;
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  const double pos = q * (v.size() - 1);
-  const auto i = static_cast<std::size_t>(pos);
-  return i + 1 < v.size() ? v[i] + (pos - i) * (v[i + 1] - v[i]) : v[i];
 }
 
 struct ErrorSet {
@@ -434,8 +423,8 @@ nlohmann::json runDepth(const BenchContext& ctx) {
       << w("eye_error_moving_p50_deg_grid_oracle") << ") / p90 " << w("eye_error_moving_p90_deg_grid") << " ("
       << w("eye_error_moving_p90_deg_grid_oracle") << ") deg, goal <= 0.1 / 0.5; depth " << w("depth_ms_per_pair")
       << " ms a pair (both cameras, one core), goal <= 10\n"
-      << "the renderer's cost with the grid: telesphere-bench render; the image latency with depth: not measured (the "
-         "operator app does not run the sweep yet, #35)\n";
+      << "the renderer's cost with the grid: telesphere-bench render; the operator app runs the sweep with "
+         "telesphere-xr --depth-proxy radius|grid; the image latency with depth is not measured yet (#35)\n";
   worst["depth_resolution"] = {depth_width, depth_height};
   worst["eye_offset_rest_m"] = kRestOffsetM;
   worst["eye_offset_moving_m"] = kMovingOffsetM;

@@ -18,6 +18,7 @@
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
+#include "robot/stereo/stereo_still.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
@@ -62,12 +63,9 @@ robot::cameras::CameraFrame render(const std::shared_ptr<robot::cameras::Synthet
 }
 
 std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
-  std::vector<std::uint8_t> grey(static_cast<std::size_t>(frame.width) * frame.height);
-  for (std::size_t i = 0; i < grey.size(); ++i) {
-    const std::uint8_t* p = frame.pixels->data() + 3 * i;
-    grey[i] = static_cast<std::uint8_t>((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8);
-  }
-  return grey;
+  std::string grey, error;
+  EXPECT_TRUE(robot::stereo::toGray8(frame, &grey, &error)) << error;
+  return {grey.begin(), grey.end()};
 }
 
 TEST(DepthProxyGl, ANearBoxMovesBackToWhereItIsWithADepthProxyWhileTheHeadIsAwayFromTheCamera) {

@@ -12,6 +12,7 @@
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
+#include "robot/stereo/stereo_still.h"
 #include "xr/frame_loop/depth_worker.h"
 
 namespace telesphere::xr {
@@ -40,15 +41,12 @@ std::shared_ptr<const render::YuvPlanes> luma(const std::shared_ptr<robot::camer
   options.supersampling = 2;
   const robot::cameras::SyntheticCamera camera(lens->camera, kPairWidth, kPairHeight, scene, robot::cameras::fixedPose(T_world_cam),
                                                clock, options);
-  const robot::cameras::CameraFrame frame = camera.renderAt(0);
+  std::string grey;
+  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &grey, &error)) << error;
   auto planes = std::make_shared<render::YuvPlanes>();
   planes->width = kPairWidth;
   planes->height = kPairHeight;
-  planes->y.resize(static_cast<std::size_t>(kPairWidth) * kPairHeight);
-  for (std::size_t i = 0; i < planes->y.size(); ++i) {
-    const std::uint8_t* px = frame.pixels->data() + 3 * i;
-    planes->y[i] = static_cast<std::uint8_t>((77 * px[0] + 150 * px[1] + 29 * px[2] + 128) >> 8);
-  }
+  planes->y.assign(grey.begin(), grey.end());
   return planes;
 }
 

@@ -15,6 +15,7 @@
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
+#include "robot/stereo/stereo_still.h"
 #include "xr/depth/sphere_sweep.h"
 
 namespace telesphere::xr {
@@ -52,13 +53,9 @@ std::vector<std::uint8_t> grey(const std::shared_ptr<robot::cameras::SyntheticSc
   options.supersampling = 2;
   const robot::cameras::SyntheticCamera camera(lens().camera, kWidth, kHeight, scene, robot::cameras::fixedPose(T_world_cam),
                                                clock, options);
-  const robot::cameras::CameraFrame frame = camera.renderAt(0);
-  std::vector<std::uint8_t> out(static_cast<std::size_t>(kWidth) * kHeight);
-  for (int i = 0; i < kWidth * kHeight; ++i) {
-    const std::uint8_t* p = frame.pixels->data() + 3 * i;
-    out[i] = static_cast<std::uint8_t>((77 * p[0] + 150 * p[1] + 29 * p[2] + 128) >> 8);
-  }
-  return out;
+  std::string out, error;
+  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &out, &error)) << error;
+  return {out.begin(), out.end()};
 }
 
 /// The true inverse depth toward a tile's centre from the camera at T_world_cam.

@@ -40,6 +40,8 @@ class InverseDepthGrid {
   double tileDeg() const { return tile_deg_; }
 
   float& at(int row, int col) { return values_[static_cast<std::size_t>(row) * cols_ + col]; }
+  /// All values, row after row from the bottom (what a texture of cols × rows takes as it is).
+  const float* data() const { return values_.data(); }
   float at(int row, int col) const { return values_[static_cast<std::size_t>(row) * cols_ + col]; }
 
   /// Unit direction (camera frame) of a point of the grid in tile units: (row + 0.5, col + 0.5) is

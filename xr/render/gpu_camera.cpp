@@ -243,11 +243,8 @@ GLuint GpuCamera::inverseDepthTexture(const std::shared_ptr<const InverseDepthGr
     inverse_depth_ = makeTexture(GL_R32F, grid->cols(), grid->rows());
     glTextureParameteri(inverse_depth_.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);  // round the longitude seam
   }
-  std::vector<float> values(static_cast<std::size_t>(grid->rows()) * grid->cols());
-  for (int row = 0; row < grid->rows(); ++row)
-    for (int col = 0; col < grid->cols(); ++col) values[static_cast<std::size_t>(row) * grid->cols() + col] = grid->at(row, col);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(inverse_depth_.id(), 0, 0, 0, grid->cols(), grid->rows(), GL_RED, GL_FLOAT, values.data());
+  glTextureSubImage2D(inverse_depth_.id(), 0, 0, 0, grid->cols(), grid->rows(), GL_RED, GL_FLOAT, grid->data());
   inverse_depth_grid_ = grid;
   return inverse_depth_.id();
 }
