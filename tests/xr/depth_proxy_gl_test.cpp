@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "calib/camera_resolution.h"
+#include "app/bench/prerendered_frames.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
@@ -30,13 +30,8 @@
 namespace telesphere::xr {
 namespace {
 
-calib::GenericCamera lensAt(int width, int height) {
-  Eigen::VectorXd p(6);
-  p << 930.0, 930.0, 1919.5, 1079.5, -0.18, 0.59;  // calib/data/sim_calibration.yaml's 4K lens
-  const calib::CameraCalibration full{"cam", *calib::GenericCamera::create("ds", p), 3840, 2160};
-  std::string error;
-  return calib::atResolution(full, width, height, &error)->camera;
-}
+/// calib/data/sim_calibration.yaml's 4K lens at width × height.
+calib::GenericCamera lensAt(int width, int height) { return bench::simulatedLens(width, height).camera; }
 
 std::shared_ptr<robot::cameras::SyntheticScene> roomWithABox() {
   auto scene = std::make_shared<robot::cameras::SyntheticScene>();

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <thread>
 
+#include "app/bench/prerendered_frames.h"
 #include "calib/camera_resolution.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
@@ -22,14 +23,8 @@ using namespace std::chrono_literals;
 
 constexpr int kPairWidth = 970, kPairHeight = 545;
 
-calib::SystemCalibration rig() {
-  Eigen::VectorXd p(6);
-  p << 930.0, 930.0, 1919.5, 1079.5, -0.18, 0.59;  // calib/data/sim_calibration.yaml's 4K lens
-  calib::SystemCalibration r;
-  r.cameras = {{"cam_l", *calib::GenericCamera::create("ds", p), 3840, 2160}, {"cam_r", *calib::GenericCamera::create("ds", p), 3840, 2160}};
-  r.T_cam_l_cam_r = Eigen::Isometry3d(Eigen::Translation3d(0.064, 0.0, 0.0));
-  return r;
-}
+/// The simulated rig at its calibrated 4K (the worker scales it to the pairs' size).
+calib::SystemCalibration rig() { return bench::simulatedRig(3840, 2160); }
 
 /// The luma of the scene seen from T_world_cam through the rig's lens at kPairWidth × kPairHeight.
 std::shared_ptr<const render::YuvPlanes> luma(const std::shared_ptr<robot::cameras::SyntheticScene>& scene,

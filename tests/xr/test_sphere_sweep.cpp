@@ -11,6 +11,7 @@
 #include <cmath>
 #include <memory>
 
+#include "app/bench/prerendered_frames.h"
 #include "calib/camera_resolution.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
@@ -23,13 +24,8 @@ namespace {
 
 constexpr int kWidth = 480, kHeight = 270;
 
-calib::CameraCalibration lens() {
-  Eigen::VectorXd p(6);
-  p << 930.0, 930.0, 1919.5, 1079.5, -0.18, 0.59;  // calib/data/sim_calibration.yaml's 4K lens
-  const calib::CameraCalibration full{"cam", *calib::GenericCamera::create("ds", p), 3840, 2160};
-  std::string error;
-  return *calib::atResolution(full, kWidth, kHeight, &error);
-}
+/// calib/data/sim_calibration.yaml's 4K lens at the sweep's size.
+calib::CameraCalibration lens() { return bench::simulatedLens(kWidth, kHeight); }
 
 const Eigen::Isometry3d kT_l_r(Eigen::Translation3d(0.064, 0.0, 0.0));  // right camera 64 mm to the right
 
