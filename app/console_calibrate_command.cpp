@@ -68,6 +68,11 @@ nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& 
       const Eigen::Quaterniond q(T.linear());
       j["T_cam_l_cam_r"] = {{"t_m", {T.translation().x(), T.translation().y(), T.translation().z()}},
                             {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+      const calib::PoseStddev& sd = out.result->T_cam_l_cam_r_stddev;
+      if (sd.valid)
+        j["T_cam_l_cam_r"]["stddev"] = {
+            {"t_m", {sd.translation_m.x(), sd.translation_m.y(), sd.translation_m.z()}},
+            {"r_deg", {sd.rotation_deg.x(), sd.rotation_deg.y(), sd.rotation_deg.z()}}};
     }
   }
   j["unmet"] = nlohmann::ordered_json::array();
@@ -92,6 +97,17 @@ void printFigures(const nlohmann::ordered_json& j) {
         std::printf("  %-6s %14.6f ± %.6f\n", name.c_str(), value.get<double>(), sd);
       }
     }
+  }
+  if (j.contains("T_cam_l_cam_r")) {
+    const auto& T = j["T_cam_l_cam_r"];
+    std::printf("T_cam_l_cam_r: t %.5f %.5f %.5f m", T["t_m"][0].get<double>(), T["t_m"][1].get<double>(),
+                T["t_m"][2].get<double>());
+    if (T.contains("stddev"))
+      std::printf(" ± %.3f %.3f %.3f mm, rotation ± %.4f %.4f %.4f deg", T["stddev"]["t_m"][0].get<double>() * 1e3,
+                  T["stddev"]["t_m"][1].get<double>() * 1e3, T["stddev"]["t_m"][2].get<double>() * 1e3,
+                  T["stddev"]["r_deg"][0].get<double>(), T["stddev"]["r_deg"][1].get<double>(),
+                  T["stddev"]["r_deg"][2].get<double>());
+    std::printf("\n");
   }
   std::printf("time from the first sample to the result: %.1f s (whole run %.1f s)\n",
               j["first_sample_to_result_s"].get<double>(), j["total_s"].get<double>());

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "calib/calibration_failure.h"
+#include "calib/pose_stddev.h"
 #include "calib/system_calibration.h"
 
 namespace telesphere::calib {
@@ -78,15 +79,6 @@ struct HandEyeIdentifiability {
 
 HandEyeIdentifiability checkHandEyeIdentifiability(const std::vector<HandEyeSample>& samples,
                                                    const HandEyeOptions& options = {});
-
-/// A pose's standard deviations from the solve's covariance (scaled by the residuals' variance):
-/// translation per axis in the pose's parent frame, rotation per axis of the perturbation
-/// exp([δ]×)·R (also in the parent frame), deg. Not valid when the covariance could not be computed (rank deficient).
-struct PoseStddev {
-  Eigen::Vector3d translation_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d rotation_deg = Eigen::Vector3d::Zero();
-  bool valid = false;
-};
 
 /// One input sample's fit after the solve.
 struct HandEyeSampleFit {

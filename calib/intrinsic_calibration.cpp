@@ -354,6 +354,19 @@ void intrinsicSeparability(CameraIntrinsicResult& cam, const std::string& model,
   }
 }
 
+/// Standard deviations of T_r_l⁻¹ (T_cam_l_cam_r) from the covariance of T_r_l's blocks scaled by
+/// the residuals' variance. EigenQuaternionManifold perturbs q as exp(δ)·q: a turn by θ = 2δ.
+PoseStddev inverseStddev(const ceres::Covariance& covariance, detail::PoseBlock& T_r_l, double sigma2) {
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> cov_qq, cov_tt, cov_qt;
+  if (!covariance.GetCovarianceBlockInTangentSpace(T_r_l.q.data(), T_r_l.q.data(), cov_qq.data()) ||
+      !covariance.GetCovarianceBlock(T_r_l.t.data(), T_r_l.t.data(), cov_tt.data()) ||
+      !covariance.GetCovarianceBlockInTangentSpace(T_r_l.q.data(), T_r_l.t.data(), cov_qt.data()))
+    return {};
+  PoseCovariance cov;  // (θ, t)
+  cov << 4.0 * cov_qq, 2.0 * cov_qt, 2.0 * cov_qt.transpose(), cov_tt;
+  return poseStddev(inversePoseCovariance(T_r_l.toIsometry(), cov * sigma2));
+}
+
 }  // namespace
 
 SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
@@ -514,9 +527,15 @@ SolveResult<IntrinsicResult> calibrateIntrinsics(const AprilGrid& target,
     ceres::Covariance covariance(co);
     std::vector<std::pair<const double*, const double*>> blocks;
     for (auto& cam : state) blocks.emplace_back(cam.params.data(), cam.params.data());
+    if (T_r_l) {
+      blocks.emplace_back(T_r_l->q.data(), T_r_l->q.data());
+      blocks.emplace_back(T_r_l->t.data(), T_r_l->t.data());
+      blocks.emplace_back(T_r_l->q.data(), T_r_l->t.data());
+    }
     if (covariance.Compute(blocks, &problem)) {
       const double dof = std::max(1, 2 * corners - problem.NumParameters());
       const double sigma2 = 2.0 * result.final_cost / dof;
+      if (T_r_l) result.T_cam_l_cam_r_stddev = inverseStddev(covariance, *T_r_l, sigma2);
       for (std::size_t c = 0; c < state.size(); ++c) {
         const int n = static_cast<int>(state[c].params.size());
         Eigen::MatrixXd cov(n, n);  // symmetric: row- or column-major read the same

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "calib/calibration_failure.h"
+#include "calib/pose_stddev.h"
 #include "calib/system_calibration.h"
 #include "calib/target_detection.h"
 
@@ -103,6 +104,9 @@ struct CameraIntrinsicResult {
 struct IntrinsicResult {
   std::vector<CameraIntrinsicResult> cameras;
   std::optional<Eigen::Isometry3d> T_cam_l_cam_r;
+  /// Standard deviations of T_cam_l_cam_r (translation in cam_l, rotation about cam_l's axes);
+  /// not valid for one camera, without IntrinsicOptions::covariance or when rank deficient.
+  PoseStddev T_cam_l_cam_r_stddev;
   std::vector<std::optional<Eigen::Isometry3d>> T_cam_l_board;  ///< per view; nothing if unused
   double initial_cost = 0;  ///< of the final joint problem, ½Σρ(|r|²)
   double final_cost = 0;

@@ -414,8 +414,13 @@ void CalibrationPanel::showOutcome() {
   if (o.result->T_cam_l_cam_r) {
     const Eigen::Vector3d t = o.result->T_cam_l_cam_r->translation() * 1000.0;
     const Eigen::AngleAxisd r(o.result->T_cam_l_cam_r->linear());
-    add("T_cam_l_cam_r", QString("t = (%1, %2, %3) mm").arg(t.x(), 0, 'f', 2).arg(t.y(), 0, 'f', 2).arg(t.z(), 0, 'f', 2),
-        QString("rotation %1°").arg(r.angle() * 180.0 / M_PI, 0, 'f', 3));
+    const calib::PoseStddev& sd = o.result->T_cam_l_cam_r_stddev;
+    const Eigen::Vector3d st = sd.translation_m * 1000.0;
+    add("T_cam_l_cam_r",
+        QString("t = (%1, %2, %3) mm").arg(t.x(), 0, 'f', 2).arg(t.y(), 0, 'f', 2).arg(t.z(), 0, 'f', 2) +
+            (sd.valid ? QString(" ± (%1, %2, %3)").arg(st.x(), 0, 'f', 2).arg(st.y(), 0, 'f', 2).arg(st.z(), 0, 'f', 2) : QString()),
+        QString("rotation %1°").arg(r.angle() * 180.0 / M_PI, 0, 'f', 3) +
+            (sd.valid ? QString(" ± %1° (worst axis)").arg(sd.rotation_deg.maxCoeff(), 0, 'f', 4) : QString()));
   }
   results_->resizeColumnsToContents();
 }

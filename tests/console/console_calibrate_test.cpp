@@ -144,8 +144,24 @@ TEST_F(CalibrateIntrinsics, RecoversTheTrueIntrinsicsAndStereoExtrinsicFromAWron
   const double start_dr_deg = Eigen::AngleAxisd(start->T_cam_l_cam_r->linear().transpose() * T_true.linear()).angle() * 180 / M_PI;
   std::printf("T_cam_l_cam_r: %.2f mm, %.4f° from the truth (start %.2f mm, %.3f°)\n", dt_mm, dr_deg,
               (start->T_cam_l_cam_r->translation() - T_true.translation()).norm() * 1000.0, start_dr_deg);
-  EXPECT_LT(dt_mm, 1.5);
-  EXPECT_LT(dr_deg, 0.05);
+  // Per axis within 5σ of the solve's own covariance, as the intrinsics above: the stereo
+  // extrinsic's accuracy depends on the views the run happened to collect (a fixed 1.5 mm failed
+  // one CI run at 1.76 mm).
+  ASSERT_TRUE(figures["T_cam_l_cam_r"].contains("stddev")) << figures["T_cam_l_cam_r"].dump();
+  const nlohmann::json& sd = figures["T_cam_l_cam_r"]["stddev"];
+  const Eigen::AngleAxisd turn(T.linear() * T_true.linear().transpose());  // about cam_l's axes
+  const Eigen::Vector3d dr = turn.angle() * turn.axis() * 180 / M_PI;
+  const Eigen::Vector3d dt = T.translation() - T_true.translation();
+  int start_t_outside = 0;
+  for (int i = 0; i < 3; ++i) {
+    const double sigma_t = sd["t_m"][i].get<double>(), sigma_r = sd["r_deg"][i].get<double>();
+    std::printf("T_cam_l_cam_r axis %d: t %+.3f mm (σ %.3f), r %+.4f° (σ %.4f)\n", i, dt[i] * 1e3, sigma_t * 1e3, dr[i],
+                sigma_r);
+    EXPECT_LE(std::abs(dt[i]), 5 * sigma_t) << "translation axis " << i;
+    EXPECT_LE(std::abs(dr[i]), 5 * sigma_r) << "rotation axis " << i;
+    start_t_outside += std::abs(start->T_cam_l_cam_r->translation()[i] - T_true.translation()[i]) > 5 * sigma_t;
+  }
+  EXPECT_GT(start_t_outside, 0) << "the start's translation must be told apart from the truth";
   EXPECT_GT(start_dr_deg, 0.05);
 }
 
