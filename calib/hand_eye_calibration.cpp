@@ -300,11 +300,10 @@ SolveResult<double> refineHandEye(const HandEyeFitInput& in, const std::array<Ei
         if (!covariance.GetCovarianceBlockInTangentSpace(b->q.data(), b->q.data(), cov_r.data()) ||
             !covariance.GetCovarianceBlock(b->t.data(), b->t.data(), cov_t.data()))
           continue;
-        for (int i = 0; i < 3; ++i) {
-          sd.rotation_deg[i] = 2.0 * std::sqrt(std::max(0.0, cov_r(i, i) * sigma2)) * 180.0 / M_PI;
-          sd.translation_m[i] = std::sqrt(std::max(0.0, cov_t(i, i) * sigma2));
-        }
-        sd.valid = sd.rotation_deg.allFinite() && sd.translation_m.allFinite();
+        PoseCovariance cov = PoseCovariance::Zero();  // (θ = 2δ, t); only the diagonal blocks are read
+        cov.topLeftCorner<3, 3>() = 4.0 * cov_r * sigma2;
+        cov.bottomRightCorner<3, 3>() = cov_t * sigma2;
+        sd = poseStddev(cov);  // a NaN variance leaves it not valid (std::max(0.0, NaN) was 0)
       }
     }
   }
