@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "calib/camera_resolution.h"
+#include "xr/depth/box_downscale.h"
 
 namespace telesphere::xr::frame_loop {
 namespace {
@@ -18,30 +19,6 @@ double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) * 1e3 + static_cast<double>(ts.tv_nsec) * 1e-6;
-}
-
-/// The mean of each factor × factor block of a width × height luma plane (rows tightly packed);
-/// a partial block at the right or bottom edge is dropped.
-void boxDown(std::span<const std::uint8_t> y, int width, int height, int factor, std::vector<std::uint8_t>& out,
-             int* out_width, int* out_height) {
-  const int w = width / factor, h = height / factor;
-  out.assign(static_cast<std::size_t>(w) * h, 0);
-  std::vector<std::uint32_t> sums(static_cast<std::size_t>(w));
-  const std::uint32_t n = static_cast<std::uint32_t>(factor * factor);
-  for (int by = 0; by < h; ++by) {
-    std::fill(sums.begin(), sums.end(), 0u);
-    for (int r = 0; r < factor; ++r) {
-      const std::uint8_t* row = y.data() + static_cast<std::size_t>(by * factor + r) * width;
-      for (int bx = 0; bx < w; ++bx) {
-        std::uint32_t s = 0;
-        for (int c = 0; c < factor; ++c) s += row[bx * factor + c];
-        sums[bx] += s;
-      }
-    }
-    for (int bx = 0; bx < w; ++bx) out[static_cast<std::size_t>(by) * w + bx] = static_cast<std::uint8_t>((sums[bx] + n / 2) / n);
-  }
-  *out_width = w;
-  *out_height = h;
 }
 
 }  // namespace
@@ -168,8 +145,8 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   }
   const Sweeps& s = *sweeps_;
   int w = 0, h = 0;
-  boxDown(frame.left->yPlane(), source_width, source_height, s.factor, grey_[0], &w, &h);
-  boxDown(frame.right->yPlane(), source_width, source_height, s.factor, grey_[1], &w, &h);
+  depth::boxDownscale(frame.left->yPlane(), source_width, source_height, source_width, s.factor, grey_[0], &w, &h);
+  depth::boxDownscale(frame.right->yPlane(), source_width, source_height, source_width, s.factor, grey_[1], &w, &h);
   const depth::GreyImage left{grey_[0].data(), w, h, w}, right{grey_[1].data(), w, h, w};
   const depth::SweepResult results[2] = {s.left->estimate(left, right), s.right->estimate(right, left)};
 
