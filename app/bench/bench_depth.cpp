@@ -8,12 +8,16 @@
 ///        Each proxy twice: with the scene's true depth (an oracle: what the representation can
 ///        reach) and with the depth the sphere sweep (xr/depth/sphere_sweep.h) finds in the
 ///        synthetic stereo pair rendered through the simulated 195° lenses, 64 mm apart; and the
-///        sweep's speed against its accuracy for a few settings.
+///        sweep's speed against its accuracy for a few settings; harder inputs (the robot's JPEG,
+///        sensor noise, a 0.1° stereo calibration error, a repetitive pattern); an object
+///        approaching through the temporal filter, with the grid of the image shown and of the
+///        sweep before it.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -24,8 +28,12 @@
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_scene.h"
 #include "robot/stereo/stereo_still.h"
+#include "robot/video/jpeg_encoder.h"
+#include "xr/depth/box_downscale.h"
+#include "xr/depth/inverse_depth_filter.h"
 #include "xr/depth/sphere_sweep.h"
 #include "xr/render/depth_proxy.h"
+#include "xr/video/jpeg_decoder.h"
 
 namespace telesphere::bench {
 namespace {
@@ -115,7 +123,10 @@ std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
 struct StereoGrey {
   std::vector<std::uint8_t> left, right;
 };
-StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height, int supersampling) {
+/// `T_rig_error` turns the right camera away from where `rig` says it is (a calibration error the
+/// sweep does not know about).
+StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height, int supersampling,
+                      const Eigen::Isometry3d& T_rig_error = Eigen::Isometry3d::Identity()) {
   const auto shared = std::make_shared<const SyntheticScene>(scene);
   robot::clock::SteadyClock clock;
   robot::cameras::SyntheticCameraOptions options;
@@ -123,7 +134,7 @@ StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibratio
   options.threads = 2;
   StereoGrey pair;
   for (int side = 0; side < 2; ++side) {
-    const Eigen::Isometry3d T_world_cam = side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r;
+    const Eigen::Isometry3d T_world_cam = side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r * T_rig_error;
     const robot::cameras::SyntheticCamera camera(rig.cameras[side].camera, width, height, shared,
                                                  robot::cameras::fixedPose(T_world_cam), clock, options);
     (side == 0 ? pair.left : pair.right) = greyOf(camera.renderAt(0));
@@ -262,6 +273,213 @@ std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
   proxies.push_back({"grid", "grid " + formatNumber(depth.left.inverse_depth.tileDeg()) + " deg, stereo", 0.0,
                      depth.left.inverse_depth, {}, {}});
   return proxies;
+}
+
+/// The room and, 0.8 m ahead, a 1.2 × 0.8 m board of vertical stripes 2 cm apart (1.4° at
+/// 0.8 m, a third of the pair's disparity there): a pattern that matches at many depths.
+SyntheticScene makeStripesScene() {
+  SyntheticScene scene = makeScene(0.0);
+  Eigen::Isometry3d T_world_board = Eigen::Isometry3d::Identity();
+  T_world_board.linear() = Eigen::AngleAxisd(std::numbers::pi, Vector3d::UnitY()).toRotationMatrix();  // printed side to the camera
+  T_world_board.translation() = Vector3d(0.0, 0.0, 0.8);
+  constexpr double kPeriodM = 0.02;
+  scene.addPlanarTarget(
+      "stripes", robot::cameras::fixedPose(T_world_board),
+      [](double x, double y) {
+        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
+        const double phase = x / kPeriodM - std::floor(x / kPeriodM);
+        return phase < 0.5 ? 40 : 215;
+      },
+      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
+  return scene;
+}
+
+/// The room and one 20 cm cube straight ahead with its face at `face_m` (an approaching object).
+SyntheticScene makeApproachScene(double face_m) {
+  SyntheticScene scene = makeScene(0.0);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Vector3d(0.0, 0.0, face_m + 0.1);
+  scene.addBox("approaching", robot::cameras::fixedPose(T), Vector3d(0.1, 0.1, 0.1), robot::cameras::SurfaceStyle{});
+  return scene;
+}
+
+/// What happens to the pair between the sensors and the sweep: the robot's JPEG, sensor noise, a
+/// stereo calibration the cameras no longer match. Applied at the capture size, before the
+/// operator's box filter down to the sweep's size.
+struct InputVariant {
+  std::string name;
+  int jpeg_quality = 0;      // 0: no JPEG
+  double noise_grey = 0;     // σ of Gaussian noise per capture pixel, grey levels
+  Vector3d rig_error_deg{0, 0, 0};  // the right camera turned about its x, y, z axes
+};
+
+/// The capture-size grey pair as the operator would sweep it: noise, JPEG there and back (the
+/// robot's encoder, the XR app's decoder), then box-filtered by `factor`.
+StereoGrey degradeAndShrink(const StereoGrey& capture, int width, int height, int factor, const InputVariant& v,
+                            std::uint32_t seed) {
+  StereoGrey out;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, v.noise_grey > 0 ? v.noise_grey : 1.0);
+  robot::video::JpegEncoder encoder;
+  xr::video::JpegDecoder decoder;
+  for (int side = 0; side < 2; ++side) {
+    std::vector<std::uint8_t> grey = side == 0 ? capture.left : capture.right;
+    if (v.noise_grey > 0)
+      for (std::uint8_t& g : grey) g = static_cast<std::uint8_t>(std::clamp(std::lround(g + noise(rng)), 0L, 255L));
+    if (v.jpeg_quality > 0) {
+      std::vector<std::uint8_t> jpeg;
+      std::string error;
+      robot::video::JpegSettings settings;
+      settings.quality = v.jpeg_quality;
+      if (!encoder.encodeGray(grey.data(), width, height, width, settings, jpeg, &error)) throw std::runtime_error("depth: " + error);
+      xr::render::YuvPlanes planes;
+      if (decoder.decode(jpeg, width, height, 16384, planes, &error) != xr::video::JpegDecodeError::kNone)
+        throw std::runtime_error("depth: " + error);
+      grey.assign(planes.yPlane().begin(), planes.yPlane().end());
+    }
+    int w = 0, h = 0;
+    xr::depth::boxDownscale(grey, width, height, width, factor, side == 0 ? out.left : out.right, &w, &h);
+  }
+  return out;
+}
+
+/// Harder inputs on the 0.5 m scene and the stripes: each variant's matched tiles, inverse-depth
+/// error and the stereo proxies' moving eye errors.
+nlohmann::json runHarderInputs(const BenchContext& ctx, StereoSweeps& sweeps, const calib::CameraCalibration& left_camera,
+                               int depth_width, int depth_height) {
+  const int factor = ctx.quick ? 2 : 4;  // a 1080p capture (960x540 quick) shrunk to the sweep's size
+  const int capture_width = depth_width * factor, capture_height = depth_height * factor;
+  const calib::SystemCalibration capture_rig = simulatedRig(capture_width, capture_height);
+  const int rays = ctx.quick ? 21 : 61;
+  std::vector<InputVariant> variants = {{"clean", 0, 0, {0, 0, 0}},
+                                        {"JPEG q90 (the link's default)", 90, 0, {0, 0, 0}},
+                                        {"JPEG q50", 50, 0, {0, 0, 0}},
+                                        {"noise sigma 4 grey", 0, 4, {0, 0, 0}},
+                                        {"noise sigma 12 grey + JPEG q90", 90, 12, {0, 0, 0}},
+                                        {"calibration off 0.1 deg about x (vertical)", 0, 0, {0.1, 0, 0}},
+                                        {"calibration off 0.1 deg about y (along the baseline)", 0, 0, {0, 0.1, 0}},
+                                        {"calibration off 0.1 deg about z (roll)", 0, 0, {0, 0, 0.1}}};
+  struct NamedScene {
+    std::string name;
+    SyntheticScene scene;
+  };
+  const std::vector<NamedScene> scenes = {{"near objects at 0.5 m", makeScene(0.5)}, {"stripes 2 cm apart at 0.8 m", makeStripesScene()}};
+  auto& out = ctx.out;
+  out << "\nHarder stereo inputs: captured at " << capture_width << "x" << capture_height << ", degraded there, box-filtered by "
+      << factor << " to " << depth_width << "x" << depth_height << " (as the operator app does); eye errors moving, " << rays << "x"
+      << rays << " rays\n";
+  Table table({"scene", "input", "tiles matched %", "inv depth err p50 1/m", "p90", "radius m", "radius fovea moving p50 deg",
+               "grid moving p50 deg", "grid moving p90"});
+  nlohmann::json rows = nlohmann::json::array();
+  std::uint32_t seed = 1;
+  for (const NamedScene& named : scenes) {
+    const SceneView camera = named.scene.view(0, Eigen::Isometry3d::Identity());
+    std::optional<StereoGrey> nominal;  // the capture without a rig error, shared by the other variants
+    for (const InputVariant& v : variants) {
+      StereoGrey capture;
+      if (v.rig_error_deg.isZero()) {
+        if (!nominal) nominal = renderPair(named.scene, capture_rig, capture_width, capture_height, 1);
+        capture = *nominal;
+      } else {
+        const Vector3d r = v.rig_error_deg * kDeg;
+        Eigen::Isometry3d T_error = Eigen::Isometry3d::Identity();
+        T_error.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).toRotationMatrix();
+        capture = renderPair(named.scene, capture_rig, capture_width, capture_height, 1, T_error);
+      }
+      const StereoGrey pair = degradeAndShrink(capture, capture_width, capture_height, factor, v, seed++);
+      const StereoDepth depth = sweepPair(sweeps, pair, depth_width, depth_height, camera, left_camera);
+      std::vector<Proxy> proxies = stereoProxies(depth);
+      evaluateEyeErrors(named.scene, camera, proxies, rays, false);
+      const double matched = depth.seen ? 100.0 * depth.matched / depth.seen : 0.0;
+      table.addRow({named.name, v.name, formatNumber(matched), formatNumber(quantile(depth.inverse_depth_error, 0.5)),
+                    formatNumber(quantile(depth.inverse_depth_error, 0.9)), formatNumber(proxies[0].radius_m),
+                    formatNumber(quantile(proxies[0].moving.fovea, 0.5)),
+                    formatNumber(quantile(proxies[1].moving.whole, 0.5)), formatNumber(quantile(proxies[1].moving.whole, 0.9))});
+      rows.push_back({{"scene", named.name},
+                      {"input", v.name},
+                      {"jpeg_quality", v.jpeg_quality},
+                      {"noise_grey", v.noise_grey},
+                      {"rig_error_deg", {v.rig_error_deg.x(), v.rig_error_deg.y(), v.rig_error_deg.z()}},
+                      {"tiles_matched_fraction", matched / 100.0},
+                      {"inverse_depth_error_p50_per_m", quantile(depth.inverse_depth_error, 0.5)},
+                      {"inverse_depth_error_p90_per_m", quantile(depth.inverse_depth_error, 0.9)},
+                      {"radius_m", proxies[0].radius_m},
+                      {"eye_error_moving_fovea_p50_deg_radius", quantile(proxies[0].moving.fovea, 0.5)},
+                      {"eye_error_moving_p50_deg_grid", quantile(proxies[1].moving.whole, 0.5)},
+                      {"eye_error_moving_p90_deg_grid", quantile(proxies[1].moving.whole, 0.9)}});
+    }
+  }
+  table.print(out);
+  return rows;
+}
+
+/// An object approaching the cameras at 0.5 m/s from 1.5 m to 0.3 m, swept at 10 Hz (5 Hz quick)
+/// through the temporal filter. The renderer shows each new image with the newest grid it has:
+/// the previous sweep's while this image's sweep runs ("one sweep late"), then this image's.
+nlohmann::json runApproach(const BenchContext& ctx, StereoSweeps& sweeps, const calib::SystemCalibration& rig, int depth_width,
+                           int depth_height) {
+  const double rate_hz = ctx.quick ? 5.0 : 10.0, speed_m_s = 0.5, from_m = 1.5, to_m = 0.3;
+  const int rays = ctx.quick ? 21 : 41;
+  const int steps = static_cast<int>(std::floor((from_m - to_m) / speed_m_s * rate_hz)) + 1;
+  struct Series {
+    std::string key, name;
+    std::vector<double> fovea_p50, whole_p90;
+  };
+  std::vector<Series> series = {{"fixed", "fixed sphere r = 1 m", {}, {}},
+                                {"radius", "radius, this image's sweep", {}, {}},
+                                {"radius_late", "radius, one sweep late", {}, {}},
+                                {"grid", "grid, this image's sweep", {}, {}},
+                                {"grid_late", "grid, one sweep late", {}, {}},
+                                {"grid_unfiltered", "grid, unfiltered", {}, {}}};
+  xr::depth::InverseDepthFilter filter;
+  std::optional<xr::render::InverseDepthGrid> previous;
+  int snapped_steps = 0;
+  const double sigma = kCentreSigmaDeg * kDeg;
+  for (int k = 0; k < steps; ++k) {
+    const double face_m = from_m - speed_m_s * k / rate_hz;
+    const SyntheticScene scene = makeApproachScene(face_m);
+    const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
+    const StereoDepth depth = sweepPair(sweeps, renderPair(scene, rig, depth_width, depth_height, 2), depth_width, depth_height,
+                                        camera, rig.cameras[0]);
+    const xr::render::InverseDepthGrid filtered =
+        filter.update(depth.left.inverse_depth, depth.left.confidence, static_cast<std::int64_t>(k * 1e9 / rate_hz));
+    snapped_steps += filter.snapped() > 0;
+    std::vector<Proxy> proxies;
+    proxies.push_back({"fixed", "", 1.0, std::nullopt, {}, {}});
+    proxies.push_back({"radius", "", xr::render::centreWeightedRadius(filtered, {0, 0, 1}, sigma), std::nullopt, {}, {}});
+    proxies.push_back({"radius_late", "", xr::render::centreWeightedRadius(previous ? *previous : filtered, {0, 0, 1}, sigma),
+                       std::nullopt, {}, {}});
+    proxies.push_back({"grid", "", 0.0, filtered, {}, {}});
+    proxies.push_back({"grid_late", "", 0.0, previous ? *previous : filtered, {}, {}});
+    proxies.push_back({"grid_raw", "", 0.0, depth.left.inverse_depth, {}, {}});
+    evaluateEyeErrors(scene, camera, proxies, rays, false);
+    for (std::size_t i = 0; i < proxies.size(); ++i) {
+      if (k == 0 && (i == 2 || i == 4)) continue;  // nothing earlier to be late with
+      series[i].fovea_p50.push_back(quantile(proxies[i].moving.fovea, 0.5));
+      series[i].whole_p90.push_back(quantile(proxies[i].moving.whole, 0.9));
+    }
+    previous = filtered;
+  }
+  auto& out = ctx.out;
+  out << "\nAn object approaching at " << speed_m_s << " m/s from " << from_m << " to " << to_m << " m, swept at " << rate_hz
+      << " Hz through the temporal filter (" << steps << " images, " << snapped_steps
+      << " with tiles that snapped); per image the moving eye error, then over the images:\n";
+  Table table({"proxy", "fovea p50: median deg", "worst image", "whole p90: median deg", "worst image"});
+  nlohmann::json rows = nlohmann::json::object();
+  for (const Series& s : series) {
+    const double worst_fovea = *std::max_element(s.fovea_p50.begin(), s.fovea_p50.end());
+    const double worst_p90 = *std::max_element(s.whole_p90.begin(), s.whole_p90.end());
+    table.addRow({s.name, formatNumber(quantile(s.fovea_p50, 0.5)), formatNumber(worst_fovea), formatNumber(quantile(s.whole_p90, 0.5)),
+                  formatNumber(worst_p90)});
+    rows[s.key] = {{"proxy", s.name},
+                    {"fovea_moving_p50_deg_median", quantile(s.fovea_p50, 0.5)},
+                    {"fovea_moving_p50_deg_worst", worst_fovea},
+                    {"moving_p90_deg_median", quantile(s.whole_p90, 0.5)},
+                    {"moving_p90_deg_worst", worst_p90}};
+  }
+  table.print(out);
+  return {{"speed_m_s", speed_m_s}, {"rate_hz", rate_hz}, {"from_m", from_m}, {"to_m", to_m}, {"images", steps},
+          {"images_with_snaps", snapped_steps}, {"proxies", rows}};
 }
 
 nlohmann::json runDepth(const BenchContext& ctx) {
@@ -415,6 +633,9 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   out << "\nThe sweep's speed against its accuracy (worst scene of each column; eye errors moving, "
       << (ctx.quick ? 21 : 61) << "x" << (ctx.quick ? 21 : 61) << " rays):\n";
   knob.print(out);
+
+  worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
+  worst["approaching_object"] = runApproach(ctx, sweeps, rig, depth_width, depth_height);
 
   const auto w = [&](const char* key) { return formatNumber(worst[key].get<double>()); };
   out << "\nworst over the scenes (the goals hold for every scene), stereo (oracle): radius fovea moving p50 "
