@@ -413,73 +413,209 @@ nlohmann::json runHarderInputs(const BenchContext& ctx, StereoSweeps& sweeps, co
   return rows;
 }
 
-/// An object approaching the cameras at 0.5 m/s from 1.5 m to 0.3 m, swept at 10 Hz (5 Hz quick)
-/// through the temporal filter. The renderer shows each new image with the newest grid it has:
-/// the previous sweep's while this image's sweep runs ("one sweep late"), then this image's.
-nlohmann::json runApproach(const BenchContext& ctx, StereoSweeps& sweeps, const calib::SystemCalibration& rig, int depth_width,
-                           int depth_height) {
-  const double rate_hz = ctx.quick ? 5.0 : 10.0, speed_m_s = 0.5, from_m = 1.5, to_m = 0.3;
-  const int rays = ctx.quick ? 21 : 41;
-  const int steps = static_cast<int>(std::floor((from_m - to_m) / speed_m_s * rate_hz)) + 1;
-  struct Series {
-    std::string key, name;
-    std::vector<double> fovea_p50, whole_p90;
-  };
-  std::vector<Series> series = {{"fixed", "fixed sphere r = 1 m", {}, {}},
-                                {"radius", "radius, this image's sweep", {}, {}},
-                                {"radius_late", "radius, one sweep late", {}, {}},
-                                {"grid", "grid, this image's sweep", {}, {}},
-                                {"grid_late", "grid, one sweep late", {}, {}},
-                                {"grid_unfiltered", "grid, unfiltered", {}, {}}};
-  xr::depth::InverseDepthFilter filter;
-  std::optional<xr::render::InverseDepthGrid> previous;
-  int snapped_steps = 0;
-  const double sigma = kCentreSigmaDeg * kDeg;
+/// An object approaching the cameras at 0.5 m/s from 1.5 m to 0.3 m, swept at 10 Hz (5 Hz quick):
+/// each image's scene and its left camera's sweep (the filters run over these afterwards).
+struct ApproachFrames {
+  double rate_hz = 10.0, speed_m_s = 0.5, from_m = 1.5, to_m = 0.3;
+  std::vector<SyntheticScene> scenes;
+  std::vector<xr::depth::SweepResult> sweeps;
+};
+
+ApproachFrames sweepApproach(const BenchContext& ctx, StereoSweeps& sweeps, const calib::SystemCalibration& rig, int depth_width,
+                             int depth_height) {
+  ApproachFrames frames;
+  if (ctx.quick) frames.rate_hz = 5.0;
+  const int steps = static_cast<int>(std::floor((frames.from_m - frames.to_m) / frames.speed_m_s * frames.rate_hz)) + 1;
   for (int k = 0; k < steps; ++k) {
-    const double face_m = from_m - speed_m_s * k / rate_hz;
-    const SyntheticScene scene = makeApproachScene(face_m);
+    const SyntheticScene& scene = frames.scenes.emplace_back(makeApproachScene(frames.from_m - frames.speed_m_s * k / frames.rate_hz));
     const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
-    const StereoDepth depth = sweepPair(sweeps, renderPair(scene, rig, depth_width, depth_height, 2), depth_width, depth_height,
-                                        camera, rig.cameras[0]);
-    const xr::render::InverseDepthGrid filtered =
-        filter.update(depth.left.inverse_depth, depth.left.confidence, static_cast<std::int64_t>(k * 1e9 / rate_hz));
-    snapped_steps += filter.snapped() > 0;
+    frames.sweeps.push_back(sweepPair(sweeps, renderPair(scene, rig, depth_width, depth_height, 2), depth_width, depth_height, camera,
+                                      rig.cameras[0])
+                                .left);
+  }
+  return frames;
+}
+
+/// Per image, the moving eye error (fovea p50, field p90) of a proxy; then over the images.
+struct Series {
+  std::string key, name;
+  std::vector<double> fovea_p50, whole_p90;
+  double foveaMedian() const { return quantile(fovea_p50, 0.5); }
+  double foveaWorst() const { return *std::max_element(fovea_p50.begin(), fovea_p50.end()); }
+  double wholeMedian() const { return quantile(whole_p90, 0.5); }
+  double wholeWorst() const { return *std::max_element(whole_p90.begin(), whole_p90.end()); }
+};
+
+/// The approach through a filter (none: the sweeps' own grids): the radius and grid of each image's
+/// sweep, and with `late` also those of the sweep before (what the renderer has while this
+/// image's sweep runs). Order: radius, grid[, radius_late, grid_late].
+std::vector<Series> approachSeries(const ApproachFrames& frames, const std::optional<xr::depth::InverseDepthFilterOptions>& filter_options,
+                                   int rays, bool late, int* snapped_images = nullptr) {
+  std::vector<Series> series = {{"radius", "radius, this image's sweep", {}, {}}, {"grid", "grid, this image's sweep", {}, {}}};
+  if (late) {
+    series.push_back({"radius_late", "radius, one sweep late", {}, {}});
+    series.push_back({"grid_late", "grid, one sweep late", {}, {}});
+  }
+  std::optional<xr::depth::InverseDepthFilter> filter;
+  if (filter_options) filter.emplace(*filter_options);
+  std::optional<xr::render::InverseDepthGrid> previous;
+  const double sigma = kCentreSigmaDeg * kDeg;
+  for (std::size_t k = 0; k < frames.scenes.size(); ++k) {
+    const xr::depth::SweepResult& sweep = frames.sweeps[k];
+    const xr::render::InverseDepthGrid grid =
+        filter ? filter->update(sweep.inverse_depth, sweep.confidence, static_cast<std::int64_t>(k * 1e9 / frames.rate_hz))
+               : sweep.inverse_depth;
+    if (snapped_images && filter) *snapped_images += filter->snapped() > 0;
     std::vector<Proxy> proxies;
-    proxies.push_back({"fixed", "", 1.0, std::nullopt, {}, {}});
-    proxies.push_back({"radius", "", xr::render::centreWeightedRadius(filtered, {0, 0, 1}, sigma), std::nullopt, {}, {}});
-    proxies.push_back({"radius_late", "", xr::render::centreWeightedRadius(previous ? *previous : filtered, {0, 0, 1}, sigma),
-                       std::nullopt, {}, {}});
-    proxies.push_back({"grid", "", 0.0, filtered, {}, {}});
-    proxies.push_back({"grid_late", "", 0.0, previous ? *previous : filtered, {}, {}});
-    proxies.push_back({"grid_raw", "", 0.0, depth.left.inverse_depth, {}, {}});
-    evaluateEyeErrors(scene, camera, proxies, rays, false);
+    proxies.push_back({"radius", "", xr::render::centreWeightedRadius(grid, {0, 0, 1}, sigma), std::nullopt, {}, {}});
+    proxies.push_back({"grid", "", 0.0, grid, {}, {}});
+    if (late && previous) {
+      proxies.push_back({"radius_late", "", xr::render::centreWeightedRadius(*previous, {0, 0, 1}, sigma), std::nullopt, {}, {}});
+      proxies.push_back({"grid_late", "", 0.0, *previous, {}, {}});
+    }
+    const SyntheticScene& scene = frames.scenes[k];
+    evaluateEyeErrors(scene, scene.view(0, Eigen::Isometry3d::Identity()), proxies, rays, false);
     for (std::size_t i = 0; i < proxies.size(); ++i) {
-      if (k == 0 && (i == 2 || i == 4)) continue;  // nothing earlier to be late with
       series[i].fovea_p50.push_back(quantile(proxies[i].moving.fovea, 0.5));
       series[i].whole_p90.push_back(quantile(proxies[i].moving.whole, 0.9));
     }
-    previous = filtered;
+    previous = grid;
   }
+  return series;
+}
+
+/// The approach with the default filter: the fixed sphere, the radius and grid of each image's
+/// sweep and of the sweep before, and the grid unfiltered.
+nlohmann::json runApproach(const BenchContext& ctx, const ApproachFrames& frames) {
+  const int rays = ctx.quick ? 21 : 41;
+  int snapped_images = 0;
+  std::vector<Series> filtered = approachSeries(frames, xr::depth::InverseDepthFilterOptions{}, rays, true, &snapped_images);
+  Series unfiltered = approachSeries(frames, std::nullopt, rays, false)[1];
+  unfiltered.key = "grid_unfiltered";
+  unfiltered.name = "grid, unfiltered";
+  Series fixed{"fixed", "fixed sphere r = 1 m", {}, {}};
+  for (const SyntheticScene& scene : frames.scenes) {
+    std::vector<Proxy> proxies = {{"fixed", "", 1.0, std::nullopt, {}, {}}};
+    evaluateEyeErrors(scene, scene.view(0, Eigen::Isometry3d::Identity()), proxies, rays, false);
+    fixed.fovea_p50.push_back(quantile(proxies[0].moving.fovea, 0.5));
+    fixed.whole_p90.push_back(quantile(proxies[0].moving.whole, 0.9));
+  }
+  const std::vector<Series> series = {fixed, filtered[0], filtered[2], filtered[1], filtered[3], unfiltered};
   auto& out = ctx.out;
-  out << "\nAn object approaching at " << speed_m_s << " m/s from " << from_m << " to " << to_m << " m, swept at " << rate_hz
-      << " Hz through the temporal filter (" << steps << " images, " << snapped_steps
-      << " with tiles that snapped); per image the moving eye error, then over the images:\n";
+  out << "\nAn object approaching at " << frames.speed_m_s << " m/s from " << frames.from_m << " to " << frames.to_m
+      << " m, swept at " << frames.rate_hz << " Hz through the temporal filter (" << frames.scenes.size() << " images, "
+      << snapped_images << " with tiles that snapped); per image the moving eye error, then over the images:\n";
   Table table({"proxy", "fovea p50: median deg", "worst image", "whole p90: median deg", "worst image"});
   nlohmann::json rows = nlohmann::json::object();
   for (const Series& s : series) {
-    const double worst_fovea = *std::max_element(s.fovea_p50.begin(), s.fovea_p50.end());
-    const double worst_p90 = *std::max_element(s.whole_p90.begin(), s.whole_p90.end());
-    table.addRow({s.name, formatNumber(quantile(s.fovea_p50, 0.5)), formatNumber(worst_fovea), formatNumber(quantile(s.whole_p90, 0.5)),
-                  formatNumber(worst_p90)});
+    table.addRow({s.name, formatNumber(s.foveaMedian()), formatNumber(s.foveaWorst()), formatNumber(s.wholeMedian()),
+                  formatNumber(s.wholeWorst())});
     rows[s.key] = {{"proxy", s.name},
-                    {"fovea_moving_p50_deg_median", quantile(s.fovea_p50, 0.5)},
-                    {"fovea_moving_p50_deg_worst", worst_fovea},
-                    {"moving_p90_deg_median", quantile(s.whole_p90, 0.5)},
-                    {"moving_p90_deg_worst", worst_p90}};
+                   {"fovea_moving_p50_deg_median", s.foveaMedian()},
+                   {"fovea_moving_p50_deg_worst", s.foveaWorst()},
+                   {"moving_p90_deg_median", s.wholeMedian()},
+                   {"moving_p90_deg_worst", s.wholeWorst()}};
   }
   table.print(out);
-  return {{"speed_m_s", speed_m_s}, {"rate_hz", rate_hz}, {"from_m", from_m}, {"to_m", to_m}, {"images", steps},
-          {"images_with_snaps", snapped_steps}, {"proxies", rows}};
+  return {{"speed_m_s", frames.speed_m_s}, {"rate_hz", frames.rate_hz}, {"from_m", frames.from_m}, {"to_m", frames.to_m},
+          {"images", frames.scenes.size()}, {"images_with_snaps", snapped_images}, {"proxies", rows}};
+}
+
+/// The temporal filter's knobs both ways: what the operator sees swim at rest (a still scene, a
+/// fresh σ 8 sensor noise on every capture) against how far an approaching object is off.
+/// Swim: a change Δρ of the proxy's inverse depth moves what a moving eye (6 cm) sees by
+/// 6 cm · Δρ rad; per frame the p90 over the tiles the camera sees (the grid), or the radius's.
+nlohmann::json runFilterKnob(const BenchContext& ctx, StereoSweeps& sweeps, const calib::SystemCalibration& rig,
+                             const ApproachFrames& approach, int depth_width, int depth_height) {
+  const int factor = ctx.quick ? 2 : 4, frames = ctx.quick ? 10 : 30;
+  const int capture_width = depth_width * factor, capture_height = depth_height * factor;
+  const SyntheticScene scene = makeScene(0.5);
+  const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
+  const StereoGrey capture = renderPair(scene, simulatedRig(capture_width, capture_height), capture_width, capture_height, 1);
+  std::vector<xr::depth::SweepResult> still;
+  for (int k = 0; k < frames; ++k) {
+    const StereoGrey pair = degradeAndShrink(capture, capture_width, capture_height, factor, {"noise", 0, 8.0, {0, 0, 0}},
+                                             1000 + static_cast<std::uint32_t>(k));
+    still.push_back(sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0]).left);
+  }
+  std::vector<std::pair<int, int>> seen_tiles;  // the tiles the left camera sees
+  {
+    const xr::render::InverseDepthGrid& g = still.front().inverse_depth;
+    for (int row = 0; row < g.rows(); ++row)
+      for (int col = 0; col < g.cols(); ++col) {
+        Eigen::Vector2d px;
+        if (rig.cameras[0].camera.project(g.tileCentre(row, col), px) && px.x() >= 0 && px.y() >= 0 && px.x() <= depth_width - 1 &&
+            px.y() <= depth_height - 1)
+          seen_tiles.emplace_back(row, col);
+      }
+  }
+  struct Setting {
+    std::string name;
+    std::optional<xr::depth::InverseDepthFilterOptions> options;
+  };
+  const auto with = [](double tau_s, double rate, double snap) {
+    xr::depth::InverseDepthFilterOptions o;
+    o.time_constant_s = tau_s;
+    o.max_rate_per_m_s = rate;
+    o.snap_per_m = snap;
+    return std::optional(o);
+  };
+  const xr::depth::InverseDepthFilterOptions defaults;
+  const std::vector<Setting> settings = {{"none (each sweep as it is)", std::nullopt},
+                                         {"tau 0.15 s, 4 1/m/s, snap 0.5 1/m (the default before)", with(0.15, 4.0, 0.5)},
+                                         {"tau 0.15 s, 8 1/m/s, snap 0.5 1/m", with(0.15, 8.0, 0.5)},
+                                         {"tau " + formatNumber(defaults.time_constant_s) + " s, " + formatNumber(defaults.max_rate_per_m_s) +
+                                              " 1/m/s, snap " + formatNumber(defaults.snap_per_m) + " 1/m (default)",
+                                          defaults},
+                                         {"tau 0.05 s, 4 1/m/s, snap 0.5 1/m", with(0.05, 4.0, 0.5)},
+                                         {"tau 0.05 s, 8 1/m/s, snap 0.25 1/m", with(0.05, 8.0, 0.25)},
+                                         {"tau 0.3 s, 4 1/m/s, snap 0.5 1/m", with(0.3, 4.0, 0.5)}};
+  const double swim_scale_deg = kMovingOffsetM / kDeg;  // Δρ (1/m) → degrees for the moving eye
+  const int rays = ctx.quick ? 21 : 41;
+  Table table({"filter", "swim at rest: grid p90 deg", "radius p90 deg", "approaching: grid fovea p50 median deg", "worst image",
+               "radius fovea p50 median", "worst image"});
+  nlohmann::json rows = nlohmann::json::array();
+  for (const Setting& setting : settings) {
+    std::optional<xr::depth::InverseDepthFilter> filter;
+    if (setting.options) filter.emplace(*setting.options);
+    std::optional<xr::render::InverseDepthGrid> previous;
+    double previous_rho = 0;
+    std::vector<double> grid_swim, radius_swim;
+    for (int k = 0; k < frames; ++k) {
+      const xr::render::InverseDepthGrid grid =
+          filter ? filter->update(still[k].inverse_depth, still[k].confidence, static_cast<std::int64_t>(k * 1e8)) : still[k].inverse_depth;
+      const double rho = 1.0 / xr::render::centreWeightedRadius(grid, {0, 0, 1}, kCentreSigmaDeg * kDeg);
+      if (previous) {
+        std::vector<double> changes;
+        for (const auto& [row, col] : seen_tiles) changes.push_back(std::abs(grid.at(row, col) - previous->at(row, col)));
+        grid_swim.push_back(quantile(changes, 0.9) * swim_scale_deg);
+        radius_swim.push_back(std::abs(rho - previous_rho) * swim_scale_deg);
+      }
+      previous = grid;
+      previous_rho = rho;
+    }
+    const std::vector<Series> moving = approachSeries(approach, setting.options, rays, false);
+    table.addRow({setting.name, formatNumber(quantile(grid_swim, 0.9)), formatNumber(quantile(radius_swim, 0.9)),
+                  formatNumber(moving[1].foveaMedian()), formatNumber(moving[1].foveaWorst()), formatNumber(moving[0].foveaMedian()),
+                  formatNumber(moving[0].foveaWorst())});
+    nlohmann::json row = {{"filter", setting.name},
+                          {"swim_at_rest_p90_deg_grid", quantile(grid_swim, 0.9)},
+                          {"swim_at_rest_p90_deg_radius", quantile(radius_swim, 0.9)},
+                          {"approaching_fovea_p50_deg_median_grid", moving[1].foveaMedian()},
+                          {"approaching_fovea_p50_deg_worst_grid", moving[1].foveaWorst()},
+                          {"approaching_fovea_p50_deg_median_radius", moving[0].foveaMedian()},
+                          {"approaching_fovea_p50_deg_worst_radius", moving[0].foveaWorst()}};
+    if (setting.options)
+      row["options"] = {{"time_constant_s", setting.options->time_constant_s},
+                        {"max_rate_per_m_s", setting.options->max_rate_per_m_s},
+                        {"snap_per_m", setting.options->snap_per_m}};
+    rows.push_back(row);
+  }
+  ctx.out << "\nThe temporal filter both ways: at rest (the 0.5 m scene, " << frames
+          << " captures at 10 Hz with fresh sensor noise sigma 8 at " << capture_width << "x" << capture_height
+          << ") the frame-to-frame swim a moving eye (6 cm) sees, p90 over frames; approaching, the eye error as above:\n";
+  table.print(ctx.out);
+  return rows;
 }
 
 nlohmann::json runDepth(const BenchContext& ctx) {
@@ -635,7 +771,9 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   knob.print(out);
 
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
-  worst["approaching_object"] = runApproach(ctx, sweeps, rig, depth_width, depth_height);
+  const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
+  worst["approaching_object"] = runApproach(ctx, approach);
+  worst["filter_settings"] = runFilterKnob(ctx, sweeps, rig, approach, depth_width, depth_height);
 
   const auto w = [&](const char* key) { return formatNumber(worst[key].get<double>()); };
   out << "\nworst over the scenes (the goals hold for every scene), stereo (oracle): radius fovea moving p50 "
