@@ -783,7 +783,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
       << w("eye_error_moving_p90_deg_grid_oracle") << ") deg, goal <= 0.1 / 0.5; depth " << w("depth_ms_per_pair")
       << " ms a pair (both cameras, one core), goal <= 10\n"
       << "the renderer's cost with the grid: telesphere-bench render; the operator app runs the sweep with "
-         "telesphere-xr --depth-proxy radius|grid; the image latency with depth is not measured yet (#35)\n";
+         "telesphere-xr --depth-proxy radius|grid; end to end with the image latency: telesphere-bench experiments\n";
   worst["depth_resolution"] = {depth_width, depth_height};
   worst["eye_offset_rest_m"] = kRestOffsetM;
   worst["eye_offset_moving_m"] = kMovingOffsetM;

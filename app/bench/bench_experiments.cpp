@@ -11,7 +11,9 @@
 ///             frames, robot head speed from the measured joint states; paper Fig. 6);
 ///          3. Δs, left eye to left camera at capture, against v_op (paper Fig. 7);
 ///          5. the eye images' angular error against the truth (app/bench/truth) against head speed
-///             and radius; at rest it must be near zero.
+///             and radius; at rest it must be near zero. Two more runs at r = 1 m with the XR app's
+///             depth proxies from its own stereo sweep (--depth-proxy radius, grid; #35), with
+///             their image latency against the fixed sphere's.
 ///        And in this process, on the GPU renderer: 4. γ against object distance for a 10 cm eye
 ///        offset at r = 1 m, measured on rendered projection maps, against eq. 4 (paper Fig. 5).
 ///        Writes CSV, PNG figures (QCustomPlot, as the console) and report.md under --out.
@@ -93,15 +95,22 @@ bool writeTrajectory(const fs::path& path, int moves) {
 /// What one robot + XR run left behind.
 struct LoopRun {
   double radius_m = 1.0;
+  std::string proxy = "fixed";  ///< the XR app's --depth-proxy (radius, grid: from its stereo sweep)
   std::vector<link::proto::XrTelemetry> xr;
   std::vector<link::proto::RobotTelemetry> robot;
   fs::path robot_truth, xr_truth;
   std::string error;  ///< empty when the run worked
 };
 
-LoopRun runLoop(const BenchContext& ctx, double radius_m, int moves, int port, const fs::path& dir) {
+/// "r = 1 m" for the fixed sphere, else the proxy's name.
+std::string runLabel(const LoopRun& run) {
+  return run.proxy == "fixed" ? "r = " + formatNumber(run.radius_m) + " m" : run.proxy + " (stereo)";
+}
+
+LoopRun runLoop(const BenchContext& ctx, double radius_m, const std::string& proxy, int moves, int port, const fs::path& dir) {
   LoopRun run;
   run.radius_m = radius_m;
+  run.proxy = proxy;
   fs::create_directories(dir);
   const fs::path bin = fs::read_symlink("/proc/self/exe").parent_path();
   const std::string calib = std::string(TELESPHERE_SOURCE_DIR) + "/calib/data/sim_calibration.yaml";
@@ -112,7 +121,7 @@ LoopRun runLoop(const BenchContext& ctx, double radius_m, int moves, int port, c
     return run;
   }
   const double duration = runDuration(moves);
-  ctx.out << "experiments: r = " << radius_m << " m: robot + XR app for " << formatNumber(duration) << " s…\n"
+  ctx.out << "experiments: " << runLabel(run) << ": robot + XR app for " << formatNumber(duration) << " s…\n"
           << std::flush;
   ChildProcess robot({(bin / "telesphere-robot").string(), "--insecure", "--sim", "--size", "320x180", "--fps", "30", "--port",
                       std::to_string(port), "--duration", "600", "--stats-period", "0", "--sphere-radius",
@@ -129,7 +138,7 @@ LoopRun runLoop(const BenchContext& ctx, double radius_m, int moves, int port, c
   ChildProcess xr({(bin / "telesphere-xr").string(), "offscreen", "--insecure", "--calib", calib, "--port", std::to_string(port),
                    "--eye-size", "160x176", "--rate", "59", "--duration", std::to_string(duration), "--trajectory",
                    (dir / "trajectory.csv").string(), "--out", (dir / "xr").string(), "--truth-out",
-                   run.xr_truth.string(), "--truth-every", "6", "--wait", "60"},
+                   run.xr_truth.string(), "--truth-every", "6", "--wait", "60", "--depth-proxy", proxy},
                   (dir / "xr.log").string());
   const auto take = [&] {
     for (auto& envelope : client.takeTelemetry()) {
@@ -447,12 +456,19 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
   std::vector<LoopRun> runs;
   int port = 27900;
   for (const double r : radii) {
-    runs.push_back(runLoop(ctx, r, moves, port, out_dir / ("run_r" + formatNumber(r))));
+    runs.push_back(runLoop(ctx, r, "fixed", moves, port, out_dir / ("run_r" + formatNumber(r))));
+    port += 10;
+    if (!runs.back().error.empty()) throw std::runtime_error(runs.back().error);
+  }
+  // The depth proxies from the XR app's own stereo sweep (#35) in the same experiment.
+  for (const std::string proxy : {"radius", "grid"}) {
+    runs.push_back(runLoop(ctx, 1.0, proxy, moves, port, out_dir / ("run_" + proxy)));
     port += 10;
     if (!runs.back().error.empty()) throw std::runtime_error(runs.back().error);
   }
   // The r = 1 m run (the paper's setting) gives experiments 1–3.
-  const auto main_run = std::find_if(runs.begin(), runs.end(), [](const LoopRun& r) { return r.radius_m == 1.0; });
+  const auto main_run =
+      std::find_if(runs.begin(), runs.end(), [](const LoopRun& r) { return r.radius_m == 1.0 && r.proxy == "fixed"; });
   const auto frames = xrFrames(*main_run);
 
   // 1. Image latency.
@@ -558,46 +574,62 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
                          [](std::ostream& o, const GammaPoint& g) { o << g.d_m << ',' << g.measured_deg << ',' << g.eq4_deg; });
   }
 
-  // 5. The eye images against the truth, per radius.
-  Table eye_table({"r m", "frames", "at rest: p50 deg", "p99 deg", "moving (v_op ≥ 0.1 m/s): p50 deg", "p99 deg",
-                   "Δs true max mm"});
+  // 5. The eye images against the truth, per radius and depth proxy, with each run's image latency.
+  Table eye_table({"proxy", "frames", "at rest: p50 deg", "p99 deg", "moving (v_op ≥ 0.1 m/s): p50 deg", "p99 deg",
+                   "Δs true max mm", "image latency p50 ms"});
+  const double fixed_latency_p50_ms = percentile(latency.total_ms, 0.5);
   Figure eye_figure{"Eye-image angular error against the truth (experiment 5)", "operator head speed v_op (m/s)",
                     "error over the eye's pixels, p99 (deg)", "", {}};
-  const QColor colours[] = {QColor(31, 119, 180), QColor(214, 39, 40), QColor(44, 160, 44), QColor(148, 103, 189)};
+  Figure eye_p50_figure{"Eye-image angular error against the truth, median (experiment 5)", "operator head speed v_op (m/s)",
+                        "error over the eye's pixels, p50 (deg)", "", {}};
+  const QColor colours[] = {QColor(31, 119, 180), QColor(214, 39, 40), QColor(44, 160, 44), QColor(148, 103, 189),
+                            QColor(255, 127, 14)};
   nlohmann::json eye_json = nlohmann::json::array();
   std::ofstream eye_csv(out_dir / "eye_error.csv");
-  eye_csv << "radius_m,v_op_m_s,ds_true_mm,error_p50_deg,error_p99_deg\n";
+  eye_csv << "proxy,radius_m,v_op_m_s,ds_true_mm,error_p50_deg,error_p99_deg\n";
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto run_frames = i == std::size_t(main_run - runs.begin()) ? frames : xrFrames(runs[i]);
     const auto eyes = eyeErrors(runs[i], run_frames, *calibration, &error);
     if (eyes.empty())
-      throw std::runtime_error("no recorded frame of the r = " + formatNumber(runs[i].radius_m) +
-                               " m run could be checked against the truth" + (error.empty() ? "" : ": " + error));
+      throw std::runtime_error("no recorded frame of the " + runLabel(runs[i]) + " run could be checked against the truth" +
+                               (error.empty() ? "" : ": " + error));
+    const double latency_p50_ms = percentile(imageLatency(run_frames).total_ms, 0.5);
     std::vector<double> rest, moving;
     double ds_max = 0;
-    FigureSeries series{"r = " + formatNumber(runs[i].radius_m) + " m", {}, {}, colours[i % 4]};
+    FigureSeries series{runLabel(runs[i]), {}, {}, colours[i % 5]};
     series.points = true;
+    FigureSeries p50_series = series;
     for (const auto& e : eyes) {
       if (e.v_op < kRestSpeed && e.ds_true_mm < kRestDsMm) rest.insert(rest.end(), e.errors.begin(), e.errors.end());
       if (e.v_op >= kMovingSpeed) moving.insert(moving.end(), e.errors.begin(), e.errors.end());
       ds_max = std::max(ds_max, e.ds_true_mm);
       series.x.push_back(e.v_op);
       series.y.push_back(e.p99_deg);
-      eye_csv << runs[i].radius_m << ',' << e.v_op << ',' << e.ds_true_mm << ',' << e.p50_deg << ',' << e.p99_deg << '\n';
+      p50_series.x.push_back(e.v_op);
+      p50_series.y.push_back(e.p50_deg);
+      eye_csv << runs[i].proxy << ',' << runs[i].radius_m << ',' << e.v_op << ',' << e.ds_true_mm << ',' << e.p50_deg << ',' << e.p99_deg << '\n';
     }
     eye_figure.series.push_back(series);
-    eye_table.addRow({formatNumber(runs[i].radius_m), std::to_string(eyes.size()), formatNumber(percentile(rest, 0.5), 2),
+    eye_p50_figure.series.push_back(p50_series);
+    eye_table.addRow({runLabel(runs[i]), std::to_string(eyes.size()), formatNumber(percentile(rest, 0.5), 2),
                       formatNumber(percentile(rest, 0.99), 2), formatNumber(percentile(moving, 0.5), 2),
-                      formatNumber(percentile(moving, 0.99), 2), formatNumber(ds_max)});
-    eye_json.push_back({{"radius_m", runs[i].radius_m}, {"frames", eyes.size()},
+                      formatNumber(percentile(moving, 0.99), 2), formatNumber(ds_max), formatNumber(latency_p50_ms)});
+    if (runs[i].proxy != "fixed") {
+      json["eye_error_moving_p50_deg_" + runs[i].proxy] = percentile(moving, 0.5);
+      json["eye_error_at_rest_p99_deg_" + runs[i].proxy] = percentile(rest, 0.99);
+      json["image_latency_p50_ms_delta_" + runs[i].proxy] = latency_p50_ms - fixed_latency_p50_ms;
+    }
+    eye_json.push_back({{"proxy", runs[i].proxy}, {"radius_m", runs[i].radius_m}, {"frames", eyes.size()},
+                        {"image_latency_p50_ms", latency_p50_ms},
                         {"at_rest_p50_deg", percentile(rest, 0.5)}, {"at_rest_p99_deg", percentile(rest, 0.99)},
                         {"moving_p50_deg", percentile(moving, 0.5)}, {"moving_p99_deg", percentile(moving, 0.99)}});
-    if (runs[i].radius_m == 1.0) {
+    if (runs[i].radius_m == 1.0 && runs[i].proxy == "fixed") {
       json["eye_error_at_rest_p99_deg"] = percentile(rest, 0.99);
       json["eye_error_moving_p50_deg"] = percentile(moving, 0.5);
     }
   }
   writeFigurePng(eye_figure, (out_dir / "eye_error.png").string());
+  writeFigurePng(eye_p50_figure, (out_dir / "eye_error_p50.png").string());
   json["eye_error"] = eye_json;
   ctx.out << "\n5. What the operator sees against the truth (each eye pixel followed into the known scene; "
              "rest: v_op < " << kRestSpeed << " m/s and Δs < " << kRestDsMm << " mm):\n";
@@ -618,8 +650,14 @@ nlohmann::json runExperiments(const BenchContext& ctx) {
          << "| 5. eye-image error at rest, p99 (r = 1 m) | — | " << formatNumber(json.value("eye_error_at_rest_p99_deg", 0.0), 2)
          << " deg |\n"
          << "| 5. eye-image error moving (≥ 0.1 m/s), p50 (r = 1 m) | — | "
-         << formatNumber(json.value("eye_error_moving_p50_deg", 0.0), 2) << " deg |\n\n"
-         << "Figures: image_latency.png, fig6_head_latency.png, fig7_ds_vs_vop.png, fig5_gamma.png, eye_error.png; "
+         << formatNumber(json.value("eye_error_moving_p50_deg", 0.0), 2) << " deg |\n"
+         << "| 5. the same, moving p50, one radius / grid from the XR app's stereo sweep (#35) | — | "
+         << formatNumber(json.value("eye_error_moving_p50_deg_radius", 0.0), 2) << " / "
+         << formatNumber(json.value("eye_error_moving_p50_deg_grid", 0.0), 2) << " deg |\n"
+         << "| 5. image latency p50 with them, against the fixed sphere | — | "
+         << formatNumber(json.value("image_latency_p50_ms_delta_radius", 0.0)) << " / "
+         << formatNumber(json.value("image_latency_p50_ms_delta_grid", 0.0)) << " ms |\n\n"
+         << "Figures: image_latency.png, fig6_head_latency.png, fig7_ds_vs_vop.png, fig5_gamma.png, eye_error.png, eye_error_p50.png; "
             "data: the CSV files beside them.\n";
   ctx.out << "\nwritten to " << out_dir.string() << " (report.md, figures, CSV)\n";
   return json;
