@@ -41,7 +41,10 @@ case "$title" in *fps*) ;; *) fail "no desktop window with a frame rate in its t
 win=$(xdotool search --name 'telesphere-xr desktop' | head -n1)
 xdotool mousemove --window "$win" 320 176
 sleep 0.5
-xdotool keydown --window "$win" w; sleep 1.0; xdotool keyup --window "$win" w         # walk forward
+# Walk forward: 0.5 m/s, but each frame's step is capped at 0.1 s (a stalled frame must not jump
+# the head), so the distance depends on the frame rate: beside readme_demo under the sanitizers the
+# app ran at 4 fps and 1.0 s of W walked exactly 0.2 m. Hold 1.5 s and ask for 0.1 m.
+xdotool keydown --window "$win" w; sleep 1.5; xdotool keyup --window "$win" w
 xdotool mousedown --window "$win" 1; xdotool mousemove_relative --sync -- 100 0 || true
 sleep 0.3; xdotool mouseup --window "$win" 1                                          # turn right
 xdotool key --window "$win" n                                                           # capture nominal
@@ -62,7 +65,7 @@ python3 - "$j" <<'PY' || fail "stats.json checks failed"
 import json, sys
 s = json.load(open(sys.argv[1]))
 errors = []
-if not s["head_position"][2] < -0.2: errors.append(f"W did not walk forward (z = {s['head_position'][2]})")
+if not s["head_position"][2] < -0.1: errors.append(f"W did not walk forward (z = {s['head_position'][2]})")
 if not s["head_yaw"] < -0.05: errors.append(f"the drag did not turn the head right (yaw = {s['head_yaw']})")
 if s["stereo_frames_shown"] < 10: errors.append(f"only {s['stereo_frames_shown']} camera frames shown")
 if not s["nominal_from_robot"]: errors.append("no nominal mapping from the robot")
