@@ -522,6 +522,26 @@ TEST_F(DesktopWindowTest, XInputDrivesTheHeadAndTheCommands) {
   EXPECT_EQ(dx, 0.0);
   EXPECT_EQ(dy, 0.0);
 
+  // A whole drag between two frames (a slow frame: press, move and release all in one poll) still
+  // turns the head: its deltas come with look set, as the head applies them only then.
+  XTestFakeButtonEvent(x_display_, 1, True, 0);
+  XTestFakeMotionEvent(x_display_, -1, cx + 90, cy + 80, 0);
+  XTestFakeButtonEvent(x_display_, 1, False, 0);
+  XSync(x_display_, False);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  double applied_dx = 0, applied_dy = 0;
+  for (int i = 0; i < 20; ++i) {
+    window->pollEvents();
+    const desktop::VirtualHeadInput input = window->headInput();
+    if (input.look) {
+      applied_dx += input.mouse_dx_px;
+      applied_dy += input.mouse_dy_px;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(applied_dx, 30.0) << "a drag that began and ended within one frame was dropped";
+  EXPECT_EQ(applied_dy, 20.0);
+
   // The other commands, then Escape closes.
   for (const KeySym key : {XK_m, XK_equal, XK_KP_Subtract, XK_Home}) {
     pressKey(key, true);

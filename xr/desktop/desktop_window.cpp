@@ -196,9 +196,11 @@ VirtualHeadInput DesktopWindow::headInput() {
   input.turn_right = held(GLFW_KEY_RIGHT);
   input.look_up = held(GLFW_KEY_UP);
   input.look_down = held(GLFW_KEY_DOWN);
-  input.look = dragging_;
   input.mouse_dx_px = std::exchange(drag_dx_px_, 0.0);
   input.mouse_dy_px = std::exchange(drag_dy_px_, 0.0);
+  // The deltas gather only while the button is held; a drag that began and ended since the last
+  // frame (a slow frame) has released the button by now and must still turn the head.
+  input.look = dragging_ || input.mouse_dx_px != 0.0 || input.mouse_dy_px != 0.0;
   return input;
 }
 
