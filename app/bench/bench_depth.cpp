@@ -238,6 +238,20 @@ struct StereoDepth {
   std::vector<double> inverse_depth_error;
 };
 
+/// The tiles of `grid` whose centre `camera` sees inside its width × height image.
+std::vector<std::pair<int, int>> seenTiles(const xr::render::InverseDepthGrid& grid, const calib::CameraCalibration& camera,
+                                           int width, int height) {
+  std::vector<std::pair<int, int>> tiles;
+  for (int row = 0; row < grid.rows(); ++row)
+    for (int col = 0; col < grid.cols(); ++col) {
+      Eigen::Vector2d px;
+      if (camera.camera.project(grid.tileCentre(row, col), px) && px.x() >= 0 && px.y() >= 0 && px.x() <= width - 1 &&
+          px.y() <= height - 1)
+        tiles.emplace_back(row, col);
+    }
+  return tiles;
+}
+
 StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, int height, const SceneView& camera,
                       const calib::CameraCalibration& left_camera) {
   const xr::depth::GreyImage left{pair.left.data(), width, height, width};
@@ -255,13 +269,8 @@ StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, i
   out.matched = out.left.tiles_matched + right_result.tiles_matched;
   out.seen = out.left.tiles_seen + right_result.tiles_seen;
   const xr::render::InverseDepthGrid truth = trueGrid(camera, sweeps.left.options().tile_deg);
-  for (int row = 0; row < truth.rows(); ++row)
-    for (int col = 0; col < truth.cols(); ++col) {
-      Eigen::Vector2d px;
-      if (!left_camera.camera.project(truth.tileCentre(row, col), px)) continue;
-      if (px.x() < 0 || px.y() < 0 || px.x() > width - 1 || px.y() > height - 1) continue;
-      out.inverse_depth_error.push_back(std::abs(out.left.inverse_depth.at(row, col) - truth.at(row, col)));
-    }
+  for (const auto& [row, col] : seenTiles(truth, left_camera, width, height))
+    out.inverse_depth_error.push_back(std::abs(out.left.inverse_depth.at(row, col) - truth.at(row, col)));
   return out;
 }
 
@@ -538,38 +547,30 @@ nlohmann::json runFilterKnob(const BenchContext& ctx, StereoSweeps& sweeps, cons
                                              1000 + static_cast<std::uint32_t>(k));
     still.push_back(sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0]).left);
   }
-  std::vector<std::pair<int, int>> seen_tiles;  // the tiles the left camera sees
-  {
-    const xr::render::InverseDepthGrid& g = still.front().inverse_depth;
-    for (int row = 0; row < g.rows(); ++row)
-      for (int col = 0; col < g.cols(); ++col) {
-        Eigen::Vector2d px;
-        if (rig.cameras[0].camera.project(g.tileCentre(row, col), px) && px.x() >= 0 && px.y() >= 0 && px.x() <= depth_width - 1 &&
-            px.y() <= depth_height - 1)
-          seen_tiles.emplace_back(row, col);
-      }
-  }
+  const std::vector<std::pair<int, int>> seen_tiles = seenTiles(still.front().inverse_depth, rig.cameras[0], depth_width, depth_height);
   struct Setting {
     std::string name;
     std::optional<xr::depth::InverseDepthFilterOptions> options;
   };
-  const auto with = [](double tau_s, double rate, double snap) {
-    xr::depth::InverseDepthFilterOptions o;
+  const xr::depth::InverseDepthFilterOptions defaults;
+  const auto with = [&](double tau_s, double rate, double snap, const std::string& note = "") {
+    xr::depth::InverseDepthFilterOptions o = defaults;
     o.time_constant_s = tau_s;
     o.max_rate_per_m_s = rate;
     o.snap_per_m = snap;
-    return std::optional(o);
+    const bool is_default = o.time_constant_s == defaults.time_constant_s && o.max_rate_per_m_s == defaults.max_rate_per_m_s &&
+                            o.snap_per_m == defaults.snap_per_m;
+    return Setting{"tau " + formatNumber(tau_s) + " s, " + formatNumber(rate) + " 1/m/s, snap " + formatNumber(snap) + " 1/m" +
+                       (is_default ? " (default)" : note),
+                   o};
   };
-  const xr::depth::InverseDepthFilterOptions defaults;
   const std::vector<Setting> settings = {{"none (each sweep as it is)", std::nullopt},
-                                         {"tau 0.15 s, 4 1/m/s, snap 0.5 1/m (the default before)", with(0.15, 4.0, 0.5)},
-                                         {"tau 0.15 s, 8 1/m/s, snap 0.5 1/m", with(0.15, 8.0, 0.5)},
-                                         {"tau " + formatNumber(defaults.time_constant_s) + " s, " + formatNumber(defaults.max_rate_per_m_s) +
-                                              " 1/m/s, snap " + formatNumber(defaults.snap_per_m) + " 1/m (default)",
-                                          defaults},
-                                         {"tau 0.05 s, 4 1/m/s, snap 0.5 1/m", with(0.05, 4.0, 0.5)},
-                                         {"tau 0.05 s, 8 1/m/s, snap 0.25 1/m", with(0.05, 8.0, 0.25)},
-                                         {"tau 0.3 s, 4 1/m/s, snap 0.5 1/m", with(0.3, 4.0, 0.5)}};
+                                         with(0.15, 4.0, 0.5, " (the default before)"),
+                                         with(0.15, 8.0, 0.5),
+                                         with(defaults.time_constant_s, defaults.max_rate_per_m_s, defaults.snap_per_m),
+                                         with(0.05, 4.0, 0.5),
+                                         with(0.05, 8.0, 0.25),
+                                         with(0.3, 4.0, 0.5)};
   const double swim_scale_deg = kMovingOffsetM / kDeg;  // Δρ (1/m) → degrees for the moving eye
   const int rays = ctx.quick ? 21 : 41;
   Table table({"filter", "swim at rest: grid p90 deg", "radius p90 deg", "approaching: grid fovea p50 median deg", "worst image",
