@@ -106,7 +106,7 @@ struct HeadLoopRig {
 };
 
 TEST(HeadLoop, NominalCaptureThenTargetsMoveTheArm) {
-  HeadLoopRig rig(27200);
+  HeadLoopRig rig(27220);  // 27200 is test_link's endpoints(10): the two run side by side under ctest -j
   link::proto::ControlRequest capture;
   capture.set_capture_nominal(true);
   // Nothing from the headset yet: refused with a reason.
