@@ -85,8 +85,13 @@ void printStatus(const std::string& robot, const link::proto::RobotState& s, con
                                  : rec.active()   ? ("● " + rec.file() + ", " + std::to_string(rec.bytes() / 1'000'000) +
                                                    " MB, " + std::to_string(rec.dropped()) + " dropped").c_str()
                                                   : "not recording");
-  std::printf("settings   mode %s, radius %g m, JPEG quality %d, filter %s, jump %g cm / %g°\n",
-              mode ? std::string(link::visualModeName(*mode)).c_str() : "?", st.sphere_radius(), st.jpeg_quality(),
+  const auto proxy = link::fromProto(st.depth_proxy());
+  std::printf("settings   mode %s, radius %g m, scene proxy %s, JPEG quality %d, filter %s, jump %g cm / %g°\n",
+              mode ? std::string(link::visualModeName(*mode)).c_str() : "?", st.sphere_radius(),
+              proxy ? std::string(link::depthProxyName(*proxy)).c_str()
+                    : st.depth_proxy() == link::proto::DEPTH_PROXY_UNSPECIFIED ? "none chosen (the XR app's own)"
+                                                                             : "?",
+              st.jpeg_quality(),
               std::isinf(st.filter_cutoff_hz()) ? "off" : (std::to_string(int(std::lround(st.filter_cutoff_hz()))) + " Hz").c_str(),
               st.jump_position_m() * 100.0, st.jump_angle_deg());
   if (const auto codec = link::fromProto(st.video_codec()); codec && *codec != link::VideoCodec::kMjpeg)
@@ -135,6 +140,14 @@ std::optional<link::proto::ControlRequest> requestOf(const std::vector<std::stri
       return std::nullopt;
     }
     r.set_set_sphere_radius(radius);  // the robot checks the range and says it
+  } else if (verb == "depth-proxy") {
+    if (!arguments(1)) return std::nullopt;
+    const auto proxy = link::parseDepthProxy(a[1]);
+    if (!proxy) {
+      *error = "depth proxy '" + a[1] + "': fixed, radius or grid";
+      return std::nullopt;
+    }
+    r.set_set_depth_proxy(link::toProto(*proxy));
   } else if (verb == "codec") {
     if (!arguments(1)) return std::nullopt;
     const auto codec = link::parseVideoCodec(a[1]);
@@ -162,7 +175,7 @@ std::optional<link::proto::ControlRequest> requestOf(const std::vector<std::stri
     r.mutable_hand_over_operator_seat()->set_name(a[1] == "free" ? "" : a[1]);
   } else {
     *error = "unknown action '" + verb +
-             "': stop, clear-fault, mode M, radius R, codec C, release-hold, record start NAME, record stop, seat NAME|free";
+             "': stop, clear-fault, mode M, radius R, depth-proxy P, codec C, release-hold, record start NAME, record stop, seat NAME|free";
     return std::nullopt;
   }
   return r;
@@ -205,7 +218,7 @@ CLI::App* addStatusCommand(CLI::App& app, RobotCommandOptions& o) {
 
 CLI::App* addControlCommand(CLI::App& app, RobotCommandOptions& o) {
   CLI::App* control = app.add_subcommand(
-      "control", "one control request: stop | clear-fault | mode M | radius R | codec mjpeg|h264|hevc | release-hold | record start NAME | record stop | seat NAME|free");
+      "control", "one control request: stop | clear-fault | mode M | radius R | depth-proxy fixed|radius|grid | codec mjpeg|h264|hevc | release-hold | record start NAME | record stop | seat NAME|free");
   control->add_option("--robot", o.robot, "the robot's link, tcp://HOST:PORT")->capture_default_str();
   control->add_option("--wait", o.wait_s, "seconds to wait for the robot's reply (clear-fault: for the arm's outcome)")
       ->capture_default_str()->check(CLI::Range(0.1, 600.0));

@@ -73,6 +73,7 @@ std::unique_ptr<RobotAssembly> RobotAssembly::build(const RobotOptions& options,
   loop_config.calibration = p->calibration_in_use.get();
   loop_config.auto_nominal = o.auto_nominal;
   loop_config.sphere_radius = o.sphere_radius;
+  if (!o.depth_proxy.empty()) loop_config.depth_proxy = link::parseDepthProxy(o.depth_proxy);
   loop_config.telemetry = &p->telemetry;
   p->loop = std::make_unique<robot::head::HeadLoop>(*p->arm, *p->controller, *p->joints, *p->server, p->clock, loop_config);
 

@@ -62,6 +62,11 @@ void addRobotOptions(CLI::App& app, RobotOptions& o) {
                  "take the first head pose as the nominal pose (else the console captures it)")
       ->capture_default_str();
   app.add_option("--sphere-radius", o.sphere_radius, "initial sphere radius r, m")->capture_default_str();
+  app.add_option("--depth-proxy", o.depth_proxy,
+                 "the session's scene proxy from the start: fixed (the sphere of --sphere-radius), radius or grid "
+                 "(from the XR app's stereo depth); the XR app follows it (default: none chosen, each XR app "
+                 "keeps its own --depth-proxy until the console or the operator chooses)")
+      ->check(CLI::IsMember({"fixed", "radius", "grid"}));
   app.add_option("--render-threads", o.render_threads, "threads per synthetic camera")->capture_default_str();
   app.add_option("--preview-width", o.preview_width, "width of the console's camera preview, px")
       ->capture_default_str()->check(CLI::Range(16, 1920));

@@ -30,6 +30,7 @@ struct RobotOptions {
   std::string camera_left, camera_right;  ///< Aravis device ids; empty: synthetic cameras
   bool auto_nominal = true;
   double sphere_radius = 1.0;
+  std::string depth_proxy;  ///< the session's scene proxy from the start; empty: each XR app's own
   int render_threads = 2;
   int preview_width = 320;
   double preview_hz = 5.0;

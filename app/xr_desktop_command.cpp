@@ -67,7 +67,7 @@ CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r (m), until the robot says otherwise")->capture_default_str();
   c->add_option("--depth-proxy", o.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths)")
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png at the end");
   return c;
@@ -109,7 +109,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
-  view_options.depth_proxy = *xr::frame_loop::parseDepthProxy(o.depth_proxy);
+  view_options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);
   applyVideoLinkOptions(o.link, view_options);
   xr::frame_loop::OperatorView view(*calibration, view_options);
   xr::frame_loop::OperatorLoop loop(view, output);
@@ -157,7 +157,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
       std::snprintf(title, sizeof title, "telesphere-xr desktop — %.1f fps — %s, r %.2f m, proxy %s%s",
                     double(frames - frames_at_title) / std::chrono::duration<double>(done - last_title).count(),
                     std::string(telesphere::link::visualModeName(s.mode)).c_str(), s.radius,
-                    std::string(xr::frame_loop::depthProxyName(view.depthProxy())).c_str(), robot);
+                    std::string(link::depthProxyName(view.depthProxy())).c_str(), robot);
       window->setTitle(title);
       last_title = done;
       frames_at_title = frames;

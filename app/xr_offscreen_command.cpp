@@ -42,7 +42,7 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
   c->add_option("--depth-proxy", o.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths)")
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
@@ -219,7 +219,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.media_port = o.link.media_port;
   options.media_repair = o.link.media_repair == "on";
   options.head_targets_on_zmq = o.link.head_link == "both";
-  options.depth_proxy = *xr::frame_loop::parseDepthProxy(o.depth_proxy);
+  options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

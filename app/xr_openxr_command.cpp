@@ -58,7 +58,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
   c->add_option("--out", x.out_dir, "folder for stats.json at the end");
   c->add_option("--radius", x.radius, "sphere radius r (m) until the robot says otherwise")->capture_default_str();
   c->add_option("--depth-proxy", x.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths)")
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--mode", x.mode, "full6d | orientation3d | fixed, until the robot says otherwise")
       ->capture_default_str();

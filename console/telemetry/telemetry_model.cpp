@@ -19,7 +19,7 @@ Eigen::Vector3d positionOf(const link::proto::Pose& p) { return {p.tx(), p.ty(),
 }  // namespace
 
 TelemetryModel::TelemetryModel(SeriesStore& store, std::int64_t origin_console_ns)
-    : store_(store), origin_ns_(origin_console_ns), link_(store) {
+    : store_(store), origin_ns_(origin_console_ns), link_(store), depth_(store) {
   for (int i = 0; i < 6; ++i) stages_[i] = &store_.series(infoOf(series::kLatencyStages[i]), kFrameGapS);
   head_latency_ = &store_.series(infoOf(series::kHeadLatency), kTickGapS);
   v_op_ = &store_.series(infoOf(series::kVOp), kFrameGapS);
@@ -51,6 +51,7 @@ SeriesInfo TelemetryModel::infoOf(const char* name) {
   for (const auto& i : kInfo)
     if (std::strcmp(i.name, name) == 0) return {i.name, i.label, i.unit};
   if (auto link = MediaLinkSeries::infoOf(name)) return *link;
+  if (auto depth = DepthProxySeries::infoOf(name)) return *depth;
   return {name, name, ""};
 }
 
@@ -122,6 +123,7 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   xr_mode_ = t.visual_mode();
   xr_radius_ = t.sphere_radius();
   xr_calibration_ = t.calibration_generation();
+  if (t.has_depth()) xr_depth_proxy_ = t.depth().proxy();
   if (!t.clock_synced()) {  // the XR app had no offset to the robot: its stamps cannot be mapped
     ++counts_.unsynced_batches;
     return;
@@ -130,6 +132,7 @@ void TelemetryModel::ingestXr(const link::proto::XrTelemetry& t, std::int64_t of
   const std::int64_t xr_to_console = offset - t.robot_to_xr_offset_ns();
   const auto xrTime = [&](std::int64_t xr_ns) { return plotTime(xr_ns + xr_to_console); };
   if (t.has_media()) counts_.samples += link_.addReceiveCounts(t.media(), xrTime(t.media().t_ns()));
+  if (t.has_depth()) counts_.samples += depth_.add(t.depth(), xrTime(t.depth().t_ns()));
   for (const auto& f : t.frames()) {
     const double at = xrTime(f.display_ns());
     xr_unmeasured_ = UnmeasuredPose{f.pose_unmeasured(), f.holding_measured()};

@@ -20,7 +20,9 @@
 ///   xr.frame_ms    render time of both eyes, ms, at the display time;
 ///   xr.missed      display periods missed before a frame, at its display time;
 ///   link.*         the media path (MediaLinkSeries): the robot's per frame sent, at the send
-///                  time, and the XR receiver's per batch.
+///                  time, and the XR receiver's per batch;
+///   depth.*        the operator's scene proxy (DepthProxySeries): each eye's radius, the stereo
+///                  depth's confidence, age and cost, per XR batch.
 /// All exist (empty) from construction on.
 #pragma once
 
@@ -29,6 +31,7 @@
 #include <deque>
 #include <optional>
 
+#include "console/telemetry/depth_proxy_series.h"
 #include "console/telemetry/media_link_series.h"
 #include "console/telemetry/series_store.h"
 #include "robot/link/telesphere_link.pb.h"
@@ -84,6 +87,8 @@ class TelemetryModel {
   /// What the XR app renders with, from its newest batch.
   std::optional<link::proto::VisualMode> xrVisualMode() const { return xr_mode_; }
   std::optional<double> xrSphereRadius() const { return xr_radius_; }
+  /// The scene proxy the XR app renders with (nothing before a batch that says: an older XR app).
+  std::optional<link::proto::DepthProxyProto> xrDepthProxy() const { return xr_depth_proxy_; }
   /// The robot calibration generation the XR app renders with (0: its start-up --calib).
   std::optional<std::uint64_t> xrCalibrationGeneration() const { return xr_calibration_; }
   /// Whether the XR app's newest display frame showed a camera frame without a measured camera
@@ -109,6 +114,7 @@ class TelemetryModel {
   TimeSeries* stages_[6];
   TimeSeries *head_latency_, *v_op_, *v_rob_, *delta_s_, *frame_ms_, *missed_;
   MediaLinkSeries link_;
+  DepthProxySeries depth_;
   TelemetryCounts counts_;
   std::uint64_t last_robot_batch_ = 0, last_xr_batch_ = 0;
   std::optional<std::pair<std::int64_t, Eigen::Vector3d>> last_measured_;  ///< robot clock
@@ -116,6 +122,7 @@ class TelemetryModel {
   std::deque<HeadPoseSample> head_poses_;
   std::optional<link::proto::VisualMode> xr_mode_;
   std::optional<double> xr_radius_;
+  std::optional<link::proto::DepthProxyProto> xr_depth_proxy_;
   std::optional<std::uint64_t> xr_calibration_;
   std::optional<UnmeasuredPose> xr_unmeasured_;
 };

@@ -72,6 +72,19 @@ ControlPanel::ControlPanel(ConsoleSession& session, QWidget* parent) : QWidget(p
     send(QString("set_sphere_radius %1 m").arg(radius_->value()), r);
   });
 
+  proxy_ = new QComboBox;
+  for (auto p : {link::proto::DEPTH_PROXY_FIXED, link::proto::DEPTH_PROXY_RADIUS, link::proto::DEPTH_PROXY_GRID})
+    proxy_->addItem(depthProxyLabel(p, ""), int(p));
+  proxy_->setToolTip("What the operator's view projects the images onto: the fixed sphere of the radius above (the "
+                     "paper's method, no depth needed), one radius that follows the scene's depth at the view's "
+                     "centre, or a coarse depth grid (near objects stay put; the XR app measures the depth from the "
+                     "stereo pair on one core)");
+  addRow("scene proxy", proxy_, nullptr, proxy_now_, [this] {
+    link::proto::ControlRequest r;
+    r.set_set_depth_proxy(static_cast<link::proto::DepthProxyProto>(proxy_->currentData().toInt()));
+    send("set_depth_proxy " + proxy_->currentText(), r);
+  });
+
   quality_ = new QSpinBox;
   quality_->setRange(1, 100);
   quality_->setValue(90);
@@ -198,6 +211,8 @@ QString ControlPanel::recordingText() const { return record_now_->text(); }
 
 QString ControlPanel::holdText() const { return hold_now_->text(); }
 
+QString ControlPanel::proxyText() const { return proxy_now_->text(); }
+
 QString ControlPanel::lastOutcome() const { return log_->count() > 0 ? log_->item(0)->text() : QString(); }
 
 void ControlPanel::send(const QString& what, link::proto::ControlRequest request) {
@@ -247,6 +262,13 @@ void ControlPanel::refresh() {
   const auto& st = health->settings();
   mode_now_->setText(visualModeLabel(st.visual_mode()));
   radius_now_->setText(QString("%1 m").arg(st.sphere_radius()));
+  {
+    // The robot holds the session's choice; the XR app's telemetry says what the eyes have.
+    QString text = depthProxyLabel(st.depth_proxy(), "none chosen");
+    if (const auto xr = session_.telemetry().xrDepthProxy())
+      text += " · XR app: " + depthProxyLabel(*xr, "?");
+    proxy_now_->setText(text);
+  }
   quality_now_->setText(QString::number(st.jpeg_quality()));
   codec_now_->setText(videoCodecLabel(st));
   cutoff_now_->setText(std::isinf(st.filter_cutoff_hz()) ? QString("off")

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief The knobs the supervisor turns live (DESIGN.md §7: every change is a control request
 ///        with an explicit reply, shown; nothing is assumed to have worked): visual mode, sphere
-///        radius, JPEG quality, video codec, filter cut-off, jump threshold, arm stop and clear fault, who holds
+///        radius, scene proxy (#35: the robot holds the session's choice; the row also says what
+///        the XR app renders with), JPEG quality, video codec, filter cut-off, jump threshold, arm stop and clear fault, who holds
 ///        the head for calibration and "release head". Each row shows what the robot has in force
 ///        now next to the editor.
 #pragma once
@@ -33,6 +34,8 @@ class ControlPanel : public QWidget {
   // The editors and buttons, for tests that drive the panel like a user.
   QComboBox* modeBox() const { return mode_; }
   QDoubleSpinBox* radiusBox() const { return radius_; }
+  QComboBox* proxyBox() const { return proxy_; }
+  QString proxyText() const;  ///< the "robot now" column of the scene proxy row
   QSpinBox* qualityBox() const { return quality_; }
   QComboBox* codecBox() const { return codec_; }
   QDoubleSpinBox* cutoffBox() const { return cutoff_; }
@@ -58,13 +61,14 @@ class ControlPanel : public QWidget {
   ConsoleSession& session_;
   QComboBox* mode_;
   QDoubleSpinBox* radius_;
+  QComboBox* proxy_;
   QSpinBox* quality_;
   QComboBox* codec_;
   QDoubleSpinBox* cutoff_;
   QCheckBox* cutoff_off_;
   QDoubleSpinBox* jump_cm_;
   QDoubleSpinBox* jump_deg_;
-  QLabel *mode_now_, *radius_now_, *quality_now_, *codec_now_, *cutoff_now_, *jump_now_;
+  QLabel *mode_now_, *radius_now_, *proxy_now_, *quality_now_, *codec_now_, *cutoff_now_, *jump_now_;
   QPushButton* stop_;
   QPushButton* clear_;
   QPushButton* record_;

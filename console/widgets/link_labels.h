@@ -19,6 +19,20 @@ inline QString visualModeLabel(link::proto::VisualMode mode) {
   return QString::fromUtf8(label.data(), static_cast<qsizetype>(label.size()));
 }
 
+/// The scene proxy (#35) as the panels name it: "fixed sphere", "one radius from depth", "depth
+/// grid"; `unspecified` where nobody chose one; "unknown (7)" for one this console lacks.
+inline QString depthProxyLabel(link::proto::DepthProxyProto proxy, const QString& unspecified) {
+  if (proxy == link::proto::DEPTH_PROXY_UNSPECIFIED) return unspecified;
+  const auto known = link::fromProto(proxy);
+  if (!known) return QString("unknown (%1)").arg(int(proxy));
+  switch (*known) {
+    case link::DepthProxy::kFixed: return "fixed sphere";
+    case link::DepthProxy::kRadius: return "one radius from depth";
+    case link::DepthProxy::kGrid: return "depth grid";
+  }
+  return "?";
+}
+
 /// What the frames carry (#34), as the panels name it: "MJPEG q90", "H.264 (libx264) · 20 Mbit/s",
 /// "HEVC (opening) · 20 Mbit/s" before the first frame; "unknown (7)" for a codec this console lacks.
 inline QString videoCodecLabel(const link::proto::RobotSettings& settings) {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief supervisorPlots: the five plot specifications.
+/// @brief supervisorPlots: the six plot specifications.
 #include "console/widgets/supervisor_plots.h"
 
 #include "console/telemetry/telemetry_model.h"
@@ -42,6 +42,19 @@ std::vector<PlotSpec> supervisorPlots() {
     missed.right_axis = true;
     missed.impulses = true;
     p.lines.push_back(missed);
+    plots.push_back(p);
+  }
+  {
+    // The operator's scene proxy (#35): what each eye's sphere has, and how sure the depth is.
+    PlotSpec p{"Scene depth", "scene radius [m]", "stereo tiles matched [%] · depth age [ms]", {}};
+    p.lines.push_back(PlotLine{telemetry::series::kDepthRadiusLeftM, "radius, left eye", QColor(31, 119, 180)});
+    p.lines.push_back(PlotLine{telemetry::series::kDepthRadiusRightM, "radius, right eye", QColor(255, 127, 14)});
+    PlotLine matched{telemetry::series::kDepthMatchedLeftPct, "tiles matched, left", QColor(44, 160, 44)};
+    matched.right_axis = true;
+    p.lines.push_back(matched);
+    PlotLine age{telemetry::series::kDepthAgeMs, "depth age", QColor(148, 103, 189)};
+    age.right_axis = true;
+    p.lines.push_back(age);
     plots.push_back(p);
   }
   return plots;

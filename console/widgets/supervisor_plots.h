@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 /// @brief The supervisor's live graphs (the paper's figures, live): image latency per stage
 ///        stacked (§IV-A, 40 ms); head pose → robot latency; operator and robot head speed
-///        (Fig. 6); Δs with v_op (Fig. 7); XR frame time and missed frames. Which series, how
-///        drawn, with axes and units.
+///        (Fig. 6); Δs with v_op (Fig. 7); XR frame time and missed frames; the operator's scene
+///        proxy: each eye's radius with the stereo depth's confidence and age (#35). Which series,
+///        how drawn, with axes and units.
 #pragma once
 
 #include <vector>

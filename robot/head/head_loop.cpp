@@ -29,7 +29,8 @@ HeadLoop::HeadLoop(arm::HeadArm& arm, HeadController& controller, JointStateBuff
       config_(config),
       T_flange_head_(controller.config().geometry.T_flange_head()),
       recovery_(arm),
-      sphere_radius_(config.sphere_radius) {}
+      sphere_radius_(config.sphere_radius),
+      depth_proxy_(config.depth_proxy) {}
 
 std::optional<arm::JointState> HeadLoop::lastState() const {
   std::lock_guard lock(mutex_);
@@ -143,6 +144,7 @@ void HeadLoop::tick() {
     state.set_arm_ok(armOkLocked());
     state.set_fault(faultLocked());
     state.set_sphere_radius(sphere_radius_);
+    if (depth_proxy_) state.set_depth_proxy(link::toProto(*depth_proxy_));
     state.set_nominal_set(controller_.initialised());
     if (controller_.initialised()) link::toLinkPose(controller_.T_robot_vr(), state.mutable_t_robot_vr());
     link::toLinkPose(*T_robot_head_measured, state.mutable_t_robot_head());
@@ -225,6 +227,7 @@ void HeadLoop::fillSettings(link::proto::RobotSettings* settings) const {
   std::lock_guard lock(mutex_);
   settings->set_visual_mode(link::toProto(controller_.mode()));
   settings->set_sphere_radius(sphere_radius_);
+  if (depth_proxy_) settings->set_depth_proxy(link::toProto(*depth_proxy_));
   settings->set_filter_cutoff_hz(controller_.config().cutoff_hz);
   settings->set_jump_position_m(controller_.config().jump_position);
   settings->set_jump_angle_deg(controller_.config().jump_angle * 180.0 / M_PI);

@@ -4,7 +4,8 @@
 ///        capture-time camera poses from there), feeds the newest head target from the operator
 ///        to the HeadController, sends the resulting joint target, publishes the robot state and
 ///        records one telemetry sample (HeadTick) per tick. It also answers the link's control
-///        requests for the head: visual mode, sphere radius, filter cut-off, jump threshold, arm
+///        requests for the head: visual mode, sphere radius, the session's scene
+///        proxy (held for the XR app, which measures the depth behind it), filter cut-off, jump threshold, arm
 ///        stop and clear, and the nominal pose (the headset's one-shot capture, and the console's
 ///        guided step below).
 ///
@@ -58,6 +59,7 @@
 #include "robot/arm/head_arm.h"
 #include "robot/head/head_controller.h"
 #include "robot/head/joint_state_buffer.h"
+#include "robot/link/depth_proxy.h"
 #include "robot/link/link_server.h"
 #include "robot/telemetry/telemetry_batcher.h"
 
@@ -69,6 +71,9 @@ struct HeadLoopConfig {
   int telemetry_every_ticks = 5;                      ///< a telemetry batch every 50 ms
   bool auto_nominal = false;  ///< take the first valid head target as the nominal pose (demo)
   double sphere_radius = 1.0;  ///< m; echoed in the robot state, changed by control requests
+  /// The session's scene proxy (#35), echoed in the robot state and changed by control requests;
+  /// nothing: each XR app renders with its own (--depth-proxy) until somebody chooses.
+  std::optional<link::DepthProxy> depth_proxy;
   /// A nominal capture needs a head pose that arrived at most this long ago.
   std::int64_t max_capture_age_ns = 250'000'000;
   /// Where the per-tick samples go (with the video path's); null: no telemetry.
@@ -98,7 +103,7 @@ class HeadLoop {
   /// settings) are refused with a reason. The reply carries the head's settings.
   link::proto::ControlReply handleControl(const link::proto::ControlRequest& request);
 
-  /// The head's part of the settings (mode, radius, cut-off, jump thresholds).
+  /// The head's part of the settings (mode, radius, scene proxy, cut-off, jump thresholds).
   void fillSettings(link::proto::RobotSettings* settings) const;
   /// The head's and the arm's part of the health report.
   void fillHealth(link::proto::RobotHealth* health) const;
@@ -184,6 +189,7 @@ class HeadLoop {
   bool resume_pending_ = false;      ///< the arm was not ok: resume from a fresh joint state
   std::int64_t arm_ok_since_ns_ = 0;  ///< when the arm was seen ok again (0: not yet)
   double sphere_radius_;
+  std::optional<link::DepthProxy> depth_proxy_;  ///< the session's scene proxy; nothing: each XR app's own
   link::proto::TrialIndicator trial_;  ///< the study's trial indicator, as the console sent it
   std::int64_t trial_received_ns_ = 0;  ///< when it arrived (robot clock)
   std::atomic<std::int64_t> ticks_{0}, targets_sent_{0}, targets_stamped_on_arrival_{0};

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief HeadLoop::handleControl: the link's control requests for the head, one case each (visual
-///        mode, nominal pose, sphere radius, filter cut-off, jump threshold, arm stop and clear, the
+///        mode, nominal pose, sphere radius, scene proxy, filter cut-off, jump threshold, arm stop and clear, the
 ///        study's trial indicator, calibration holds); every reply carries the head's settings.
 #include "robot/head/head_loop.h"
 
@@ -54,6 +54,16 @@ link::proto::ControlReply HeadLoop::handleControl(const link::proto::ControlRequ
         }
         break;
       }
+      case link::proto::ControlRequest::kSetDepthProxy:
+        // The robot only holds the session's choice (each XR app renders with it); the depth
+        // behind it is measured on the operator's side.
+        if (const auto proxy = link::fromProto(request.set_depth_proxy())) {
+          depth_proxy_ = *proxy;
+        } else {
+          ok = false;
+          error = "unknown scene proxy " + std::to_string(request.set_depth_proxy()) + " (fixed, radius or grid)";
+        }
+        break;
       case link::proto::ControlRequest::kSetFilterCutoffHz: {
         const double f = request.set_filter_cutoff_hz();
         if (!(f > 0.0) || std::isnan(f)) {  // +inf is allowed: the filter is off

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 /// @brief The link's enums ↔ their protobuf values, in one place (the enums themselves,
-///        robot/link/visual_mode.h, chroma_subsampling.h and video_codec.h, need no protobuf).
+///        robot/link/visual_mode.h, depth_proxy.h, chroma_subsampling.h and video_codec.h, need no protobuf).
 #pragma once
 
 #include <optional>
 
 #include "robot/link/chroma_subsampling.h"
+#include "robot/link/depth_proxy.h"
 #include "robot/link/telesphere_link.pb.h"
 #include "robot/link/video_codec.h"
 #include "robot/link/visual_mode.h"
@@ -27,6 +28,25 @@ inline std::optional<VisualMode> fromProto(proto::VisualMode mode) {
     case proto::VISUAL_MODE_FULL6D: return VisualMode::kFull6d;
     case proto::VISUAL_MODE_ORIENTATION3D: return VisualMode::kOrientation3d;
     case proto::VISUAL_MODE_FIXED: return VisualMode::kFixed;
+    default: return std::nullopt;
+  }
+}
+
+inline proto::DepthProxyProto toProto(DepthProxy proxy) {
+  switch (proxy) {
+    case DepthProxy::kFixed: return proto::DEPTH_PROXY_FIXED;
+    case DepthProxy::kRadius: return proto::DEPTH_PROXY_RADIUS;
+    case DepthProxy::kGrid: return proto::DEPTH_PROXY_GRID;
+  }
+  return proto::DEPTH_PROXY_UNSPECIFIED;
+}
+
+/// Nothing for DEPTH_PROXY_UNSPECIFIED (nobody chose) or a value this build does not know.
+inline std::optional<DepthProxy> fromProto(proto::DepthProxyProto proxy) {
+  switch (proxy) {
+    case proto::DEPTH_PROXY_FIXED: return DepthProxy::kFixed;
+    case proto::DEPTH_PROXY_RADIUS: return DepthProxy::kRadius;
+    case proto::DEPTH_PROXY_GRID: return DepthProxy::kGrid;
     default: return std::nullopt;
   }
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief `telesphere-console status|control` against a real `telesphere-robot --sim` on loopback
 ///        (issue #30): the status as text and JSON, a stop and a clear-fault that waits for the
-///        arm, a mode and a radius (one the robot refuses, with its reason), a codec (H.264 refused
+///        arm, a mode and a radius (one the robot refuses, with its reason), a scene proxy, a codec (H.264 refused
 ///        beside the media path), a hold released by
 ///        script, a recording started and stopped, bad arguments, and no robot at all.
 #include <gtest/gtest.h>
@@ -81,6 +81,14 @@ TEST_F(ConsoleRobotCommands, StatusStopClearModeRadiusHoldAndRecording) {
   r = console("control radius 0.001");
   EXPECT_EQ(r.exit_code, 5) << r.out << r.err;
   EXPECT_NE(r.out.find("refused: sphere radius"), std::string::npos) << r.out;
+  // The scene proxy (#35): none chosen at first, then the session's.
+  r = console("status");
+  EXPECT_NE(r.out.find("scene proxy none chosen"), std::string::npos) << r.out;
+  r = console("control depth-proxy grid");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_EQ(status()["health"]["settings"]["depth_proxy"], "DEPTH_PROXY_GRID");
+  r = console("status");
+  EXPECT_NE(r.out.find("scene proxy grid"), std::string::npos) << r.out;
   // The codec (#34): H.264 taken by this robot, which serves the UDP media path too; back to
   // MJPEG; an unknown codec never leaves the console.
   r = console("control codec h264");
@@ -131,6 +139,9 @@ TEST_F(ConsoleRobotCommands, BadArgumentsAndAnAbsentRobot) {
   EXPECT_NE(r.err.find("unknown action 'dance'"), std::string::npos) << r.err;
   r = console("control radius far");
   EXPECT_EQ(r.exit_code, 1);
+  r = console("control depth-proxy sphere");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("fixed, radius or grid"), std::string::npos) << r.err;
   r = console("status --wait 1", kPort + 40);
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("did not answer"), std::string::npos) << r.err;

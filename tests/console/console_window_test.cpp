@@ -2,7 +2,8 @@
 /// @brief The console's real Qt widgets (QT_QPA_PLATFORM=offscreen) against real telesphere-robot
 ///        (simulated arm, synthetic cameras) and telesphere-xr offscreen processes on loopback:
 ///        waiting for an absent robot without freezing; telemetry plotted at source time; the
-///        camera preview; every control reaching the robot and the XR app with its reply shown;
+///        camera preview; every control reaching the robot and the XR app with its reply shown (the scene proxy
+///        followed, its depth plotted and recorded);
 ///        arm stop and clear with the fault banner; the nominal-pose step end to end (capture,
 ///        confirm, undo; refused without fresh head poses); robot killed and restarted; XR app
 ///        gone; a calibration applied live from the "Calibration in use" panel reaching the robot's
@@ -50,6 +51,7 @@
 #include "console/telemetry/telemetry_model.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
+#include "robot/record/recording_reader.h"
 #include "tests/console/console_rig.h"
 
 namespace telesphere::console {
@@ -246,6 +248,37 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   EXPECT_TRUE(pumpUntil([&] {
     return std::abs(health().jump_position_m() - 0.05) < 1e-9 && std::abs(health().jump_angle_deg() - 12) < 1e-9;
   }));
+  // The scene proxy (#35): the robot holds the choice, the XR app follows it, measures the
+  // stereo depth behind it and says so in its telemetry (plotted: each eye's radius, the tiles
+  // matched, the depth's age).
+  EXPECT_TRUE(control->proxyText().startsWith("none chosen")) << control->proxyText().toStdString();
+  control->proxyBox()->setCurrentIndex(control->proxyBox()->findData(int(link::proto::DEPTH_PROXY_RADIUS)));
+  rig.click(control->applyButton("scene proxy"));
+  waitOk("set_depth_proxy");
+  EXPECT_TRUE(pumpUntil([&] {
+    return health().depth_proxy() == link::proto::DEPTH_PROXY_RADIUS &&
+           rig.session->telemetry().xrDepthProxy() == link::proto::DEPTH_PROXY_RADIUS;
+  })) << rig.logs();
+  const auto depthSamples = [&](const char* name) { return rig.session->series().find(name)->size(); };
+  EXPECT_TRUE(pumpUntil([&] { return depthSamples(telemetry::series::kDepthMatchedLeftPct) >= 5; }, 20000))
+      << "no stereo depth from the XR app: " << rig.logs();
+  EXPECT_TRUE(pumpUntil([&] {
+    return control->proxyText() == "one radius from depth · XR app: one radius from depth";
+  })) << control->proxyText().toStdString();
+  {
+    const telemetry::TimeSeries& radius = *rig.session->series().find(telemetry::series::kDepthRadiusLeftM);
+    const telemetry::TimeSeries& matched = *rig.session->series().find(telemetry::series::kDepthMatchedLeftPct);
+    const telemetry::TimeSeries& age = *rig.session->series().find(telemetry::series::kDepthAgeMs);
+    ASSERT_FALSE(radius.empty());
+    ASSERT_FALSE(age.empty());
+    // The simulated room: its walls and table lie 0.5–5 m from the cameras.
+    EXPECT_GT(radius.back().v, 0.3);
+    EXPECT_LT(radius.back().v, 6.0);
+    EXPECT_GT(matched.back().v, 0.0);
+    EXPECT_LE(matched.back().v, 100.0);
+    EXPECT_GT(age.back().v, 0.0);
+    EXPECT_LT(age.back().v, 2000.0);
+  }
   // A refusal comes back with the robot's words.
   {
     link::proto::ControlRequest r;
@@ -267,11 +300,43 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   EXPECT_EQ(control->recordButton()->text(), "Stop recording");
   pumpFor(300);
   saveShot(rig.window->dockOf(control), "panel_control.png");
+  for (int i = 0; i < rig.window->plotTabs()->count(); ++i) {
+    if (rig.window->plotTabs()->tabText(i) != "Scene depth") continue;
+    rig.window->plotTabs()->setCurrentIndex(i);
+    rig.window->redraw(true);
+    pumpFor(100);
+    saveShot(rig.window->plotTabs()->widget(i), "plot_scene_depth.png");
+    rig.window->plotTabs()->setCurrentIndex(0);
+  }
   rig.click(control->recordButton());
   ASSERT_TRUE(pumpUntil([&] { return rig.session->health() && !rig.session->health()->recording().active(); }));
   const std::string recorded = rig.session->health()->recording().file();
   EXPECT_TRUE(QFileInfo::exists(QString::fromStdString(recorded))) << recorded;
   EXPECT_GT(rig.session->health()->recording().messages(), 0u);
+  {
+    // The recording keeps the session's proxy (robot state) and what the XR app rendered with.
+    std::string error;
+    const auto reader = record::RecordingReader::open(recorded, &error);
+    ASSERT_TRUE(reader) << error;
+    std::size_t states_with_proxy = 0, batches_with_depth = 0;
+    record::RecordedSessionVisitor visitor;
+    visitor.message = [&](record::RecordedTopic topic, const record::McapMessageView& m) {
+      if (topic == record::RecordedTopic::kRobotState) {
+        link::proto::RobotState state;
+        if (state.ParseFromArray(m.data, int(m.size)) && state.depth_proxy() == link::proto::DEPTH_PROXY_RADIUS)
+          ++states_with_proxy;
+      } else if (topic == record::RecordedTopic::kXrTelemetry) {
+        link::proto::XrTelemetry t;
+        if (t.ParseFromArray(m.data, int(m.size)) && t.depth().proxy() == link::proto::DEPTH_PROXY_RADIUS &&
+            t.depth().radius_m_size() == 2 && t.depth().matched_fraction_size() == 2)
+          ++batches_with_depth;
+      }
+      return true;
+    };
+    ASSERT_TRUE(reader->forEach(visitor, &error)) << error;
+    EXPECT_GT(states_with_proxy, 0u);
+    EXPECT_GT(batches_with_depth, 0u);
+  }
   EXPECT_TRUE(pumpUntil([&] { return control->recordingText().startsWith("last: session-"); }))
       << control->recordingText().toStdString();
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 /// @brief TelemetryModel: every sample lands at its source time mapped into the console clock
 ///        (robot stamps by the console's offset, XR stamps through the XR app's offset too),
-///        stage latencies and speeds are computed right, lost and unsynced batches are counted,
+///        stage latencies and speeds are computed right, the media path's and the scene proxy's
+///        series land at their batch times, lost and unsynced batches are counted,
 ///        and ten minutes of telemetry at full rate (simulated) keep memory flat.
 #include <gtest/gtest.h>
 
@@ -226,6 +227,50 @@ TEST(TelemetryModel, TheMediaPathsSamplesAtTheirSendTimeAndTheReceiversCountsAsR
   ASSERT_EQ(repaired.size(), 2u);
   EXPECT_NEAR(repaired[1].t, 9.0, 1e-9);
   EXPECT_NEAR(repaired[1].v, 5.0, 1e-9);
+}
+
+TEST(TelemetryModel, TheScenesProxyRadiiAndDepthConfidenceAtTheBatchTime) {
+  SeriesStore store;
+  TelemetryModel model(store, 100 * kS);
+  const std::int64_t robot_to_console = 7 * kS, robot_to_xr = -3 * kS;  // xr 97 s = plot 7 s
+  EXPECT_FALSE(model.xrDepthProxy()) << "nothing before a batch says";
+  // The fixed sphere, no estimate yet: the radii only.
+  auto x = xrBatch(1, robot_to_xr);
+  auto* d = x.mutable_xr_telemetry()->mutable_depth();
+  d->set_t_ns(97 * kS);
+  d->set_proxy(link::proto::DEPTH_PROXY_FIXED);
+  d->add_radius_m(1.0);
+  d->add_radius_m(1.0);
+  d->set_estimate_age_ms(-1);
+  model.ingest(x, robot_to_console);
+  EXPECT_EQ(model.xrDepthProxy(), link::proto::DEPTH_PROXY_FIXED);
+  ASSERT_EQ(store.find(series::kDepthRadiusLeftM)->size(), 1u);
+  EXPECT_NEAR((*store.find(series::kDepthRadiusLeftM))[0].t, 7.0, 1e-9);
+  EXPECT_EQ(store.find(series::kDepthMatchedLeftPct)->size(), 0u) << "no estimate, no confidence";
+  EXPECT_EQ(store.find(series::kDepthAgeMs)->size(), 0u);
+  // The grid from the stereo depth: each eye's radius, the confidence in %, age and cost.
+  x = xrBatch(2, robot_to_xr);
+  d = x.mutable_xr_telemetry()->mutable_depth();
+  d->set_t_ns(97 * kS + 100 * kMs);
+  d->set_proxy(link::proto::DEPTH_PROXY_GRID);
+  d->add_radius_m(0.52);
+  d->add_radius_m(std::nan(""));  // a peer's nonsense is not plotted
+  d->add_matched_fraction(0.78);
+  d->add_matched_fraction(0.81);
+  d->set_estimate_age_ms(61.5);
+  d->set_sweep_ms(14.25);
+  model.ingest(x, robot_to_console);
+  EXPECT_EQ(model.xrDepthProxy(), link::proto::DEPTH_PROXY_GRID);
+  const auto last = [&](const char* name) { return store.find(name)->empty() ? -1.0 : (*store.find(name))[store.find(name)->size() - 1].v; };
+  EXPECT_DOUBLE_EQ(last(series::kDepthRadiusLeftM), 0.52);
+  EXPECT_EQ(store.find(series::kDepthRadiusRightM)->size(), 1u);
+  EXPECT_NEAR(last(series::kDepthMatchedLeftPct), 78.0, 1e-9);
+  EXPECT_NEAR(last(series::kDepthMatchedRightPct), 81.0, 1e-9);
+  EXPECT_DOUBLE_EQ(last(series::kDepthAgeMs), 61.5);
+  EXPECT_DOUBLE_EQ(last(series::kDepthSweepMs), 14.25);
+  EXPECT_NEAR((*store.find(series::kDepthAgeMs))[0].t, 7.1, 1e-9);
+  EXPECT_EQ(TelemetryModel::infoOf(series::kDepthRadiusLeftM).unit, "m");
+  EXPECT_EQ(TelemetryModel::infoOf(series::kDepthMatchedLeftPct).unit, "%");
 }
 
 TEST(TelemetryModel, CountsLostAndUnsyncedBatches) {

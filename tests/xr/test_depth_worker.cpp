@@ -100,11 +100,5 @@ TEST(DepthWorker, ACalibrationWithoutAStereoPairSaysWhy) {
   EXPECT_FALSE(worker.newest());
 }
 
-TEST(DepthProxyNames, RoundTrip) {
-  for (frame_loop::DepthProxy p : {frame_loop::DepthProxy::kFixed, frame_loop::DepthProxy::kRadius, frame_loop::DepthProxy::kGrid})
-    EXPECT_EQ(frame_loop::parseDepthProxy(frame_loop::depthProxyName(p)), p);
-  EXPECT_FALSE(frame_loop::parseDepthProxy("sphere"));
-}
-
 }  // namespace
 }  // namespace telesphere::xr

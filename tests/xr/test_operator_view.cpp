@@ -17,6 +17,7 @@
 #include "calib/system_calibration_yaml.h"
 #include "robot/link/link_pose.h"
 #include "robot/link/link_server.h"
+#include "robot/link/link_tap.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "xr/frame_loop/trial_indicator.h"
@@ -211,6 +212,94 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
     EXPECT_EQ(view_->settings().mode, link::VisualMode::kOrientation3d) << radius;
     EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0) << radius;
   }
+}
+
+/// The robot's end of the link, keeping the XR telemetry it receives.
+class XrTelemetryTap final : public link::LinkTap {
+ public:
+  void onLinkMessage(Direction direction, const link::proto::Envelope& envelope,
+                     const std::shared_ptr<const std::vector<std::uint8_t>>&,
+                     const std::shared_ptr<const std::vector<std::uint8_t>>&) override {
+    if (direction != Direction::kReceived || !envelope.has_xr_telemetry()) return;
+    std::lock_guard lock(mutex_);
+    latest_ = envelope.xr_telemetry();
+  }
+  std::optional<link::proto::XrTelemetry> latest() const {
+    std::lock_guard lock(mutex_);
+    return latest_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::optional<link::proto::XrTelemetry> latest_;
+};
+
+TEST_F(OperatorViewTest, TheSessionsSceneProxyIsFollowedAndTheOperatorsChoiceGoesToTheRobot) {
+  const auto tap = std::make_shared<XrTelemetryTap>();
+  server_->setTap(tap);
+  // No robot state yet: the operator's key changes the proxy here at once.
+  ASSERT_EQ(view_->depthProxy(), link::DepthProxy::kFixed);
+  view_->cycleDepthProxy();
+  EXPECT_EQ(view_->depthProxy(), link::DepthProxy::kRadius);
+  EXPECT_TRUE(requests().empty()) << "nothing to ask without a robot";
+
+  // A robot that holds no choice leaves the view's own.
+  link::proto::RobotState state;
+  state.set_sphere_radius(1.0);
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    return frame() && view_->client().latestRobotState();
+  }));
+  EXPECT_EQ(view_->depthProxy(), link::DepthProxy::kRadius);
+
+  // The session's choice is followed.
+  state.set_depth_proxy(link::proto::DEPTH_PROXY_GRID);
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    frame();
+    return view_->depthProxy() == link::DepthProxy::kGrid;
+  }));
+
+  // With a robot, the key asks it (the console and the recording see the choice); the view
+  // follows the robot's state, not the key.
+  view_->cycleDepthProxy();
+  ASSERT_TRUE(::telesphere::test::eventually([&] { return requests().size() == 1; }));
+  EXPECT_EQ(requests()[0].set_depth_proxy(), link::proto::DEPTH_PROXY_FIXED);
+  frame();
+  EXPECT_EQ(view_->depthProxy(), link::DepthProxy::kGrid) << "until the robot says so";
+  state.set_depth_proxy(link::proto::DEPTH_PROXY_FIXED);
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    frame();
+    return view_->depthProxy() == link::DepthProxy::kFixed;
+  }));
+
+  // A value this build does not know changes nothing.
+  state.set_depth_proxy(static_cast<link::proto::DepthProxyProto>(17));
+  state.set_t_ns(state.t_ns() + 1);
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    server_->publishRobotState(state);
+    const auto arrived = view_->client().latestRobotState();
+    return arrived && arrived->t_ns() == state.t_ns();
+  }));
+  frame();
+  EXPECT_EQ(view_->depthProxy(), link::DepthProxy::kFixed);
+
+  // The telemetry says what the eyes are rendered with: the fixed sphere of the session's radius,
+  // no estimate yet.
+  std::optional<link::proto::XrTelemetry> telemetry;
+  ASSERT_TRUE(::telesphere::test::eventually([&] {
+    shownFrame();
+    telemetry = tap->latest();
+    return telemetry && telemetry->has_depth();
+  }));
+  EXPECT_EQ(telemetry->depth().proxy(), link::proto::DEPTH_PROXY_FIXED);
+  ASSERT_EQ(telemetry->depth().radius_m_size(), 2);
+  EXPECT_DOUBLE_EQ(telemetry->depth().radius_m(0), 1.0);
+  EXPECT_DOUBLE_EQ(telemetry->depth().radius_m(1), 1.0);
+  EXPECT_EQ(telemetry->depth().matched_fraction_size(), 0);
+  EXPECT_LT(telemetry->depth().estimate_age_ms(), 0.0);
+  server_->setTap(nullptr);
 }
 
 TEST_F(OperatorViewTest, OperatorRequestsReachTheRobotClampedToItsRange) {

@@ -23,21 +23,6 @@ double threadCpuMs() {
 
 }  // namespace
 
-std::string_view depthProxyName(DepthProxy proxy) {
-  switch (proxy) {
-    case DepthProxy::kFixed: return "fixed";
-    case DepthProxy::kRadius: return "radius";
-    case DepthProxy::kGrid: return "grid";
-  }
-  return "?";
-}
-
-std::optional<DepthProxy> parseDepthProxy(std::string_view name) {
-  for (DepthProxy p : {DepthProxy::kFixed, DepthProxy::kRadius, DepthProxy::kGrid})
-    if (depthProxyName(p) == name) return p;
-  return std::nullopt;
-}
-
 /// Both cameras' sweeps for one image size (built on the worker thread when the size appears).
 struct DepthWorker::Sweeps {
   int source_width = 0, source_height = 0, factor = 1, width = 0, height = 0;

@@ -18,16 +18,12 @@
 #include <thread>
 
 #include "calib/system_calibration.h"
+#include "robot/link/depth_proxy.h"
 #include "xr/depth/inverse_depth_filter.h"
 #include "xr/depth/sphere_sweep.h"
 #include "xr/video/stereo_frame_decoder.h"
 
 namespace telesphere::xr::frame_loop {
-
-/// Which scene proxy the operator's renderer uses (DESIGN.md §11).
-enum class DepthProxy { kFixed, kRadius, kGrid };
-std::string_view depthProxyName(DepthProxy proxy);  ///< "fixed", "radius", "grid"
-std::optional<DepthProxy> parseDepthProxy(std::string_view name);
 
 struct DepthWorkerOptions {
   int working_width = 480;         ///< the luma planes are box-filtered by the integer nearest to width / this

@@ -41,7 +41,7 @@ struct OffscreenOperatorOptions {
   bool media_repair = true;  ///< OperatorViewOptions::media_repair
   bool head_targets_on_zmq = true;  ///< OperatorViewOptions::head_targets_on_zmq
   bool warn_insecure_link = false;  ///< OperatorViewOptions::warn_insecure_link
-  DepthProxy depth_proxy = DepthProxy::kFixed;  ///< OperatorViewOptions::depth_proxy (#35)
+  link::DepthProxy depth_proxy = link::DepthProxy::kFixed;  ///< OperatorViewOptions::depth_proxy (#35)
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

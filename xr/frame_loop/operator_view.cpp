@@ -51,7 +51,7 @@ OperatorView::OperatorView(const calib::SystemCalibration& calibration,
       frame_begin_ns_(link::linkNowNs()),
       last_new_frame_ns_(frame_begin_ns_),
       control_(client_) {
-  if (options.depth_proxy != DepthProxy::kFixed) depth_ = std::make_unique<DepthWorker>(calibration, options.depth);
+  if (options.depth_proxy != link::DepthProxy::kFixed) depth_ = std::make_unique<DepthWorker>(calibration, options.depth);
 }
 
 OperatorView::~OperatorView() = default;
@@ -100,6 +100,12 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
                    link::visualModeName(renderer_.settings().mode), renderer_.settings().radius);
       renderer_.setSettings(settings);
       ++stats_.settings_changes;
+    }
+    const auto proxy = link::fromProto(state->depth_proxy());  // nothing: nobody chose (the view's own)
+    if (proxy && *proxy != options_.depth_proxy) {
+      spdlog::info("operator view: scene proxy {} from the robot (was {})", link::depthProxyName(*proxy),
+                   link::depthProxyName(options_.depth_proxy));
+      switchDepthProxy(*proxy);
     }
   }
 
@@ -359,6 +365,7 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     telemetry_.set_visual_mode(link::toProto(renderer_.settings().mode));
     telemetry_.set_sphere_radius(renderer_.settings().radius);
     telemetry_.set_calibration_generation(stats_.calibration_generation);
+    fillDepthState(now, telemetry_.mutable_depth());
     if (media_) {
       const auto m = media_->stats();
       link::proto::MediaReceiveCounts* counts = telemetry_.mutable_media();
@@ -396,25 +403,49 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
   }
 }
 
-void OperatorView::setDepthProxy(DepthProxy proxy) {
+void OperatorView::setDepthProxy(link::DepthProxy proxy) {
   if (proxy == options_.depth_proxy) return;
-  spdlog::info("operator view: scene proxy {} (was {})", depthProxyName(proxy), depthProxyName(options_.depth_proxy));
+  spdlog::info("operator view: scene proxy {} (was {})", link::depthProxyName(proxy), link::depthProxyName(options_.depth_proxy));
+  switchDepthProxy(proxy);
+}
+
+void OperatorView::switchDepthProxy(link::DepthProxy proxy) {
   options_.depth_proxy = proxy;
-  if (proxy != DepthProxy::kFixed && !depth_) depth_ = std::make_unique<DepthWorker>(renderer_.calibration(), options_.depth);
+  if (proxy != link::DepthProxy::kFixed && !depth_) depth_ = std::make_unique<DepthWorker>(renderer_.calibration(), options_.depth);
   renderer_.setDepth(proxy, depth_ ? depth_->newest() : nullptr);
 }
 
-void OperatorView::cycleDepthProxy() {
-  switch (options_.depth_proxy) {
-    case DepthProxy::kFixed: return setDepthProxy(DepthProxy::kRadius);
-    case DepthProxy::kRadius: return setDepthProxy(DepthProxy::kGrid);
-    case DepthProxy::kGrid: return setDepthProxy(DepthProxy::kFixed);
-  }
+void OperatorView::requestDepthProxy(link::DepthProxy proxy) {
+  if (!options_.follow_robot_settings || !client_.latestRobotState()) return setDepthProxy(proxy);
+  link::proto::ControlRequest request;
+  request.set_set_depth_proxy(link::toProto(proxy));
+  sendControl(std::move(request), "set_depth_proxy " + std::string(link::depthProxyName(proxy)));
+}
+
+void OperatorView::fillDepthState(std::int64_t now_ns, link::proto::DepthProxyState* out) const {
+  out->Clear();
+  out->set_t_ns(now_ns);
+  out->set_proxy(link::toProto(options_.depth_proxy));
+  out->set_estimate_age_ms(-1.0);
+  const std::shared_ptr<const DepthEstimate>& estimate = renderer_.depth();  // the one in use
+  for (int i = 0; i < 2; ++i)
+    out->add_radius_m(options_.depth_proxy == link::DepthProxy::kFixed || !estimate ? renderer_.settings().radius
+                                                                                     : estimate->radius_m[i]);
+  if (!depth_) return;
+  const DepthWorkerStats stats = depth_->stats();
+  out->set_estimates(stats.estimated);
+  out->set_pairs_skipped(stats.skipped);
+  if (!estimate) return;
+  for (int i = 0; i < 2; ++i) out->add_matched_fraction(estimate->matched_fraction[i]);
+  const std::int64_t capture = client_.clock().serverToClient(estimate->capture_ns).value_or(estimate->capture_ns);
+  out->set_estimate_age_ms(double(now_ns - capture) * 1e-6);
+  out->set_sweep_ms(estimate->sweep_ms);
+  out->set_estimate_sequence(estimate->frame_sequence);
 }
 
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
-  out.depth_proxy = std::string(depthProxyName(options_.depth_proxy));
+  out.depth_proxy = std::string(link::depthProxyName(options_.depth_proxy));
   if (depth_) {
     const DepthWorkerStats depth = depth_->stats();
     out.depth_estimates = depth.estimated;

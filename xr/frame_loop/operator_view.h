@@ -3,8 +3,8 @@
 ///        comes from or where the eyes go (DESIGN.md §2–§4), shared by the OpenXR, desktop and
 ///        offscreen modes: the head pose at the predicted display time goes to the robot as the
 ///        head target (link clock, latest wins); the newest decoded stereo frame goes to the
-///        GPU; the robot's mode and sphere radius are followed live (the console changes them
-///        through the robot); the nominal mapping T_robot_vr comes from the robot once the
+///        GPU; the robot's mode, sphere radius and scene proxy are followed live (the console
+///        changes them through the robot); the nominal mapping T_robot_vr comes from the robot once the
 ///        nominal pose is captured (before that, a stand-in that puts the head at the left
 ///        camera); both eyes are rendered through it. Control requests (capture the nominal
 ///        pose, change mode or radius) are sent without blocking the frame loop.
@@ -12,7 +12,8 @@
 ///        Telemetry for the console (link XrTelemetry, batched every kTelemetryPeriodNs): one
 ///        sample per display frame with its head pose and display time, render time, missed
 ///        periods, the camera frame shown (all stage stamps on its first display) and Δs, the
-///        distance from the left eye to the left camera at capture time (paper Fig. 7).
+///        distance from the left eye to the left camera at capture time (paper Fig. 7); per batch
+///        the scene proxy in use with each eye's radius and the stereo depth's confidence and age.
 ///
 ///        Frames whose camera pose was not measured (link pose_source FIXED_CALIBRATION: the
 ///        robot had no joint state for the capture time, e.g. the arm's report stream is
@@ -86,7 +87,7 @@ struct OperatorViewOptions {
   LinkStateOptions link_state;
   /// The scene proxy (#35): fixed (the sphere of render.radius, as the robot sets it), or one
   /// radius or the grid from the stereo pair's depth (a DepthWorker beside the loop).
-  DepthProxy depth_proxy = DepthProxy::kFixed;
+  link::DepthProxy depth_proxy = link::DepthProxy::kFixed;
   DepthWorkerOptions depth;
 };
 
@@ -173,10 +174,14 @@ class OperatorView final : public OperatorScene {
   /// link's accepted range (robot/link/sphere_radius.h).
   void requestNextMode() { requestMode(link::nextVisualMode(settings().mode)); }
   /// The scene proxy, live (#35): a depth worker starts with the first proxy that needs depth and
-  /// stays. The operator's key cycles fixed → radius → grid.
-  void setDepthProxy(DepthProxy proxy);
-  void cycleDepthProxy();
-  DepthProxy depthProxy() const { return options_.depth_proxy; }
+  /// stays. setDepthProxy changes it here at once. The session's choice is the robot's (its state,
+  /// followed like the mode, once somebody chose one: the console, the operator's key, the robot's
+  /// --depth-proxy); requestDepthProxy asks the robot for it when one is heard (so the console and
+  /// the recording see it), else changes it here. The operator's key cycles fixed → radius → grid.
+  void setDepthProxy(link::DepthProxy proxy);
+  void requestDepthProxy(link::DepthProxy proxy);
+  void cycleDepthProxy() { requestDepthProxy(link::nextDepthProxy(options_.depth_proxy)); }
+  link::DepthProxy depthProxy() const { return options_.depth_proxy; }
   void requestRadiusScaled(double factor);
 
   /// The newest decoded frame is on the GPU (anything to show).
@@ -217,6 +222,10 @@ class OperatorView final : public OperatorScene {
 
  private:
   void sendControl(link::proto::ControlRequest request, std::string what);
+  /// setDepthProxy without its log line (the caller says why).
+  void switchDepthProxy(link::DepthProxy proxy);
+  /// The scene proxy in use and the depth behind it, for a telemetry batch at `now_ns` (link clock).
+  void fillDepthState(std::int64_t now_ns, link::proto::DepthProxyState* out) const;
   /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
   std::shared_ptr<const video::DecodedStereoFrame> frameToShow();
   /// Asks for the robot's calibration when its state names one this view does not render with.

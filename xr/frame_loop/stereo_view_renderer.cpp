@@ -89,8 +89,8 @@ bool StereoViewRenderer::renderEye(int eye, const Eigen::Isometry3d& T_robot_vr,
 
 render::RenderSettings StereoViewRenderer::settingsForEye(int eye) const {
   render::RenderSettings settings = settings_;
-  if (!depth_ || depth_proxy_ == DepthProxy::kFixed || eye < 0 || eye > 1) return settings;
-  if (depth_proxy_ == DepthProxy::kGrid && settings.path != render::RenderPath::kMesh) {
+  if (!depth_ || depth_proxy_ == link::DepthProxy::kFixed || eye < 0 || eye > 1) return settings;
+  if (depth_proxy_ == link::DepthProxy::kGrid && settings.path != render::RenderPath::kMesh) {
     settings.depth_grid = depth_->grid[eye];
   } else {
     settings.radius = depth_->radius_m[eye];

@@ -80,11 +80,13 @@ class StereoViewRenderer {
   /// The scene proxy (#35) and the depth it takes: with kRadius each eye's sphere has its camera's
   /// estimated radius, with kGrid each eye meets its camera's grid (the mesh path, which cannot,
   /// takes the radius). kFixed, or no estimate yet: settings().radius.
-  void setDepth(DepthProxy proxy, std::shared_ptr<const DepthEstimate> estimate) {
+  void setDepth(link::DepthProxy proxy, std::shared_ptr<const DepthEstimate> estimate) {
     depth_proxy_ = proxy;
     depth_ = std::move(estimate);
   }
-  DepthProxy depthProxy() const { return depth_proxy_; }
+  link::DepthProxy depthProxy() const { return depth_proxy_; }
+  /// The estimate the eyes are rendered with (null: none yet, or the fixed proxy's worker not started).
+  const std::shared_ptr<const DepthEstimate>& depth() const { return depth_; }
   /// settings() with eye `eye`'s depth applied (what renderEye and renderProjectionMap use).
   render::RenderSettings settingsForEye(int eye) const;
 
@@ -101,7 +103,7 @@ class StereoViewRenderer {
   render::UploadRing ring_;  ///< first: destroyed after the frame and cameras that use its slots
   calib::SystemCalibration calibration_;
   render::RenderSettings settings_;
-  DepthProxy depth_proxy_ = DepthProxy::kFixed;
+  link::DepthProxy depth_proxy_ = link::DepthProxy::kFixed;
   std::shared_ptr<const DepthEstimate> depth_;
   render::SphericalRenderer renderer_;
   std::array<std::unique_ptr<render::GpuCamera>, 2> cameras_;

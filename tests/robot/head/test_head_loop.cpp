@@ -171,6 +171,19 @@ TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
   EXPECT_TRUE(rig.request(radius).ok());
   EXPECT_FALSE(rig.request(link::proto::ControlRequest{}).ok());
 
+  // The scene proxy: nobody chose one at first (each XR app keeps its own); then the session's.
+  link::proto::ControlRequest proxy;
+  proxy.set_get_settings(true);
+  EXPECT_EQ(rig.request(proxy).settings().depth_proxy(), link::proto::DEPTH_PROXY_UNSPECIFIED);
+  proxy.set_set_depth_proxy(link::proto::DEPTH_PROXY_UNSPECIFIED);
+  const auto bad_proxy = rig.request(proxy);
+  EXPECT_FALSE(bad_proxy.ok());
+  EXPECT_NE(bad_proxy.error().find("unknown scene proxy"), std::string::npos) << bad_proxy.error();
+  proxy.set_set_depth_proxy(link::proto::DEPTH_PROXY_GRID);
+  const auto grid = rig.request(proxy);
+  EXPECT_TRUE(grid.ok()) << grid.error();
+  EXPECT_EQ(grid.settings().depth_proxy(), link::proto::DEPTH_PROXY_GRID);
+
   // A SUB joins late: keep ticking until a state arrives.
   ASSERT_TRUE(eventually([&] {
     rig.step();
@@ -179,6 +192,7 @@ TEST(HeadLoop, RobotStateReachesTheClientAndControlRequestsAreChecked) {
   }));
   const auto state = *rig.client->latestRobotState();
   EXPECT_EQ(state.visual_mode(), link::proto::VISUAL_MODE_ORIENTATION3D);
+  EXPECT_EQ(state.depth_proxy(), link::proto::DEPTH_PROXY_GRID);
   EXPECT_EQ(state.joint_positions_size(), 6);
   EXPECT_TRUE(state.arm_ok());
   EXPECT_NEAR(state.joint_positions(1), -0.3, 0.01);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-/// @brief The link's one visual-mode and one chroma enum: names round trip, the operator's mode
-///        cycle visits all three, every value maps to its proto value and back, and what the
+/// @brief The link's visual-mode, depth-proxy and chroma enums: names round trip, the operator's mode
+///        and proxy cycles visit all three, every value maps to its proto value and back, and what the
 ///        proto may carry that we do not know (UNSPECIFIED, a newer peer's value) maps to nothing;
 ///        the sphere radius range at and beyond its ends.
 #include <gtest/gtest.h>
@@ -31,6 +31,24 @@ TEST(LinkEnums, VisualModeNamesCycleAndProtoRoundTrip) {
   EXPECT_FALSE(parseVisualMode(""));
   EXPECT_FALSE(fromProto(proto::VISUAL_MODE_UNSPECIFIED));
   EXPECT_FALSE(fromProto(static_cast<proto::VisualMode>(17)));
+}
+
+TEST(LinkEnums, DepthProxyNamesCycleAndProtoRoundTrip) {
+  std::set<std::string_view> names;
+  DepthProxy p = DepthProxy::kFixed;
+  for (int i = 0; i < 3; ++i) {
+    names.insert(depthProxyName(p));
+    EXPECT_EQ(parseDepthProxy(depthProxyName(p)), p);
+    EXPECT_EQ(fromProto(toProto(p)), p);
+    EXPECT_NE(toProto(p), proto::DEPTH_PROXY_UNSPECIFIED);
+    p = nextDepthProxy(p);
+  }
+  EXPECT_EQ(p, DepthProxy::kFixed) << "the cycle returns after three";
+  EXPECT_EQ(names, (std::set<std::string_view>{"fixed", "radius", "grid"}));
+  EXPECT_FALSE(parseDepthProxy("sphere"));
+  EXPECT_FALSE(parseDepthProxy(""));
+  EXPECT_FALSE(fromProto(proto::DEPTH_PROXY_UNSPECIFIED)) << "unspecified: nobody chose, not fixed";
+  EXPECT_FALSE(fromProto(static_cast<proto::DepthProxyProto>(17)));
 }
 
 TEST(LinkEnums, ChromaProtoRoundTrip) {
