@@ -42,7 +42,7 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
   c->add_option("--depth-proxy", o.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise")
+                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot (a replay: the recording) says otherwise")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
@@ -101,6 +101,7 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
   options.duration_s = std::max(0.0, o.duration_s);
   options.png_dir = o.out_dir;
   options.png_every_frames = o.png_every;
+  options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);  // until the recording says otherwise
   // A progress line on stderr every 5 s of wall time: offline rendering of a long 4K session takes a while.
   auto last_progress = std::chrono::steady_clock::now();
   options.progress = [&](double rendered_s, double total_s) {

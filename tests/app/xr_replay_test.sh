@@ -11,7 +11,9 @@
 #        calibration it used; its log times are on UTC (the metadata names the offset). And the
 #        replay shows what the operator saw (issue #30): every PNG of the live run, rendered again
 #        from the recording with the camera frame and head pose the live run logged for it
-#        (views.csv), is byte-equal to the live one.
+#        (views.csv), is byte-equal to the live one. A second operator session with the depth
+#        grid (#35) is followed by the replay, its depth measured again from the recorded pairs,
+#        the same in both replays.
 # Usage: xr_replay_test.sh BIN_DIR SOURCE_DIR PORT
 set -euo pipefail
 bin=$1 src=$2 port=$3
@@ -29,6 +31,10 @@ calib="$src/calib/data/sim_calibration.yaml"
 robot=$!
 "$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 4 \
   --wait 60 --png-every 10 --out "$out/live" > "$out/live.txt" || fail "live telesphere-xr offscreen exited with $?"
+# A second operator session with the depth grid (#35): the replay follows the proxy the operator's
+# eyes had (the recorded XR telemetry) and measures its depth again from the recorded pairs.
+"$bin/telesphere-xr" offscreen --insecure --calib "$calib" --port "$port" --eye-size 160x176 --rate 30 --duration 3 \
+  --wait 60 --depth-proxy grid --out "$out/live_grid" > "$out/live_grid.txt" || fail "live telesphere-xr offscreen --depth-proxy grid exited with $?"
 kill -INT "$robot"
 rc=0
 wait "$robot" || rc=$?
@@ -65,6 +71,13 @@ heads=$(json "$out/first/stats.json" head_targets)
 [ "$recorded" -ge 30 ] && [ $((shown + replaced)) -eq "$recorded" ] && [ $((shown * 10)) -ge $((recorded * 9)) ] ||
   fail "$shown of $recorded recorded frames shown, $replaced replaced unshown"
 [ "$heads" -ge 60 ] || fail "only $heads recorded head targets taken"
+# The grid session: followed from its telemetry, its depth swept from the recorded pairs (the PNGs
+# above, equal in both replays, include it).
+grep -q '"depth_proxy": "grid"' "$out/first/stats.json" || { cat "$out/first.txt"; fail "the replay did not follow the recorded grid"; }
+estimates=$(json "$out/first/stats.json" depth_estimates)
+[ "$estimates" -ge 10 ] || fail "only $estimates depth estimates from the recorded grid session's pairs"
+grep -q "| scene proxy; depth estimates (pairs skipped); last sweep ms; left radius m; tiles matched | grid; " "$out/first.txt" ||
+  { cat "$out/first.txt"; fail "the replay's table does not name the grid"; }
 
 # Its own calibration (attached when it began): the same pictures without --calib, and it says so.
 replay own

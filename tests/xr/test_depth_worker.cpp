@@ -2,9 +2,11 @@
 /// @brief DepthWorker on decoded pairs of a rendered room with a box 0.5 m ahead, at a size that
 ///        the box filter does not divide (970 × 545, filtered by 2 with the last column and row
 ///        dropped): both cameras' radii find the box, the grids are published, a pair of the same
-///        sequence is ignored, a calibration without a stereo pair says why.
+///        sequence is ignored; on the caller's thread (the replay) the estimate is there at once and
+///        the same pairs give the same grids; a calibration without a stereo pair says why.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -81,6 +83,30 @@ TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
     EXPECT_TRUE(std::isfinite(estimate->grid[i]->sample({0, 0, -1})));
   }
   EXPECT_GT(estimate->sweep_ms, 0.0);
+
+  // On the caller's thread (the offline replay): the estimate is there when offer returns, and
+  // two workers given the same pairs give the same grids to the bit.
+  frame_loop::DepthWorkerOptions inline_options;
+  inline_options.on_caller_thread = true;
+  frame_loop::DepthWorker a(rig(), inline_options), b(rig(), inline_options);
+  for (std::uint64_t sequence : {8u, 9u}) {
+    auto next = std::make_shared<video::DecodedStereoFrame>(*pair);
+    next->frame.set_sequence(sequence);
+    next->frame.mutable_stamps()->set_capture_ns(std::int64_t(sequence) * 100'000'000);
+    a.offer(next);
+    ASSERT_TRUE(a.newest()) << a.stats().last_error;
+    EXPECT_EQ(a.newest()->frame_sequence, sequence);
+    b.offer(next);
+  }
+  EXPECT_EQ(a.stats().estimated, 2u);
+  EXPECT_EQ(a.stats().skipped, 0u);
+  for (int i = 0; i < 2; ++i) {
+    const render::InverseDepthGrid &ga = *a.newest()->grid[i], &gb = *b.newest()->grid[i];
+    ASSERT_EQ(ga.rows() * ga.cols(), gb.rows() * gb.cols());
+    EXPECT_TRUE(std::equal(ga.data(), ga.data() + ga.rows() * ga.cols(), gb.data()));
+    EXPECT_EQ(a.newest()->radius_m[i], b.newest()->radius_m[i]);
+    EXPECT_NEAR(a.newest()->radius_m[i], estimate->radius_m[i], 0.01);
+  }
 }
 
 TEST(DepthWorker, ACalibrationWithoutAStereoPairSaysWhy) {

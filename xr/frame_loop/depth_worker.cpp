@@ -32,8 +32,9 @@ struct DepthWorker::Sweeps {
 DepthWorker::DepthWorker(calib::SystemCalibration calibration, DepthWorkerOptions options)
     : calibration_(std::move(calibration)),
       options_(options),
-      filters_{depth::InverseDepthFilter(options.filter), depth::InverseDepthFilter(options.filter)},
-      thread_([this] { run(); }) {}
+      filters_{depth::InverseDepthFilter(options.filter), depth::InverseDepthFilter(options.filter)} {
+  if (!options_.on_caller_thread) thread_ = std::thread([this] { run(); });
+}
 
 DepthWorker::~DepthWorker() {
   {
@@ -41,7 +42,7 @@ DepthWorker::~DepthWorker() {
     quit_ = true;
   }
   wake_.notify_all();
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
 }
 
 void DepthWorker::offer(std::shared_ptr<const video::DecodedStereoFrame> frame) {
@@ -55,8 +56,19 @@ void DepthWorker::offer(std::shared_ptr<const video::DecodedStereoFrame> frame) 
     any_offered_ = true;
     last_sequence_ = sequence;
     ++stats_.offered;
-    if (pending_) ++stats_.skipped;
-    pending_ = std::move(frame);
+    if (options_.on_caller_thread) {
+      pending_.reset();
+    } else {
+      if (pending_) ++stats_.skipped;
+      pending_ = std::move(frame);
+    }
+  }
+  if (options_.on_caller_thread) {
+    std::string error;
+    const bool ok = estimate(*frame, &error);
+    std::lock_guard lock(mutex_);
+    stats_.last_error = ok ? std::string() : error;
+    return;
   }
   wake_.notify_one();
 }

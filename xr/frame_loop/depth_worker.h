@@ -30,6 +30,9 @@ struct DepthWorkerOptions {
   double centre_sigma_deg = 5.0;   ///< the radius's centre weighting about each camera's optical axis
   depth::SphereSweepOptions sweep;
   depth::InverseDepthFilterOptions filter;
+  /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
+  /// returns (the offline replay: the same estimates run after run); no thread of its own.
+  bool on_caller_thread = false;
 };
 
 /// One published estimate: per camera (0 left, 1 right) its filtered grid and radius.
@@ -59,7 +62,7 @@ class DepthWorker {
   DepthWorker& operator=(const DepthWorker&) = delete;
 
   /// Hands the worker a new pair (any thread, never blocks; a pair of the sequence offered last is
-  /// ignored).
+  /// ignored). With on_caller_thread: sweeps it before returning.
   void offer(std::shared_ptr<const video::DecodedStereoFrame> frame);
   /// The newest estimate, null before the first.
   std::shared_ptr<const DepthEstimate> newest() const;

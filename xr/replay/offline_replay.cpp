@@ -99,7 +99,8 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
              std::to_string(options.display.eye_height) + " render targets";
     return std::nullopt;
   }
-  RecordedView view(calibration, options.render, options.follow_recorded_settings, !given, first_generation);
+  RecordedView view(calibration, options.render, options.follow_recorded_settings, !given, first_generation,
+                    options.depth_proxy, options.depth);
   frame_loop::OperatorLoop loop(view, output);
   OfflineReplayStats stats;
 
@@ -191,6 +192,9 @@ std::optional<OfflineReplayStats> runOfflineReplay(const std::optional<calib::Sy
         view.takeState(state);
         taken_since_drawn = true;
       }
+    } else if (topic == record::RecordedTopic::kXrTelemetry) {
+      link::proto::XrTelemetry telemetry;
+      if (telemetry.ParseFromArray(m.data, static_cast<int>(m.size))) view.takeXrTelemetry(telemetry);
     } else if (topic == record::RecordedTopic::kHeadTarget && recorded_head) {
       link::proto::HeadTarget target;
       if (target.ParseFromArray(m.data, static_cast<int>(m.size)) && target.valid()) {

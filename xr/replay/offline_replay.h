@@ -5,7 +5,8 @@
 ///        the recording's time line (its log times, the robot's clock), starting at the first
 ///        stereo frame; each display frame shows what was logged up to its start — the newest
 ///        frame (decoded then, synchronously), the newest robot state (mode, radius, nominal
-///        mapping, trial) and, for the head, the newest recorded head target (what the operator's
+///        mapping, trial), the scene proxy the operator's eyes had (its depth measured again from
+///        the recorded pairs, recorded_view.h) and, for the head, the newest recorded head target (what the operator's
 ///        headset sent) or a head trajectory given instead. Each frame is rendered with the
 ///        calibration the robot used for it, as the recording attached it, unless one is given
 ///        to override them. The one operator frame loop (OperatorLoop, OffscreenOutput) draws it
@@ -33,7 +34,10 @@ struct OfflineReplayOptions {
   std::string recording;       ///< the MCAP file
   frame_loop::PacedOutputOptions display;  ///< display rate, eye size and field of view, ipd
   render::RenderSettings render;       ///< until a recorded state says otherwise
-  bool follow_recorded_settings = true;  ///< the recorded mode and radius (off: `render`'s stay)
+  bool follow_recorded_settings = true;  ///< the recorded mode, radius and scene proxy (off: `render`'s and `depth_proxy` stay)
+  /// The scene proxy until the recording says otherwise (#35), and its stereo depth's settings.
+  link::DepthProxy depth_proxy = link::DepthProxy::kFixed;
+  frame_loop::DepthWorkerOptions depth;
   /// Head poses from this trajectory (time from the first frame) instead of the recorded head targets.
   std::optional<frame_loop::HeadTrajectory> trajectory;
   bool loop_trajectory = true;

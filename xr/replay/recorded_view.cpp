@@ -43,10 +43,13 @@ std::shared_ptr<const video::DecodedStereoFrame> decodePair(video::JpegDecoder& 
 
 RecordedView::RecordedView(const calib::SystemCalibration& calibration, const render::RenderSettings& render,
                            bool follow_recorded_settings, bool follow_recorded_calibrations,
-                           std::uint64_t calibration_generation)
+                           std::uint64_t calibration_generation, link::DepthProxy depth_proxy,
+                           const frame_loop::DepthWorkerOptions& depth)
     : renderer_(calibration, render, 0),
       follow_settings_(follow_recorded_settings),
-      follow_calibrations_(follow_recorded_calibrations) {
+      follow_calibrations_(follow_recorded_calibrations),
+      depth_proxy_(depth_proxy),
+      depth_options_(depth) {
   stats_.calibration_generation = calibration_generation;
 }
 
@@ -116,6 +119,34 @@ std::shared_ptr<const video::DecodedStereoFrame> RecordedView::decodeVideoPair(r
 }
 
 bool RecordedView::beginFrame(const Eigen::Isometry3d&, std::int64_t, bool, std::string* error) {
+  if (!takePending(error)) return false;
+  followDepthProxy();
+  return true;
+}
+
+void RecordedView::followDepthProxy() {
+  // What the operator's eyes had (the XR app's telemetry), else the session's choice.
+  std::optional<link::DepthProxy> recorded = xr_depth_proxy_;
+  if (!recorded && state_) recorded = link::fromProto(state_->depth_proxy());
+  if (follow_settings_ && recorded && *recorded != depth_proxy_) {
+    depth_proxy_ = *recorded;
+    ++stats_.settings_changes;
+  }
+  if (depth_proxy_ != link::DepthProxy::kFixed && !depth_) {
+    frame_loop::DepthWorkerOptions options = depth_options_;
+    options.on_caller_thread = true;  // the same estimates run after run
+    depth_ = std::make_unique<frame_loop::DepthWorker>(renderer_.calibration(), options);
+  }
+  if (depth_) depth_->offer(renderer_.frame());  // each pair swept once, when it is first shown
+  renderer_.setDepth(depth_proxy_, depth_ ? depth_->newest() : nullptr);
+}
+
+void RecordedView::takeXrTelemetry(const link::proto::XrTelemetry& telemetry) {
+  if (!telemetry.has_depth()) return;
+  if (const auto proxy = link::fromProto(telemetry.depth().proxy())) xr_depth_proxy_ = proxy;
+}
+
+bool RecordedView::takePending(std::string* error) {
   if (state_ && state_->nominal_set()) {
     T_robot_vr_ = link::fromLinkPose(state_->t_robot_vr());
     stats_.nominal_from_robot = true;
@@ -156,6 +187,8 @@ bool RecordedView::show(const std::shared_ptr<const video::DecodedStereoFrame>& 
     const auto it = calibrations_.find(generation);
     if (it != calibrations_.end()) {
       if (!renderer_.setCalibration(it->second, error)) return false;
+      depth_.reset();  // the sweep's sample positions follow the calibration; the old depth goes with it
+      renderer_.setDepth(depth_proxy_, nullptr);
       if (stats_.calibration_generation != 0) ++stats_.calibration_changes;
       stats_.calibration_generation = generation;
     }
@@ -217,6 +250,16 @@ frame_loop::OperatorViewStats RecordedView::stats() const {
   out.decode_ms_p50 = decode.p50_ms;
   out.video_codec = video_[0] ? link::videoCodecName(video_[0]->codec()) : "mjpeg";
   out.frames_awaiting_key_frame = awaiting_key_frame_;
+  out.depth_proxy = std::string(link::depthProxyName(depth_proxy_));
+  if (depth_) {
+    const frame_loop::DepthWorkerStats depth = depth_->stats();
+    out.depth_estimates = depth.estimated;
+    out.depth_sweep_ms = depth.last_sweep_ms;
+    if (const auto estimate = depth_->newest()) {
+      out.depth_radius_left_m = estimate->radius_m[0];
+      out.depth_matched_fraction = estimate->matched_fraction[0];
+    }
+  }
   return out;
 }
 

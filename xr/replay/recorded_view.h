@@ -18,8 +18,16 @@
 ///        frame needs the one before it); the newest decoded pair is shown. A gap in the sequence
 ///        (a recording begun part way, frames the robot never logged) waits for the next key frame.
 ///
+///        Scene proxy (#35): the one the operator's eyes had, as the XR app's telemetry recorded
+///        it (else the session's choice in the robot state); its stereo depth is measured again
+///        from the recorded pairs by the same sweep and filter, on the render thread, each pair
+///        once when it is first shown, so every run gives the same grids and radii.
+///
 ///        Not replayed: the live view's holding of the last measured frame while unmeasured ones
-///        arrive (frames without measured camera poses are shown dimmed at once).
+///        arrive (frames without measured camera poses are shown dimmed at once); the live depth's
+///        age (live, the eyes use the newest estimate while the shown pair's own is swept, 13–20 ms;
+///        the replay uses the shown pair's own) and the pairs the live worker skipped (the replay
+///        sweeps every pair it shows, so its filter has more samples).
 #pragma once
 
 #include <Eigen/Geometry>
@@ -42,8 +50,10 @@ namespace telesphere::xr::replay {
 class RecordedView final : public frame_loop::OperatorScene {
  public:
   /// `render` holds until a recorded state says otherwise (follow_recorded_settings).
+  /// `depth_proxy` too, until the recording says otherwise; `depth` configures its stereo depth.
   RecordedView(const calib::SystemCalibration& calibration, const render::RenderSettings& render, bool follow_recorded_settings,
-               bool follow_recorded_calibrations = false, std::uint64_t calibration_generation = 0);
+               bool follow_recorded_calibrations = false, std::uint64_t calibration_generation = 0,
+               link::DepthProxy depth_proxy = link::DepthProxy::kFixed, const frame_loop::DepthWorkerOptions& depth = {});
 
   /// A calibration the recording attached (kept by generation for the frames stamped with it).
   /// False with the reason when its text is not a two-camera calibration.
@@ -52,6 +62,8 @@ class RecordedView final : public frame_loop::OperatorScene {
   /// The newest frame logged so far (replaces one not yet shown) / the newest robot state.
   void takeFrame(record::RecordedFrame&& frame);
   void takeState(const link::proto::RobotState& state) { state_ = state; }
+  /// The XR app's telemetry batch as recorded: the scene proxy its eyes had.
+  void takeXrTelemetry(const link::proto::XrTelemetry& telemetry);
   /// The link's cues a live view showed (views.csv): the image's saturation and the overlay,
   /// drawn again over the next frames' eyes so the replay gives the live run's pixels.
   void setLinkCues(const frame_loop::LinkState& state, float image_saturation);
@@ -84,6 +96,15 @@ class RecordedView final : public frame_loop::OperatorScene {
   std::shared_ptr<const video::DecodedStereoFrame> decodeVideoPair(record::RecordedFrame& frame, link::VideoCodec codec);
   /// The decoded pair on the GPU, with its calibration, gain and counts.
   bool show(const std::shared_ptr<const video::DecodedStereoFrame>& decoded, std::string* error);
+  /// The recorded state's nominal mapping and settings, the newest frame taken decoded and shown.
+  bool takePending(std::string* error);
+  /// The recorded scene proxy followed; the pair on show swept (once) when it needs depth.
+  void followDepthProxy();
+
+  link::DepthProxy depth_proxy_;
+  frame_loop::DepthWorkerOptions depth_options_;
+  std::unique_ptr<frame_loop::DepthWorker> depth_;  ///< on this thread; null until a proxy needs depth
+  std::optional<link::DepthProxy> xr_depth_proxy_;  ///< from the newest recorded XR batch that says
 
   video::JpegDecoder decoder_;
   std::unique_ptr<video::VideoStreamDecoder> video_[2];  ///< H.264/HEVC, per camera (made with the first frame)
