@@ -1,27 +1,15 @@
 // SPDX-License-Identifier: MIT
-/// @brief The sphere sweep: sample tables at construction, correlation per tile and hypothesis per
+/// @brief The sphere sweep: sample tables (bilinear taps) at construction, correlation per tile and hypothesis per
 ///        frame, then holes filled and a 3×3 median.
 #include "xr/depth/sphere_sweep.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace telesphere::xr::depth {
 namespace {
-
-/// Bilinear grey value at pixel position p (pixel centres at integers); p is inside
-/// [0, w − 1] × [0, h − 1] (checked when the tables are built).
-inline float sampleGrey(const GreyImage& image, const Eigen::Vector2f& p) {
-  const int x0 = std::min(static_cast<int>(p.x()), image.width - 2);
-  const int y0 = std::min(static_cast<int>(p.y()), image.height - 2);
-  const float fx = p.x() - static_cast<float>(x0), fy = p.y() - static_cast<float>(y0);
-  const std::uint8_t* row0 = image.pixels + static_cast<std::ptrdiff_t>(y0) * image.stride + x0;
-  const std::uint8_t* row1 = row0 + image.stride;
-  const float top = row0[0] + fx * (row0[1] - row0[0]);
-  const float bottom = row1[0] + fx * (row1[1] - row1[0]);
-  return top + fy * (bottom - top);
-}
 
 bool inside(const Eigen::Vector2d& px, int width, int height) {
   return px.x() >= 0.0 && px.y() >= 0.0 && px.x() <= width - 1.0 && px.y() <= height - 1.0;
@@ -49,8 +37,10 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
   const Eigen::Matrix3d R = T_other_reference.linear();
   const Eigen::Vector3d t = T_other_reference.translation();
   const int n = options_.samples_per_side;
+  if (std::max({reference_width, reference_height, other_width, other_height}) > 65536)
+    throw std::invalid_argument("sphere sweep: images wider or higher than 65536 px");
   std::vector<Eigen::Vector3d> directions(samples_);
-  std::vector<Eigen::Vector2f> reference_px(samples_);
+  std::vector<BilinearTap> reference_px(samples_);
   for (int row = 0; row < grid.rows(); ++row)
     for (int col = 0; col < grid.cols(); ++col) {
       bool seen = true;
@@ -60,7 +50,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
           directions[s] = grid.direction(row + (i + 0.5) / n, col + (j + 0.5) / n);
           Eigen::Vector2d px;
           seen = reference.project(directions[s], px) && inside(px, reference_width, reference_height);
-          reference_px[s] = px.cast<float>();
+          if (seen) reference_px[s] = bilinearTap(px, reference_width, reference_height);
         }
       if (!seen) continue;
       Tile tile;
@@ -77,7 +67,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
           // The point at depth 1/ρ along d, in the other camera, up to its positive scale 1/ρ.
           const bool ok = other.project(R * directions[s] + rho * t, px) && inside(px, other_width, other_height);
           if (!ok) tile.usable[k] = false;
-          other_px_.push_back(ok ? px.cast<float>() : Eigen::Vector2f(0, 0));
+          other_px_.push_back(ok ? bilinearTap(px, other_width, other_height) : BilinearTap{});
         }
         any = any || tile.usable[k];
       }
@@ -95,7 +85,7 @@ double SphereSweep::hypothesis(int k) const {
 }
 
 std::size_t SphereSweep::tableBytes() const {
-  return (reference_px_.size() + other_px_.size()) * sizeof(Eigen::Vector2f);
+  return (reference_px_.size() + other_px_.size()) * sizeof(BilinearTap);
 }
 
 SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other) const {
@@ -114,7 +104,7 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
   for (const Tile& tile : tiles_) {
     float sum_a = 0, sum_aa = 0;
     for (int s = 0; s < samples_; ++s) {
-      a[s] = sampleGrey(reference, reference_px_[tile.first + s]);
+      a[s] = tapGrey(reference.pixels, reference.stride, reference_px_[tile.first + s]);
       sum_a += a[s];
     }
     const float mean_a = sum_a * inv_n;
@@ -127,10 +117,10 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
     for (int k = 0; k < options_.hypotheses; ++k) {
       cost[k] = std::numeric_limits<float>::infinity();
       if (!tile.usable[k]) continue;
-      const Eigen::Vector2f* q = &other_px_[tile.other + static_cast<std::size_t>(k) * samples_];
+      const BilinearTap* q = &other_px_[tile.other + static_cast<std::size_t>(k) * samples_];
       float sum_b = 0, sum_bb = 0, sum_ab = 0;
       for (int s = 0; s < samples_; ++s) {
-        const float b = sampleGrey(other, q[s]);
+        const float b = tapGrey(other.pixels, other.stride, q[s]);
         sum_b += b;
         sum_bb += b * b;
         sum_ab += a[s] * b;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)

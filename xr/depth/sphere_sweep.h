@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "calib/generic_camera.h"
+#include "xr/depth/bilinear_tap.h"
 #include "xr/render/depth_proxy.h"
 
 namespace telesphere::xr::depth {
@@ -78,8 +79,8 @@ class SphereSweep {
   int reference_width_, reference_height_, other_width_, other_height_;
   int samples_ = 0;  ///< per tile
   std::vector<Tile> tiles_;
-  std::vector<Eigen::Vector2f> reference_px_;
-  std::vector<Eigen::Vector2f> other_px_;  ///< per tile: hypothesis-major, then sample
+  std::vector<BilinearTap> reference_px_;
+  std::vector<BilinearTap> other_px_;  ///< per tile: hypothesis-major, then sample
 };
 
 /// Fills tiles of confidence 0 from the median of their confident 8-neighbours, repeatedly, then
