@@ -727,6 +727,12 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     xr::depth::SphereSweepOptions options;
   };
   std::vector<Setting> settings = {{"5x5 samples, 48 depths, 4 deg (default)", sweep_options}};
+  {
+    // The same sweep summing one sample at a time (the reference the AVX2 sums are checked against).
+    xr::depth::SphereSweepOptions scalar = sweep_options;
+    scalar.simd = false;
+    settings.push_back({"as default, one sample at a time (no AVX2)", scalar});
+  }
   const auto variant = [&](const std::string& name, int side, int hypotheses, double tile) {
     xr::depth::SphereSweepOptions o = sweep_options;
     o.samples_per_side = side;
@@ -761,6 +767,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
                          {"samples_per_side", setting.options.samples_per_side},
                          {"hypotheses", setting.options.hypotheses},
                          {"tile_deg", setting.options.tile_deg},
+                         {"simd", setting.options.simd && xr::depth::patchSumsSimdAvailable()},
                          {"depth_ms_per_pair", ms},
                          {"eye_error_moving_p50_deg_grid", grid_p50},
                          {"eye_error_moving_p90_deg_grid", grid_p90},

@@ -68,6 +68,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
           const bool ok = other.project(R * directions[s] + rho * t, px) && inside(px, other_width, other_height);
           if (!ok) tile.usable[k] = false;
           other_px_.push_back(ok ? bilinearTap(px, other_width, other_height) : BilinearTap{});
+          tile.gather_safe = tile.gather_safe && gatherSafe(other_px_.back(), other_width, other_height);
         }
         any = any || tile.usable[k];
       }
@@ -118,13 +119,8 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
       cost[k] = std::numeric_limits<float>::infinity();
       if (!tile.usable[k]) continue;
       const BilinearTap* q = &other_px_[tile.other + static_cast<std::size_t>(k) * samples_];
-      float sum_b = 0, sum_bb = 0, sum_ab = 0;
-      for (int s = 0; s < samples_; ++s) {
-        const float b = tapGrey(other.pixels, other.stride, q[s]);
-        sum_b += b;
-        sum_bb += b * b;
-        sum_ab += a[s] * b;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
-      }
+      const PatchSums sums = patchSums(other.pixels, other.stride, q, a.data(), samples_, options_.simd && tile.gather_safe);
+      const float sum_b = sums.b, sum_bb = sums.bb, sum_ab = sums.ab;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
       const float var_b = sum_bb - sum_b * sum_b * inv_n;
       if (var_b <= 1e-6F) continue;
       cost[k] = 1.0F - sum_ab / std::sqrt(sum_aa * var_b);

@@ -18,6 +18,7 @@
 
 #include "calib/generic_camera.h"
 #include "xr/depth/bilinear_tap.h"
+#include "xr/depth/patch_sums.h"
 #include "xr/render/depth_proxy.h"
 
 namespace telesphere::xr::depth {
@@ -38,6 +39,9 @@ struct SphereSweepOptions {
   /// The best must beat every hypothesis beyond its neighbours by this much in 1 − ZNCC (a
   /// repetitive pattern matches at several depths and is left unconfident).
   double min_margin = 0.05;
+  /// The correlation sums eight samples a step (AVX2, xr/depth/patch_sums.h) where the CPU can;
+  /// false: one at a time (the reference the benchmark and the tests compare with).
+  bool simd = true;
 };
 
 /// One sweep's output: the grid (every tile filled) and how far each tile's value is measured.
@@ -74,6 +78,7 @@ class SphereSweep {
     std::size_t first = 0;     ///< index of its first reference sample in reference_px_
     std::size_t other = 0;     ///< index of its first other sample in other_px_ (samples × hypotheses)
     std::vector<bool> usable;  ///< per hypothesis: every sample inside the other image
+    bool gather_safe = true;   ///< every other sample may be read four bytes wide (patch_sums.h)
   };
   SphereSweepOptions options_;
   int reference_width_, reference_height_, other_width_, other_height_;

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: MIT
+/// @brief patchSums (xr/depth/patch_sums.h): the AVX2 version against the scalar reference on
+///        seeded random images and taps — every patch size from 1 to 49 (whole steps of eight
+///        and the rest), taps at the last positions the four-byte reads allow in an image whose
+///        last byte is followed by an inaccessible page (a gather past it faults: the sanitizers
+///        do not see gathers), a stride wider than the image — and gatherSafe at the image's end.
+#include <gtest/gtest.h>
+
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "xr/depth/patch_sums.h"
+
+namespace telesphere::xr::depth {
+namespace {
+
+/// `bytes` of memory whose last byte is followed by a page no one may read.
+class GuardedBuffer {
+ public:
+  explicit GuardedBuffer(std::size_t bytes) : bytes_(bytes) {
+    page_ = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    mapped_ = (bytes + page_ - 1) / page_ * page_ + page_;
+    base_ = static_cast<std::uint8_t*>(mmap(nullptr, mapped_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0));
+    if (base_ == MAP_FAILED) throw std::runtime_error("mmap failed");
+    if (mprotect(base_ + mapped_ - page_, page_, PROT_NONE) != 0) throw std::runtime_error("mprotect failed");
+  }
+  ~GuardedBuffer() { munmap(base_, mapped_); }
+  GuardedBuffer(const GuardedBuffer&) = delete;
+  GuardedBuffer& operator=(const GuardedBuffer&) = delete;
+  std::uint8_t* data() { return base_ + mapped_ - page_ - bytes_; }
+
+ private:
+  std::size_t bytes_, page_ = 0, mapped_ = 0;
+  std::uint8_t* base_ = nullptr;
+};
+
+TEST(PatchSums, TheAvx2SumsAreTheScalarSumsUpToRoundingOrder) {
+  if (!patchSumsSimdAvailable()) GTEST_SKIP() << "this CPU has no AVX2";
+  std::mt19937 rng(3535);
+  for (const auto [width, height, stride] : {std::tuple{480, 270, 480}, std::tuple{37, 9, 40}, std::tuple{4, 3, 4}}) {
+    SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " stride " + std::to_string(stride));
+    // Exactly the bytes the image needs, its last row's last byte just before the guard page.
+    const std::size_t bytes = static_cast<std::size_t>(stride) * (height - 1) + width;
+    GuardedBuffer buffer(bytes);
+    std::uint8_t* image = buffer.data();
+    std::uniform_int_distribution<int> grey(0, 255);
+    for (std::size_t i = 0; i < bytes; ++i) image[i] = static_cast<std::uint8_t>(grey(rng));
+    std::uniform_real_distribution<double> ux(0.0, width - 1.0), uy(0.0, height - 1.0), ua(-128.0, 128.0);
+    for (int n = 1; n <= 49; ++n) {
+      std::vector<BilinearTap> taps;
+      std::vector<float> a;
+      while (static_cast<int>(taps.size()) < n) {
+        // Every fourth tap at the last block the four-byte reads allow, else anywhere allowed.
+        const Eigen::Vector2d p = taps.size() % 4 == 3 ? Eigen::Vector2d(width - 4.0 + 0.999, height - 2.0 + 0.5)
+                                                       : Eigen::Vector2d(ux(rng), uy(rng));
+        const BilinearTap t = bilinearTap(p, width, height);
+        if (!gatherSafe(t, width, height)) continue;
+        taps.push_back(t);
+        a.push_back(static_cast<float>(ua(rng)));
+      }
+      const PatchSums scalar = patchSumsScalar(image, stride, taps.data(), a.data(), n);
+      const PatchSums simd = patchSums(image, stride, taps.data(), a.data(), n, true);
+      EXPECT_NEAR(simd.b, scalar.b, 1e-5 * std::abs(scalar.b) + 1e-4) << n;
+      EXPECT_NEAR(simd.bb, scalar.bb, 1e-5 * std::abs(scalar.bb) + 1e-4) << n;
+      EXPECT_NEAR(simd.ab, scalar.ab, 1e-5 * (std::abs(scalar.ab) + 128.0 * scalar.b) + 1e-4) << n;
+    }
+  }
+}
+
+TEST(PatchSums, OnlyTapsInTheLastBlockRowsLastThreePixelsAreUnsafe) {
+  const int w = 10, h = 6;
+  EXPECT_TRUE(gatherSafe(bilinearTap({6.5, 4.5}, w, h), w, h));   // x0 6: reads to 9, the last pixel
+  EXPECT_FALSE(gatherSafe(bilinearTap({7.5, 4.5}, w, h), w, h));  // x0 7: would read 10 and 11
+  EXPECT_FALSE(gatherSafe(bilinearTap({9.0, 5.0}, w, h), w, h));  // the last pixel itself
+  EXPECT_TRUE(gatherSafe(bilinearTap({8.5, 3.5}, w, h), w, h));   // a row above: the next row follows
+  EXPECT_TRUE(gatherSafe(bilinearTap({0.0, 5.0}, w, h), w, h));
+}
+
+}  // namespace
+}  // namespace telesphere::xr::depth

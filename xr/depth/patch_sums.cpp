@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+/// @brief patchSums: the scalar reference and the AVX2 version with its run-time choice.
+#include "xr/depth/patch_sums.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define TELESPHERE_PATCH_SUMS_AVX2 1
+#endif
+
+namespace telesphere::xr::depth {
+
+PatchSums patchSumsScalar(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n) {
+  PatchSums s;
+  for (int i = 0; i < n; ++i) {
+    const float b = tapGrey(pixels, stride, taps[i]);
+    s.b += b;
+    s.bb += b * b;
+    s.ab += a[i] * b;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
+  }
+  return s;
+}
+
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
+namespace {
+
+__attribute__((target("avx2,fma"))) float horizontalSum(__m256 v) {
+  const __m128 s = _mm_add_ps(_mm256_castps256_ps128(v), _mm256_extractf128_ps(v, 1));
+  const __m128 t = _mm_add_ps(s, _mm_movehl_ps(s, s));
+  return _mm_cvtss_f32(_mm_add_ss(t, _mm_shuffle_ps(t, t, 1)));
+}
+
+/// A row's two pixels (the low two bytes of each lane) weighted across: p0·(256 − wx) + p1·wx.
+__attribute__((target("avx2,fma"))) inline __m256i across(__m256i row, __m256i wx, __m256i full) {
+  const __m256i mask8 = _mm256_set1_epi32(0xFF);
+  const __m256i left = _mm256_and_si256(row, mask8), right = _mm256_and_si256(_mm256_srli_epi32(row, 8), mask8);
+  return _mm256_add_epi32(_mm256_mullo_epi32(left, _mm256_sub_epi32(full, wx)), _mm256_mullo_epi32(right, wx));
+}
+
+__attribute__((target("avx2,fma"))) PatchSums patchSumsAvx2(const std::uint8_t* pixels, int stride,
+                                                            const BilinearTap* taps, const float* a, int n) {
+  static_assert(sizeof(BilinearTap) == 8, "a tap is one 64-bit lane: x, y, wx, wy");
+  const __m256i low_dwords = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  const __m256i mask16 = _mm256_set1_epi32(0xFFFF);
+  const __m256i stride_v = _mm256_set1_epi32(stride), full = _mm256_set1_epi32(256);
+  const __m256 scale = _mm256_set1_ps(1.0F / 65536.0F);
+  __m256 sum_b = _mm256_setzero_ps(), sum_bb = _mm256_setzero_ps(), sum_ab = _mm256_setzero_ps();
+  const int whole = n - n % 8;
+  for (int i = 0; i < whole; i += 8) {
+    // Eight taps: (x | y << 16) and (wx | wy << 16) of each, in tap order.
+    const __m256i t0 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(taps + i)), low_dwords);
+    const __m256i t1 = _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(taps + i + 4)), low_dwords);
+    const __m256i xy = _mm256_permute2x128_si256(t0, t1, 0x20), w = _mm256_permute2x128_si256(t0, t1, 0x31);
+    const __m256i offset = _mm256_add_epi32(_mm256_mullo_epi32(_mm256_srli_epi32(xy, 16), stride_v), _mm256_and_si256(xy, mask16));
+    const __m256i row0 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(pixels), offset, 1);
+    const __m256i row1 = _mm256_i32gather_epi32(reinterpret_cast<const int*>(pixels + stride), offset, 1);
+    const __m256i wx = _mm256_and_si256(w, mask16), wy = _mm256_srli_epi32(w, 16);
+    // As the scalar tap: top = p00·(256 − wx) + p01·wx, bottom likewise, v = top·(256 − wy) + bottom·wy.
+    const __m256i top = across(row0, wx, full), bottom = across(row1, wx, full);
+    const __m256i v = _mm256_add_epi32(_mm256_mullo_epi32(top, _mm256_sub_epi32(full, wy)), _mm256_mullo_epi32(bottom, wy));
+    const __m256 b = _mm256_mul_ps(_mm256_cvtepi32_ps(v), scale);
+    sum_b = _mm256_add_ps(sum_b, b);
+    sum_bb = _mm256_fmadd_ps(b, b, sum_bb);
+    sum_ab = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), b, sum_ab);
+  }
+  PatchSums s{horizontalSum(sum_b), horizontalSum(sum_bb), horizontalSum(sum_ab)};
+  const PatchSums rest = patchSumsScalar(pixels, stride, taps + whole, a + whole, n - whole);
+  s.b += rest.b;
+  s.bb += rest.bb;
+  s.ab += rest.ab;
+  return s;
+}
+
+}  // namespace
+#endif
+
+bool patchSumsSimdAvailable() {
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
+  static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return available;
+#else
+  return false;
+#endif
+}
+
+PatchSums patchSums(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n, bool simd) {
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
+  if (simd && patchSumsSimdAvailable()) return patchSumsAvx2(pixels, stride, taps, a, n);
+#endif
+  return patchSumsScalar(pixels, stride, taps, a, n);
+}
+
+}  // namespace telesphere::xr::depth

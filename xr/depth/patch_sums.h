@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: MIT
+/// @brief The sphere sweep's inner work (#35): over a patch of n bilinear taps of the other image,
+///        Σb, Σb² and Σa·b with the reference patch's mean-free values a — what one hypothesis's
+///        zero-mean normalised cross-correlation needs. A scalar version, the reference, and an
+///        AVX2 one (eight taps a step: two 32-bit gathers for the two pixel rows, the same integer
+///        bilinear as the scalar one, so every b is equal; the sums differ in float rounding
+///        order only), chosen at run time where the CPU has AVX2.
+///
+///        The AVX2 version reads each tap's two rows four bytes wide: up to two bytes past the
+///        tap's 2 × 2 block. Inside an image that is the next pixels or the next row; only a tap in
+///        the last block row within three pixels of its end could read past the image, and
+///        `gatherSafe` says so (such patches take the scalar version).
+#pragma once
+
+#include <cstdint>
+
+#include "xr/depth/bilinear_tap.h"
+
+namespace telesphere::xr::depth {
+
+struct PatchSums {
+  float b = 0, bb = 0, ab = 0;
+};
+
+/// The reference: one tap after another.
+PatchSums patchSumsScalar(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n);
+
+/// The AVX2 version where the CPU has it (and `simd`), else the scalar one.
+PatchSums patchSums(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n, bool simd = true);
+
+/// Whether the AVX2 version may read tap `t` of an image `width` × `height` four bytes wide.
+inline bool gatherSafe(const BilinearTap& t, int width, int height) {
+  return !(t.y + 2 >= height && t.x + 3 >= width);
+}
+
+/// Whether this CPU runs the AVX2 version.
+bool patchSumsSimdAvailable();
+
+}  // namespace telesphere::xr::depth
