@@ -33,7 +33,7 @@ double bound(const std::vector<std::uint8_t>& image, int width, int height, doub
 
 TEST(BilinearTap, MatchesTheDoubleBilinearWithinItsQuantisationEverywhere) {
   std::mt19937 rng(35);
-  for (const auto [width, height] : {std::pair{2, 2}, std::pair{97, 61}, std::pair{480, 270}}) {
+  for (const auto& [width, height] : {std::pair{2, 2}, std::pair{97, 61}, std::pair{480, 270}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height));
     std::vector<std::uint8_t> image(static_cast<std::size_t>(width) * height);
     std::uniform_int_distribution<int> grey(0, 255);

@@ -43,7 +43,7 @@ class GuardedBuffer {
 TEST(PatchSums, TheAvx2SumsAreTheScalarSumsUpToRoundingOrder) {
   if (!patchSumsSimdAvailable()) GTEST_SKIP() << "this CPU has no AVX2";
   std::mt19937 rng(3535);
-  for (const auto [width, height, stride] : {std::tuple{480, 270, 480}, std::tuple{37, 9, 40}, std::tuple{4, 3, 4}}) {
+  for (const auto& [width, height, stride] : {std::tuple{480, 270, 480}, std::tuple{37, 9, 40}, std::tuple{4, 3, 4}}) {
     SCOPED_TRACE(std::to_string(width) + "x" + std::to_string(height) + " stride " + std::to_string(stride));
     // Exactly the bytes the image needs, its last row's last byte just before the guard page.
     const std::size_t bytes = static_cast<std::size_t>(stride) * (height - 1) + width;
