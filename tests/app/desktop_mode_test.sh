@@ -70,7 +70,9 @@ if not s["head_yaw"] < -0.05: errors.append(f"the drag did not turn the head rig
 if s["stereo_frames_shown"] < 10: errors.append(f"only {s['stereo_frames_shown']} camera frames shown")
 if not s["nominal_from_robot"]: errors.append("no nominal mapping from the robot")
 if s["mode"] != "orientation3d": errors.append(f"M did not change the mode (mode = {s['mode']})")
-if "set_mode orientation3d: ok" not in s["last_control"]: errors.append(f"last control: {s['last_control']}")
+# P asks the robot (the session's choice, #35) and the view follows its state: the last reply is
+# the second P's, and the mode above shows M's request was taken.
+if "set_depth_proxy grid: ok" not in s["last_control"]: errors.append(f"last control: {s['last_control']}")
 if s["depth_proxy"] != "grid": errors.append(f"P P did not set the grid proxy (depth_proxy = {s['depth_proxy']})")
 for e in errors: print(e)
 sys.exit(1 if errors else 0)
