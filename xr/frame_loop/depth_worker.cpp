@@ -56,20 +56,12 @@ void DepthWorker::offer(std::shared_ptr<const video::DecodedStereoFrame> frame) 
     any_offered_ = true;
     last_sequence_ = sequence;
     ++stats_.offered;
-    if (options_.on_caller_thread) {
-      pending_.reset();
-    } else {
+    if (!options_.on_caller_thread) {
       if (pending_) ++stats_.skipped;
       pending_ = std::move(frame);
     }
   }
-  if (options_.on_caller_thread) {
-    std::string error;
-    const bool ok = estimate(*frame, &error);
-    std::lock_guard lock(mutex_);
-    stats_.last_error = ok ? std::string() : error;
-    return;
-  }
+  if (options_.on_caller_thread) return sweep(*frame);
   wake_.notify_one();
 }
 
@@ -92,11 +84,15 @@ void DepthWorker::run() {
       if (quit_) return;
       frame = std::move(pending_);
     }
-    std::string error;
-    const bool ok = estimate(*frame, &error);
-    std::lock_guard lock(mutex_);
-    stats_.last_error = ok ? std::string() : error;
+    sweep(*frame);
   }
+}
+
+void DepthWorker::sweep(const video::DecodedStereoFrame& frame) {
+  std::string error;
+  const bool ok = estimate(frame, &error);
+  std::lock_guard lock(mutex_);
+  stats_.last_error = ok ? std::string() : error;
 }
 
 bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* error) {

@@ -71,6 +71,8 @@ class DepthWorker {
  private:
   struct Sweeps;
   void run();
+  /// estimate() with its outcome in the stats (the worker thread, or offer() on_caller_thread).
+  void sweep(const video::DecodedStereoFrame& frame);
   bool estimate(const video::DecodedStereoFrame& frame, std::string* error);
 
   const calib::SystemCalibration calibration_;

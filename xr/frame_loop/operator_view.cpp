@@ -443,19 +443,22 @@ void OperatorView::fillDepthState(std::int64_t now_ns, link::proto::DepthProxySt
   out->set_estimate_sequence(estimate->frame_sequence);
 }
 
+void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, OperatorViewStats* out) {
+  out->depth_proxy = std::string(link::depthProxyName(proxy));
+  if (!worker) return;
+  const DepthWorkerStats depth = worker->stats();
+  out->depth_estimates = depth.estimated;
+  out->depth_pairs_skipped = depth.skipped;
+  out->depth_sweep_ms = depth.last_sweep_ms;
+  if (const auto estimate = worker->newest()) {
+    out->depth_radius_left_m = estimate->radius_m[0];
+    out->depth_matched_fraction = estimate->matched_fraction[0];
+  }
+}
+
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
-  out.depth_proxy = std::string(link::depthProxyName(options_.depth_proxy));
-  if (depth_) {
-    const DepthWorkerStats depth = depth_->stats();
-    out.depth_estimates = depth.estimated;
-    out.depth_pairs_skipped = depth.skipped;
-    out.depth_sweep_ms = depth.last_sweep_ms;
-    if (const auto estimate = depth_->newest()) {
-      out.depth_radius_left_m = estimate->radius_m[0];
-      out.depth_matched_fraction = estimate->matched_fraction[0];
-    }
-  }
+  addDepthFigures(options_.depth_proxy, depth_.get(), &out);
   const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;

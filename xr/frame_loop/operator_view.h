@@ -135,6 +135,10 @@ struct OperatorViewStats {
   double depth_sweep_ms = 0, depth_radius_left_m = 0, depth_matched_fraction = 0;
 };
 
+/// `out`'s depth_* figures: the proxy's name and, with a worker, its counts, last sweep and the
+/// newest estimate's left radius and matched tiles (the live view and the replay).
+void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, OperatorViewStats* out);
+
 class OperatorView final : public OperatorScene {
  public:
   OperatorView(const calib::SystemCalibration& calibration, const OperatorViewOptions& options);

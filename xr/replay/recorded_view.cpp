@@ -250,16 +250,7 @@ frame_loop::OperatorViewStats RecordedView::stats() const {
   out.decode_ms_p50 = decode.p50_ms;
   out.video_codec = video_[0] ? link::videoCodecName(video_[0]->codec()) : "mjpeg";
   out.frames_awaiting_key_frame = awaiting_key_frame_;
-  out.depth_proxy = std::string(link::depthProxyName(depth_proxy_));
-  if (depth_) {
-    const frame_loop::DepthWorkerStats depth = depth_->stats();
-    out.depth_estimates = depth.estimated;
-    out.depth_sweep_ms = depth.last_sweep_ms;
-    if (const auto estimate = depth_->newest()) {
-      out.depth_radius_left_m = estimate->radius_m[0];
-      out.depth_matched_fraction = estimate->matched_fraction[0];
-    }
-  }
+  frame_loop::addDepthFigures(depth_proxy_, depth_.get(), &out);
   return out;
 }
 
