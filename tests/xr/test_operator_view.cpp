@@ -95,6 +95,16 @@ class OperatorViewTest : public ::testing::Test {
     server_->publishStereoFrame(f, jpeg_, jpeg_);
   }
 
+  /// Publishes `state` until the view's link has it (its t_ns): only then does "nothing changed"
+  /// after a frame mean anything.
+  bool publishUntilArrived(const link::proto::RobotState& state) {
+    return ::telesphere::test::eventually([&] {
+      server_->publishRobotState(state);
+      const auto arrived = view_->client().latestRobotState();
+      return arrived && arrived->t_ns() == state.t_ns();
+    });
+  }
+
   bool frame(std::int64_t display_ns = 0, std::string* error = nullptr) {
     std::string local;
     return view_->beginFrame(T_vr_hmd_, display_ns ? display_ns : link::linkNowNs() + 11'000'000, true,
@@ -202,12 +212,7 @@ TEST_F(OperatorViewTest, FollowsTheRobotsModeRadiusAndNominalMappingButNotNonsen
     state.set_visual_mode(static_cast<link::proto::VisualMode>(17));
     state.set_sphere_radius(radius);
     state.set_t_ns(state.t_ns() + 1);
-    // The nonsense must have arrived before "nothing changed" means anything.
-    ASSERT_TRUE(::telesphere::test::eventually([&] {
-      server_->publishRobotState(state);
-      const auto arrived = view_->client().latestRobotState();
-      return arrived && arrived->t_ns() == state.t_ns();
-    }));
+    ASSERT_TRUE(publishUntilArrived(state));
     frame();
     EXPECT_EQ(view_->settings().mode, link::VisualMode::kOrientation3d) << radius;
     EXPECT_DOUBLE_EQ(view_->settings().radius, 3.0) << radius;
@@ -277,11 +282,7 @@ TEST_F(OperatorViewTest, TheSessionsSceneProxyIsFollowedAndTheOperatorsChoiceGoe
   // A value this build does not know changes nothing.
   state.set_depth_proxy(static_cast<link::proto::DepthProxyProto>(17));
   state.set_t_ns(state.t_ns() + 1);
-  ASSERT_TRUE(::telesphere::test::eventually([&] {
-    server_->publishRobotState(state);
-    const auto arrived = view_->client().latestRobotState();
-    return arrived && arrived->t_ns() == state.t_ns();
-  }));
+  ASSERT_TRUE(publishUntilArrived(state));
   frame();
   EXPECT_EQ(view_->depthProxy(), link::DepthProxy::kFixed);
 
