@@ -140,6 +140,27 @@ bool HeadController::holdAt(const Eigen::Isometry3d& T_robot_head, const arm::Jo
   return true;
 }
 
+arm::IkResult HeadController::reachAlongApproach(const Eigen::Isometry3d& T_robot_head, const arm::JointVector& q_from) const {
+  arm::IkResult ik;
+  ik.q = kinematics_.clampToLimits(q_from);
+  if (!q_from.allFinite() || !T_robot_head.matrix().allFinite() || !arm::isRotation(T_robot_head.linear(), 1e-3)) return ik;
+  const Eigen::Isometry3d T_start = kinematics_.forward(ik.q) * T_flange_head_;
+  const double distance = (T_robot_head.translation() - T_start.translation()).norm();
+  const double angle = angleBetween(T_robot_head.linear(), T_start.linear());
+  const int steps = std::max(1, int(std::ceil(std::max(distance / kPathStep, angle / kPathStepAngle))));
+  Eigen::Isometry3d T_step = T_start;
+  for (int i = 1; i <= steps; ++i) {
+    // Equal steps: the i-th is 1/(steps − i + 1) of what remains.
+    const double fraction = 1.0 / double(steps - i + 1);
+    T_step.translation() += fraction * (T_robot_head.translation() - T_step.translation());
+    T_step.linear() =
+        quaternionOf(T_step.linear()).slerp(fraction, quaternionOf(T_robot_head.linear())).normalized().toRotationMatrix();
+    ik = kinematics_.inverse(T_step * T_head_flange_, ik.q, config_.ik);
+    if (ik.status == arm::IkResult::Status::kInvalidTarget) return ik;
+  }
+  return ik;
+}
+
 bool HeadController::resumeFrom(const arm::JointVector& q_measured, std::int64_t now_ns) {
   if (!q_measured.allFinite()) return false;
   startFrom(q_measured, now_ns);

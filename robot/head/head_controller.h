@@ -29,6 +29,7 @@
 
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -126,6 +127,16 @@ class HeadController {
   /// (nothing changes) for non-finite joints or a pose that is not a rigid transform.
   bool holdAt(const Eigen::Isometry3d& T_robot_head, const arm::JointVector& q_current, std::int64_t now_ns);
   void releaseHold() { holding_ = false; }
+  /// Whether the arm, standing at q_from, reaches the head pose T_robot_head the way a hold takes
+  /// it there: the head pose of q_from stepped towards T_robot_head by at most kPathStep (m) and
+  /// kPathStepAngle (rad) at a time, each step's IK seeded with the step before's joints, as
+  /// tick() seeds each tick's with the last. Returns the last step's IK (converged: reachable
+  /// along the way). One IK from q_from alone can stop short of a pose the arm reaches (a
+  /// calibration pose 90° away from the head's last one), or reach it by another arm
+  /// configuration than the approach ends in.
+  arm::IkResult reachAlongApproach(const Eigen::Isometry3d& T_robot_head, const arm::JointVector& q_from) const;
+  static constexpr double kPathStep = 0.01;
+  static constexpr double kPathStepAngle = 2.0 * M_PI / 180.0;
   /// Moves the pose held (a calibration pattern, every tick); false (nothing changes) when not
   /// holding or for a pose that is not a rigid transform.
   bool moveHold(const Eigen::Isometry3d& T_robot_head);

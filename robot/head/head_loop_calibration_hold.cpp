@@ -134,8 +134,7 @@ bool HeadLoop::calibrationHoldLocked(const link::proto::CalibrationHeadPose& req
     *error = buf;
     return false;
   }
-  const arm::IkResult ik = controller_.kinematics().inverse(T_robot_head * T_flange_head_.inverse(), last_state_->q,
-                                                       controller_.config().ik);
+  const arm::IkResult ik = controller_.reachAlongApproach(T_robot_head, last_state_->q);
   if (ik.status != arm::IkResult::Status::kConverged) {
     *error = "calibration head pose: the arm cannot reach it";
     return false;

@@ -252,6 +252,44 @@ TEST_F(HeadControllerTest, ANewCameraMountMovesTheArmNotTheView) {
             config.caught_up_position + 1e-9);
 }
 
+// reachAlongApproach (a calibration hold's check) against what the hold then does, and at its edges.
+TEST_F(HeadControllerTest, ReachingAlongTheApproachEndsWhereTheHoldTakesTheArm) {
+  Eigen::Isometry3d T_target = config.T_robot_nom;  // 50° left, 30° down, 5 cm aside
+  T_target.linear() = config.T_robot_nom.linear() * Eigen::AngleAxisd(50 * kDeg, Eigen::Vector3d::UnitZ()).matrix() *
+                      Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitY()).matrix();
+  T_target.translation() += Eigen::Vector3d(0, 0.05, 0);
+  const arm::IkResult reached = controller.reachAlongApproach(T_target, q_nom);
+  ASSERT_TRUE(reached.converged());
+  EXPECT_TRUE(headOf(reached.q).isApprox(T_target, 1e-6));
+  // The hold's ticks (10 ms, the approach speeds) end in the same arm configuration.
+  ASSERT_TRUE(controller.holdAt(T_target, q_nom, now));
+  head::HeadCommand cmd;
+  int ticks = 0;
+  do {
+    now += 10 * kMs;
+    cmd = controller.tick(std::nullopt, now);
+  } while ((cmd.approaching || !headOf(cmd.q_target).isApprox(T_target, 1e-6)) && ++ticks < 2000);
+  EXPECT_LT((cmd.q_target - reached.q).cwiseAbs().maxCoeff(), 1e-4) << cmd.q_target.transpose() << " | "
+                                                                     << reached.q.transpose();
+  // Where it stands already: one step, there.
+  const arm::IkResult here = controller.reachAlongApproach(headOf(q_nom), q_nom);
+  EXPECT_TRUE(here.converged());
+  EXPECT_LT((here.q - q_nom).cwiseAbs().maxCoeff(), 1e-9);
+  // Out of the arm's reach (3 m up): the closest it gets, flagged; not a rigid transform or not
+  // finite: refused as invalid, the joints it was given (clamped) returned.
+  Eigen::Isometry3d far = config.T_robot_nom;
+  far.translation().z() += 3.0;
+  EXPECT_EQ(controller.reachAlongApproach(far, q_nom).status, arm::IkResult::Status::kClosestReachable);
+  Eigen::Isometry3d sheared = config.T_robot_nom;
+  sheared.linear()(0, 1) += 0.1;
+  EXPECT_EQ(controller.reachAlongApproach(sheared, q_nom).status, arm::IkResult::Status::kInvalidTarget);
+  arm::JointVector q_nan = q_nom;
+  q_nan[2] = std::nan("");
+  const arm::IkResult from_nan = controller.reachAlongApproach(T_target, q_nan);
+  EXPECT_EQ(from_nan.status, arm::IkResult::Status::kInvalidTarget);
+  EXPECT_TRUE(from_nan.q.allFinite());
+}
+
 TEST_F(HeadControllerTest, WorkspaceClampHoldsTheTargetInside) {
   ASSERT_TRUE(controller.initialise({now, level_hmd}, q_nom));
   // The operator walks 1 m forward slowly (no jump): the head stops at the box face.
