@@ -10,7 +10,7 @@ out=$(mktemp -d -t telesphere-console.XXXXXX)
 robot=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; cat "$out"/*.log 2>/dev/null || true; exit 1; }
+fail() { echo "FAIL: $*"; cat "$out"/*.log 2>/dev/null || true; echo "--- FAIL: $*"; exit 1; }  # the reason last too: CI shows the end
 
 rc=0
 "$bin/telesphere-console" --insecure --port "$port" --duration 1.5 --screenshot "$out/none.png" > "$out/none.log" 2>&1 || rc=$?

@@ -20,7 +20,7 @@ cleanup() {
   rm -rf "$out"
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; for f in robot.log xr.log stats.json; do echo "--- $f"; cat "$out/$f" 2>/dev/null || true; done; exit 1; }
+fail() { echo "FAIL: $*"; for f in robot.log xr.log stats.json; do echo "--- $f"; cat "$out/$f" 2>/dev/null || true; done; echo "--- FAIL: $*"; exit 1; }
 
 for _ in $(seq 100); do xdotool getmouselocation >/dev/null 2>&1 && break; sleep 0.1; done
 xdotool getmouselocation >/dev/null 2>&1 || fail "cannot talk to the X server at $DISPLAY"

@@ -18,7 +18,7 @@ robot=
 xr=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; [ -n "$xr" ] && kill "$xr" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
+fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; echo "--- FAIL: $*"; exit 1; }  # the reason last too: CI shows the end
 json() { sed -n "s/^ *\"$2\": \"\{0,1\}\([^\",]*\)\"\{0,1\},\{0,1\}$/\1/p" "$1"; }
 export EGL_PLATFORM=surfaceless
 calib="$src/calib/data/sim_calibration.yaml"

@@ -18,7 +18,7 @@ out=$(mktemp -d -t telesphere-loop.XXXXXX)
 robot=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
+fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; echo "--- FAIL: $*"; exit 1; }  # the reason last too: CI shows the end
 
 # A media cap under the rate controller's floor is refused before anything starts, and said why.
 if "$bin/telesphere-robot" --insecure --sim --media-cap-mbit 0.2 --port "$port" --duration 1 > "$out/cap.log" 2>&1; then

@@ -21,7 +21,9 @@ out=$(mktemp -d -t telesphere-xr-replay.XXXXXX)
 robot=
 cleanup() { [ -n "$robot" ] && kill "$robot" 2>/dev/null; rm -rf "$out"; }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; exit 1; }
+# The reason again after the robot's log: CI shows only the end of a failed test's output, and one
+# CI run's showed the log's end but not why.
+fail() { echo "FAIL: $*"; echo "--- robot log"; cat "$out/robot.log" || true; echo "--- FAIL: $*"; exit 1; }
 json() { sed -n "s/^ *\"$2\": \([0-9.eE+-]*\),\{0,1\}$/\1/p" "$1"; }
 export EGL_PLATFORM=surfaceless
 
