@@ -265,7 +265,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   // Still unmet for want of a polar bin (a rim view whose board the detector read badly, a pose
   // the arm could not take): views aimed at the bins either camera lacks, through the left
   // camera's model.
-  if (!collectionCheck(collector, o.rule).done()) {
+  if (!collectionCheck(collector, o.rule).done() && int(collector.samples().size()) < o.max_views) {
     std::vector<double> missing_deg;
     for (int c = 0; c < 2; ++c) {
       const calib::ViewCoverage& coverage = collector.coverage(c);
