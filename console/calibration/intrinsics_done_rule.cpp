@@ -45,6 +45,13 @@ std::vector<int> requiredPolarBins(const calib::ViewCoverage& coverage, const In
   return bins;
 }
 
+std::vector<int> missingPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule) {
+  std::vector<int> missing;
+  for (int b : requiredPolarBins(coverage, rule))
+    if (coverage.polarCount(b) == 0) missing.push_back(b);
+  return missing;
+}
+
 DoneCheck checkCollection(int views, const std::vector<const calib::ViewCoverage*>& coverage,
                           const IntrinsicsDoneRule& rule) {
   DoneCheck check;
@@ -52,10 +59,8 @@ DoneCheck checkCollection(int views, const std::vector<const calib::ViewCoverage
   for (std::size_t c = 0; c < coverage.size(); ++c) {
     const calib::ViewCoverage& cov = *coverage[c];
     std::string missing;
-    for (int b : requiredPolarBins(cov, rule)) {
-      if (cov.polarCount(b) > 0) continue;
+    for (int b : missingPolarBins(cov, rule))
       missing += (missing.empty() ? "" : ", ") + format("%.0f–%.0f°", b * cov.polarBinDeg(), (b + 1) * cov.polarBinDeg());
-    }
     if (!missing.empty()) {
       check.unmet.push_back(std::string(c == 0 ? "cam_l" : "cam_r") + ": no corner yet at polar angles " + missing);
     }

@@ -42,6 +42,9 @@ struct DoneCheck {
 /// holds rule.min_bin_image_share of the image.
 std::vector<int> requiredPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule);
 
+/// The required polar bins (requiredPolarBins) that hold no corner yet.
+std::vector<int> missingPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule);
+
 /// Before the solve: views and coverage (one ViewCoverage per camera, labelled "cam_l", "cam_r").
 DoneCheck checkCollection(int views, const std::vector<const calib::ViewCoverage*>& coverage,
                           const IntrinsicsDoneRule& rule);

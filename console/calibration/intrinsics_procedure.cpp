@@ -269,14 +269,13 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     std::vector<double> missing_deg;
     for (int c = 0; c < 2; ++c) {
       const calib::ViewCoverage& coverage = collector.coverage(c);
-      for (int b : requiredPolarBins(coverage, o.rule))
-        if (coverage.polarCount(b) == 0) missing_deg.push_back((b + 0.5) * coverage.polarBinDeg());
+      for (int b : missingPolarBins(coverage, o.rule)) missing_deg.push_back((b + 0.5) * coverage.polarBinDeg());
     }
     std::sort(missing_deg.begin(), missing_deg.end());
     missing_deg.erase(std::unique(missing_deg.begin(), missing_deg.end()), missing_deg.end());
     if (!missing_deg.empty()) {
       plan_options.targets = ViewPlanOptions::polarTargets(models[0], width, height, missing_deg);
-      plan_options.rolls_deg = {0.0, 30.0, -30.0};
+      plan_options.rolls_deg = ViewPlanOptions{}.rolls_deg;  // the fill ring's are set aside
       plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
       out.poses_planned += int(plan.size());
       log(fmt("aimed at the %.0f polar bins still without a corner: %.0f poses planned", double(missing_deg.size()),

@@ -150,11 +150,8 @@ arm::IkResult HeadController::reachAlongApproach(const Eigen::Isometry3d& T_robo
   const int steps = std::max(1, int(std::ceil(std::max(distance / kPathStep, angle / kPathStepAngle))));
   Eigen::Isometry3d T_step = T_start;
   for (int i = 1; i <= steps; ++i) {
-    // Equal steps: the i-th is 1/(steps − i + 1) of what remains.
-    const double fraction = 1.0 / double(steps - i + 1);
-    T_step.translation() += fraction * (T_robot_head.translation() - T_step.translation());
-    T_step.linear() =
-        quaternionOf(T_step.linear()).slerp(fraction, quaternionOf(T_robot_head.linear())).normalized().toRotationMatrix();
+    // As the approach steps each tick (its speeds times the tick), the last step onto the pose itself.
+    T_step = i == steps ? T_robot_head : stepTowards(T_step, T_robot_head, kPathStep, kPathStepAngle);
     ik = kinematics_.inverse(T_step * T_head_flange_, ik.q, config_.ik);
     if (ik.status == arm::IkResult::Status::kInvalidTarget) return ik;
   }
