@@ -2,7 +2,6 @@
 /// @brief runIntrinsicsAuto (see intrinsics_procedure.h).
 #include "console/calibration/intrinsics_procedure.h"
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -261,28 +260,6 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     out.poses_planned += int(plan.size());
     stage = "fill views";
     if (!visit(plan, true)) return fail("cancelled");
-  }
-  // Still unmet for want of a polar bin (a rim view whose board the detector read badly, a pose
-  // the arm could not take): views aimed at the bins either camera lacks, through the left
-  // camera's model.
-  if (!collectionCheck(collector, o.rule).done() && int(collector.samples().size()) < o.max_views) {
-    std::vector<double> missing_deg;
-    for (int c = 0; c < 2; ++c) {
-      const calib::ViewCoverage& coverage = collector.coverage(c);
-      for (int b : missingPolarBins(coverage, o.rule)) missing_deg.push_back((b + 0.5) * coverage.polarBinDeg());
-    }
-    std::sort(missing_deg.begin(), missing_deg.end());
-    missing_deg.erase(std::unique(missing_deg.begin(), missing_deg.end()), missing_deg.end());
-    if (!missing_deg.empty()) {
-      plan_options.targets = ViewPlanOptions::polarTargets(models[0], width, height, missing_deg);
-      plan_options.rolls_deg = ViewPlanOptions{}.rolls_deg;  // the fill ring's are set aside
-      plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
-      out.poses_planned += int(plan.size());
-      log(fmt("aimed at the %.0f polar bins still without a corner: %.0f poses planned", double(missing_deg.size()),
-              double(plan.size())));
-      stage = "aimed views";
-      if (!visit(plan, true)) return fail("cancelled");
-    }
   }
   giveHeadBack();
 

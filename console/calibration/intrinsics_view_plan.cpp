@@ -2,11 +2,9 @@
 /// @brief planIntrinsicViews (see intrinsics_view_plan.h).
 #include "console/calibration/intrinsics_view_plan.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "calib/bearing_pose.h"
-#include "calib/view_coverage.h"
 
 namespace telesphere::console::calibration {
 
@@ -26,36 +24,6 @@ std::vector<Eigen::Vector2d> ViewPlanOptions::outerTargets() {
 std::vector<Eigen::Vector2d> ViewPlanOptions::fillTargets() {
   return {{0.5, 0.5},   {0.35, 0.35}, {0.65, 0.35}, {0.35, 0.65}, {0.65, 0.65},
           {0.1, 0.5},   {0.9, 0.5},   {0.5, 0.1},   {0.5, 0.9}};
-}
-
-std::vector<Eigen::Vector2d> ViewPlanOptions::polarTargets(const calib::GenericCamera& camera, int width, int height,
-                                                           const std::vector<double>& polar_deg) {
-  constexpr double kMargin = 0.03;
-  // Directions from the image centre: 16 azimuths and the four diagonals (the widest angles).
-  const Eigen::Vector2d centre(0.5 * (width - 1), 0.5 * (height - 1));
-  std::vector<Eigen::Vector2d> directions;
-  for (int k = 0; k < 16; ++k) directions.emplace_back(std::cos(k * M_PI / 8), std::sin(k * M_PI / 8));
-  for (const double sx : {-1.0, 1.0})
-    for (const double sy : {-1.0, 1.0}) directions.push_back(Eigen::Vector2d(sx * centre.x(), sy * centre.y()).normalized());
-  std::vector<Eigen::Vector2d> t;
-  for (const double theta_deg : polar_deg) {
-    for (const Eigen::Vector2d& u : directions) {
-      // Out to the margin along u; the polar angle grows along it, so bisect for theta_deg.
-      const double reach = std::min(u.x() == 0 ? HUGE_VAL : (0.5 - kMargin) * (width - 1) / std::abs(u.x()),
-                                    u.y() == 0 ? HUGE_VAL : (0.5 - kMargin) * (height - 1) / std::abs(u.y()));
-      const double at_reach = calib::polarAngleDeg(camera, centre + reach * u);
-      if (!(at_reach >= theta_deg) || !(calib::polarAngleDeg(camera, centre) <= theta_deg)) continue;
-      double lo = 0.0, hi = reach;
-      for (int i = 0; i < 60; ++i) {
-        const double mid = 0.5 * (lo + hi);
-        const double a = calib::polarAngleDeg(camera, centre + mid * u);
-        (a < theta_deg ? lo : hi) = mid;
-      }
-      const Eigen::Vector2d px = centre + hi * u;
-      t.emplace_back(px.x() / (width - 1), px.y() / (height - 1));
-    }
-  }
-  return t;
 }
 
 std::optional<Eigen::Vector3d> boardCentreInCamera(const calib::TargetObservation& view, const calib::AprilGrid& grid,

@@ -51,12 +51,6 @@ struct ViewPlanOptions {
   static std::vector<Eigen::Vector2d> outerTargets();
   /// Between the two (35/65 %, the centre, and the edges' middles at 10 %): views to top up with.
   static std::vector<Eigen::Vector2d> fillTargets();
-  /// Aimed at polar angles the coverage still lacks: for each angle (deg), the pixel at that angle
-  /// through `camera` (width × height) along each of 16 directions from the image centre (22.5°
-  /// apart) and its four diagonals, where it lies 3 % or more inside the border (beyond ~100° a
-  /// 16:9 image holds such angles only towards its corners).
-  static std::vector<Eigen::Vector2d> polarTargets(const calib::GenericCamera& camera, int width, int height,
-                                                   const std::vector<double>& polar_deg);
 };
 
 /// The board centre in the camera frame from one view (its corners' bearings through `camera`
