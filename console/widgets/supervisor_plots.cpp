@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief supervisorPlots: the six plot specifications.
+/// @brief supervisorPlots: the seven plot specifications.
 #include "console/widgets/supervisor_plots.h"
 
 #include "console/telemetry/telemetry_model.h"
@@ -45,18 +45,23 @@ std::vector<PlotSpec> supervisorPlots() {
     plots.push_back(p);
   }
   {
-    // The operator's scene proxy (#35): what each eye's sphere has, and how sure the depth is.
-    PlotSpec p{"Scene depth", "scene radius [m]", "stereo tiles matched [%] · depth age [ms]", {}};
+    // The operator's scene proxy (#35): what each eye's sphere has, and how sure each camera's depth is.
+    PlotSpec p{"Scene depth", "scene radius [m]", "stereo tiles matched [%]", {}};
     p.lines.push_back(PlotLine{telemetry::series::kDepthRadiusLeftM, "radius, left eye", QColor(31, 119, 180)});
     p.lines.push_back(PlotLine{telemetry::series::kDepthRadiusRightM, "radius, right eye", QColor(255, 127, 14)});
-    PlotLine matched{telemetry::series::kDepthMatchedLeftPct, "tiles matched, left", QColor(44, 160, 44)};
-    matched.right_axis = true;
-    p.lines.push_back(matched);
-    PlotLine age{telemetry::series::kDepthAgeMs, "depth age", QColor(148, 103, 189)};
-    age.right_axis = true;
-    p.lines.push_back(age);
+    PlotLine matched_left{telemetry::series::kDepthMatchedLeftPct, "tiles matched, left camera", QColor(44, 160, 44)};
+    matched_left.right_axis = true;
+    p.lines.push_back(matched_left);
+    PlotLine matched_right{telemetry::series::kDepthMatchedRightPct, "tiles matched, right camera", QColor(214, 39, 40)};
+    matched_right.right_axis = true;
+    p.lines.push_back(matched_right);
     plots.push_back(p);
   }
+  // How old the depth the eyes use is, and what a sweep of a pair costs the operator's CPU: the
+  // age grows when sweeps fall behind the images (pairs skipped), the sweep time says why.
+  plots.push_back(PlotSpec{"Scene depth timing", "time [ms]", "",
+                           {PlotLine{telemetry::series::kDepthAgeMs, "depth age (capture → in use)", QColor(148, 103, 189)},
+                            PlotLine{telemetry::series::kDepthSweepMs, "sweep CPU time per pair", QColor(140, 86, 75)}}});
   return plots;
 }
 

@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <set>
 #include <functional>
 
 #include "calib/calibration_file.h"
@@ -48,6 +49,8 @@
 #include "console/telemetry/media_link_series.h"
 #include "console/widgets/live_plot.h"
 #include "console/widgets/nominal_pose_panel.h"
+#include "console/widgets/supervisor_plots.h"
+#include "console/telemetry/depth_proxy_series.h"
 #include "console/telemetry/telemetry_model.h"
 #include "robot/link/link_client.h"
 #include "robot/link/link_pose.h"
@@ -58,6 +61,36 @@ namespace telesphere::console {
 namespace {
 
 using namespace telesphere::console::test_rig;
+
+// A plot's axis holds series of one unit, and the label names it: a supervisor reads a value off
+// the axis (the scene-depth plot had tiles matched in % and the depth's age in ms on one axis).
+TEST(SupervisorPlots, EachAxisCarriesOneUnitItsLabelNames) {
+  std::set<std::string> plotted;
+  for (const PlotSpec& spec : supervisorPlots()) {
+    for (const bool right : {false, true}) {
+      std::set<std::string> units;
+      for (const PlotLine& line : spec.lines)
+        if (line.right_axis == right) units.insert(telemetry::TelemetryModel::infoOf(line.series.c_str()).unit);
+      const QString label = right ? spec.y2_label : spec.y_label;
+      if (units.empty()) {
+        EXPECT_TRUE(label.isEmpty()) << spec.title.toStdString() << ": an axis label without a line";
+        continue;
+      }
+      ASSERT_EQ(units.size(), 1u) << spec.title.toStdString() << (right ? " right" : " left") << " axis mixes units";
+      const std::string& unit = *units.begin();
+      if (label.contains('[')) {
+        EXPECT_TRUE(label.contains(QString::fromStdString("[" + unit + "]")))
+            << spec.title.toStdString() << ": \"" << label.toStdString() << "\" does not name " << unit;
+      }
+    }
+    for (const PlotLine& line : spec.lines) plotted.insert(line.series);
+  }
+  // Both cameras' depth confidence and the sweep's cost are on screen, not only the left camera's.
+  for (const char* name : {telemetry::series::kDepthRadiusLeftM, telemetry::series::kDepthRadiusRightM,
+                           telemetry::series::kDepthMatchedLeftPct, telemetry::series::kDepthMatchedRightPct,
+                           telemetry::series::kDepthAgeMs, telemetry::series::kDepthSweepMs})
+    EXPECT_TRUE(plotted.count(name)) << name << " is in no plot";
+}
 
 TEST(ConsoleWindow, WaitsForAnAbsentRobotWithoutFreezing) {
   Rig rig(27800);
@@ -301,11 +334,12 @@ TEST(ConsoleWindow, SupervisesTheRunningSystemAndEveryControlReachesRobotAndXrAp
   pumpFor(300);
   saveShot(rig.window->dockOf(control), "panel_control.png");
   for (int i = 0; i < rig.window->plotTabs()->count(); ++i) {
-    if (rig.window->plotTabs()->tabText(i) != "Scene depth") continue;
+    const QString tab = rig.window->plotTabs()->tabText(i);
+    if (tab != "Scene depth" && tab != "Scene depth timing") continue;
     rig.window->plotTabs()->setCurrentIndex(i);
     rig.window->redraw(true);
     pumpFor(100);
-    saveShot(rig.window->plotTabs()->widget(i), "plot_scene_depth.png");
+    saveShot(rig.window->plotTabs()->widget(i), tab == "Scene depth" ? "plot_scene_depth.png" : "plot_scene_depth_timing.png");
     rig.window->plotTabs()->setCurrentIndex(0);
   }
   rig.click(control->recordButton());
