@@ -45,6 +45,30 @@ ViewCoverage::ViewCoverage(const GenericCamera& camera, int width, int height, c
       if (std::isfinite(a)) image_share_[std::min(std::size_t(bins) - 1, std::size_t(a / options_.polar_bin_deg))] += 1.0;
     }
   for (double& s : image_share_) s /= std::max(1, samples);
+  // Each bin's radial scale in its middle (where a tag centred in the ring lies): the largest over
+  // 72 azimuths whose rays land in the image (a lens beyond 180° squeezes its rim radially; a tag
+  // there is read only while its cells still span pixels).
+  radial_px_per_deg_.assign(std::size_t(bins), 0.0);
+  const auto ray = [](double polar_deg, double azimuth) {
+    const double a = polar_deg * M_PI / 180.0;
+    return Eigen::Vector3d(std::sin(a) * std::cos(azimuth), std::sin(a) * std::sin(azimuth), std::cos(a));
+  };
+  const auto inImage = [&](const Eigen::Vector2d& px) {
+    return px.allFinite() && px.x() >= 0 && px.y() >= 0 && px.x() <= width - 1 && px.y() <= height - 1;
+  };
+  constexpr double kStepDeg = 0.1;
+  for (int b = 0; b < bins; ++b) {
+    const double middle = (b + 0.5) * options_.polar_bin_deg;
+    for (int k = 0; k < 72; ++k) {
+      const double azimuth = k * 5.0 * M_PI / 180.0;
+      Eigen::Vector2d p0, p1;
+      if (!camera_.project(ray(middle - 0.5 * kStepDeg, azimuth), p0) ||
+          !camera_.project(ray(middle + 0.5 * kStepDeg, azimuth), p1) ||
+          !inImage(p0) || !inImage(p1))
+        continue;
+      radial_px_per_deg_[std::size_t(b)] = std::max(radial_px_per_deg_[std::size_t(b)], (p1 - p0).norm() / kStepDeg);
+    }
+  }
   cells_.assign(std::size_t(options_.grid_cols * options_.grid_rows), 0);
 }
 

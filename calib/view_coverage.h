@@ -45,6 +45,9 @@ class ViewCoverage {
   /// The share of the image's pixels (0…1) whose polar angle falls into `bin` (the rim bins of a
   /// wide lens on a 16:9 sensor hold only the image's corners).
   double imageShare(int bin) const { return image_share_[std::size_t(bin)]; }
+  /// How many pixels a degree of polar angle spans in the bin's middle (radially, through the
+  /// model; the largest over the azimuths whose rays land in the image; 0 when none does).
+  double radialPxPerDeg(int bin) const { return radial_px_per_deg_[std::size_t(bin)]; }
 
   /// "grid 31/48 cells · polar bins 8/10 (to 100°) · 1234 corners".
   std::string describe() const;
@@ -55,7 +58,7 @@ class ViewCoverage {
   CoverageOptions options_;
   double image_max_polar_deg_ = 0;
   std::vector<int> cells_, polar_;
-  std::vector<double> image_share_;
+  std::vector<double> image_share_, radial_px_per_deg_;
   int corners_ = 0;
 };
 

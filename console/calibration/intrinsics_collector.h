@@ -49,6 +49,10 @@ class IntrinsicsCollector {
   int jointViews() const;  ///< samples in which both cameras have ≥ min_corners
   int width() const { return width_; }
   int height() const { return height_; }
+  /// A board tag's angular size from the cameras (its size over the board's distance, deg), once
+  /// the procedure has found the board; 0 before. The done rule's readable bins depend on it.
+  double tagAngleDeg() const { return tag_angle_deg_; }
+  void setTagAngleDeg(double deg) { tag_angle_deg_ = deg; }
 
   /// The solver's input: both cameras' views, aligned (an unusable view is empty).
   std::vector<calib::CameraViews> cameraViews(const std::string& model) const;
@@ -62,6 +66,7 @@ class IntrinsicsCollector {
   calib::CoverageOptions coverage_options_;
   std::vector<calib::ViewCoverage> coverage_;
   std::vector<StereoSample> samples_;
+  double tag_angle_deg_ = 0.0;
 };
 
 }  // namespace telesphere::console::calibration

@@ -17,12 +17,12 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
 }  // namespace
 
 std::string IntrinsicsDoneRule::describe(double polar_bin_deg) const {
-  char buf[400];
+  char buf[600];
   std::snprintf(buf, sizeof buf,
-                "%d views · a corner in every %.0f° polar-angle bin out to the last that holds ≥ %.1f %% of the image, in both "
-                "cameras · σ(fx, fy) ≤ %.2f %% of f, σ(cx, cy) ≤ %.2f %% of the image width · RMS ≤ %.2f px · no degeneracy "
-                "warning",
-                min_views, polar_bin_deg, 100.0 * min_bin_image_share, 100.0 * max_focal_std_rel,
+                "%d views · a corner in every %.0f° polar-angle bin out to the last that holds ≥ %.1f %% of the image and "
+                "where the board's tags span ≥ %.0f px a cell, in both cameras · σ(fx, fy) ≤ %.2f %% of f, σ(cx, cy) ≤ "
+                "%.2f %% of the image width · RMS ≤ %.2f px · no degeneracy warning",
+                min_views, polar_bin_deg, 100.0 * min_bin_image_share, min_px_per_tag_cell, 100.0 * max_focal_std_rel,
                 100.0 * max_principal_std_rel, max_rms_px);
   return buf;
 }
@@ -34,14 +34,35 @@ std::string DoneCheck::describe() const {
   return s;
 }
 
+namespace {
+
+bool binHoldsShare(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule, int bin) {
+  return coverage.imageShare(bin) >= rule.min_bin_image_share;
+}
+
+bool tagsReadable(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule, int bin) {
+  if (rule.tag_angle_deg <= 0) return true;
+  return coverage.radialPxPerDeg(bin) * rule.tag_angle_deg >= rule.tag_cells * rule.min_px_per_tag_cell;
+}
+
+}  // namespace
+
 std::vector<int> requiredPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule) {
-  // Every bin from the centre out to the last one that holds the share (the centre bin is a
-  // small disc: it is required although it holds little of the image).
+  // Every bin from the centre out to the last one that holds the share and whose tags can be
+  // read (the centre bin is a small disc: it is required although it holds little of the image).
   int last = -1;
   for (int b = 0; b < coverage.polarBins(); ++b)
-    if (coverage.imageShare(b) >= rule.min_bin_image_share) last = b;
+    if (binHoldsShare(coverage, rule, b) && tagsReadable(coverage, rule, b)) last = b;
   std::vector<int> bins;
   for (int b = 0; b <= last; ++b) bins.push_back(b);
+  return bins;
+}
+
+std::vector<int> unreadablePolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule) {
+  const std::vector<int> required = requiredPolarBins(coverage, rule);
+  std::vector<int> bins;
+  for (int b = required.empty() ? 0 : required.back() + 1; b < coverage.polarBins(); ++b)
+    if (binHoldsShare(coverage, rule, b) && !tagsReadable(coverage, rule, b)) bins.push_back(b);
   return bins;
 }
 

@@ -23,6 +23,16 @@ struct IntrinsicsDoneRule {
   /// simulated 4K lens: 110–120° is 1.5 % of the image, its corners; no corner was detected in
   /// stills with the board centred there).
   double min_bin_image_share = 0.02;
+  /// Polar bins where the board's tags are too small to read are optional too: the rim is
+  /// squeezed radially, and a tag's cells (10 across a kalibr Aprilgrid tag: 6 data, 2 border on
+  /// each side) each need this many pixels in the bin's middle (2: the sampling limit; the
+  /// simulated cam_l at 1280×720 spans 16.7 px a 4.2° tag at 105°, and the stills with the board
+  /// near the image's corners read 0–8 of the ~20 tags in view).
+  double min_px_per_tag_cell = 2.0;
+  int tag_cells = 10;
+  /// A tag's angular size from the camera (its size over the board's distance, deg); the
+  /// procedure sets it once it has found the board. 0: no readability limit.
+  double tag_angle_deg = 0.0;
   double max_focal_std_rel = 0.002;      ///< σ(fx)/fx, σ(fy)/fy
   double max_principal_std_rel = 0.001;  ///< σ(cx), σ(cy) over the image width
   double max_rms_px = 1.0;
@@ -39,11 +49,16 @@ struct DoneCheck {
 };
 
 /// The polar bins a camera must reach under `rule`: from the centre out to the last bin that
-/// holds rule.min_bin_image_share of the image.
+/// holds rule.min_bin_image_share of the image and where a tag rule.tag_angle_deg across spans
+/// rule.tag_cells × rule.min_px_per_tag_cell pixels radially (coverage.radialPxPerDeg).
 std::vector<int> requiredPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule);
 
 /// The required polar bins (requiredPolarBins) that hold no corner yet.
 std::vector<int> missingPolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule);
+
+/// The bins beyond the required ones that hold rule.min_bin_image_share of the image but where
+/// the tags are too small to read (the supervisor can bring the board closer for them).
+std::vector<int> unreadablePolarBins(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule);
 
 /// Before the solve: views and coverage (one ViewCoverage per camera, labelled "cam_l", "cam_r").
 DoneCheck checkCollection(int views, const std::vector<const calib::ViewCoverage*>& coverage,
