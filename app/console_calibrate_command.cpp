@@ -28,6 +28,8 @@ nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& 
   j["poses_visited"] = out.poses_visited;
   j["poses_refused"] = out.poses_refused;
   j["poses_unsettled"] = out.poses_unsettled;
+  j["fallback_poses_held"] = out.fallback_poses_held;
+  j["poses_held_from_start"] = out.poses_held_from_start;
   j["stills"] = out.stills;
   j["samples_rejected"] = out.samples_rejected;
   j["first_sample_to_result_s"] = out.first_sample_to_result_s;
@@ -83,9 +85,10 @@ nlohmann::ordered_json figuresOf(const console::calibration::IntrinsicsOutcome& 
 
 void printFigures(const nlohmann::ordered_json& j) {
   std::printf("done rule: %s\n", j["done_rule"].get<std::string>().c_str());
-  std::printf("poses planned %d, visited %d, refused %d, unsettled %d; stills %d; samples kept %d (joint %d), not kept %d\n",
+  std::printf("poses planned %d, visited %d, refused %d (%d held from the start pose, %d with another pose), unsettled %d; stills %d; samples "
+              "kept %d (joint %d), not kept %d\n",
               j["poses_planned"].get<int>(), j["poses_visited"].get<int>(), j["poses_refused"].get<int>(),
-              j["poses_unsettled"].get<int>(), j["stills"].get<int>(), j.value("samples", 0), j.value("joint_views", 0),
+              j.value("poses_held_from_start", 0), j.value("fallback_poses_held", 0), j["poses_unsettled"].get<int>(), j["stills"].get<int>(), j.value("samples", 0), j.value("joint_views", 0),
               j["samples_rejected"].get<int>());
   if (j.contains("cameras")) {
     for (const auto& [label, c] : j["cameras"].items()) {
@@ -149,6 +152,9 @@ CLI::App* addCalibrateCommand(CLI::App& app, CalibrateCommandOptions& o) {
   intrinsics->add_option("--max-views", o.max_views,
                          "stop collecting at this many samples (below --min-views the done rule cannot be met)")
       ->capture_default_str()->check(CLI::Range(3, 1000));
+  intrinsics->add_option("--max-focal-std", o.max_focal_std_pct,
+                         "the done rule's bound on σ(fx), σ(fy), % of f: smaller asks for more views (more time)")
+      ->capture_default_str()->check(CLI::Range(0.001, 10.0));
   intrinsics->add_option("--save-stills", o.save_stills,
                          "write every still (PNG, full resolution) and stills.csv with its verdict to this folder");
   intrinsics->add_flag("--compare-models", o.compare_models,
@@ -185,6 +191,7 @@ int runCalibrateCommand(const CLI::App& calibrate, const CalibrateCommandOptions
   console::calibration::IntrinsicsProcedureOptions options;
   options.model = o.model;
   options.rule.min_views = o.min_views;
+  options.rule.max_focal_std_rel = o.max_focal_std_pct / 100.0;
   options.max_views = o.max_views;
   options.stills_dir = o.save_stills;
   if (!o.target.empty()) {

@@ -35,6 +35,7 @@ struct CalibrateCommandOptions {
   LinkSecurityOptions security;  ///< --keys DIR (a supervisor key) | --insecure
   std::string out, format = "telesphere", model = "ds", initial, target, save_stills;
   int min_views = 20, max_views = 60;
+  double max_focal_std_pct = 0.2;  ///< the done rule's σ(fx), σ(fy) bound, % of f
   bool json = false;
   bool compare_models = false;
   double tolerance_px = 1.0;

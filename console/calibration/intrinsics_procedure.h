@@ -80,6 +80,10 @@ struct IntrinsicsOutcome {
   DoneCheck collection, solve;
   std::string rule_text;
   int poses_planned = 0, poses_visited = 0, poses_refused = 0, poses_unsettled = 0;
+  /// Refused targets reached with another pose (PlannedView::fallback); not counted as planned.
+  int fallback_poses_held = 0;
+  /// Poses refused from where the arm stood and held once it was back at the start pose.
+  int poses_held_from_start = 0;
   int stills = 0, samples_rejected = 0;
   double first_sample_to_result_s = 0;  ///< wall time
   double total_s = 0;
@@ -93,6 +97,10 @@ struct IntrinsicsOutcome {
 /// supervisor put the board in view from there) and, whatever the outcome, ends there: the head
 /// is taken back to its start pose (bounded by options.settle's timeout) before it is released.
 IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& options);
+
+/// `rule` with the tag angle of the board the collector's samples show (collector.tagAngleDeg()),
+/// unless the rule sets its own.
+IntrinsicsDoneRule ruleInEffect(const IntrinsicsDoneRule& rule, const IntrinsicsCollector& collector);
 
 /// Solves the samples in `collector` (again, e.g. after the user deleted some) and fills in
 /// `out`'s result, calibration, done checks and error; the collector ends up in `out`.

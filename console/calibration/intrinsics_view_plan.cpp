@@ -2,6 +2,7 @@
 /// @brief planIntrinsicViews (see intrinsics_view_plan.h).
 #include "console/calibration/intrinsics_view_plan.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "calib/bearing_pose.h"
@@ -47,37 +48,48 @@ std::vector<PlannedView> planIntrinsicViews(const Eigen::Isometry3d& T_robot_hea
   std::vector<PlannedView> plan;
   const Eigen::Matrix3d R_robot_cam0 = T_robot_head0.linear() * T_head_cam.linear();
   const Eigen::Matrix3d R_cam_head = T_head_cam.linear().transpose();
+  const std::size_t rolls = std::max<std::size_t>(1, options.rolls_deg.size());
+  const std::size_t offsets = std::max<std::size_t>(1, options.offsets_m.size());
   for (std::size_t i = 0; i < options.targets.size(); ++i) {
     const Eigen::Vector2d px(options.targets[i].x() * (width - 1), options.targets[i].y() * (height - 1));
     Eigen::Vector3d d_des;
     if (!camera.unproject(px, d_des) || !d_des.allFinite() || d_des.norm() == 0) continue;
     d_des.normalize();
-    const double roll = options.rolls_deg.empty() ? 0.0 : options.rolls_deg[i % options.rolls_deg.size()];
-    const Eigen::Vector3d offset =
-        options.offsets_m.empty() ? Eigen::Vector3d::Zero() : options.offsets_m[i % options.offsets_m.size()];
-    const Eigen::Vector3d p_head = T_robot_head0.translation() + offset;
-    Eigen::Matrix3d R_robot_cam = R_robot_cam0;
-    Eigen::Vector3d d_last = Eigen::Vector3d::Zero();
-    for (int pass = 0; pass < 50; ++pass) {  // a contraction by about |t_head_cam| / distance per pass
-      const Eigen::Vector3d p_cam = p_head + R_robot_cam * R_cam_head * T_head_cam.translation();
-      const Eigen::Vector3d d_robot = (p_robot_board - p_cam).normalized();
-      if ((d_robot - d_last).norm() < 1e-14) break;
-      d_last = d_robot;
-      const Eigen::Matrix3d R_min = Eigen::Quaterniond::FromTwoVectors(R_robot_cam0 * d_des, d_robot).toRotationMatrix();
-      R_robot_cam = Eigen::AngleAxisd(roll * M_PI / 180.0, d_robot).toRotationMatrix() * R_min * R_robot_cam0;
+    // Candidate k takes the roll i + k and the offset i + k / rolls in turn: k = 0 is the pose
+    // this target always had; the fallbacks first roll, then move the head.
+    int poses = 0;
+    for (std::size_t k = 0; k < rolls * offsets && poses <= std::max(0, options.fallbacks); ++k) {
+      const double roll = options.rolls_deg.empty() ? 0.0 : options.rolls_deg[(i + k) % rolls];
+      const Eigen::Vector3d offset =
+          options.offsets_m.empty() ? Eigen::Vector3d::Zero() : options.offsets_m[(i + k / rolls) % offsets];
+      const Eigen::Vector3d p_head = T_robot_head0.translation() + offset;
+      Eigen::Matrix3d R_robot_cam = R_robot_cam0;
+      Eigen::Vector3d d_last = Eigen::Vector3d::Zero();
+      for (int pass = 0; pass < 50; ++pass) {  // a contraction by about |t_head_cam| / distance per pass
+        const Eigen::Vector3d p_cam = p_head + R_robot_cam * R_cam_head * T_head_cam.translation();
+        const Eigen::Vector3d d_robot = (p_robot_board - p_cam).normalized();
+        if ((d_robot - d_last).norm() < 1e-14) break;
+        d_last = d_robot;
+        const Eigen::Matrix3d R_min =
+            Eigen::Quaterniond::FromTwoVectors(R_robot_cam0 * d_des, d_robot).toRotationMatrix();
+        R_robot_cam = Eigen::AngleAxisd(roll * M_PI / 180.0, d_robot).toRotationMatrix() * R_min * R_robot_cam0;
+      }
+      PlannedView view;
+      view.T_robot_head.linear() = R_robot_cam * R_cam_head;
+      view.T_robot_head.translation() = p_head;
+      const double turn_deg =
+          Eigen::AngleAxisd(T_robot_head0.linear().transpose() * view.T_robot_head.linear()).angle() * 180.0 / M_PI;
+      if (turn_deg > options.max_turn_deg) continue;
+      const Eigen::Isometry3d T_robot_cam = view.T_robot_head * T_head_cam;
+      Eigen::Vector2d shown;
+      if (!camera.project(T_robot_cam.inverse() * p_robot_board, shown) || (shown - px).norm() > 0.01) continue;
+      view.target_px = px;
+      view.roll_deg = roll;
+      view.target = int(i);
+      view.fallback = poses > 0;
+      plan.push_back(view);
+      ++poses;
     }
-    PlannedView view;
-    view.T_robot_head.linear() = R_robot_cam * R_cam_head;
-    view.T_robot_head.translation() = p_head;
-    const double turn_deg =
-        Eigen::AngleAxisd(T_robot_head0.linear().transpose() * view.T_robot_head.linear()).angle() * 180.0 / M_PI;
-    if (turn_deg > options.max_turn_deg) continue;
-    const Eigen::Isometry3d T_robot_cam = view.T_robot_head * T_head_cam;
-    Eigen::Vector2d shown;
-    if (!camera.project(T_robot_cam.inverse() * p_robot_board, shown) || (shown - px).norm() > 0.01) continue;
-    view.target_px = px;
-    view.roll_deg = roll;
-    plan.push_back(view);
   }
   return plan;
 }

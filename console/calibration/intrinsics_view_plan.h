@@ -28,6 +28,10 @@ struct PlannedView {
   Eigen::Isometry3d T_robot_head = Eigen::Isometry3d::Identity();
   Eigen::Vector2d target_px = Eigen::Vector2d::Zero();  ///< where the board centre should appear
   double roll_deg = 0;
+  int target = 0;         ///< index into ViewPlanOptions::targets
+  /// Another head pose for the same target (another roll, another head position): visited only
+  /// when the arm refused every pose before it for this target.
+  bool fallback = false;
 };
 
 struct ViewPlanOptions {
@@ -42,6 +46,10 @@ struct ViewPlanOptions {
   double max_turn_deg = 150.0;
   std::vector<Eigen::Vector3d> offsets_m{Eigen::Vector3d::Zero(), Eigen::Vector3d(0.08, 0.05, 0.03),
                                          Eigen::Vector3d(-0.08, -0.05, -0.03)};
+  /// Per target, up to this many further poses (the next roll, then the next head offset, in
+  /// turn) for when the arm cannot reach the first: which poses the arm refuses depends on where
+  /// it stands, and a rim target lost that way can leave a polar bin without a corner.
+  int fallbacks = 4;
 
   /// The image's inner part: a 3×3 grid at 25/50/75 % (a first solve needs these).
   static std::vector<Eigen::Vector2d> innerTargets();
@@ -61,7 +69,8 @@ std::optional<Eigen::Vector3d> boardCentreInCamera(const calib::TargetObservatio
 /// The head poses that put a board centre at `p_robot_board` onto each target pixel of a camera
 /// `camera` (width × height) mounted at T_head_cam, starting from T_robot_head0. Targets the
 /// model cannot unproject, that need a turn beyond max_turn_deg, or whose pose does not show the
-/// board within 0.01 px of the target are left out.
+/// board within 0.01 px of the target are left out. Each target's first pose is followed by its
+/// fallbacks (PlannedView::fallback), which show the board centre on the same pixel.
 std::vector<PlannedView> planIntrinsicViews(const Eigen::Isometry3d& T_robot_head0, const Eigen::Isometry3d& T_head_cam,
                                             const Eigen::Vector3d& p_robot_board, const calib::GenericCamera& camera,
                                             int width, int height, const ViewPlanOptions& options);

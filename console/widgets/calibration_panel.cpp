@@ -463,7 +463,7 @@ void CalibrationPanel::showCoverage() {
     coverage_->clear();
     return;
   }
-  coverage_->setPixmap(coveragePicture(*outcome_->collector, options_.rule));
+  coverage_->setPixmap(coveragePicture(*outcome_->collector, calibration::ruleInEffect(options_.rule, *outcome_->collector)));
   coverage_->setToolTip(QString::fromStdString("cam_l: " + outcome_->collector->coverage(0).describe() +
                                                "\ncam_r: " + outcome_->collector->coverage(1).describe()));
 }

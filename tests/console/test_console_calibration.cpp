@@ -98,6 +98,7 @@ TEST(IntrinsicsViewPlan, EachPoseShowsTheBoardCentreAtItsTargetPixelEvenBeyond90
     ViewPlanOptions behind;
     behind.targets = {{0.5, 0.5}};
     behind.offsets_m = {Eigen::Vector3d::Zero()};
+    behind.fallbacks = 0;
     EXPECT_TRUE(planIntrinsicViews(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(), Eigen::Vector3d(0.01, 0, -1),
                                    cam.camera, cam.width, cam.height, behind).empty());
     behind.max_turn_deg = 180.0;
@@ -107,6 +108,7 @@ TEST(IntrinsicsViewPlan, EachPoseShowsTheBoardCentreAtItsTargetPixelEvenBeyond90
   EXPECT_GT(beyond_90, 20 * 4);  // the rim targets lie beyond 90° off axis
   // A target outside the model's domain (the image's extreme corner) is left out.
   options.targets = {{0.0, 0.0}, {0.5, 0.5}};
+  options.fallbacks = 0;
   const auto plan = planIntrinsicViews(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(),
                                        Eigen::Vector3d(0, 0, 1), cam.camera, cam.width, cam.height, options);
   ASSERT_EQ(plan.size(), 1u);
@@ -119,11 +121,63 @@ TEST(IntrinsicsViewPlan, TheRollTurnsTheBoardAboutItsOwnDirection) {
   options.targets = {{0.5, 0.5}, {0.5, 0.5}};
   options.rolls_deg = {0.0, 30.0};
   options.offsets_m = {Eigen::Vector3d::Zero()};
+  options.fallbacks = 0;
   const auto plan = planIntrinsicViews(Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(),
                                        Eigen::Vector3d(0.2, 0.1, 1.0), cam.camera, cam.width, cam.height, options);
   ASSERT_EQ(plan.size(), 2u);
   const Eigen::Matrix3d R = plan[0].T_robot_head.linear().transpose() * plan[1].T_robot_head.linear();
   EXPECT_NEAR(Eigen::AngleAxisd(R).angle() * 180 / M_PI, 30.0, 1e-9);
+}
+
+// The arm refuses some poses, depending on where it stands (console_calibrate_test lost up to 10
+// of 29 targets, among them the image corners that give the widest polar bin). Each target's
+// first pose is followed by other poses that show the board centre on the same pixel: the next
+// rolls, then the next head offsets, none the same as another.
+TEST(IntrinsicsViewPlan, EachTargetHasOtherPosesThatShowTheBoardOnTheSamePixel) {
+  const calib::CameraCalibration cam = simCamera();
+  ViewPlanOptions options;
+  options.targets = ViewPlanOptions::outerTargets();
+  ASSERT_EQ(options.fallbacks, 4);
+  Eigen::Isometry3d T_robot_head0 = Eigen::Isometry3d::Identity();
+  T_robot_head0.translation() = Eigen::Vector3d(0.4, 0, 0.45);
+  Eigen::Isometry3d T_head_cam = Eigen::Isometry3d::Identity();
+  T_head_cam.translation() = Eigen::Vector3d(-0.03, 0.06, 0.05);
+  const Eigen::Vector3d p_robot_board = (T_robot_head0 * T_head_cam) * Eigen::Vector3d(0.1, -0.05, 1.2);
+  const auto plan = planIntrinsicViews(T_robot_head0, T_head_cam, p_robot_board, cam.camera, cam.width, cam.height, options);
+  std::vector<std::vector<const PlannedView*>> per_target(options.targets.size());
+  int previous_target = -1;
+  for (const PlannedView& view : plan) {
+    ASSERT_GE(view.target, previous_target) << "a target's poses follow each other, in target order";
+    ASSERT_EQ(view.fallback, view.target == previous_target) << "the first pose of a target is not a fallback";
+    previous_target = view.target;
+    per_target[std::size_t(view.target)].push_back(&view);
+    Eigen::Vector2d px;
+    ASSERT_TRUE(cam.camera.project((view.T_robot_head * T_head_cam).inverse() * p_robot_board, px));
+    EXPECT_LT((px - view.target_px).norm(), 1e-6) << view.target << (view.fallback ? " (fallback)" : "");
+    const Eigen::Vector2d want(options.targets[std::size_t(view.target)].x() * (cam.width - 1),
+                               options.targets[std::size_t(view.target)].y() * (cam.height - 1));
+    EXPECT_LT((view.target_px - want).norm(), 1e-9);
+  }
+  for (std::size_t t = 0; t < per_target.size(); ++t) {
+    const auto& poses = per_target[t];
+    ASSERT_EQ(poses.size(), 5u) << "target " << t << ": its pose and 4 fallbacks";
+    // The first pose is the one a plan without fallbacks has (roll t % 3, offset t % 3).
+    EXPECT_EQ(poses[0]->roll_deg, options.rolls_deg[t % 3]);
+    EXPECT_LT((poses[0]->T_robot_head.translation() - T_robot_head0.translation() - options.offsets_m[t % 3]).norm(), 1e-12);
+    // Fallbacks 1 and 2 roll the other ways at the same head position; 3 and 4 move the head.
+    EXPECT_NE(poses[1]->roll_deg, poses[0]->roll_deg);
+    EXPECT_NE(poses[2]->roll_deg, poses[0]->roll_deg);
+    EXPECT_NE(poses[2]->roll_deg, poses[1]->roll_deg);
+    EXPECT_LT((poses[1]->T_robot_head.translation() - poses[0]->T_robot_head.translation()).norm(), 1e-12);
+    EXPECT_GT((poses[3]->T_robot_head.translation() - poses[0]->T_robot_head.translation()).norm(), 0.05);
+    for (std::size_t a = 0; a < poses.size(); ++a)
+      for (std::size_t b = a + 1; b < poses.size(); ++b)
+        EXPECT_FALSE(poses[a]->T_robot_head.isApprox(poses[b]->T_robot_head, 1e-9)) << t << ": poses " << a << " and " << b;
+  }
+  // Without fallbacks, one pose per target, as before.
+  options.fallbacks = 0;
+  EXPECT_EQ(planIntrinsicViews(T_robot_head0, T_head_cam, p_robot_board, cam.camera, cam.width, cam.height, options).size(),
+            options.targets.size());
 }
 
 TEST(IntrinsicsViewPlan, TheBoardCentreFromOneViewMatchesItsPose) {
@@ -247,6 +301,62 @@ TEST(IntrinsicsDoneRule, EachUnmetCheckIsNamedWithItsNumber) {
   result.cameras[0].param_stddev.clear();
   EXPECT_NE(checkSolve(result, rule).describe().find("rank deficient"), std::string::npos);
   EXPECT_NE(rule.describe(10).find("20 views"), std::string::npos);
+}
+
+// console_calibrate_test failed in CI (and 3 of 5 Release runs here) on "cam_l: no corner yet at
+// polar angles 100–110°": its robot renders 1280×720, where an 8.8 cm tag 1.21 m away spans
+// 16.7 px radially at 105° in cam_l (4.00 px a degree: the rim is squeezed), under 2 px for each
+// of a tag's 10 cells; the stills near the corners read 0–8 tags of ~20 in view. The rule asks only
+// for bins where a tag can be read; at 1920×1080, or with the board nearer, it asks for 100–110°.
+TEST(IntrinsicsDoneRule, RimBinsWhereTheBoardsTagsAreTooSmallToReadAreNotRequired) {
+  const auto truth = calib::loadCalibrationFile(std::string(TELESPHERE_SOURCE_DIR) + "/tests/console/data/calibration_truth.yaml");
+  ASSERT_TRUE(truth);
+  const auto cameraAt = [&](int camera, int width, int height) {
+    std::string error;
+    const auto c = calib::atResolution(truth->cameras[std::size_t(camera)], width, height, &error);
+    EXPECT_TRUE(c) << error;
+    return c->camera;
+  };
+  const calib::GenericCamera cam_l_720 = cameraAt(0, 1280, 720), cam_r_720 = cameraAt(1, 1280, 720),
+                             cam_l_1080 = cameraAt(0, 1920, 1080);
+  IntrinsicsDoneRule rule;
+  const double tag_deg = 2.0 * std::atan(0.5 * 0.088 / 1.21) * 180.0 / M_PI;  // 4.17°
+  const calib::ViewCoverage left_720(cam_l_720, 1280, 720), right_720(cam_r_720, 1280, 720),
+      left_1080(cam_l_1080, 1920, 1080);
+  // The radial scale in a bin's middle against the model along the horizontal (an isotropic
+  // lens: the largest over the azimuths is within a few % of it).
+  for (const auto& [cov, cam] : {std::pair{&left_720, &cam_l_720}, std::pair{&left_1080, &cam_l_1080}})
+    for (int b : {0, 5, 9, 10}) {
+      const double a = (b + 0.5) * 10.0 * M_PI / 180.0, da = 1e-4;
+      Eigen::Vector2d p0, p1;
+      ASSERT_TRUE(cam->project(Eigen::Vector3d(-std::sin(a), 0, std::cos(a)), p0));
+      ASSERT_TRUE(cam->project(Eigen::Vector3d(-std::sin(a + da), 0, std::cos(a + da)), p1));
+      const double numeric = (p1 - p0).norm() / (da * 180.0 / M_PI);
+      EXPECT_NEAR(cov->radialPxPerDeg(b), numeric, 0.05 * numeric) << "bin " << b;
+    }
+  EXPECT_NEAR(left_720.radialPxPerDeg(10), 4.00, 0.05);
+  EXPECT_NEAR(right_720.radialPxPerDeg(10), 5.30, 0.05);
+  // Without the tag angle: the share alone (100–110° holds 5 % of cam_l's image).
+  EXPECT_EQ(requiredPolarBins(left_720, rule).back(), 10);
+  EXPECT_TRUE(unreadablePolarBins(left_720, rule).empty());
+  // With the board 1.21 m away: cam_l's 100–110° ring is optional at 1280×720 and named as such;
+  // cam_r (5.30 px a degree there: 22 px a tag) and cam_l at 1920×1080 (25 px) still need it.
+  rule.tag_angle_deg = tag_deg;
+  EXPECT_EQ(requiredPolarBins(left_720, rule).back(), 9);
+  EXPECT_EQ(unreadablePolarBins(left_720, rule), std::vector<int>{10});
+  EXPECT_EQ(requiredPolarBins(right_720, rule).back(), 10);
+  EXPECT_EQ(requiredPolarBins(left_1080, rule).back(), 10);
+  EXPECT_TRUE(unreadablePolarBins(left_1080, rule).empty());
+  // The board at 0.8 m: tags 6.3° across (25 px), readable there again.
+  rule.tag_angle_deg = 2.0 * std::atan(0.5 * 0.088 / 0.8) * 180.0 / M_PI;
+  EXPECT_EQ(requiredPolarBins(left_720, rule).back(), 10);
+  // The collector carries the board's tag angle into the rule the procedure checks.
+  IntrinsicsCollector collector({cam_l_720, cam_r_720}, 1280, 720);
+  EXPECT_EQ(ruleInEffect(IntrinsicsDoneRule{}, collector).tag_angle_deg, 0.0);
+  collector.setTagAngleDeg(tag_deg);
+  EXPECT_EQ(ruleInEffect(IntrinsicsDoneRule{}, collector).tag_angle_deg, tag_deg);
+  EXPECT_EQ(missingPolarBins(collector.coverage(0), ruleInEffect(IntrinsicsDoneRule{}, collector)).back(), 9);
+  EXPECT_NE(IntrinsicsDoneRule{}.describe(10).find("tags span ≥ 2 px a cell"), std::string::npos);
 }
 
 TEST(IntrinsicsProcedure, TheGenericGuessIsAFisheyeOfAbout200Degrees) {
