@@ -41,7 +41,8 @@ bool binHoldsShare(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule
 }
 
 bool tagsReadable(const calib::ViewCoverage& coverage, const IntrinsicsDoneRule& rule, int bin) {
-  if (rule.tag_angle_deg <= 0) return true;
+  // No tag angle, or no scale known (the bin's middle lies outside the image): the share decides.
+  if (rule.tag_angle_deg <= 0 || coverage.radialPxPerDeg(bin) <= 0) return true;
   return coverage.radialPxPerDeg(bin) * rule.tag_angle_deg >= rule.tag_cells * rule.min_px_per_tag_cell;
 }
 

@@ -138,7 +138,8 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   log(fmt("board found %.2f m from the left camera; stills %.0f×%.0f", p_cam_board->norm(), width, height));
 
   IntrinsicsCollector collector(models, width, height, o.gates, o.coverage);
-  collector.setTagAngleDeg(2.0 * std::atan(0.5 * o.grid.tag_size / p_cam_board->norm()) * 180.0 / M_PI);
+  double board_distance_m = p_cam_board->norm();
+  collector.setTagAngleDeg(tagAngleDeg(o.grid, board_distance_m));
   std::optional<Clock::time_point> t_first_sample;
   std::ofstream stills_csv;
   if (!o.stills_dir.empty()) {
@@ -178,7 +179,6 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
       head_at_start = false;
       return true;
     }
-    ++out.poses_refused;
     log(fmt("pose for pixel (%.0f, %.0f), roll %.0f°, refused: ", view.target_px.x(), view.target_px.y(), view.roll_deg) +
         error);
     if (head_at_start) return false;
@@ -189,7 +189,6 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     }
     head_at_start = true;
     if (!robot.holdHeadAt(view.T_robot_head, &error)) {
-      ++out.poses_refused;
       log("refused from the start pose too: " + error);
       return false;
     }
@@ -198,10 +197,23 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     head_at_start = false;
     return true;
   };
+  // A view for another visit (missed): visited for its own sake, not as a fallback.
+  const auto miss = [&](const PlannedView& view) {
+    missed.push_back(view);
+    missed.back().fallback = false;
+  };
+  // Counts a target (a first choice and its fallbacks) once: visited, and refused when the arm
+  // took none of its poses.
   const auto visit = [&](const std::vector<PlannedView>& plan, bool stop_when_collected) -> bool {
-    bool target_open = false;  // no pose of this target held yet: its fallbacks are still wanted
+    bool target_open = false;     // no pose of this target held yet: its fallbacks are still wanted
+    bool target_refused = false;  // and the arm refused one of them
+    const auto closeTarget = [&] {
+      if (target_open && target_refused) ++out.poses_refused;
+      target_open = target_refused = false;
+    };
     for (const PlannedView& view : plan) {
       if (!view.fallback) {
+        closeTarget();
         target_open = true;
       } else if (!target_open) {
         continue;
@@ -209,10 +221,14 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
       if (cancelled()) return false;
       if (int(collector.samples().size()) >= o.max_views) break;
       if (stop_when_collected && collectionCheck(collector, o.rule).done()) break;
-      ++out.poses_visited;
-      if (!holdView(view)) continue;
+      if (!view.fallback) ++out.poses_visited;
+      if (!holdView(view)) {
+        if (cancelled()) return false;
+        target_refused = true;
+        continue;
+      }
       if (cancelled()) return false;
-      target_open = false;
+      target_open = target_refused = false;
       if (view.fallback) {
         ++out.fallback_poses_held;
         log(fmt("another pose for pixel (%.0f, %.0f) is held: roll %.0f°", view.target_px.x(), view.target_px.y(),
@@ -222,8 +238,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
         if (cancelled()) return false;
         ++out.poses_unsettled;
         log("pose skipped: " + error);
-        missed.push_back(view);
-        missed.back().fallback = false;  // visited again for its own sake
+        miss(view);
         continue;
       }
       std::optional<StereoSample> previous;
@@ -260,9 +275,10 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
         }
         previous = std::move(sample);
       }
-      if (!settled_outcome) missed.push_back(view);
+      if (!settled_outcome) miss(view);
       report(int(collector.samples().size()), nullptr);
     }
+    closeTarget();
     return true;
   };
 
@@ -282,6 +298,10 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     if (auto solved = calib::calibrateIntrinsics(o.grid, collector.cameraViews(o.model), quick)) {
       for (int c = 0; c < 2; ++c) models[std::size_t(c)] = solved->cameras[std::size_t(c)].calibration.camera;
       collector.setModels(models);
+      if (const auto p = boardCentreInCamera(first.views[0], o.grid, models[0])) {  // through the refined model
+        board_distance_m = p->norm();
+        collector.setTagAngleDeg(tagAngleDeg(o.grid, board_distance_m));
+      }
       log(fmt("quick solve on %.0f views: RMS %.3f / %.3f px", double(solved->cameras[0].views_used),
               solved->cameras[0].rms_px, solved->cameras[1].rms_px));
     } else {
@@ -297,7 +317,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
       for (int b : unreadablePolarBins(cov, rule))
         log(std::string(c == 0 ? "cam_l" : "cam_r") +
             fmt(": the %.0f–%.0f° ring is not required: a tag %.2f m away spans %.1f px radially there, ",
-                b * cov.polarBinDeg(), (b + 1) * cov.polarBinDeg(), p_cam_board->norm(),
+                b * cov.polarBinDeg(), (b + 1) * cov.polarBinDeg(), board_distance_m,
                 cov.radialPxPerDeg(b) * rule.tag_angle_deg) +
             fmt("%.0f needed (bring the board closer, or use a higher resolution, to cover it)",
                 rule.tag_cells * rule.min_px_per_tag_cell));
@@ -343,7 +363,10 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
                               plan_options);
     out.poses_planned += firstChoices(plan);
     stage = "more views";
-    if (!visit(plan, false)) return fail("cancelled");
+    if (!visit(plan, false)) {
+      out.collector = std::move(collector);  // the first solve's samples stay with its result
+      return fail("cancelled");
+    }
     log(fmt("collected %.0f samples; solving again", double(collector.samples().size())));
     stage = "solving";
     report(int(collector.samples().size()), nullptr);
@@ -353,6 +376,10 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   out.first_sample_to_result_s = out.result && t_first_sample ? secondsSince(*t_first_sample) : 0.0;
   out.total_s = secondsSince(t_start);
   return out;
+}
+
+double tagAngleDeg(const calib::AprilGrid& grid, double distance_m) {
+  return 2.0 * std::atan(0.5 * grid.tag_size / distance_m) * 180.0 / M_PI;
 }
 
 IntrinsicsDoneRule ruleInEffect(const IntrinsicsDoneRule& rule, const IntrinsicsCollector& collector) {

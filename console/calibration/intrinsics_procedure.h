@@ -7,14 +7,16 @@
 ///      bearings through the planning model: --initial's, or a generic fisheye guess);
 ///   2. visit the inner targets of the view plan (intrinsics_view_plan.h): at each pose hold,
 ///      wait until settled, take stills until two in a row agree (the stillness gate), offer
-///      the second one to the collector (the gates);
-///   3. a quick solve of the left camera refines the planning model; the outer targets (edges,
-///      corners: the rim) are planned through it and visited while the done rule's collection
-///      part is unmet;
-///      while it is unmet afterwards, the poses that gave nothing (not settled, no still, still
-///      moving) once more, then a fill ring of targets with other rolls;
-///   4. the full stereo solve with standard deviations; the done rule's solve part;
-///   5. the head is released (also on failure and cancel).
+///      the second one to the collector (the gates); a pose the arm refuses is asked for again
+///      from the start pose, then the target's fallback poses (other rolls, head positions);
+///   3. a quick solve of the left camera refines the planning model (and the board's distance,
+///      which says in which rim rings its tags can be read); the outer targets (edges, corners:
+///      the rim) are planned through it and visited while the done rule's collection part is
+///      unmet; while it is unmet afterwards, the poses that gave nothing (not settled, no still,
+///      still moving) once more, then a fill ring of targets with other rolls;
+///   4. the full stereo solve with standard deviations; the done rule's solve part; when only
+///      that part is unmet, one more ring of views (other rolls) and the solve again;
+///   5. the head is taken back to its start pose and released (also on failure and cancel).
 /// Every step is logged; the figures (poses refused/unsettled, stills, gate rejections, time
 /// from the first sample to the result) come back with the result.
 #pragma once
@@ -36,7 +38,7 @@ namespace telesphere::console::calibration {
 
 /// Where a run stands (for a progress bar); reported after every pose and at the solve.
 struct IntrinsicsProgress {
-  std::string stage;          ///< "inner views", "rim views", "solving", "done"
+  std::string stage;  ///< "inner views", "rim views", "retrying", "fill views", "solving", "more views", "done"
   int samples = 0;            ///< kept so far
   int poses_visited = 0;
   int poses_planned = 0;
@@ -79,6 +81,8 @@ struct IntrinsicsOutcome {
   std::optional<IntrinsicsCollector> collector;
   DoneCheck collection, solve;
   std::string rule_text;
+  /// Targets (a planned pose with its fallbacks, counted once): planned, visited, refused (the arm
+  /// took none of its poses, from where it stood or from the start pose), and held but not settled.
   int poses_planned = 0, poses_visited = 0, poses_refused = 0, poses_unsettled = 0;
   /// Refused targets reached with another pose (PlannedView::fallback); not counted as planned.
   int fallback_poses_held = 0;
@@ -97,6 +101,9 @@ struct IntrinsicsOutcome {
 /// supervisor put the board in view from there) and, whatever the outcome, ends there: the head
 /// is taken back to its start pose (bounded by options.settle's timeout) before it is released.
 IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsProcedureOptions& options);
+
+/// A board tag's angular size (deg) seen from `distance_m` away.
+double tagAngleDeg(const calib::AprilGrid& grid, double distance_m);
 
 /// `rule` with the tag angle of the board the collector's samples show (collector.tagAngleDeg()),
 /// unless the rule sets its own.

@@ -34,6 +34,11 @@ std::optional<LiveStill> LiveCapture::step(std::string* error) {
   if (live.verdict.keep && (auto_capture_ || capture_requested_.exchange(false))) {
     collector_->add(live.sample);
     live.kept = true;
+    if (collector_->tagAngleDeg() <= 0) {  // the board's distance from the first kept sample that gives it
+      const auto models = startingModels(options_, live.sample.width, live.sample.height);
+      if (const auto p_cam_board = boardCentreInCamera(live.sample.views[0], options_.grid, models[0]))
+        collector_->setTagAngleDeg(tagAngleDeg(options_.grid, p_cam_board->norm()));
+    }
   }
   live.capture_pending = capture_requested_;
   live.samples = int(collector_->samples().size());
