@@ -283,11 +283,16 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
   };
 
   ViewPlanOptions plan_options;
-  plan_options.targets = ViewPlanOptions::innerTargets();
-  auto plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
-  out.poses_planned += firstChoices(plan);
-  log(fmt("inner views: %.0f poses planned", double(firstChoices(plan))));
-  stage = "inner views";
+  // The head poses of one ring of targets through `camera`, counted as planned and logged.
+  const auto planRing = [&](const char* name, std::vector<Eigen::Vector2d> targets, const calib::GenericCamera& camera) {
+    plan_options.targets = std::move(targets);
+    auto ring = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, camera, width, height, plan_options);
+    out.poses_planned += firstChoices(ring);
+    log(std::string(name) + fmt(": %.0f poses planned", double(firstChoices(ring))));
+    stage = name;
+    return ring;
+  };
+  auto plan = planRing("inner views", ViewPlanOptions::innerTargets(), models[0]);
   if (!visit(plan, false)) return fail("cancelled");
 
   // A quick solve refines the models the rim is planned and the coverage is measured through.
@@ -323,11 +328,7 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
                 rule.tag_cells * rule.min_px_per_tag_cell));
     }
   }
-  plan_options.targets = ViewPlanOptions::outerTargets();
-  plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
-  out.poses_planned += firstChoices(plan);
-  log(fmt("rim views: %.0f poses planned", double(firstChoices(plan))));
-  stage = "rim views";
+  plan = planRing("rim views", ViewPlanOptions::outerTargets(), models[0]);
   if (!visit(plan, true)) return fail("cancelled");
   // While the rule is unmet: the poses that gave nothing once more, then a fill ring.
   if (!collectionCheck(collector, o.rule).done()) {
@@ -336,11 +337,8 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
     log(fmt("the rule is not met yet: %.0f poses again", double(retry.size())));
     stage = "retrying";
     if (!visit(retry, true)) return fail("cancelled");
-    plan_options.targets = ViewPlanOptions::fillTargets();
     plan_options.rolls_deg = {15.0, -15.0, 45.0, -45.0};
-    plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, models[0], width, height, plan_options);
-    out.poses_planned += firstChoices(plan);
-    stage = "fill views";
+    plan = planRing("fill views", ViewPlanOptions::fillTargets(), models[0]);
     if (!visit(plan, true)) return fail("cancelled");
   }
 
@@ -357,12 +355,8 @@ IntrinsicsOutcome runIntrinsicsAuto(CalibrationRobot& robot, const IntrinsicsPro
       int(out.collector->samples().size()) < o.max_views) {
     collector = std::move(*out.collector);
     log("the solve misses the rule (" + out.solve.describe() + "): more views");
-    plan_options.targets = ViewPlanOptions::fillTargets();
     plan_options.rolls_deg = {30.0, -30.0, 60.0, -60.0};
-    plan = planIntrinsicViews(*T_robot_head0, T_head_cam, p_robot_board, out.result->cameras[0].calibration.camera, width, height,
-                              plan_options);
-    out.poses_planned += firstChoices(plan);
-    stage = "more views";
+    plan = planRing("more views", ViewPlanOptions::fillTargets(), out.result->cameras[0].calibration.camera);
     if (!visit(plan, false)) {
       out.collector = std::move(collector);  // the first solve's samples stay with its result
       return fail("cancelled");
@@ -410,7 +404,7 @@ void solveCollected(IntrinsicsCollector collector, const IntrinsicsProcedureOpti
   out.result = *solved;
   collector.setModels({solved->cameras[0].calibration.camera, solved->cameras[1].calibration.camera});
   out.collection = collectionCheck(collector, o.rule);
-  out.solve = checkSolve(*solved, ruleInEffect(o.rule, collector));
+  out.solve = checkSolve(*solved, o.rule);
   calib::SystemCalibration calibration = solved->toSystemCalibration();
   if (o.initial) {
     calibration.T_flange_cam_l = o.initial->T_flange_cam_l;
