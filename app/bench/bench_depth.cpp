@@ -777,6 +777,12 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   out << "\nThe sweep's speed against its accuracy (worst scene of each column; eye errors moving, "
       << (ctx.quick ? 21 : 61) << "x" << (ctx.quick ? 21 : 61) << " rays):\n";
   knob.print(out);
+  // The first two rows differ only in how the sums are taken: eight samples a step must not be
+  // slower than one at a time (it was 3.5x slower on one CPU, xr/depth/patch_sums.cpp).
+  const double simd_ms = knob_json[0]["depth_ms_per_pair"].get<double>(), scalar_ms = knob_json[1]["depth_ms_per_pair"].get<double>();
+  if (knob_json[0]["simd"].get<bool>() && simd_ms > scalar_ms)
+    out << "warning: on this CPU the AVX2 sums (" << formatNumber(simd_ms) << " ms a pair) are slower than one sample at a time ("
+        << formatNumber(scalar_ms) << " ms)\n";
 
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
   const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
