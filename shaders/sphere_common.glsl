@@ -41,15 +41,28 @@ uniform float u_sphere_c;   // |origin|² − r², computed in double on the CPU
 #if TS_DEPTH_GRID
 // Inverse depth (1/m) per tile, cols × rows texels: longitude λ = atan(x, z) along s (repeating
 // round the seam), latitude asin(−y) along t (clamped at the poles); texel centres are tile
-// centres, filtering bilinear: the CPU's InverseDepthGrid::sample.
+// centres. The four texels around a direction, interpolated bilinearly, or the largest of them
+// where they span more than u_edge_jump (a depth edge): the CPU's
+// InverseDepthGrid::sampleNearestAtEdges.
 layout(binding = 4) uniform sampler2D u_inverse_depth;
 uniform vec2 u_radius_range;  // kMinProxyRadiusM, kMaxProxyRadiusM
+uniform float u_edge_jump;    // RenderSettings::grid_edge_slope_per_m_per_deg × the tile size (1/m)
 
 float proxyRadius(vec3 dir) {
   const float pi = 3.14159265358979;
   float lat = asin(clamp(-dir.y / length(dir), -1.0, 1.0));
   float lon = atan(dir.x, dir.z);
-  float rho = texture(u_inverse_depth, vec2((lon + pi) / (2.0 * pi), (lat + 0.5 * pi) / pi)).r;
+  // Continuous texel coordinates with texel centres at integers. The four texels come from one
+  // textureGather at the middle of their 2×2 block (texel coordinates base + 1), where no GPU's
+  // rounding of the coordinate can pick another block than the weights f assume; the texture's
+  // wrap modes do the seam (repeat) and the poles (clamp to edge).
+  vec2 size = vec2(textureSize(u_inverse_depth, 0));
+  vec2 st = vec2((lon + pi) / (2.0 * pi), (lat + 0.5 * pi) / pi) * size - 0.5;
+  vec2 base = floor(st), f = st - base;
+  vec4 q = textureGather(u_inverse_depth, (base + 1.0) / size, 0);  // (c0, r1), (c1, r1), (c1, r0), (c0, r0)
+  float v00 = q.w, v01 = q.z, v10 = q.x, v11 = q.y;
+  float hi = max(max(v00, v01), max(v10, v11)), lo = min(min(v00, v01), min(v10, v11));
+  float rho = hi - lo > u_edge_jump ? hi : mix(mix(v00, v01, f.x), mix(v10, v11, f.x), f.y);
   return rho > 1.0 / u_radius_range.y ? clamp(1.0 / rho, u_radius_range.x, u_radius_range.y) : u_radius_range.y;
 }
 #endif

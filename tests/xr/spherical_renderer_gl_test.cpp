@@ -12,7 +12,9 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <random>
+#include <tuple>
 
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
@@ -194,24 +196,41 @@ std::shared_ptr<const render::InverseDepthGrid> roomGrid(double tile_deg) {
   return grid;
 }
 
+/// The room with a box 0.35 m ahead over the tiles within 12° of the axis: depth edges of
+/// 2.5 1/m, where the grid proxy takes the nearest tile instead of interpolating.
+std::shared_ptr<const render::InverseDepthGrid> roomWithBoxGrid(double tile_deg) {
+  auto grid = std::make_shared<render::InverseDepthGrid>(*roomGrid(tile_deg));
+  for (int row = 0; row < grid->rows(); ++row)
+    for (int col = 0; col < grid->cols(); ++col) {
+      const Eigen::Vector3d u = grid->tileCentre(row, col);
+      if (u.z() > std::cos(12.0 * std::numbers::pi / 180.0)) grid->at(row, col) = static_cast<float>(1.0 / 0.35);
+    }
+  return grid;
+}
+
 TEST_F(RendererGl, TheDepthGridProxyMatchesTheReferenceOnTheExactAndLutPaths) {
-  // Float32 on the GPU (texture filtering included) against the double reference's gridProxyHit,
-  // with the eye moved 6 cm from the camera (where the proxy matters) and at the camera.
+  // Float32 on the GPU (texel fetches included) against the double reference's gridProxyHit,
+  // with the eye moved 6 cm from the camera (where the proxy matters) and at the camera; a room,
+  // and the room with a near box (the nearest tile at its edges, and bilinear everywhere).
   const render::SourceImage coords = render::SourceImage::pixelCoordinates(kImageWidth, kImageHeight);
   double worst[2] = {0.0, 0.0};  // exact, LUT
   for (const auto& [lens, camera] : test::allTypicalLenses()) {
     render::GpuCamera gpu(camera, kImageWidth, kImageHeight);
     ASSERT_TRUE(gpu.upload(coords));
-    for (double tile : {4.0, 10.0}) {
-      const auto grid = roomGrid(tile);
+    for (const auto& [tile, box, edge_jump] : {std::tuple{4.0, false, render::kGridEdgeSlopePerMPerDeg}, std::tuple{10.0, false, render::kGridEdgeSlopePerMPerDeg},
+                                             std::tuple{4.0, true, render::kGridEdgeSlopePerMPerDeg},
+                                             std::tuple{4.0, true, std::numeric_limits<double>::infinity()}}) {
+      const auto grid = box ? roomWithBoxGrid(tile) : roomGrid(tile);
       for (const auto& [pose, T] : {std::pair{"moved 6 cm", eyePose({0.04, -0.03, 0.03}, rotation(0.2, {1, 2, 0}))},
                                     std::pair{"at the camera", eyePose({0, 0, 0}, rotation(0.3, {0, 1, 0}))}}) {
         for (render::RenderPath path : {render::RenderPath::kExact, render::RenderPath::kLut}) {
           render::RenderSettings s;
           s.path = path;
           s.depth_grid = grid;
+          s.grid_edge_slope_per_m_per_deg = edge_jump;
           const MapError e = compare(gpu, coords, testEye(T), s);
-          SCOPED_TRACE(lens + " " + pose + " " + std::string(render::renderPathName(path)) + " tiles " + std::to_string(tile));
+          SCOPED_TRACE(lens + " " + pose + " " + std::string(render::renderPathName(path)) + " tiles " + std::to_string(tile) +
+                       (box ? " with a box, edge slope " + std::to_string(edge_jump) : ""));
           EXPECT_LT(e.max_px, path == render::RenderPath::kExact ? 0.05 : 0.5) << e;  // measured 0.0063 and 0.051
           EXPECT_LE(e.validity_mismatch, e.total / 500 + 2) << e;
           EXPECT_GT(e.compared, e.total / 4) << e;

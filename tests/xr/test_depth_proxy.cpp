@@ -3,8 +3,9 @@
 ///        references: a grid of one value is the sphere of that radius, also for eyes outside it;
 ///        a grid of a plane gives each eye ray the plane's own point, better with each step;
 ///        directions behind the camera and across the longitude seam; the centre-weighted radius
-///        of a near object in and out of the centre; inverse depths of 0, NaN and of a point at
-///        the camera centre; tile sizes that do not fit refused.
+///        of a near object in and out of the centre; the nearest tile at a depth edge, bilinear
+///        elsewhere; inverse depths of 0, NaN and of a point at the camera centre; tile sizes
+///        that do not fit refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,6 +104,63 @@ TEST(DepthProxy, DirectionsBehindTheCameraAndAcrossTheLongitudeSeamAreCovered) {
       EXPECT_NEAR(grid.sample(grid.tileCentre(row, col)), grid.at(row, col), 1e-4) << row << "," << col;
       grid.at(row, col) = 0.25F;
     }
+}
+
+/// The direction at longitude and latitude (degrees) in the grid's convention.
+Eigen::Vector3d lonLat(double lon_deg, double lat_deg) {
+  const double lon = lon_deg * kDeg, lat = lat_deg * kDeg;
+  return {std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
+}
+
+TEST(DepthProxy, AtADepthEdgeTheNearestOfTheFourTilesWinsAndElsewhereTheGridInterpolates) {
+  // A wall 3 m away and a block at 0.5 m over the tiles within 8° of the axis in longitude (4°
+  // tiles: centres at ±2°, ±6°; the next at ±10°) and 6° in latitude (centres at 0, ±4°; next ±8°).
+  render::InverseDepthGrid grid(4.0);
+  fill(grid, [](const Eigen::Vector3d& u) {
+    const double lon = std::atan2(u.x(), u.z()) / kDeg, lat = std::asin(-u.y()) / kDeg;
+    return std::abs(lon) < 8.0 && std::abs(lat) < 6.0 ? 2.0 : 1.0 / 3.0;
+  });
+  const double inf = std::numeric_limits<double>::infinity();
+  // Between the block's last centre (6°) and the wall's first (10°): bilinear puts the edge at a
+  // depth between (three quarters of the way to the wall at 9°); the nearest tile keeps the block.
+  EXPECT_NEAR(grid.sample(lonLat(9.0, 0.0)), 0.25 * 2.0 + 0.75 / 3.0, 1e-6);
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(9.0, 0.0), 0.3), 2.0, 1e-6);
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(9.99, 7.99), 0.3), 2.0, 1e-6);  // the corner
+  // A jump no larger than the threshold is interpolated; infinity is sample() everywhere.
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(9.0, 0.0), 2.0 - 1.0 / 3.0), grid.sample(lonLat(9.0, 0.0)), 1e-12);
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(10.01, 0.0), 0.3), 1.0 / 3.0, 1e-6);  // past the wall's centre
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(3.0, 4.0), 0.3), 2.0, 1e-6);          // inside the block
+  std::mt19937 rng(35);
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Vector3d d(n(rng), n(rng), n(rng));
+    EXPECT_EQ(grid.sampleNearestAtEdges(d, inf), grid.sample(d));
+    const double v = grid.sampleNearestAtEdges(d, 0.3);
+    EXPECT_GE(v, grid.sample(d) - 1e-9);  // never farther than the interpolation
+    EXPECT_TRUE(v == grid.sample(d) || std::abs(v - 2.0) < 1e-6);
+  }
+  // A slanted surface (inverse depth rising 0.1 1/m a tile along the longitude) interpolates.
+  fill(grid, [](const Eigen::Vector3d& u) { return 1.0 + 0.025 * std::atan2(u.x(), u.z()) / kDeg; });
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d d(n(rng), n(rng), std::abs(n(rng)) + 0.5);
+    EXPECT_EQ(grid.sampleNearestAtEdges(d, 0.3), grid.sample(d));
+  }
+}
+
+TEST(DepthProxy, TheNearestTileAtAnEdgeFollowsTheSeamAndThePolesAsTheInterpolationDoes) {
+  // At the extremes: across the longitude seam (straight behind, a lens wider than 180° sees
+  // there) the tiles on both sides are neighbours; at a pole the rows clamp, as a texture with
+  // clamp-to-edge does on the GPU, so a near row one tile off the pole does not reach it.
+  render::InverseDepthGrid grid(5.0, 0.25F);
+  grid.at(10, 0) = 4.0F;  // just east of the seam (longitude −180° to −175°)
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(178.0, -36.0), 0.3), 4.0, 1e-6);   // west of the seam
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(-178.0, -36.0), 0.3), 4.0, 1e-6);  // east of it
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(170.0, -36.0), 0.3), 0.25, 1e-6);  // a tile further west
+  grid.at(1, 7) = 4.0F;  // the second row from the bottom pole
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(-142.0, -89.9), 0.3), 0.25, 1e-6);  // inside row 0's outer half
+  EXPECT_NEAR(grid.sampleNearestAtEdges(lonLat(-142.0, -86.0), 0.3), 4.0, 1e-6);   // between rows 0 and 1
+  EXPECT_TRUE(std::isfinite(grid.sampleNearestAtEdges({0, 1, 0}, 0.3)));
+  EXPECT_TRUE(std::isfinite(grid.sampleNearestAtEdges({0, -1, 0}, 0.0)));
 }
 
 TEST(DepthProxy, TheCentreWeightedRadiusFollowsANearObjectOnlyWhileItIsInTheCentre) {

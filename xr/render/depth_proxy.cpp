@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-/// @brief Depth proxies in double precision: the grid's tiles, its bilinear lookup, the
+/// @brief Depth proxies in double precision: the grid's tiles, its lookup (bilinear, nearest at edges), the
 ///        centre-weighted radius and the fixed-point ray–proxy intersection.
 #include "xr/render/depth_proxy.h"
 
@@ -39,19 +39,42 @@ Eigen::Vector3d InverseDepthGrid::direction(double row, double col) const {
   return {std::cos(lat) * std::sin(lon), -std::sin(lat), std::cos(lat) * std::cos(lon)};
 }
 
-double InverseDepthGrid::sample(const Eigen::Vector3d& d) const {
+namespace {
+
+/// The four tiles around a direction and its weights: rows clamped at the poles and columns
+/// wrapping at the seam, as a texture with clamp-to-edge in t and repeat in s (the shader's
+/// textureGather).
+struct TileQuad {
+  float v00, v01, v10, v11;  ///< rows r0, r1 × columns c0, c1
+  double fr, fc;             ///< weights of row r1 and column c1
+};
+
+TileQuad quadAround(const InverseDepthGrid& grid, double tile_deg, const Eigen::Vector3d& d) {
   const double n = d.norm();
   const double lat = std::asin(std::clamp(-d.y() / n, -1.0, 1.0));
   const double lon = std::atan2(d.x(), d.z());
   // Continuous tile coordinates with tile centres at integers.
-  const double r = std::clamp((lat / kDeg + 90.0) / tile_deg_ - 0.5, 0.0, rows_ - 1.0);
-  const double c = (lon / kDeg + 180.0) / tile_deg_ - 0.5;
-  const int r0 = std::min(static_cast<int>(r), rows_ - 2), r1 = r0 + 1;  // rows_ ≥ 2 (tiles ≤ 90°)
-  const double fr = r - r0;
-  const int c_floor = static_cast<int>(std::floor(c));
-  const double fc = c - c_floor;
-  const int c0 = ((c_floor % cols_) + cols_) % cols_, c1 = (c0 + 1) % cols_;
-  return (1 - fr) * ((1 - fc) * at(r0, c0) + fc * at(r0, c1)) + fr * ((1 - fc) * at(r1, c0) + fc * at(r1, c1));
+  const double r = (lat / kDeg + 90.0) / tile_deg - 0.5;
+  const double c = (lon / kDeg + 180.0) / tile_deg - 0.5;
+  const double r_floor = std::floor(r), c_floor = std::floor(c);
+  const int rows = grid.rows(), cols = grid.cols();
+  const int r0 = std::clamp(static_cast<int>(r_floor), 0, rows - 1), r1 = std::clamp(static_cast<int>(r_floor) + 1, 0, rows - 1);
+  const int c0 = ((static_cast<int>(c_floor) % cols) + cols) % cols, c1 = (c0 + 1) % cols;
+  return {grid.at(r0, c0), grid.at(r0, c1), grid.at(r1, c0), grid.at(r1, c1), r - r_floor, c - c_floor};
+}
+
+}  // namespace
+
+double InverseDepthGrid::sample(const Eigen::Vector3d& d) const {
+  const TileQuad q = quadAround(*this, tile_deg_, d);
+  return (1 - q.fr) * ((1 - q.fc) * q.v00 + q.fc * q.v01) + q.fr * ((1 - q.fc) * q.v10 + q.fc * q.v11);
+}
+
+double InverseDepthGrid::sampleNearestAtEdges(const Eigen::Vector3d& d, double edge_jump_per_m) const {
+  const TileQuad q = quadAround(*this, tile_deg_, d);
+  const float hi = std::max({q.v00, q.v01, q.v10, q.v11}), lo = std::min({q.v00, q.v01, q.v10, q.v11});
+  if (static_cast<double>(hi) - lo > edge_jump_per_m) return hi;
+  return (1 - q.fr) * ((1 - q.fc) * q.v00 + q.fc * q.v01) + q.fr * ((1 - q.fc) * q.v10 + q.fc * q.v11);
 }
 
 double centreWeightedRadius(const InverseDepthGrid& grid, const Eigen::Vector3d& centre, double sigma_rad) {
@@ -85,12 +108,13 @@ std::optional<Eigen::Vector3d> sphereProxyHit(double radius_m, const Eigen::Vect
 }
 
 std::optional<Eigen::Vector3d> gridProxyHit(const InverseDepthGrid& grid, const Eigen::Vector3d& o,
-                                            const Eigen::Vector3d& d, int steps) {
-  double r = radiusFromInverseDepth(grid.sample(d));
+                                            const Eigen::Vector3d& d, int steps, double edge_slope_per_m_per_deg) {
+  const double edge_jump_per_m = edge_slope_per_m_per_deg * grid.tileDeg();
+  double r = radiusFromInverseDepth(grid.sampleNearestAtEdges(d, edge_jump_per_m));
   std::optional<Eigen::Vector3d> p = sphereProxyHit(r, o, d);
   for (int k = 0; k < steps && p; ++k) {
     if (p->squaredNorm() <= 0.0) break;  // at the camera centre: no direction to look up
-    r = radiusFromInverseDepth(grid.sample(*p));
+    r = radiusFromInverseDepth(grid.sampleNearestAtEdges(*p, edge_jump_per_m));
     p = sphereProxyHit(r, o, d);
   }
   return p;

@@ -17,10 +17,10 @@
 #include <string_view>
 
 #include "robot/link/visual_mode.h"
+#include "xr/render/depth_proxy.h"
 
 namespace telesphere::xr::render {
 
-class InverseDepthGrid;  // xr/render/depth_proxy.h
 
 /// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
 /// with the same origin and viewing direction (x right, y down, z forward): p_optical =
@@ -66,6 +66,10 @@ struct RenderSettings {
   /// camera (gridProxyHit, kGridProxySteps steps) instead of the sphere of `radius`. Exact and
   /// look-up-table paths only; shared, never copied (the renderer uploads it once per grid).
   std::shared_ptr<const InverseDepthGrid> depth_grid;
+  /// The grid proxy takes the nearest of four tiles that span more than this inverse depth (1/m)
+  /// per degree of tile instead of interpolating (depth_proxy.h, kGridEdgeSlopePerMPerDeg);
+  /// infinity: bilinear.
+  double grid_edge_slope_per_m_per_deg = kGridEdgeSlopePerMPerDeg;
   /// Colour (RGBA, 0..1) of eye pixels the camera did not see: outside the model's valid region,
   /// outside the image, or rays that miss the sphere when the eye is outside it.
   Eigen::Vector4f border_rgba{0.0f, 0.0f, 0.0f, 1.0f};

@@ -19,7 +19,7 @@ std::optional<Eigen::Vector2d> referenceCameraPixel(const calib::GenericCamera& 
   const Eigen::Vector3d d =
       (T_cam_eye.linear() * eyeRay(view.fov, view.width, view.height, col, row)).normalized();
   const std::optional<Eigen::Vector3d> p = settings.depth_grid
-                                               ? gridProxyHit(*settings.depth_grid, o, d, kGridProxySteps)
+                                               ? gridProxyHit(*settings.depth_grid, o, d, kGridProxySteps, settings.grid_edge_slope_per_m_per_deg)
                                                : sphereProxyHit(settings.radius, o, d);
   if (!p) return std::nullopt;
   Eigen::Vector2d px;

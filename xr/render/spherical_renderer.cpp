@@ -114,6 +114,10 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
                        float(o.squaredNorm() - settings.radius * settings.radius));
     if (settings.depth_grid) {
       glProgramUniform2f(id, glGetUniformLocation(id, "u_radius_range"), float(kMinProxyRadiusM), float(kMaxProxyRadiusM));
+      // Infinity (bilinear everywhere) as the largest float: no jump exceeds it.
+      glProgramUniform1f(id, glGetUniformLocation(id, "u_edge_jump"),
+                         float(std::min(settings.grid_edge_slope_per_m_per_deg * settings.depth_grid->tileDeg(),
+                                        double(std::numeric_limits<float>::max()))));
       glBindTextureUnit(4, camera.inverseDepthTexture(settings.depth_grid));
     }
     if (settings.path == RenderPath::kLut) {
