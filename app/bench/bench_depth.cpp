@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <random>
@@ -86,11 +87,13 @@ SyntheticScene makeScene(double near_m) {
 }
 
 /// Distance along unit `d` from `origin` (room frame, the camera's orientation) to the scene.
-std::optional<double> hitDistance(const SyntheticScene& scene, const Vector3d& origin, const Vector3d& d) {
+/// With `object`: the index of the object hit (0: the room).
+std::optional<double> hitDistance(const SyntheticScene& scene, const Vector3d& origin, const Vector3d& d, int* object = nullptr) {
   Eigen::Isometry3d T_world_origin = Eigen::Isometry3d::Identity();
   T_world_origin.translation() = origin;
   SceneHit hit;
   if (!scene.view(0, T_world_origin).intersect(d, &hit)) return std::nullopt;
+  if (object) *object = hit.object;
   return hit.distance;
 }
 
@@ -144,6 +147,7 @@ StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibratio
 
 struct ErrorSet {
   std::vector<double> whole, fovea;  // degrees
+  std::vector<double> objects;       // the eye rays whose true point is on an object in the room (not the room itself)
 };
 
 struct Proxy {
@@ -151,6 +155,7 @@ struct Proxy {
   double radius_m = 0;                               // the sphere proxies
   std::optional<xr::render::InverseDepthGrid> grid;  // the grid proxies
   ErrorSet rest, moving;
+  double edge_slope_per_m_per_deg = xr::render::kGridEdgeSlopePerMPerDeg;  // the grid proxies: nearest tile at edges above this × tile
 };
 
 nlohmann::json stats(const ErrorSet& e) {
@@ -183,7 +188,8 @@ double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, s
           const double ax = (-1.0 + 2.0 * ix / (rays - 1)) * kEyeHalfFovDeg * kDeg;
           const double ay = (-1.0 + 2.0 * iy / (rays - 1)) * kEyeHalfFovDeg * kDeg;
           const Vector3d d = Vector3d(std::tan(ax), std::tan(ay), 1.0).normalized();
-          const std::optional<double> t_true = hitDistance(scene, o, d);
+          int object = -1;
+          const std::optional<double> t_true = hitDistance(scene, o, d, &object);
           if (!t_true) continue;
           const Vector3d X = o + *t_true * d;
           SceneHit seen;
@@ -195,7 +201,7 @@ double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, s
           if (!visible) continue;
           const bool fovea = std::acos(std::clamp(d.z(), -1.0, 1.0)) <= kFoveaDeg * kDeg;
           for (Proxy& proxy : proxies) {
-            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, o, d, kGridSteps)
+            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, o, d, kGridSteps, proxy.edge_slope_per_m_per_deg)
                                                          : xr::render::sphereProxyHit(proxy.radius_m, o, d);
             if (!p) continue;
             SceneHit shown;
@@ -205,6 +211,7 @@ double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, s
             ErrorSet& set = moving ? proxy.moving : proxy.rest;
             set.whole.push_back(err);
             if (fovea) set.fovea.push_back(err);
+            if (object > 0) set.objects.push_back(err);
           }
         }
     }
@@ -282,6 +289,61 @@ std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
   proxies.push_back({"grid", "grid " + formatNumber(depth.left.inverse_depth.tileDeg()) + " deg, stereo", 0.0,
                      depth.left.inverse_depth, {}, {}});
   return proxies;
+}
+
+/// The grid proxy at depth edges both ways: bilinear everywhere against the nearest of the four
+/// tiles where they span more than a jump (xr::render::kGridEdgeSlopePerMPerDeg × 4°), with the sweep's grid
+/// and the true one; per setting the worst scene of each column, moving.
+nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticScene>& scenes,
+                           const std::vector<xr::render::InverseDepthGrid>& stereo_grids) {
+  const int rays = ctx.quick ? 21 : 61;
+  struct Setting {
+    std::string name;
+    double slope_per_m_per_deg;
+  };
+  const double k = xr::render::kGridEdgeSlopePerMPerDeg;
+  const std::vector<Setting> settings = {{"bilinear everywhere", std::numeric_limits<double>::infinity()},
+                                         {"nearest above " + formatNumber(2 * k) + " 1/m (half)", 0.5 * k},
+                                         {"nearest above " + formatNumber(4 * k) + " 1/m (default)", k},
+                                         {"nearest above " + formatNumber(8 * k) + " 1/m (twice)", 2 * k}};
+  Table table({"grid at depth edges", "depth", "moving p50 deg", "p90", "p99", "fovea p50", "fovea p90", "objects p90", "objects p99"});
+  nlohmann::json rows = nlohmann::json::array();
+  for (const bool oracle : {false, true})
+    for (const Setting& setting : settings) {
+      double p50 = 0, p90 = 0, p99 = 0, fovea_p50 = 0, fovea_p90 = 0, objects_p90 = 0, objects_p99 = 0;
+      for (std::size_t i = 0; i < scenes.size(); ++i) {
+        const SceneView camera = scenes[i].view(0, Eigen::Isometry3d::Identity());
+        std::vector<Proxy> proxies = {{"grid", "", 0.0, oracle ? trueGrid(camera, 4.0) : stereo_grids[i], {}, {}}};
+        proxies[0].edge_slope_per_m_per_deg = setting.slope_per_m_per_deg;
+        evaluateEyeErrors(scenes[i], camera, proxies, rays, false);
+        const ErrorSet& e = proxies[0].moving;
+        p50 = std::max(p50, quantile(e.whole, 0.5));
+        p90 = std::max(p90, quantile(e.whole, 0.9));
+        p99 = std::max(p99, quantile(e.whole, 0.99));
+        fovea_p50 = std::max(fovea_p50, quantile(e.fovea, 0.5));
+        fovea_p90 = std::max(fovea_p90, quantile(e.fovea, 0.9));
+        if (!e.objects.empty()) {
+          objects_p90 = std::max(objects_p90, quantile(e.objects, 0.9));
+          objects_p99 = std::max(objects_p99, quantile(e.objects, 0.99));
+        }
+      }
+      table.addRow({setting.name, oracle ? "oracle" : "stereo", formatNumber(p50), formatNumber(p90), formatNumber(p99),
+                    formatNumber(fovea_p50), formatNumber(fovea_p90), formatNumber(objects_p90), formatNumber(objects_p99)});
+      rows.push_back({{"setting", setting.name},
+                      {"edge_jump_per_m_at_4deg", std::isfinite(setting.slope_per_m_per_deg) ? nlohmann::json(4.0 * setting.slope_per_m_per_deg) : nlohmann::json(nullptr)},
+                      {"depth", oracle ? "oracle" : "stereo"},
+                      {"eye_error_moving_p50_deg_grid", p50},
+                      {"eye_error_moving_p90_deg_grid", p90},
+                      {"eye_error_moving_p99_deg_grid", p99},
+                      {"eye_error_moving_fovea_p50_deg_grid", fovea_p50},
+                      {"eye_error_moving_fovea_p90_deg_grid", fovea_p90},
+                      {"eye_error_moving_objects_p90_deg_grid", objects_p90},
+                      {"eye_error_moving_objects_p99_deg_grid", objects_p99}});
+    }
+  ctx.out << "\nThe grid at depth edges (4 deg tiles; worst scene of each column; eye errors moving, " << rays << "x" << rays
+          << " rays):\n";
+  table.print(ctx.out);
+  return rows;
 }
 
 /// The room and, 0.8 m ahead, a 1.2 × 0.8 m board of vertical stripes 2 cm apart (1.4° at
@@ -652,12 +714,14 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   };
   std::vector<SyntheticScene> built;
   std::vector<StereoGrey> pairs;
+  std::vector<xr::render::InverseDepthGrid> stereo_grids;  // the left camera's, per scene
   for (double near_m : scene_depths) {
     const SyntheticScene& scene = built.emplace_back(makeScene(near_m));
     const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
     const StereoGrey& pair = pairs.emplace_back(renderPair(scene, rig, depth_width, depth_height, 2));
     const auto t0 = std::chrono::steady_clock::now();
     const StereoDepth stereo = sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0]);
+    stereo_grids.push_back(stereo.left.inverse_depth);
 
     std::vector<Proxy> proxies;
     proxies.push_back({"fixed", "fixed sphere r = 1 m", 1.0, std::nullopt, {}, {}});
@@ -784,6 +848,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     out << "warning: on this CPU the AVX2 sums (" << formatNumber(simd_ms) << " ms a pair) are slower than one sample at a time ("
         << formatNumber(scalar_ms) << " ms)\n";
 
+  worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids);
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
   const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
   worst["approaching_object"] = runApproach(ctx, approach);
