@@ -69,6 +69,8 @@ CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
   c->add_option("--depth-proxy", o.depth_proxy,
                  "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
+  c->add_option("--grid-edges", o.grid_edges, "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)")
+      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png at the end");
   return c;
 }
@@ -83,7 +85,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   if (!desktopParseSize(o.window_size, win_w, win_h))
     return fail(1, "--window-size '" + o.window_size + "' is not WxH (1..8192)");
   std::string error;
-  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
   if (!render) return fail(1, error);
   auto calibration = calib::loadCalibrationFile(o.calib);
   if (!calibration) return fail(1, calibration.error().describe());

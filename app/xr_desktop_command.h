@@ -26,6 +26,7 @@ struct DesktopCommandOptions {
   std::string mode = "full6d", path = "exact";
   double radius = 1.0;
   std::string depth_proxy = "fixed";  ///< fixed | radius | grid (#35)
+  std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
   std::string out_dir;     ///< stats.json and eyes_last.png at the end
   VideoLinkOptions link;   ///< frames and head targets: the ZeroMQ link or the media path
 };

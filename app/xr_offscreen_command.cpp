@@ -44,6 +44,8 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--depth-proxy", o.depth_proxy,
                  "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot (a replay: the recording) says otherwise")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
+  c->add_option("--grid-edges", o.grid_edges, "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)")
+      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
   c->add_option("--wait", o.wait_s, "seconds to wait for the first frame")->capture_default_str();
@@ -188,7 +190,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
       display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
     return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
   display.rate_hz = o.rate_hz;
-  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
   if (!render) return fail(1, error);
   if (!o.out_dir.empty()) {
     std::error_code ec;

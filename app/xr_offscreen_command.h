@@ -27,6 +27,7 @@ struct OffscreenCommandOptions {
   std::string path = "exact";
   double radius = 1.0;
   std::string depth_proxy = "fixed";  ///< fixed | radius | grid (#35)
+  std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
   std::string out_dir;  ///< stats.json and eyes_last.png
   int png_every = 0;
   double wait_s = 10.0;

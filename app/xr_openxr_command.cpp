@@ -60,6 +60,8 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
   c->add_option("--depth-proxy", x.depth_proxy,
                  "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
+  c->add_option("--grid-edges", x.grid_edges, "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)")
+      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
   c->add_option("--mode", x.mode, "full6d | orientation3d | fixed, until the robot says otherwise")
       ->capture_default_str();
   c->add_option("--path", x.path, "exact | mesh | lut")->capture_default_str();
@@ -83,7 +85,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
 
 int runOpenXrCommand(const OpenXrCommandOptions& o) {
   std::string error;
-  const auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error);
+  const auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
   if (!parsed) return openXrFail(1, error);
   xr::openxr::OpenXrOptions options;
   if (o.colour == "auto") options.colour = xr::openxr::SwapchainColour::kAuto;

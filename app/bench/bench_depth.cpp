@@ -293,10 +293,9 @@ std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
 
 /// The grid proxy at depth edges both ways: bilinear everywhere against the nearest of the four
 /// tiles where they span more than a jump (xr::render::kGridEdgeSlopePerMPerDeg × 4°), with the sweep's grid
-/// and the true one; per setting the worst scene of each column, moving.
+/// and the true one; per setting the worst scene of each column, moving, `rays` × `rays` eye rays.
 nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticScene>& scenes,
-                           const std::vector<xr::render::InverseDepthGrid>& stereo_grids) {
-  const int rays = ctx.quick ? 21 : 61;
+                           const std::vector<xr::render::InverseDepthGrid>& stereo_grids, int rays) {
   struct Setting {
     std::string name;
     double slope_per_m_per_deg;
@@ -848,7 +847,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     out << "warning: on this CPU the AVX2 sums (" << formatNumber(simd_ms) << " ms a pair) are slower than one sample at a time ("
         << formatNumber(scalar_ms) << " ms)\n";
 
-  worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids);
+  worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids, rays);  // the rays of the tables above
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
   const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
   worst["approaching_object"] = runApproach(ctx, approach);

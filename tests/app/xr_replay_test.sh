@@ -80,6 +80,15 @@ estimates=$(json "$out/first/stats.json" depth_estimates)
 [ "$estimates" -ge 10 ] || fail "only $estimates depth estimates from the recorded grid session's pairs"
 grep -q "| scene proxy; depth estimates (pairs skipped); last sweep ms; left radius m; tiles matched | grid; " "$out/first.txt" ||
   { cat "$out/first.txt"; fail "the replay's table does not name the grid"; }
+# The grid's depth edges interpolated (--grid-edges bilinear) instead of the nearest tile taken (the
+# default): the same grids, other pictures where a near object meets its background.
+replay bilinear --grid-edges bilinear
+differ=0
+for png in "$out"/first/*.png; do cmp -s "$png" "$out/bilinear/$(basename "$png")" || differ=$((differ + 1)); done
+echo "grid edges: $differ of $pngs pictures differ between nearest and bilinear"
+[ "$differ" -ge 1 ] || fail "--grid-edges bilinear rendered the same pictures as the nearest tile at edges"
+"$bin/telesphere-xr" offscreen --grid-edges sharp --duration 1 > "$out/bad_edges.txt" 2>&1 && fail "--grid-edges sharp was accepted"
+grep -q "grid-edges" "$out/bad_edges.txt" || { cat "$out/bad_edges.txt"; fail "--grid-edges sharp refused without naming the option"; }
 
 # Its own calibration (attached when it began): the same pictures without --calib, and it says so.
 replay own

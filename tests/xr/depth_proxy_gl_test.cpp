@@ -161,11 +161,13 @@ TEST(DepthProxyGl, ANearBoxMovesBackToWhereItIsWithADepthProxyWhileTheHeadIsAway
               "%.1f, %.2f; grid %.1f, %.2f\n",
               view.width / (2 * 0.6 * 180 / M_PI), offset_px[0], overlap[0], radius, offset_px[1], overlap[1],
               offset_px[2], overlap[2]);
-  // Measured here: fixed −7.7 px, 0.70; radius 0.40 m 1.3 px, 0.81; grid −6.3 px, 0.72. The fixed
-  // sphere puts the box degrees off; one radius, pulled to the box by the centre weight, puts it
-  // back. The 4° grid places the box's face but smears its silhouette over a tile (the edge
-  // retracts by ~3°): better than the fixed sphere, not yet as good as the radius on a box that
-  // fills the view's centre (the next step of #35: sharper depth edges).
+  // Measured here: fixed −7.7 px, 0.70; radius 0.40 m 1.3 px, 0.81; grid −4.9 px, 0.73 (−6.3 px,
+  // 0.72 when the grid interpolated across depth edges). The fixed sphere puts the box degrees
+  // off; one radius, pulled to the box by the centre weight, puts it back. The 4° grid places the
+  // box's face and, taking the nearest tile at edges, its left edge; a strip of box shows beside
+  // that edge and the right edge retracts by ~3° (the proxy's steps start beyond the box there):
+  // better than the fixed sphere, not yet as good as the radius on a box that fills the view's
+  // centre.
   EXPECT_GT(std::abs(offset_px[0]), 5.0);
   EXPECT_LT(std::abs(offset_px[1]), 0.25 * std::abs(offset_px[0]));
   EXPECT_GT(overlap[1], overlap[0] + 0.05);

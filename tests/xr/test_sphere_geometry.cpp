@@ -195,6 +195,24 @@ TEST(Checks, RejectBadViewsAndSettings) {
   s = render::RenderSettings{};
   s.mesh_rings = 1;
   EXPECT_TRUE(render::checkRenderSettings(s));
+  // The grid's edge slope: 0 (the nearest tile wherever tiles differ) and infinity (interpolated
+  // everywhere) are settings; a negative slope or NaN is not.
+  for (double slope : {0.0, render::kGridEdgeSlopePerMPerDeg, kInf}) {
+    s = render::RenderSettings{};
+    s.grid_edge_slope_per_m_per_deg = slope;
+    EXPECT_FALSE(render::checkRenderSettings(s)) << slope;
+  }
+  for (double slope : {-0.1, kNaN}) {
+    s.grid_edge_slope_per_m_per_deg = slope;
+    ASSERT_TRUE(render::checkRenderSettings(s)) << slope;
+    EXPECT_NE(render::checkRenderSettings(s)->find("edge slope"), std::string::npos);
+  }
+  std::string error;
+  EXPECT_EQ(render::renderSettingsFromText("full6d", "exact", 1.0, &error)->grid_edge_slope_per_m_per_deg,
+            render::kGridEdgeSlopePerMPerDeg);
+  EXPECT_EQ(render::renderSettingsFromText("full6d", "exact", 1.0, &error, "bilinear")->grid_edge_slope_per_m_per_deg, kInf);
+  EXPECT_FALSE(render::renderSettingsFromText("full6d", "exact", 1.0, &error, "sharp"));
+  EXPECT_NE(error.find("grid edges must be nearest or bilinear"), std::string::npos) << error;
 }
 
 TEST(Modes, PickThePoseTheyUse) {

@@ -3,6 +3,7 @@
 #include "xr/render/eye_view.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace telesphere::xr::render {
@@ -73,6 +74,8 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& s) {
   if (s.mesh_rings < 2 || s.mesh_segments < 3 || s.mesh_rings > 4096 || s.mesh_segments > 8192)
     return "mesh tessellation must have 2..4096 rings and 3..8192 segments";
   if (s.lut_size < 2 || s.lut_size > 8192) return "look-up table size must be 2..8192";
+  if (!(s.grid_edge_slope_per_m_per_deg >= 0.0))
+    return "the grid's edge slope must be >= 0 (infinity: interpolated everywhere)";
   if (s.depth_grid && s.path == RenderPath::kMesh)
     return "the depth grid proxy needs the exact or look-up-table path (the mesh is a sphere)";
   return std::nullopt;
@@ -92,7 +95,7 @@ Eigen::Isometry3d effectiveT_cam_eye(const EyeView& view, const RenderSettings& 
 }
 
 std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
-                                                     double radius, std::string* error) {
+                                                     double radius, std::string* error, std::string_view grid_edges) {
   RenderSettings settings;
   const auto m = link::parseVisualMode(mode);
   const auto p = parseRenderPath(path);
@@ -104,9 +107,15 @@ std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std:
     *error = "render path must be exact, mesh or lut, got \"" + std::string(path) + "\"";
     return std::nullopt;
   }
+  if (grid_edges != "nearest" && grid_edges != "bilinear") {
+    *error = "grid edges must be nearest or bilinear, got \"" + std::string(grid_edges) + "\"";
+    return std::nullopt;
+  }
   settings.mode = *m;
   settings.path = *p;
   settings.radius = radius;
+  settings.grid_edge_slope_per_m_per_deg =
+      grid_edges == "nearest" ? kGridEdgeSlopePerMPerDeg : std::numeric_limits<double>::infinity();
   if (auto why = checkRenderSettings(settings)) {
     *error = *why;
     return std::nullopt;

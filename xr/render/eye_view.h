@@ -98,10 +98,13 @@ std::optional<std::string> checkEyeView(const EyeView& view);
 /// Why `settings` cannot be used (radius, border colour, fixed pose, tessellation), or nothing.
 std::optional<std::string> checkRenderSettings(const RenderSettings& settings);
 
-/// Mode, path and radius as a user gives them (command lines, files), parsed and checked: the
-/// settings (other fields default), or nothing with the reason in *error.
+/// Mode, path, radius and how the grid proxy meets a depth edge ("nearest": the nearest tile,
+/// kGridEdgeSlopePerMPerDeg; "bilinear": interpolated everywhere) as a user gives them (command
+/// lines, files), parsed and checked: the settings (other fields default), or nothing with the
+/// reason in *error.
 std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
-                                                     double radius, std::string* error);
+                                                     double radius, std::string* error,
+                                                     std::string_view grid_edges = "nearest");
 
 /// The pose the renderer actually uses for `mode`: T_cam_eye (full6d), its rotation only
 /// (orientation3d), or T_cam_eye_fixed (fixed).
