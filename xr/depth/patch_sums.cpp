@@ -63,10 +63,12 @@ __attribute__((target("avx2,fma"))) PatchSums patchSumsAvx2(const std::uint8_t* 
     sum_ab = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), b, sum_ab);
   }
   PatchSums s{horizontalSum(sum_b), horizontalSum(sum_bb), horizontalSum(sum_ab)};
-  // The rest goes through the scalar sums, compiled without AVX (legacy SSE encodings). Entered
-  // with the ymm registers' upper halves dirty, every SSE instruction there pays a transition
-  // penalty: on a Xeon with AVX-512 that made the whole sweep 5.5x slower than with it cleared
-  // (41.8 against 7.65 ms a pair, telesphere-bench depth), slower than the one-at-a-time sums.
+  // The rest goes through the scalar sums, compiled without AVX (legacy SSE encodings). GCC 12
+  // put no vzeroupper anywhere in this function (objdump): neither before that call nor before
+  // returning after it, so the scalar sums and then the sweep's own SSE code ran with the ymm
+  // registers' upper halves dirty, each instruction paying a transition. On a Xeon with AVX-512
+  // that made the whole sweep 5.5x slower (41.8 against 7.65 ms a pair, telesphere-bench depth),
+  // slower than the one-at-a-time sums. Cleared here, before the call, both run clean.
   _mm256_zeroupper();
   const PatchSums rest = patchSumsScalar(pixels, stride, taps + whole, a + whole, n - whole);
   s.b += rest.b;
