@@ -44,7 +44,7 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--depth-proxy", o.depth_proxy,
                  "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot (a replay: the recording) says otherwise")
       ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
-  c->add_option("--grid-edges", o.grid_edges, "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)")
+  c->add_option("--grid-edges", o.grid_edges, xr::render::kGridEdgesHelp)
       ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();

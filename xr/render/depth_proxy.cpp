@@ -47,6 +47,7 @@ namespace {
 struct TileQuad {
   float v00, v01, v10, v11;  ///< rows r0, r1 × columns c0, c1
   double fr, fc;             ///< weights of row r1 and column c1
+  double bilinear() const { return (1 - fr) * ((1 - fc) * v00 + fc * v01) + fr * ((1 - fc) * v10 + fc * v11); }
 };
 
 TileQuad quadAround(const InverseDepthGrid& grid, double tile_deg, const Eigen::Vector3d& d) {
@@ -66,15 +67,13 @@ TileQuad quadAround(const InverseDepthGrid& grid, double tile_deg, const Eigen::
 }  // namespace
 
 double InverseDepthGrid::sample(const Eigen::Vector3d& d) const {
-  const TileQuad q = quadAround(*this, tile_deg_, d);
-  return (1 - q.fr) * ((1 - q.fc) * q.v00 + q.fc * q.v01) + q.fr * ((1 - q.fc) * q.v10 + q.fc * q.v11);
+  return quadAround(*this, tile_deg_, d).bilinear();
 }
 
 double InverseDepthGrid::sampleNearestAtEdges(const Eigen::Vector3d& d, double edge_jump_per_m) const {
   const TileQuad q = quadAround(*this, tile_deg_, d);
   const float hi = std::max({q.v00, q.v01, q.v10, q.v11}), lo = std::min({q.v00, q.v01, q.v10, q.v11});
-  if (static_cast<double>(hi) - lo > edge_jump_per_m) return hi;
-  return (1 - q.fr) * ((1 - q.fc) * q.v00 + q.fc * q.v01) + q.fr * ((1 - q.fc) * q.v10 + q.fc * q.v11);
+  return static_cast<double>(hi) - lo > edge_jump_per_m ? hi : q.bilinear();
 }
 
 double centreWeightedRadius(const InverseDepthGrid& grid, const Eigen::Vector3d& centre, double sigma_rad) {

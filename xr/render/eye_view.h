@@ -21,7 +21,6 @@
 
 namespace telesphere::xr::render {
 
-
 /// The axis flip between an OpenXR view frame (x right, y up, −z forward) and the optical frame
 /// with the same origin and viewing direction (x right, y down, z forward): p_optical =
 /// kR_optical_view · p_view. Its own inverse.
@@ -105,6 +104,10 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& settings);
 std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
                                                      double radius, std::string* error,
                                                      std::string_view grid_edges = "nearest");
+/// The command lines' help for that grid_edges text (telesphere-xr desktop, offscreen, openxr).
+inline constexpr const char* kGridEdgesHelp =
+    "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its "
+    "outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)";
 
 /// The pose the renderer actually uses for `mode`: T_cam_eye (full6d), its rotation only
 /// (orientation3d), or T_cam_eye_fixed (fixed).
