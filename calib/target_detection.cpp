@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "calib/aruco_dictionary.h"
+#include "calib/marker_edge_corners.h"
 
 namespace telesphere::calib {
 
@@ -116,6 +117,10 @@ std::optional<std::array<Eigen::Vector2d, 4>> detectArucoMarker(const GrayImage&
       c[j] = Eigen::Vector2d(corners[i][j].x, corners[i][j].y);
     }
     found = c;
+  }
+  // cornerSubPix settles inside an L-shaped corner (marker_edge_corners.h); the sides' edges do not.
+  if (found && options.marker_corners == MarkerCornerRefinement::kEdges) {
+    if (const auto refined = refineMarkerCornersFromEdges(image, *found)) found = refined;
   }
   return found;
 }

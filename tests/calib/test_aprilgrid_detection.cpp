@@ -1,18 +1,24 @@
 // SPDX-License-Identifier: MIT
 /// @brief Aprilgrid description, rendering and detection on images of the >180° lens: corners
-///        found where the true model projects them, with kalibr's corner numbering.
+///        found where the true model projects them, with kalibr's corner numbering; the hand-eye
+///        marker's corners without the bias cornerSubPix has at L-shaped corners.
 #include <gtest/gtest.h>
 
 #include "calib/aprilgrid.h"
+#include "calib/marker_edge_corners.h"
 #include "calib/target_detection.h"
 #include "calib/target_render.h"
 #include "calib/synthetic/calibration_sessions.h"
+#include "calib/synthetic/marker_views.h"
 
 namespace telesphere::calib {
 namespace {
 
 using calib::synthetic::lens1280;
 using calib::synthetic::testGrid;
+using calib::synthetic::markerCornerErrors;
+using calib::synthetic::MarkerCornerErrors;
+using calib::synthetic::markerPoseFacing;
 
 TEST(AprilGrid, KalibrCornerKIsOpenCvCornerOneMinusKModFour) {
   EXPECT_EQ(kalibrToOpenCvCorner(0), 1);
@@ -155,6 +161,59 @@ TEST(ArucoDetection, FindsTheHandEyeMarkerCorners) {
   }
   EXPECT_FALSE(detectArucoMarker(image, "DICT_4X4_50", 8));
   EXPECT_THROW(detectArucoMarker(image, "DICT_NOPE", 7), std::invalid_argument);
+}
+
+TEST(ArucoDetection, MarkerCornersFromTheEdgesAreUnbiasedWhereCornerSubPixShrinksTheMarker) {
+  // The hand-eye marker as the head sees it: 0.45–0.8 m away, up to 40° off axis, tilted up to
+  // 35°, any roll; and 60–85° off axis, towards the rim of the >180° lens, where its sides bend
+  // most (OpenCV finds none at 90°).
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Eigen::Isometry3d> poses;
+  for (int i = 0; i < 24; ++i)
+    poses.push_back(markerPoseFacing(0.45 + 0.35 * u(rng), 0.7 * u(rng), 2 * M_PI * u(rng), 0.6 * u(rng), 2 * M_PI * u(rng), 2 * M_PI * u(rng)));
+  std::vector<Eigen::Isometry3d> rim;
+  for (int i = 0; i < 6; ++i)
+    rim.push_back(markerPoseFacing(0.5, (60.0 + 5.0 * i) * M_PI / 180, M_PI * (i % 2), 0.3, 2 * M_PI * u(rng), 2 * M_PI * u(rng)));
+  const auto both = markerCornerErrors(lens1280(), poses, {MarkerCornerRefinement::kCornerSubPix, MarkerCornerRefinement::kEdges});
+  const MarkerCornerErrors& subpix = both[0];
+  const MarkerCornerErrors& edges = both[1];
+  const MarkerCornerErrors rim_edges = markerCornerErrors(lens1280(), rim, {MarkerCornerRefinement::kEdges})[0];
+  std::printf("cornerSubPix: %d markers, mean outward %+.3f px, RMS %.3f px; edges: %d markers, %+.3f px, RMS %.3f px; "
+              "edges at 60–85° off axis: %d markers, %+.3f px, RMS %.3f px\n",
+              subpix.markers, subpix.mean_outward_px, subpix.rms_px, edges.markers, edges.mean_outward_px, edges.rms_px,
+              rim_edges.markers, rim_edges.mean_outward_px, rim_edges.rms_px);
+  ASSERT_EQ(subpix.markers, 24);
+  ASSERT_EQ(edges.markers, 24);
+  EXPECT_LT(subpix.mean_outward_px, -0.06) << "the bias this refinement exists for (the test can tell)";
+  EXPECT_LT(std::abs(edges.mean_outward_px), 0.02);
+  EXPECT_LT(edges.rms_px, 0.5 * subpix.rms_px) << "the sides average what one corner window cannot";
+  ASSERT_GE(rim_edges.markers, 5);  // OpenCV misses one of the six
+  EXPECT_LT(std::abs(rim_edges.mean_outward_px), 0.05);
+  EXPECT_LT(rim_edges.rms_px, 0.15);
+}
+
+TEST(ArucoDetection, EdgeRefinementRefusesWhatItCannotMeasure) {
+  const auto cam = lens1280();
+  const Eigen::Isometry3d T = markerPoseFacing(0.6, 0.2, 0.5, 0.2, 1.0, 0.3);
+  const GrayImage image = renderTarget(cam.camera, cam.width, cam.height, T, arucoMarkerTexture("DICT_4X4_50", 0, 0.1));
+  const auto corners = detectArucoMarker(image, "DICT_4X4_50", 0, DetectionOptions{.marker_corners = MarkerCornerRefinement::kCornerSubPix});
+  ASSERT_TRUE(corners);
+  EXPECT_TRUE(refineMarkerCornersFromEdges(image, *corners));
+  // No contrast: a grey image where the marker was.
+  EXPECT_FALSE(refineMarkerCornersFromEdges(GrayImage(cam.width, cam.height, 128), *corners));
+  // Too small: a marker of 6 px.
+  std::array<Eigen::Vector2d, 4> tiny = {Eigen::Vector2d(100, 100), Eigen::Vector2d(106, 100), Eigen::Vector2d(106, 106),
+                                         Eigen::Vector2d(100, 106)};
+  EXPECT_FALSE(refineMarkerCornersFromEdges(image, tiny));
+  // Cut by the image border: the search across the edges leaves the image.
+  std::array<Eigen::Vector2d, 4> at_border = *corners;
+  for (auto& c : at_border) c -= (*corners)[0] - Eigen::Vector2d(1.0, 1.0);
+  EXPECT_FALSE(refineMarkerCornersFromEdges(image, at_border));
+  // Degenerate corners (all on one line) are no marker.
+  std::array<Eigen::Vector2d, 4> line = {Eigen::Vector2d(100, 100), Eigen::Vector2d(150, 100), Eigen::Vector2d(200, 100),
+                                         Eigen::Vector2d(250, 100)};
+  EXPECT_FALSE(refineMarkerCornersFromEdges(image, line));
 }
 
 }  // namespace
