@@ -80,9 +80,9 @@ TEST_F(CalibrateHandEye, RecoversTheThreeTransformsFromAWrongStart) {
   ASSERT_TRUE(T_robot_flange_before) << "the robot reports no flange pose";
   const std::string out_file = (dir_ / "handeye.yaml").string();
   // Room beyond the default 60 samples: which poses the simulated manipulator is in when the run
-  // starts shifts by the few hundred ms the probe above takes, and some phases need 60–70 samples
-  // for T_robot_mount's σ (2.05–2.07 mm at 60 in 4 of 22 runs here; the rule is 2.0; 6 of 6 done
-  // within 38–53 samples with this room).
+  // starts shifts by the few hundred ms the probe above takes. With cornerSubPix's marker corners
+  // some phases needed 60–70 samples for T_robot_mount's σ (2.05–2.07 mm at 60 in 4 of 22 runs; the
+  // rule is 2.0); with the edge-refined corners 8 of 8 runs were done within 21–43 (calib/README.md).
   const CommandResult r = runCommand(calibrate("--apply --max-samples 90 --out " + out_file), dir_.string());
   ASSERT_EQ(r.exit_code, 0) << r.err.substr(0, 3000) << "\n[…]\n"
                             << r.err.substr(r.err.size() > 3000 ? r.err.size() - 3000 : 0)

@@ -80,6 +80,16 @@ struct Rig {
     return nullptr;
   }
 
+  /// Publishes a frame every 500 ms, up to 20 times, until `done`; whether it came.
+  template <typename Done>
+  bool publishUntil(const link::proto::StereoFrame& m, const Bytes& l, const Bytes& r, Done done) {
+    for (int attempt = 0; attempt < 20; ++attempt) {
+      server.publishStereoFrame(m, l, r);
+      if (eventually(done, 500ms)) return true;
+    }
+    return false;
+  }
+
   link::LinkServer server;
   link::LinkClient client;
   video::StereoFrameDecoder decoder;
@@ -138,9 +148,14 @@ TEST(StereoFrameDecoder, BadFramesAreDroppedWithTheirReasonAndTheStreamResumes) 
     SCOPED_TRACE(c.name);
     const auto before = rig.decoder.stats();
     const std::uint64_t bad_sequence = ++rig.sequence;
-    // The bad image on the right, a good one on the left: the whole pair goes.
-    rig.server.publishStereoFrame(message(bad_sequence, c.message_w, c.message_h), rig.left, share(c.jpeg));
-    ASSERT_TRUE(eventually([&] { return rig.decoder.stats().dropped(c.reason) == before.dropped(c.reason) + 1; }));
+    // The bad image on the right, a good one on the left: the whole pair goes. Sent again, same
+    // sequence, while it is not counted: the frames PUB (high-water mark 6) drops what a loaded
+    // machine's subscriber has not taken yet, like good() allows for; a copy that does arrive after
+    // the first is not decoded either.
+    const Bytes bad = share(c.jpeg);
+    ASSERT_TRUE(rig.publishUntil(message(bad_sequence, c.message_w, c.message_h), rig.left, bad, [&] {
+      return rig.decoder.stats().dropped(c.reason) > before.dropped(c.reason);
+    }));
     const auto after = rig.decoder.stats();
     EXPECT_EQ(after.decoded, before.decoded);
     ASSERT_TRUE(rig.decoder.newest());
