@@ -73,11 +73,9 @@ struct Rig {
   /// if the PUB socket lost it: what is tested here is the decoder, not ZeroMQ's delivery).
   std::shared_ptr<const video::DecodedStereoFrame> good() {
     const std::uint64_t s = ++sequence;
-    for (int attempt = 0; attempt < 20; ++attempt) {
-      server.publishStereoFrame(message(s, 64, 48), left, right);
-      if (auto f = decoder.waitNewer(s - 1, 500ms)) return f;
-    }
-    return nullptr;
+    std::shared_ptr<const video::DecodedStereoFrame> f;
+    publishUntil(message(s, 64, 48), left, right, [&] { return (f = decoder.waitNewer(s - 1, 0ms)) != nullptr; });
+    return f;
   }
 
   /// Publishes a frame every 500 ms, up to 20 times, until `done`; whether it came.
