@@ -50,7 +50,6 @@ constexpr double kFoveaDeg = 10.0;        // ± around the eye's forward axis
 constexpr double kRestOffsetM = 0.005;
 constexpr double kMovingOffsetM = 0.06;
 constexpr double kCentreSigmaDeg = 5.0;  // the single radius's centre weighting (and twice it)
-constexpr int kGridSteps = 3;
 
 double& sceneDepthOption() {
   static double depth_m = 0;
@@ -155,7 +154,10 @@ struct Proxy {
   double radius_m = 0;                               // the sphere proxies
   std::optional<xr::render::InverseDepthGrid> grid;  // the grid proxies
   ErrorSet rest, moving;
-  double edge_slope_per_m_per_deg = xr::render::kGridEdgeSlopePerMPerDeg;  // the grid proxies: nearest tile at edges above this × tile
+  double edge_slope_per_m_per_deg = xr::render::kGridEdgeSlopePerMPerDeg;  // the grid proxies: one tile at edges above this × tile
+  xr::render::GridEdgeTile edge_tile = xr::render::GridEdgeTile::kClosest;  // which one
+  double march_step_tiles = xr::render::kGridMarchStepTiles;              // the grid proxies' march (infinity: fixed-point steps)
+  std::vector<int> lookups = {};                                           // the grid proxies: grid reads per moving eye ray
 };
 
 nlohmann::json stats(const ErrorSet& e) {
@@ -179,6 +181,14 @@ std::vector<Vector3d> offsetDirections() {
 double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, std::vector<Proxy>& proxies, int rays,
                          bool with_rest) {
   std::size_t evaluated_moving = 0, disoccluded_moving = 0;
+  std::vector<std::optional<xr::render::GridProxyParams>> params;  // once per proxy: O(tiles)
+  for (const Proxy& proxy : proxies)
+    if (proxy.grid) {
+      params.push_back(xr::render::gridProxyParams(*proxy.grid, proxy.edge_slope_per_m_per_deg, proxy.march_step_tiles));
+      params.back()->edge_tile = proxy.edge_tile;
+    } else {
+      params.push_back(std::nullopt);
+    }
   for (const bool moving : {false, true}) {
     if (!moving && !with_rest) continue;
     for (const Vector3d& dir : offsetDirections()) {
@@ -200,9 +210,12 @@ double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, s
           }
           if (!visible) continue;
           const bool fovea = std::acos(std::clamp(d.z(), -1.0, 1.0)) <= kFoveaDeg * kDeg;
-          for (Proxy& proxy : proxies) {
-            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, o, d, kGridSteps, proxy.edge_slope_per_m_per_deg)
+          for (std::size_t k = 0; k < proxies.size(); ++k) {
+            Proxy& proxy = proxies[k];
+            int lookups = 0;
+            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, *params[k], o, d, &lookups)
                                                          : xr::render::sphereProxyHit(proxy.radius_m, o, d);
+            if (proxy.grid && moving) proxy.lookups.push_back(lookups);
             if (!p) continue;
             SceneHit shown;
             if (!camera.intersect(p->normalized(), &shown)) continue;
@@ -291,31 +304,35 @@ std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
   return proxies;
 }
 
-/// The grid proxy at depth edges both ways: bilinear everywhere against the nearest of the four
-/// tiles where they span more than a jump (xr::render::kGridEdgeSlopePerMPerDeg × 4°), with the sweep's grid
-/// and the true one; per setting the worst scene of each column, moving, `rays` × `rays` eye rays.
-nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticScene>& scenes,
+/// One way of meeting the grid proxy: how it takes a depth edge and how each eye ray finds it.
+struct GridSetting {
+  std::string name;
+  double edge_slope_per_m_per_deg = xr::render::kGridEdgeSlopePerMPerDeg;
+  double march_step_tiles = xr::render::kGridMarchStepTiles;
+  xr::render::GridEdgeTile edge_tile = xr::render::GridEdgeTile::kClosest;
+};
+
+/// The grid proxy (4° tiles) under each of `settings`, with the sweep's grid and the true one; per
+/// setting the worst scene of each column, moving, `rays` × `rays` eye rays, and the grid reads an
+/// eye ray takes (mean and p99 over the scene with the most).
+nlohmann::json runGridKnob(const BenchContext& ctx, const std::string& title, const std::string& column,
+                           const std::vector<GridSetting>& settings, const std::vector<SyntheticScene>& scenes,
                            const std::vector<xr::render::InverseDepthGrid>& stereo_grids, int rays) {
-  struct Setting {
-    std::string name;
-    double slope_per_m_per_deg;
-  };
-  const double k = xr::render::kGridEdgeSlopePerMPerDeg;
-  const std::vector<Setting> settings = {{"bilinear everywhere", std::numeric_limits<double>::infinity()},
-                                         {"nearest above " + formatNumber(2 * k) + " 1/m (half)", 0.5 * k},
-                                         {"nearest above " + formatNumber(4 * k) + " 1/m (default)", k},
-                                         {"nearest above " + formatNumber(8 * k) + " 1/m (twice)", 2 * k}};
-  Table table({"grid at depth edges", "depth", "moving p50 deg", "p90", "p99", "fovea p50", "fovea p90", "objects p90", "objects p99"});
+  Table table({column, "depth", "moving p50 deg", "p90", "p99", "fovea p50", "fovea p90", "objects p90", "objects p99",
+               "reads/ray mean", "p99"});
   std::vector<xr::render::InverseDepthGrid> oracle_grids;  // once per scene, for every setting
   for (const SyntheticScene& scene : scenes) oracle_grids.push_back(trueGrid(scene.view(0, Eigen::Isometry3d::Identity()), 4.0));
   nlohmann::json rows = nlohmann::json::array();
   for (const bool oracle : {false, true})
-    for (const Setting& setting : settings) {
-      double p50 = 0, p90 = 0, p99 = 0, fovea_p50 = 0, fovea_p90 = 0, objects_p90 = 0, objects_p99 = 0;
+    for (const GridSetting& setting : settings) {
+      double p50 = 0, p90 = 0, p99 = 0, fovea_p50 = 0, fovea_p90 = 0, objects_p90 = 0, objects_p99 = 0, reads_mean = 0,
+             reads_p99 = 0;
       for (std::size_t i = 0; i < scenes.size(); ++i) {
         const SceneView camera = scenes[i].view(0, Eigen::Isometry3d::Identity());
         std::vector<Proxy> proxies = {{"grid", "", 0.0, oracle ? oracle_grids[i] : stereo_grids[i], {}, {}}};
-        proxies[0].edge_slope_per_m_per_deg = setting.slope_per_m_per_deg;
+        proxies[0].edge_slope_per_m_per_deg = setting.edge_slope_per_m_per_deg;
+        proxies[0].march_step_tiles = setting.march_step_tiles;
+        proxies[0].edge_tile = setting.edge_tile;
         evaluateEyeErrors(scenes[i], camera, proxies, rays, false);
         const ErrorSet& e = proxies[0].moving;
         p50 = std::max(p50, quantile(e.whole, 0.5));
@@ -327,11 +344,22 @@ nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticS
           objects_p90 = std::max(objects_p90, quantile(e.objects, 0.9));
           objects_p99 = std::max(objects_p99, quantile(e.objects, 0.99));
         }
+        const std::vector<int>& reads = proxies[0].lookups;
+        if (!reads.empty()) {
+          double sum = 0;
+          for (int r : reads) sum += r;
+          reads_mean = std::max(reads_mean, sum / static_cast<double>(reads.size()));
+          reads_p99 = std::max(reads_p99, quantile(std::vector<double>(reads.begin(), reads.end()), 0.99));
+        }
       }
       table.addRow({setting.name, oracle ? "oracle" : "stereo", formatNumber(p50), formatNumber(p90), formatNumber(p99),
-                    formatNumber(fovea_p50), formatNumber(fovea_p90), formatNumber(objects_p90), formatNumber(objects_p99)});
+                    formatNumber(fovea_p50), formatNumber(fovea_p90), formatNumber(objects_p90), formatNumber(objects_p99),
+                    formatNumber(reads_mean), formatNumber(reads_p99)});
+      const auto finiteOrNull = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
       rows.push_back({{"setting", setting.name},
-                      {"edge_jump_per_m_at_4deg", std::isfinite(setting.slope_per_m_per_deg) ? nlohmann::json(4.0 * setting.slope_per_m_per_deg) : nlohmann::json(nullptr)},
+                      {"edge_jump_per_m_at_4deg", finiteOrNull(4.0 * setting.edge_slope_per_m_per_deg)},
+                      {"march_step_tiles", finiteOrNull(setting.march_step_tiles)},
+                      {"edge_tile", setting.edge_tile == xr::render::GridEdgeTile::kClosest ? "closest" : "nearest depth"},
                       {"depth", oracle ? "oracle" : "stereo"},
                       {"eye_error_moving_p50_deg_grid", p50},
                       {"eye_error_moving_p90_deg_grid", p90},
@@ -339,12 +367,45 @@ nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticS
                       {"eye_error_moving_fovea_p50_deg_grid", fovea_p50},
                       {"eye_error_moving_fovea_p90_deg_grid", fovea_p90},
                       {"eye_error_moving_objects_p90_deg_grid", objects_p90},
-                      {"eye_error_moving_objects_p99_deg_grid", objects_p99}});
+                      {"eye_error_moving_objects_p99_deg_grid", objects_p99},
+                      {"grid_reads_per_ray_mean", reads_mean},
+                      {"grid_reads_per_ray_p99", reads_p99}});
     }
-  ctx.out << "\nThe grid at depth edges (4 deg tiles; worst scene of each column; eye errors moving, " << rays << "x" << rays
-          << " rays):\n";
+  ctx.out << "\n" << title << " (4 deg tiles; worst scene of each column; eye errors moving, " << rays << "x" << rays
+          << " rays; grid reads per eye ray):\n";
   table.print(ctx.out);
   return rows;
+}
+
+/// The grid proxy at depth edges both ways: bilinear everywhere against one of the four tiles
+/// where they span more than a jump (xr::render::kGridEdgeSlopePerMPerDeg × 4°, half and twice it):
+/// the closest, or the nearest depth.
+nlohmann::json runEdgeKnob(const BenchContext& ctx, const std::vector<SyntheticScene>& scenes,
+                           const std::vector<xr::render::InverseDepthGrid>& stereo_grids, int rays) {
+  const double k = xr::render::kGridEdgeSlopePerMPerDeg, march = xr::render::kGridMarchStepTiles;
+  constexpr auto kNearestDepth = xr::render::GridEdgeTile::kNearestDepth;
+  const std::vector<GridSetting> settings = {{"bilinear everywhere", std::numeric_limits<double>::infinity()},
+                                             {"closest above " + formatNumber(2 * k) + " 1/m (half)", 0.5 * k},
+                                             {"closest above " + formatNumber(4 * k) + " 1/m (default)", k},
+                                             {"closest above " + formatNumber(8 * k) + " 1/m (twice)", 2 * k},
+                                             {"nearest depth above " + formatNumber(4 * k) + " 1/m", k, march, kNearestDepth}};
+  return runGridKnob(ctx, "The grid at depth edges", "grid at depth edges", settings, scenes, stereo_grids, rays);
+}
+
+/// How each eye ray finds the grid: fixed-point steps from its own direction (before the march)
+/// against marches of 1, 1/2 (default) and 1/4 tile a step to the first crossing, each with the
+/// tile it takes at an edge.
+nlohmann::json runMarchKnob(const BenchContext& ctx, const std::vector<SyntheticScene>& scenes,
+                            const std::vector<xr::render::InverseDepthGrid>& stereo_grids, int rays) {
+  const double k = xr::render::kGridEdgeSlopePerMPerDeg, inf = std::numeric_limits<double>::infinity();
+  constexpr auto kNearestDepth = xr::render::GridEdgeTile::kNearestDepth, kClosest = xr::render::GridEdgeTile::kClosest;
+  const std::vector<GridSetting> settings = {{"fixed-point, nearest depth at edges (before)", k, inf, kNearestDepth},
+                                             {"fixed-point, closest tile at edges", k, inf, kClosest},
+                                             {"march 1 tile a step, closest", k, 1.0, kClosest},
+                                             {"march 1/2 tile a step, closest (default)", k, 0.5, kClosest},
+                                             {"march 1/4 tile a step, closest", k, 0.25, kClosest},
+                                             {"march 1/2 tile, nearest depth at edges", k, 0.5, kNearestDepth}};
+  return runGridKnob(ctx, "How an eye ray finds the grid", "grid intersection", settings, scenes, stereo_grids, rays);
 }
 
 /// The room and, 0.8 m ahead, a 1.2 × 0.8 m board of vertical stripes 2 cm apart (1.4° at
@@ -850,6 +911,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
         << formatNumber(scalar_ms) << " ms)\n";
 
   worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids, rays);  // the rays of the tables above
+  worst["march_settings"] = runMarchKnob(ctx, built, stereo_grids, rays);
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
   const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
   worst["approaching_object"] = runApproach(ctx, approach);

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 #include <vector>
@@ -180,6 +181,7 @@ nlohmann::json runRender(const BenchContext& ctx) {
     struct Variant {
       std::string name;
       xr::render::RenderSettings settings;
+      double eye_shift_m = 0;  // both eyes moved along the camera's x
     };
     std::vector<Variant> paths;
     for (xr::render::RenderPath path : {xr::render::RenderPath::kExact, xr::render::RenderPath::kMesh, xr::render::RenderPath::kLut}) {
@@ -187,14 +189,25 @@ nlohmann::json runRender(const BenchContext& ctx) {
       settings.path = path;
       paths.push_back({std::string(xr::render::renderPathName(path)), settings});
     }
+    // The grid proxy: each eye ray marches to its first crossing (default), or takes fixed-point
+    // steps from its own direction (no march); the march's steps grow with the eye's distance from
+    // the camera, so also with both eyes 6 cm further to the side (a head that moved).
     xr::render::RenderSettings with_grid;
     with_grid.depth_grid = roomGrid();
     paths.push_back({"exact, grid proxy", with_grid});
+    xr::render::RenderSettings no_march = with_grid;
+    no_march.grid_march_step_tiles = std::numeric_limits<double>::infinity();
+    paths.push_back({"exact, grid, no march", no_march});
+    paths.push_back({"exact, grid, eyes 6 cm aside", with_grid, 0.06});
+    paths.push_back({"exact, grid, no march, 6 cm aside", no_march, 0.06});
     bool ok = true;
     for (const Variant& variant : paths)
-      variants.push_back([&, settings = variant.settings] {
-        ok &= renderer.render(cam_l, view_l, settings, target_l.framebuffer(), &error);
-        ok &= renderer.render(cam_r, view_r, settings, target_r.framebuffer(), &error);
+      variants.push_back([&, settings = variant.settings, shift = variant.eye_shift_m] {
+        xr::render::EyeView l = view_l, r = view_r;
+        l.T_cam_eye.translation().x() += shift;
+        r.T_cam_eye.translation().x() += shift;
+        ok &= renderer.render(cam_l, l, settings, target_l.framebuffer(), &error);
+        ok &= renderer.render(cam_r, r, settings, target_r.framebuffer(), &error);
         glFinish();
       });
     const std::vector<double> ms = interleavedMedianMs(frames, variants);
@@ -208,6 +221,7 @@ nlohmann::json runRender(const BenchContext& ctx) {
       const bool grid = paths[k].settings.depth_grid != nullptr;
       // Accuracy: the projection map of the left eye against the reference.
       xr::render::EyeView err_view = eyeView(size.width / error_div, size.height / error_div, -1.0);
+      err_view.T_cam_eye.translation().x() += paths[k].eye_shift_m;
       xr::render::RenderSettings err_settings = paths[k].settings;
       err_settings.border_rgba = {-1.0f, -1.0f, -1.0f, 0.0f};
       gl::OffscreenTarget map(err_view.width, err_view.height, GL_RGBA32F);
@@ -229,17 +243,19 @@ nlohmann::json runRender(const BenchContext& ctx) {
         json["exact_max_error_px"] = e.max_px;
         json["exact_cost_vs_warp"] = path_ms / floor_ms;
       }
-      if (size.width == 1440 && grid) {
+      if (size.width == 1440 && grid && k == 3) {  // the default grid proxy
         json["grid_max_error_px"] = e.max_px;
         json["render_ms_added_grid"] = path_ms - ms[1];  // against the exact path on the sphere
       }
+      if (size.width == 1440 && k == 4) json["render_ms_added_grid_no_march"] = path_ms - ms[1];
     }
   }
   ctx.out << "Spherical renderer on " << context->renderer() << ", 2 x " << kCamWidth << "x"
           << kCamHeight << " RGB camera images (double sphere), r = 1 m, median of " << frames
           << " stereo frames (paths and floor interleaved); errors vs the double reference over the left eye"
-          << (ctx.quick ? " at 1/4 size" : "") << " (mesh 96x192, LUT 1024^2; the grid proxy: 4 deg tiles, "
-          << xr::render::kGridProxySteps << " steps):\n";
+          << (ctx.quick ? " at 1/4 size" : "") << " (mesh 96x192, LUT 1024^2; the grid proxy: 4 deg tiles, a room from 0.4 m, "
+          << "march steps of " << xr::render::kGridMarchStepTiles << " tile, " << xr::render::kGridProxySteps
+          << " bisections; without the march " << xr::render::kGridProxySteps << " fixed-point steps):\n";
   table.print(ctx.out);
   return json;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 /// @brief Depth proxies in double precision: the grid's tiles, its lookup (bilinear, nearest at edges), the
-///        centre-weighted radius and the fixed-point ray–proxy intersection.
+///        centre-weighted radius and where an eye ray meets the grid (the march and its fixed-point
+///        predecessor).
 #include "xr/render/depth_proxy.h"
 
 #include <algorithm>
@@ -70,10 +71,12 @@ double InverseDepthGrid::sample(const Eigen::Vector3d& d) const {
   return quadAround(*this, tile_deg_, d).bilinear();
 }
 
-double InverseDepthGrid::sampleNearestAtEdges(const Eigen::Vector3d& d, double edge_jump_per_m) const {
+double InverseDepthGrid::sampleKeepingEdges(const Eigen::Vector3d& d, double edge_jump_per_m, GridEdgeTile tile) const {
   const TileQuad q = quadAround(*this, tile_deg_, d);
   const float hi = std::max({q.v00, q.v01, q.v10, q.v11}), lo = std::min({q.v00, q.v01, q.v10, q.v11});
-  return static_cast<double>(hi) - lo > edge_jump_per_m ? hi : q.bilinear();
+  if (!(static_cast<double>(hi) - lo > edge_jump_per_m)) return q.bilinear();
+  if (tile == GridEdgeTile::kNearestDepth) return hi;
+  return q.fr < 0.5 ? (q.fc < 0.5 ? q.v00 : q.v01) : (q.fc < 0.5 ? q.v10 : q.v11);
 }
 
 double centreWeightedRadius(const InverseDepthGrid& grid, const Eigen::Vector3d& centre, double sigma_rad) {
@@ -106,17 +109,102 @@ std::optional<Eigen::Vector3d> sphereProxyHit(double radius_m, const Eigen::Vect
   return o + *t * d;
 }
 
-std::optional<Eigen::Vector3d> gridProxyHit(const InverseDepthGrid& grid, const Eigen::Vector3d& o,
-                                            const Eigen::Vector3d& d, int steps, double edge_slope_per_m_per_deg) {
-  const double edge_jump_per_m = edge_slope_per_m_per_deg * grid.tileDeg();
-  double r = radiusFromInverseDepth(grid.sampleNearestAtEdges(d, edge_jump_per_m));
-  std::optional<Eigen::Vector3d> p = sphereProxyHit(r, o, d);
-  for (int k = 0; k < steps && p; ++k) {
-    if (p->squaredNorm() <= 0.0) break;  // at the camera centre: no direction to look up
-    r = radiusFromInverseDepth(grid.sampleNearestAtEdges(*p, edge_jump_per_m));
-    p = sphereProxyHit(r, o, d);
+GridProxyParams gridProxyParams(const InverseDepthGrid& grid, double edge_slope_per_m_per_deg, double march_step_tiles,
+                                int refine_steps) {
+  GridProxyParams params;
+  params.edge_jump_per_m = edge_slope_per_m_per_deg * grid.tileDeg();
+  params.inverse_depth_bottom_per_m = 1.0 / kMaxProxyRadiusM;
+  double top = params.inverse_depth_bottom_per_m;
+  const float* v = grid.data();
+  for (std::size_t i = 0, n = static_cast<std::size_t>(grid.rows()) * grid.cols(); i < n; ++i)
+    top = std::max(top, 1.0 / radiusFromInverseDepth(v[i]));  // NaN and infinity as every lookup bounds them
+  params.inverse_depth_top_per_m = top;
+  params.march_step_rad = march_step_tiles * grid.tileDeg() * kDeg;
+  params.refine_steps = refine_steps;
+  return params;
+}
+
+int gridMarchSteps(const GridProxyParams& params, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  const double sweep_rad = o.cross(d).norm() * (params.inverse_depth_top_per_m - params.inverse_depth_bottom_per_m);
+  return static_cast<int>(std::clamp(std::ceil(sweep_rad / params.march_step_rad), 1.0, double(kGridMarchMaxSteps)));
+}
+
+namespace {
+
+/// The ray's point at inverse depth ρ from the camera (the far root), and the grid's bounded
+/// inverse depth there minus ρ: negative while the point lies in front of the surface.
+struct MarchPoint {
+  std::optional<Eigen::Vector3d> p;
+  double g = 0;
+};
+
+class RayOnGrid {
+ public:
+  RayOnGrid(const InverseDepthGrid& grid, const GridProxyParams& params, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+            int* lookups)
+      : grid_(grid), params_(params), o_(o), d_(d), lookups_(lookups) {}
+
+  MarchPoint at(double inverse_depth) const {
+    MarchPoint m{sphereProxyHit(1.0 / inverse_depth, o_, d_), 0.0};
+    if (m.p) m.g = 1.0 / radiusFromInverseDepth(lookup(*m.p)) - inverse_depth;
+    return m;
   }
-  return p;
+  double lookup(const Eigen::Vector3d& p) const {
+    if (lookups_) ++*lookups_;
+    return grid_.sampleKeepingEdges(p, params_.edge_jump_per_m, params_.edge_tile);
+  }
+
+ private:
+  const InverseDepthGrid& grid_;
+  const GridProxyParams& params_;
+  const Eigen::Vector3d &o_, &d_;
+  int* lookups_;
+};
+
+}  // namespace
+
+std::optional<Eigen::Vector3d> gridProxyHit(const InverseDepthGrid& grid, const GridProxyParams& params,
+                                            const Eigen::Vector3d& o, const Eigen::Vector3d& d, int* lookups) {
+  const RayOnGrid ray(grid, params, o, d, lookups);
+  if (!std::isfinite(params.march_step_rad)) {  // fixed-point steps from the ray's own direction
+    std::optional<Eigen::Vector3d> p = sphereProxyHit(radiusFromInverseDepth(ray.lookup(d)), o, d);
+    for (int k = 0; k < params.refine_steps && p; ++k) {
+      if (p->squaredNorm() <= 0.0) break;  // at the camera centre: no direction to look up
+      p = sphereProxyHit(radiusFromInverseDepth(ray.lookup(*p)), o, d);
+    }
+    return p;
+  }
+  const double top = params.inverse_depth_top_per_m, bottom = params.inverse_depth_bottom_per_m;
+  double a = top;
+  MarchPoint ma = ray.at(a);
+  if (ma.p && ma.g >= 0.0) return ma.p;
+  const int n = gridMarchSteps(params, o, d);
+  double b = top;
+  MarchPoint mb;
+  bool crossed = false;
+  for (int k = 1; k <= n && !crossed; ++k) {
+    b = k == n ? bottom : top + (bottom - top) * k / n;
+    mb = ray.at(b);
+    crossed = mb.p && mb.g >= 0.0;
+    if (!crossed) a = b, ma = mb;
+  }
+  // No crossing only where even 1 km away the ray is not reached (an eye outside it); none
+  // either where the ray comes no nearer the camera than 1/a: it passes outside the surface.
+  if (!crossed || !ma.p) return std::nullopt;
+  // Crossed between a (in front, g < 0) and b (at or behind): halve the bracket, then the point
+  // where g, linear between its ends, is 0. Bisection, not false position: at a depth edge g
+  // jumps, and false position creeps toward the jump from one side.
+  double ga = ma.g, gb = mb.g;
+  for (int s = 0; s < params.refine_steps; ++s) {
+    const double c = 0.5 * (a + b);
+    const MarchPoint mc = ray.at(c);
+    if (!mc.p) break;  // cannot happen between two points the ray reaches; keep the bracket
+    if (mc.g >= 0.0)
+      b = c, gb = mc.g;
+    else
+      a = c, ga = mc.g;
+  }
+  return sphereProxyHit(1.0 / (a + ga * (b - a) / (ga - gb)), o, d);
 }
 
 }  // namespace telesphere::xr::render

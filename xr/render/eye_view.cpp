@@ -76,6 +76,8 @@ std::optional<std::string> checkRenderSettings(const RenderSettings& s) {
   if (s.lut_size < 2 || s.lut_size > 8192) return "look-up table size must be 2..8192";
   if (!(s.grid_edge_slope_per_m_per_deg >= 0.0))
     return "the grid's edge slope must be >= 0 (infinity: interpolated everywhere)";
+  if (!(s.grid_march_step_tiles > 0.0))
+    return "the grid's march step must be > 0 tiles (infinity: no march)";
   if (s.depth_grid && s.path == RenderPath::kMesh)
     return "the depth grid proxy needs the exact or look-up-table path (the mesh is a sphere)";
   return std::nullopt;

@@ -62,13 +62,17 @@ struct RenderSettings {
   /// fixed proxy, or one radius from depth: depth_proxy.h's centreWeightedRadius).
   double radius = 1.0;
   /// The grid proxy (#35): when set, each eye ray meets this inverse-depth grid around the
-  /// camera (gridProxyHit, kGridProxySteps steps) instead of the sphere of `radius`. Exact and
+  /// camera (gridProxyHit: a march to the first crossing, kGridProxySteps refinements) instead of the sphere of `radius`. Exact and
   /// look-up-table paths only; shared, never copied (the renderer uploads it once per grid).
   std::shared_ptr<const InverseDepthGrid> depth_grid;
   /// The grid proxy takes the nearest of four tiles that span more than this inverse depth (1/m)
   /// per degree of tile instead of interpolating (depth_proxy.h, kGridEdgeSlopePerMPerDeg);
   /// infinity: bilinear.
   double grid_edge_slope_per_m_per_deg = kGridEdgeSlopePerMPerDeg;
+  /// Each eye ray marches along the grid proxy in steps that move its point by at most this many
+  /// tiles as the camera sees it, then refines the first crossing (depth_proxy.h, gridProxyHit);
+  /// infinity: no march, fixed-point steps from the ray's own direction.
+  double grid_march_step_tiles = kGridMarchStepTiles;
   /// Colour (RGBA, 0..1) of eye pixels the camera did not see: outside the model's valid region,
   /// outside the image, or rays that miss the sphere when the eye is outside it.
   Eigen::Vector4f border_rgba{0.0f, 0.0f, 0.0f, 1.0f};
@@ -97,8 +101,8 @@ std::optional<std::string> checkEyeView(const EyeView& view);
 /// Why `settings` cannot be used (radius, border colour, fixed pose, tessellation), or nothing.
 std::optional<std::string> checkRenderSettings(const RenderSettings& settings);
 
-/// Mode, path, radius and how the grid proxy meets a depth edge ("nearest": the nearest tile,
-/// kGridEdgeSlopePerMPerDeg; "bilinear": interpolated everywhere) as a user gives them (command
+/// Mode, path, radius and how the grid proxy meets a depth edge ("nearest": the closest of the four
+/// tiles above kGridEdgeSlopePerMPerDeg; "bilinear": interpolated everywhere) as a user gives them (command
 /// lines, files), parsed and checked: the settings (other fields default), or nothing with the
 /// reason in *error.
 std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std::string_view path,
@@ -106,8 +110,8 @@ std::optional<RenderSettings> renderSettingsFromText(std::string_view mode, std:
                                                      std::string_view grid_edges = "nearest");
 /// The command lines' help for that grid_edges text (telesphere-xr desktop, offscreen, openxr).
 inline constexpr const char* kGridEdgesHelp =
-    "how the grid proxy meets a depth edge: nearest (the nearest of the four tiles, so a near object keeps its "
-    "outline and the background beside it moves with it) or bilinear (interpolated: the outline moves)";
+    "how the grid proxy meets a depth edge: nearest (the tile whose centre is closest, so a near object keeps its "
+    "outline where the depth's tiles put it) or bilinear (interpolated: the outline moves with the head)";
 
 /// The pose the renderer actually uses for `mode`: T_cam_eye (full6d), its rotation only
 /// (orientation3d), or T_cam_eye_fixed (fixed).

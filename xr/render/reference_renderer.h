@@ -47,12 +47,13 @@ std::optional<RgbaImage> renderReference(const calib::GenericCamera& camera,
 struct ProjectionMapError {
   double max_px = 0.0;
   double mean_px = 0.0;
+  double p999_px = 0.0;       ///< 99.9 % of the pixels valid in both are at most this far apart
   int compared = 0;           ///< pixels valid in both
   int validity_mismatch = 0;  ///< pixels valid in one and border in the other
   int total = 0;
 };
 
-/// "max … px, mean … px over N pixels, M of T differ in validity".
+/// "max … px, p99.9 … px, mean … px over N pixels, M of T differ in validity".
 std::ostream& operator<<(std::ostream& os, const ProjectionMapError& e);
 
 /// Compares `rgba` (view.width·view.height·4 floats, rows top first), rendered from

@@ -13,15 +13,18 @@ namespace telesphere::xr::render {
 
 SphericalRenderer::SphericalRenderer() : empty_vao_(gl::createVertexArray()) {}
 
-const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderPath path, bool depth_grid,
+const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderPath path, ProxyShader proxy,
                                                 std::string* out_error) {
+  const bool depth_grid = proxy != ProxyShader::kSphere;
   const bool yuv = camera.format() == SourceImage::Format::kYuv;
-  const auto key = std::make_tuple(static_cast<int>(path), camera.modelIndex(), int(yuv), int(depth_grid));
+  const auto key = std::make_tuple(static_cast<int>(path), camera.modelIndex(), int(yuv), static_cast<int>(proxy));
   if (auto it = programs_.find(key); it != programs_.end()) return &it->second;
   const std::vector<std::string> defines = {"TS_MODEL " + std::to_string(camera.modelIndex()),
                                             std::string("TS_SOURCE_YUV ") + (yuv ? "1" : "0"),
                                             std::string("TS_DEPTH_GRID ") + (depth_grid ? "1" : "0"),
-                                            "TS_GRID_STEPS " + std::to_string(kGridProxySteps)};
+                                            "TS_GRID_STEPS " + std::to_string(kGridProxySteps),
+                                            std::string("TS_GRID_MARCH ") + (proxy == ProxyShader::kGridMarch ? "1" : "0"),
+                                            "TS_GRID_MARCH_MAX " + std::to_string(kGridMarchMaxSteps)};
   std::optional<gl::GlProgram> p;
   switch (path) {
     case RenderPath::kExact:
@@ -39,7 +42,7 @@ const gl::GlProgram* SphericalRenderer::program(const GpuCamera& camera, RenderP
 }
 
 bool SphericalRenderer::prepare(const GpuCamera& camera, RenderPath path, std::string* out_error) {
-  return program(camera, path, false, out_error) != nullptr;
+  return program(camera, path, ProxyShader::kSphere, out_error) != nullptr;
 }
 
 bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
@@ -52,7 +55,10 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
     if (out_error) *out_error = *problem;
     return false;
   }
-  const gl::GlProgram* prog = program(camera, settings.path, settings.depth_grid != nullptr, out_error);
+  const ProxyShader proxy = !settings.depth_grid                              ? ProxyShader::kSphere
+                            : std::isfinite(settings.grid_march_step_tiles) ? ProxyShader::kGridMarch
+                                                                            : ProxyShader::kGridFixedPoint;
+  const gl::GlProgram* prog = program(camera, settings.path, proxy, out_error);
   if (!prog) return false;
   const GLuint id = prog->id();
 
@@ -113,11 +119,16 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
     glProgramUniform1f(id, glGetUniformLocation(id, "u_sphere_c"),
                        float(o.squaredNorm() - settings.radius * settings.radius));
     if (settings.depth_grid) {
+      const GridProxyParams grid = gridProxyParams(*settings.depth_grid, settings.grid_edge_slope_per_m_per_deg,
+                                                   settings.grid_march_step_tiles);
       glProgramUniform2f(id, glGetUniformLocation(id, "u_radius_range"), float(kMinProxyRadiusM), float(kMaxProxyRadiusM));
       // Infinity (bilinear everywhere) as the largest float: no jump exceeds it.
       glProgramUniform1f(id, glGetUniformLocation(id, "u_edge_jump"),
-                         float(std::min(settings.grid_edge_slope_per_m_per_deg * settings.depth_grid->tileDeg(),
-                                        double(std::numeric_limits<float>::max()))));
+                         float(std::min(grid.edge_jump_per_m, double(std::numeric_limits<float>::max()))));
+      glProgramUniform2f(id, glGetUniformLocation(id, "u_rho_range"), float(grid.inverse_depth_bottom_per_m),
+                         float(grid.inverse_depth_top_per_m));
+      if (proxy == ProxyShader::kGridMarch)
+        glProgramUniform1f(id, glGetUniformLocation(id, "u_march_step_rad"), float(grid.march_step_rad));
       glBindTextureUnit(4, camera.inverseDepthTexture(settings.depth_grid));
     }
     if (settings.path == RenderPath::kLut) {

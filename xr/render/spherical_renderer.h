@@ -41,7 +41,12 @@ class SphericalRenderer {
               GLuint framebuffer, std::string* out_error = nullptr);
 
  private:
-  const gl::GlProgram* program(const GpuCamera& camera, RenderPath path, bool depth_grid, std::string* out_error);
+  /// How a program meets the scene: the sphere, or the grid proxy with the march to each ray's
+  /// first crossing or with fixed-point steps (a program each: a GPU, llvmpipe among them, may run
+  /// both sides of a branch it cannot prove uniform).
+  enum class ProxyShader { kSphere, kGridMarch, kGridFixedPoint };
+
+  const gl::GlProgram* program(const GpuCamera& camera, RenderPath path, ProxyShader proxy, std::string* out_error);
 
   std::map<std::tuple<int, int, int, int>, gl::GlProgram> programs_;
   gl::GlVertexArray empty_vao_;
