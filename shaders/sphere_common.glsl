@@ -117,7 +117,7 @@ bool proxyHit(vec3 o, vec3 d, out vec3 p) {
     b = k == n ? bottom : mix(top, bottom, float(k) / float(n));
     vec3 pb;
     bool has_b = marchPoint(o, d, b, pb, gb);
-    if (has_b && gb >= 0.0) {
+    if (has_b && (gb >= 0.0 || k == n)) {  // at the far bound: nothing lies beyond (a division may round g below 0)
       crossed = true;
       break;
     }

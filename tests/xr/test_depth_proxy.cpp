@@ -153,6 +153,7 @@ TEST(DepthProxy, EachEyeRayMeetsTheGridWhereItFirstCrossesItAlsoBeyondANearObjec
     return 1.0 / 3.0;
   });
   const render::GridProxyParams march = render::gridProxyParams(grid);
+  EXPECT_NEAR(march.inverse_depth_top_per_m, static_cast<float>(1.0 / 0.35), 1e-9);  // the box, the grid's largest
   const render::GridProxyParams fixed_point =
       render::gridProxyParams(grid, render::kGridEdgeSlopePerMPerDeg, std::numeric_limits<double>::infinity());
   std::vector<double> surface, edge;  // degrees between the march's point and the first crossing, as the camera sees them
@@ -188,8 +189,11 @@ TEST(DepthProxy, EachEyeRayMeetsTheGridWhereItFirstCrossesItAlsoBeyondANearObjec
   EXPECT_LT(surface_worst, 0.2);
   EXPECT_GT(edge.size(), 200U);
   EXPECT_LT(fraction_above(edge, 0.5), 0.04) << edge.size() << " rays at an edge";
-  // Reads stay bounded: at most the march's steps and the refinement's.
-  EXPECT_LE(most_reads, 1 + render::kGridMarchMaxSteps + render::kGridProxySteps);
+  // Reads stay bounded: the first, the march's steps for an eye 10 cm away (the angle it sweeps
+  // over half a tile), the bisections.
+  const int most_steps = static_cast<int>(std::ceil(0.1 * (march.inverse_depth_top_per_m - march.inverse_depth_bottom_per_m) /
+                                                    march.march_step_rad));
+  EXPECT_LE(most_reads, 1 + most_steps + render::kGridProxySteps);
   // The fixed-point steps put hundreds of these rays on the wall behind the box's edge (1615; the
   // test would otherwise pass without the march).
   EXPECT_GT(fixed_point_off, 200);
@@ -323,6 +327,15 @@ TEST(DepthProxy, InverseDepthsAtTheExtremesGiveBoundedRadii) {
   const auto p = render::gridProxyHit(at_centre, render::gridProxyParams(at_centre), {0.05, 0, 0}, {0, 0, 1});
   ASSERT_TRUE(p);
   EXPECT_NEAR(p->norm(), render::kMinProxyRadiusM, 1e-12);
+  // Where the march starts: the largest value, NaN left out, infinity (a point at the centre)
+  // bounded to the nearest radius; a grid of sky starts and ends at the far bound.
+  render::InverseDepthGrid odd(10.0, 0.5F);
+  odd.at(3, 4) = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_DOUBLE_EQ(render::gridProxyParams(odd).inverse_depth_top_per_m, 0.5);
+  odd.at(5, 6) = std::numeric_limits<float>::infinity();
+  EXPECT_DOUBLE_EQ(render::gridProxyParams(odd).inverse_depth_top_per_m, 1.0 / render::kMinProxyRadiusM);
+  EXPECT_DOUBLE_EQ(render::gridProxyParams(render::InverseDepthGrid(10.0, 0.0F)).inverse_depth_top_per_m,
+                   1.0 / render::kMaxProxyRadiusM);
   // The sky: a point 1 km out, the eye ray's own direction to 10⁻⁴ degrees.
   const render::InverseDepthGrid sky(10.0, 0.0F);
   const auto q = render::gridProxyHit(sky, render::gridProxyParams(sky), {0.05, 0, 0}, {0, 0, 1});

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-/// @brief Depth proxies in double precision: the grid's tiles, its lookup (bilinear, nearest at edges), the
+/// @brief Depth proxies in double precision: the grid's tiles, its lookup (bilinear, one tile at edges), the
 ///        centre-weighted radius and where an eye ray meets the grid (the march and its fixed-point
 ///        predecessor).
 #include "xr/render/depth_proxy.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -119,6 +120,7 @@ GridProxyParams gridProxyParams(const InverseDepthGrid& grid, double edge_slope_
   for (std::size_t i = 0, n = static_cast<std::size_t>(grid.rows()) * grid.cols(); i < n; ++i)
     top = std::max(top, 1.0 / radiusFromInverseDepth(v[i]));  // NaN and infinity as every lookup bounds them
   params.inverse_depth_top_per_m = top;
+  assert(march_step_tiles > 0.0);  // checkRenderSettings refuses the rest
   params.march_step_rad = march_step_tiles * grid.tileDeg() * kDeg;
   params.refine_steps = refine_steps;
   return params;
@@ -185,7 +187,9 @@ std::optional<Eigen::Vector3d> gridProxyHit(const InverseDepthGrid& grid, const 
   for (int k = 1; k <= n && !crossed; ++k) {
     b = k == n ? bottom : top + (bottom - top) * k / n;
     mb = ray.at(b);
-    crossed = mb.p && mb.g >= 0.0;
+    // The last step, at the far bound, crosses wherever it is reached: no value of the grid lies
+    // beyond it (the GPU's division may round g there a hair below 0: sky would show the border).
+    crossed = mb.p && (mb.g >= 0.0 || k == n);
     if (!crossed) a = b, ma = mb;
   }
   // No crossing only where even 1 km away the ray is not reached (an eye outside it); none

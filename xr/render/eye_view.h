@@ -65,7 +65,7 @@ struct RenderSettings {
   /// camera (gridProxyHit: a march to the first crossing, kGridProxySteps refinements) instead of the sphere of `radius`. Exact and
   /// look-up-table paths only; shared, never copied (the renderer uploads it once per grid).
   std::shared_ptr<const InverseDepthGrid> depth_grid;
-  /// The grid proxy takes the nearest of four tiles that span more than this inverse depth (1/m)
+  /// The grid proxy takes the closest of four tiles that span more than this inverse depth (1/m)
   /// per degree of tile instead of interpolating (depth_proxy.h, kGridEdgeSlopePerMPerDeg);
   /// infinity: bilinear.
   double grid_edge_slope_per_m_per_deg = kGridEdgeSlopePerMPerDeg;
