@@ -51,7 +51,12 @@ inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats&
           {"depth_pairs_skipped", s.depth_pairs_skipped},
           {"depth_sweep_ms", s.depth_sweep_ms},
           {"depth_radius_left_m", s.depth_radius_left_m},
-          {"depth_matched_fraction", s.depth_matched_fraction}};
+          {"depth_matched_fraction", s.depth_matched_fraction},
+          {"depth_images_with_own_depth", s.depth_images_with_own_depth},
+          {"depth_images_held", s.depth_images_held},
+          {"depth_hold_timeouts", s.depth_hold_timeouts},
+          {"depth_hold_ms_p50", s.depth_hold_ms_p50},
+          {"depth_hold_ms_p99", s.depth_hold_ms_p99}};
 }
 
 }  // namespace telesphere::app

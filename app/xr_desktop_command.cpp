@@ -66,11 +66,7 @@ CLI::App* addDesktopCommand(CLI::App& app, DesktopCommandOptions& o) {
       ->capture_default_str();
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r (m), until the robot says otherwise")->capture_default_str();
-  c->add_option("--depth-proxy", o.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
-      ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
-  c->add_option("--grid-edges", o.grid_edges, xr::render::kGridEdgesHelp)
-      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
+  addXrDepthOptions(*c, o.depth, "until the robot says otherwise; P cycles them");
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png at the end");
   return c;
 }
@@ -85,7 +81,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   if (!desktopParseSize(o.window_size, win_w, win_h))
     return fail(1, "--window-size '" + o.window_size + "' is not WxH (1..8192)");
   std::string error;
-  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.depth.grid_edges);
   if (!render) return fail(1, error);
   auto calibration = calib::loadCalibrationFile(o.calib);
   if (!calibration) return fail(1, calibration.error().describe());
@@ -111,7 +107,7 @@ int runDesktopCommand(const DesktopCommandOptions& o) {
   view_options.endpoints.host = o.host;
   view_options.endpoints.base_port = o.port;
   view_options.render = *render;
-  view_options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);
+  applyXrDepthOptions(o.depth, view_options);
   applyVideoLinkOptions(o.link, view_options);
   xr::frame_loop::OperatorView view(*calibration, view_options);
   xr::frame_loop::OperatorLoop loop(view, output);

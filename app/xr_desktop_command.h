@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_depth_options.h"
 #include "app/xr_video_link_options.h"
 
 namespace telesphere::app {
@@ -25,8 +26,7 @@ struct DesktopCommandOptions {
   double ipd = 0.064;      ///< m
   std::string mode = "full6d", path = "exact";
   double radius = 1.0;
-  std::string depth_proxy = "fixed";  ///< fixed | radius | grid (#35)
-  std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
+  XrDepthOptions depth;  ///< --depth-proxy, --grid-edges, --depth-hold-ms (#35)
   std::string out_dir;     ///< stats.json and eyes_last.png at the end
   VideoLinkOptions link;   ///< frames and head targets: the ZeroMQ link or the media path
 };

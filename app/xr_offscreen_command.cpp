@@ -41,11 +41,7 @@ CLI::App* addOffscreenCommand(CLI::App& app, OffscreenCommandOptions& o) {
   c->add_option("--mode", o.mode, "full6d | orientation3d | fixed")->capture_default_str();
   c->add_option("--path", o.path, "exact | mesh | lut")->capture_default_str();
   c->add_option("--radius", o.radius, "sphere radius r, m")->capture_default_str();
-  c->add_option("--depth-proxy", o.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot (a replay: the recording) says otherwise")
-      ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
-  c->add_option("--grid-edges", o.grid_edges, xr::render::kGridEdgesHelp)
-      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
+  addXrDepthOptions(*c, o.depth, "until the robot (a replay: the recording) says otherwise");
   c->add_option("--out", o.out_dir, "folder for stats.json and eyes_last.png");
   c->add_option("--png-every", o.png_every, "also write eyes_NNNNN.png every N frames")->capture_default_str();
   c->add_option("--wait", o.wait_s, "seconds to wait for the first frame")->capture_default_str();
@@ -85,6 +81,12 @@ void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
                 v.depth_proxy.c_str(), static_cast<unsigned long long>(v.depth_estimates),
                 static_cast<unsigned long long>(v.depth_pairs_skipped), v.depth_sweep_ms, v.depth_radius_left_m,
                 100.0 * v.depth_matched_fraction);
+  if (v.depth_proxy != "fixed")
+    std::printf("| images shown with their own depth; held for it (wait p50 / p99 ms); shown when the wait ran out | "
+                "%llu; %llu (%.1f / %.1f); %llu |\n",
+                static_cast<unsigned long long>(v.depth_images_with_own_depth),
+                static_cast<unsigned long long>(v.depth_images_held), v.depth_hold_ms_p50, v.depth_hold_ms_p99,
+                static_cast<unsigned long long>(v.depth_hold_timeouts));
   if (v.video_link == "udp")
     std::printf("| media path: datagrams, frames whole / with lost bands / lost | %llu, %llu / %llu / %llu |\n"
                 "| lost bands; rows painted from the previous frame / left grey | %llu; %llu / %llu |\n",
@@ -103,7 +105,7 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
   options.duration_s = std::max(0.0, o.duration_s);
   options.png_dir = o.out_dir;
   options.png_every_frames = o.png_every;
-  options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);  // until the recording says otherwise
+  options.depth_proxy = *link::parseDepthProxy(o.depth.proxy);  // until the recording says otherwise
   // A progress line on stderr every 5 s of wall time: offline rendering of a long 4K session takes a while.
   auto last_progress = std::chrono::steady_clock::now();
   options.progress = [&](double rendered_s, double total_s) {
@@ -190,7 +192,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
       display.eye_width <= 0 || display.eye_height <= 0 || display.eye_width > 8192 || display.eye_height > 8192)
     return fail(1, "--eye-size '" + o.eye_size + "' is not WxH (1..8192)");
   display.rate_hz = o.rate_hz;
-  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
+  const auto render = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.depth.grid_edges);
   if (!render) return fail(1, error);
   if (!o.out_dir.empty()) {
     std::error_code ec;
@@ -222,7 +224,8 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.media_port = o.link.media_port;
   options.media_repair = o.link.media_repair == "on";
   options.head_targets_on_zmq = o.link.head_link == "both";
-  options.depth_proxy = *link::parseDepthProxy(o.depth_proxy);
+  options.depth_proxy = *link::parseDepthProxy(o.depth.proxy);
+  options.depth_hold_ms = o.depth.hold_ms;
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

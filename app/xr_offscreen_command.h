@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_depth_options.h"
 #include "app/xr_video_link_options.h"
 
 namespace telesphere::app {
@@ -26,8 +27,7 @@ struct OffscreenCommandOptions {
   std::string mode = "full6d";
   std::string path = "exact";
   double radius = 1.0;
-  std::string depth_proxy = "fixed";  ///< fixed | radius | grid (#35)
-  std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
+  XrDepthOptions depth;  ///< --depth-proxy, --grid-edges, --depth-hold-ms (#35)
   std::string out_dir;  ///< stats.json and eyes_last.png
   int png_every = 0;
   double wait_s = 10.0;

@@ -57,11 +57,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
                 "mode and radius each image was rendered with) and the camera images shown (YUV planes) here");
   c->add_option("--out", x.out_dir, "folder for stats.json at the end");
   c->add_option("--radius", x.radius, "sphere radius r (m) until the robot says otherwise")->capture_default_str();
-  c->add_option("--depth-proxy", x.depth_proxy,
-                 "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid (an inverse-depth grid from it; exact and lut paths), until the robot says otherwise; P cycles them")
-      ->capture_default_str()->check(CLI::IsMember({"fixed", "radius", "grid"}));
-  c->add_option("--grid-edges", x.grid_edges, xr::render::kGridEdgesHelp)
-      ->capture_default_str()->check(CLI::IsMember({"nearest", "bilinear"}));
+  addXrDepthOptions(*c, x.depth, "until the robot says otherwise; P cycles them");
   c->add_option("--mode", x.mode, "full6d | orientation3d | fixed, until the robot says otherwise")
       ->capture_default_str();
   c->add_option("--path", x.path, "exact | mesh | lut")->capture_default_str();
@@ -85,7 +81,7 @@ CLI::App* addOpenXrCommand(CLI::App& app, OpenXrCommandOptions& x) {
 
 int runOpenXrCommand(const OpenXrCommandOptions& o) {
   std::string error;
-  const auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.grid_edges);
+  const auto parsed = xr::render::renderSettingsFromText(o.mode, o.path, o.radius, &error, o.depth.grid_edges);
   if (!parsed) return openXrFail(1, error);
   xr::openxr::OpenXrOptions options;
   if (o.colour == "auto") options.colour = xr::openxr::SwapchainColour::kAuto;

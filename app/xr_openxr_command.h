@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
+#include "app/xr_depth_options.h"
 #include "app/xr_video_link_options.h"
 
 namespace telesphere::app {
@@ -25,8 +26,7 @@ struct OpenXrCommandOptions {
   std::string out_dir;       ///< stats.json at the end
   std::string mode = "full6d", path = "exact", colour = "auto";
   double radius = 1.0;
-  std::string depth_proxy = "fixed";  ///< fixed | radius | grid (#35)
-  std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
+  XrDepthOptions depth;  ///< --depth-proxy, --grid-edges, --depth-hold-ms (#35)
   double exit_timeout_s = 5.0;
   double reconnect_s = 30.0;  ///< 0: exit (code 4) when the runtime goes away
   bool mirror = false;        ///< a desktop window showing both eyes

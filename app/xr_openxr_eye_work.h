@@ -47,7 +47,7 @@ class OpenXrEyeWork {
     options.endpoints.base_port = o_.port;
     options.endpoints.credentials = o_.link.credentials;
     options.render = settings_;
-    options.depth_proxy = *link::parseDepthProxy(o_.depth_proxy);
+    applyXrDepthOptions(o_.depth, options);
     applyVideoLinkOptions(o_.link, options);
     view_ = std::make_unique<xr::frame_loop::OperatorView>(*calibration, options);
     return 0;

@@ -4,10 +4,13 @@
 ///        the predicted display time; the robot's mode, radius and nominal mapping are followed,
 ///        and nonsense in the robot state (unknown mode, NaN or negative radius) is not; the
 ///        operator's requests reach the robot's control handler (next mode, radius steps clamped
-///        to the accepted range); silence from the robot is measured.
+///        to the accepted range); silence from the robot is measured; with the depth hold a new
+///        image waits for its own pair's depth.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -63,14 +66,38 @@ class OperatorViewTest : public ::testing::Test {
       }
       return reply;
     });
+    makeView();
+    target_ = std::make_unique<gl::OffscreenTarget>(32, 32);
+    eye_.width = eye_.height = 32;
+    eye_.fov = {-0.5, 0.5, 0.5, -0.5};
+  }
+
+  /// A new view (the old one closed first: the same ports) with the fixture's options, changed by `change`.
+  void makeView(const std::function<void(frame_loop::OperatorViewOptions&)>& change = {}) {
+    view_.reset();
     frame_loop::OperatorViewOptions options;
     options.endpoints = operatorViewEndpoints();
     options.render.border_rgba << 0.0f, 0.0f, 1.0f, 1.0f;
     options.hold_measured_s = 0.3;
-    view_ = std::make_unique<frame_loop::OperatorView>(*calibration, options);
-    target_ = std::make_unique<gl::OffscreenTarget>(32, 32);
-    eye_.width = eye_.height = 32;
-    eye_.fov = {-0.5, 0.5, 0.5, -0.5};
+    if (change) change(options);
+    view_ = std::make_unique<frame_loop::OperatorView>(robot_calibration_, options);
+  }
+
+  /// Publishes a new frame and displays frames until it is on show (published again, as a new
+  /// frame, when it has not arrived within 300 ms); false after 10 s.
+  bool showNextFrame() {
+    const auto deadline = std::chrono::steady_clock::now() + 10s;
+    while (std::chrono::steady_clock::now() < deadline) {
+      publishFrame();
+      const std::uint64_t sequence = sequence_;
+      const auto republish = std::chrono::steady_clock::now() + 300ms;
+      while (std::chrono::steady_clock::now() < republish) {
+        shownFrame();
+        if (view_->frame() && view_->frame()->frame.sequence() == sequence) return true;
+        std::this_thread::sleep_for(2ms);
+      }
+    }
+    return false;
   }
 
   /// Publishes a 64×36 stereo frame (the calibration's 16:9) with both cameras looking along
@@ -579,6 +606,47 @@ TEST_F(OperatorViewTest, FramesWithoutAMeasuredPoseAreDimmedOrTheLastMeasuredOne
   EXPECT_GE(std::chrono::steady_clock::now() - start, 300ms);
   EXPECT_EQ(view_->frame()->frame.left().pose_source(), POSE_SOURCE_FIXED_CALIBRATION);
   EXPECT_GE(view_->stats().unmeasured_frames_held_back, 1u);
+}
+
+TEST_F(OperatorViewTest, WithTheDepthHoldEachNewImageIsShownWithTheDepthOfItsOwnPair) {
+  // The grid proxy. Without the hold a new image is shown at once, with the depth the worker had:
+  // the pair before's. With it the image waits, the one on show staying, until its own pair's depth
+  // is in; with a hold too short for a sweep it is shown when the wait runs out, never later.
+  // Counted over six images after the worker's first estimate (its first sweep builds the sample
+  // tables, seconds under the sanitizers).
+  struct Run {
+    double hold_ms;
+    std::uint64_t shown = 0, own = 0, held = 0, timeouts = 0;
+  };
+  std::vector<Run> runs = {{0.0}, {3000.0}, {1e-3}};
+  for (Run& run : runs) {
+    makeView([&](frame_loop::OperatorViewOptions& o) {
+      o.depth_proxy = link::DepthProxy::kGrid;
+      o.depth_hold_ms = run.hold_ms;
+    });
+    ASSERT_TRUE(::telesphere::test::eventually([&] { return showNextFrame() && view_->stats().depth_estimates > 0; }, 60s))
+        << "hold " << run.hold_ms << " ms: no depth estimate";
+    const frame_loop::OperatorViewStats before = view_->stats();
+    for (int i = 0; i < 6; ++i) ASSERT_TRUE(showNextFrame()) << "hold " << run.hold_ms << " ms, frame " << i;
+    const frame_loop::OperatorViewStats after = view_->stats();
+    run.shown = after.stereo_frames_shown - before.stereo_frames_shown;
+    run.own = after.depth_images_with_own_depth - before.depth_images_with_own_depth;
+    run.held = after.depth_images_held - before.depth_images_held;
+    run.timeouts = after.depth_hold_timeouts - before.depth_hold_timeouts;
+    std::printf("hold %g ms: %llu images shown, %llu with their own depth at once, %llu held (wait p50 %.1f ms), %llu "
+                "timeouts\n",
+                run.hold_ms, static_cast<unsigned long long>(run.shown), static_cast<unsigned long long>(run.own),
+                static_cast<unsigned long long>(run.held), after.depth_hold_ms_p50,
+                static_cast<unsigned long long>(run.timeouts));
+  }
+  EXPECT_LE(runs[0].own, 1u);  // the sweep starts as the image is shown
+  EXPECT_EQ(runs[0].held + runs[0].timeouts, 0u);
+  EXPECT_GE(runs[1].shown, 6u);
+  EXPECT_EQ(runs[1].own, runs[1].shown);  // every image waited for its own depth
+  EXPECT_EQ(runs[1].held, runs[1].shown);
+  EXPECT_EQ(runs[1].timeouts, 0u);
+  EXPECT_GE(runs[2].timeouts, 5u);
+  EXPECT_LE(runs[2].own, 1u);
 }
 
 TEST_F(OperatorViewTest, OnTheMediaPathTheZeroMqLinkCarriesNoFrames) {

@@ -42,6 +42,7 @@ struct OffscreenOperatorOptions {
   bool head_targets_on_zmq = true;  ///< OperatorViewOptions::head_targets_on_zmq
   bool warn_insecure_link = false;  ///< OperatorViewOptions::warn_insecure_link
   link::DepthProxy depth_proxy = link::DepthProxy::kFixed;  ///< OperatorViewOptions::depth_proxy (#35)
+  double depth_hold_ms = 0.0;  ///< OperatorViewOptions::depth_hold_ms
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

@@ -122,13 +122,20 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
       show = before;
     }
   }
+  const bool hold_for_depth = depth_ && options_.depth_hold_ms > 0.0 && options_.depth_proxy != link::DepthProxy::kFixed;
+  if (hold_for_depth && show && show != before) show = holdForOwnDepth(show, before);
   if (!renderer_.setFrame(show, error)) return false;
   uploaded_this_frame_ns_ = renderer_.frame() != before ? renderer_.uploadedNs() : -1;
   if (depth_) {
-    // The pair on show goes to the depth worker (a pointer swap); the eyes take the newest
-    // estimate it has, never waiting for one.
-    depth_->offer(renderer_.frame());
-    renderer_.setDepth(options_.depth_proxy, depth_->newest());
+    // The pair on show goes to the depth worker (a pointer swap; with the hold it went there while
+    // it waited, and offering the one on show again would put an older pair back); the eyes take
+    // the newest estimate it has, never waiting for one.
+    if (!hold_for_depth) depth_->offer(renderer_.frame());
+    const auto estimate = depth_->newest();
+    renderer_.setDepth(options_.depth_proxy, estimate);
+    const auto& frame = renderer_.frame();
+    if (frame && frame != before && estimate && estimate->frame_sequence == frame->frame.sequence())
+      ++stats_.depth_images_with_own_depth;
   }
   // The link's cues for this display: the image's age when it is shown, the stream's settings.
   link_state_ = LinkState{};
@@ -289,6 +296,25 @@ std::shared_ptr<const video::DecodedStereoFrame> OperatorView::frameToShow() {
   settings.image_gain = kUnmeasuredGain;
   renderer_.setSettings(settings);
   return newest;
+}
+
+std::shared_ptr<const video::DecodedStereoFrame> OperatorView::holdForOwnDepth(
+    std::shared_ptr<const video::DecodedStereoFrame> next, std::shared_ptr<const video::DecodedStereoFrame> current) {
+  depth_->offer(next);  // a pair of the sequence offered last is ignored: it is swept once
+  const auto estimate = depth_->newest();
+  if (depth_hold_since_ns_ < 0) depth_hold_since_ns_ = frame_begin_ns_;
+  // The wait runs from the first newer image, not per image: a stream that outpaces the sweep
+  // must not keep the view on the old image for ever.
+  const double waited_ms = double(frame_begin_ns_ - depth_hold_since_ns_) * 1e-6;
+  const bool own = estimate && estimate->frame_sequence == next->frame.sequence();
+  if (!own && current && waited_ms < options_.depth_hold_ms) return current;
+  if (own)
+    ++stats_.depth_images_held;
+  else
+    ++stats_.depth_hold_timeouts;
+  depth_hold_ms_.push_back(waited_ms);
+  depth_hold_since_ns_ = -1;
+  return next;
 }
 
 bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const render::EyeView& view,
@@ -459,6 +485,9 @@ void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, Operator
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
   addDepthFigures(options_.depth_proxy, depth_.get(), &out);
+  const video::LatencyFigure held = video::latencyFigure(depth_hold_ms_);
+  out.depth_hold_ms_p50 = held.p50_ms;
+  out.depth_hold_ms_p99 = held.p99_ms;
   const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;

@@ -89,6 +89,11 @@ struct OperatorViewOptions {
   /// radius or the grid from the stereo pair's depth (a DepthWorker beside the loop).
   link::DepthProxy depth_proxy = link::DepthProxy::kFixed;
   DepthWorkerOptions depth;
+  /// With one radius or the grid: a new camera image waits up to this long (ms) for the depth
+  /// swept from its own pair before it is shown; the one on show stays meanwhile. 0 (default): shown
+  /// at once with the newest depth the worker has, which is the pair before's (no added latency; an
+  /// object moving in depth is placed one sweep late). Measured both ways: xr/README.md.
+  double depth_hold_ms = 0.0;
 };
 
 /// Whole-run figures of the operator loop (the loop adds its own pacing figures).
@@ -133,6 +138,13 @@ struct OperatorViewStats {
   std::string depth_proxy = "fixed";
   std::uint64_t depth_estimates = 0, depth_pairs_skipped = 0;
   double depth_sweep_ms = 0, depth_radius_left_m = 0, depth_matched_fraction = 0;
+  /// With depth_hold_ms: images shown with their own pair's depth after waiting for it, images
+  /// shown without it when the wait ran out, and the display frames an image waited (p50, p99 ms).
+  std::uint64_t depth_images_held = 0, depth_hold_timeouts = 0;
+  double depth_hold_ms_p50 = 0, depth_hold_ms_p99 = 0;
+  /// Images whose first display frame had the depth swept from their own pair (any hold setting;
+  /// without the hold the depth on show is the pair before's, so this stays near 0).
+  std::uint64_t depth_images_with_own_depth = 0;
 };
 
 /// `out`'s depth_* figures: the proxy's name and, with a worker, its counts, last sweep and the
@@ -232,6 +244,10 @@ class OperatorView final : public OperatorScene {
   void fillDepthState(std::int64_t now_ns, link::proto::DepthProxyState* out) const;
   /// The frame to show now: the decoder's newest, unless the rule above holds the current one.
   std::shared_ptr<const video::DecodedStereoFrame> frameToShow();
+  /// With depth_hold_ms: `next` once the depth worker has its own estimate or the wait has run
+  /// out, else `current` (next is offered to the worker meanwhile).
+  std::shared_ptr<const video::DecodedStereoFrame> holdForOwnDepth(std::shared_ptr<const video::DecodedStereoFrame> next,
+                                                                  std::shared_ptr<const video::DecodedStereoFrame> current);
   /// Asks for the robot's calibration when its state names one this view does not render with.
   void followRobotCalibration(const link::proto::RobotState& state);
   /// Takes the fetched calibration once `frame` is stamped with it (or there is no frame).
@@ -255,6 +271,8 @@ class OperatorView final : public OperatorScene {
   std::int64_t unmeasured_since_ns_ = -1;  ///< first unmeasured frame of the streak (-1: none)
   std::uint64_t last_unmeasured_sequence_ = 0;
   std::uint64_t last_held_for_calibration_ = 0;  ///< the last frame held back for its calibration
+  std::int64_t depth_hold_since_ns_ = -1;  ///< when a newer image began to wait for its depth (-1: none waits)
+  std::vector<double> depth_hold_ms_;      ///< per image shown after waiting, how long it waited
   static constexpr std::int64_t kCalibrationRetryNs = 3'000'000'000;
   std::atomic<std::int64_t> calibration_retry_ns_{kCalibrationRetryNs};  ///< doubles after each refusal
   OperatorViewStats stats_;

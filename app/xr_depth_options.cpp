@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+/// @brief The XR commands' depth options.
+#include "app/xr_depth_options.h"
+
+#include "robot/link/depth_proxy.h"
+#include "xr/render/eye_view.h"
+
+namespace telesphere::app {
+
+void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::string& until) {
+  command
+      .add_option("--depth-proxy", options.proxy,
+                  "scene proxy: fixed (the sphere of --radius), radius (one radius from the stereo pair's depth) or grid "
+                  "(an inverse-depth grid from it; exact and lut paths), " +
+                      until)
+      ->capture_default_str()
+      ->check(CLI::IsMember({"fixed", "radius", "grid"}));
+  command.add_option("--grid-edges", options.grid_edges, xr::render::kGridEdgesHelp)
+      ->capture_default_str()
+      ->check(CLI::IsMember({"nearest", "bilinear"}));
+  command
+      .add_option("--depth-hold-ms", options.hold_ms,
+                  "with radius or grid: a new camera image waits up to this long for the depth of its own pair before "
+                  "it is shown (0: at once, with the pair before's depth; an object moving in depth is then placed a "
+                  "sweep late)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
+}
+
+void applyXrDepthOptions(const XrDepthOptions& options, xr::frame_loop::OperatorViewOptions& view) {
+  view.depth_proxy = *link::parseDepthProxy(options.proxy);  // checked by the option
+  view.depth_hold_ms = options.hold_ms;
+}
+
+}  // namespace telesphere::app
