@@ -301,13 +301,14 @@ std::shared_ptr<const video::DecodedStereoFrame> OperatorView::frameToShow() {
 std::shared_ptr<const video::DecodedStereoFrame> OperatorView::holdForOwnDepth(
     std::shared_ptr<const video::DecodedStereoFrame> next, std::shared_ptr<const video::DecodedStereoFrame> current) {
   depth_->offer(next);  // a pair of the sequence offered last is ignored: it is swept once
+  if (!current) return next;  // nothing on show to hold instead
   const auto estimate = depth_->newest();
   if (depth_hold_since_ns_ < 0) depth_hold_since_ns_ = frame_begin_ns_;
   // The wait runs from the first newer image, not per image: a stream that outpaces the sweep
   // must not keep the view on the old image for ever.
   const double waited_ms = double(frame_begin_ns_ - depth_hold_since_ns_) * 1e-6;
   const bool own = estimate && estimate->frame_sequence == next->frame.sequence();
-  if (!own && current && waited_ms < options_.depth_hold_ms) return current;
+  if (!own && waited_ms < options_.depth_hold_ms) return current;
   if (own)
     ++stats_.depth_images_held;
   else
