@@ -249,4 +249,12 @@ GLuint GpuCamera::inverseDepthTexture(const std::shared_ptr<const InverseDepthGr
   return inverse_depth_.id();
 }
 
+const GridProxyParams& GpuCamera::gridParams(const std::shared_ptr<const InverseDepthGrid>& grid,
+                                             double edge_slope_per_m_per_deg, double march_step_tiles) const {
+  CachedGridParams& c = grid_params_;
+  if (c.grid != grid || c.edge_slope_per_m_per_deg != edge_slope_per_m_per_deg || c.march_step_tiles != march_step_tiles)
+    c = {grid, edge_slope_per_m_per_deg, march_step_tiles, gridProxyParams(*grid, edge_slope_per_m_per_deg, march_step_tiles)};
+  return c.params;
+}
+
 }  // namespace telesphere::xr::render

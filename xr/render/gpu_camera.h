@@ -59,6 +59,10 @@ class GpuCamera {
   /// The R32F texture of a grid proxy (the grid's cols × rows, longitude repeating, latitude
   /// clamped), uploaded when `grid` is not the grid uploaded last (which the camera holds on to).
   GLuint inverseDepthTexture(const std::shared_ptr<const InverseDepthGrid>& grid) const;
+  /// gridProxyParams of `grid` (its largest value takes a pass over every tile), computed again
+  /// only for another grid object or other settings: once per grid, not per eye and frame.
+  const GridProxyParams& gridParams(const std::shared_ptr<const InverseDepthGrid>& grid, double edge_slope_per_m_per_deg,
+                                    double march_step_tiles) const;
 
  private:
   calib::GenericCamera camera_;
@@ -75,6 +79,12 @@ class GpuCamera {
   mutable int lut_size_ = 0;
   mutable gl::GlTexture inverse_depth_;
   mutable std::shared_ptr<const InverseDepthGrid> inverse_depth_grid_;
+  struct CachedGridParams {
+    std::shared_ptr<const InverseDepthGrid> grid;
+    double edge_slope_per_m_per_deg = 0, march_step_tiles = 0;
+    GridProxyParams params;
+  };
+  mutable CachedGridParams grid_params_;
 };
 
 }  // namespace telesphere::xr::render

@@ -119,8 +119,8 @@ bool SphericalRenderer::render(const GpuCamera& camera, const EyeView& view,
     glProgramUniform1f(id, glGetUniformLocation(id, "u_sphere_c"),
                        float(o.squaredNorm() - settings.radius * settings.radius));
     if (settings.depth_grid) {
-      const GridProxyParams grid = gridProxyParams(*settings.depth_grid, settings.grid_edge_slope_per_m_per_deg,
-                                                   settings.grid_march_step_tiles);
+      const GridProxyParams& grid =
+          camera.gridParams(settings.depth_grid, settings.grid_edge_slope_per_m_per_deg, settings.grid_march_step_tiles);
       glProgramUniform2f(id, glGetUniformLocation(id, "u_radius_range"), float(kMinProxyRadiusM), float(kMaxProxyRadiusM));
       // Infinity (bilinear everywhere) as the largest float: no jump exceeds it.
       glProgramUniform1f(id, glGetUniformLocation(id, "u_edge_jump"),
