@@ -13,6 +13,7 @@
 ///        approaching through the temporal filter, with the grid of the image shown and of the
 ///        sweep before it.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -254,7 +255,7 @@ StereoSweeps makeSweeps(const std::string& name, const calib::SystemCalibration&
 struct StereoDepth {
   xr::depth::SweepResult left;
   double ms = 0;
-  int matched = 0, seen = 0;
+  int matched = 0, seen = 0, decided_by_motion = 0;
   std::vector<double> inverse_depth_error;
 };
 
@@ -272,8 +273,10 @@ std::vector<std::pair<int, int>> seenTiles(const xr::render::InverseDepthGrid& g
   return tiles;
 }
 
+/// `earlier`: per camera (left, right), its views from earlier poses of the rig (SphereSweep::estimate).
 StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, int height, const SceneView& camera,
-                      const calib::CameraCalibration& left_camera) {
+                      const calib::CameraCalibration& left_camera,
+                      const std::array<std::vector<xr::depth::EarlierView>, 2>& earlier = {}) {
   const xr::depth::GreyImage left{pair.left.data(), width, height, width};
   const xr::depth::GreyImage right{pair.right.data(), width, height, width};
   if (!sweeps.warm) {
@@ -283,10 +286,11 @@ StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, i
   }
   StereoDepth out;
   const double cpu0 = threadCpuSeconds();
-  out.left = sweeps.left.estimate(left, right);
-  const xr::depth::SweepResult right_result = sweeps.right.estimate(right, left);
+  out.left = sweeps.left.estimate(left, right, earlier[0]);
+  const xr::depth::SweepResult right_result = sweeps.right.estimate(right, left, earlier[1]);
   out.ms = 1e3 * (threadCpuSeconds() - cpu0);
   out.matched = out.left.tiles_matched + right_result.tiles_matched;
+  out.decided_by_motion = out.left.tiles_decided_by_motion + right_result.tiles_decided_by_motion;
   out.seen = out.left.tiles_seen + right_result.tiles_seen;
   const xr::render::InverseDepthGrid truth = trueGrid(camera, sweeps.left.options().tile_deg);
   for (const auto& [row, col] : seenTiles(truth, left_camera, width, height))
@@ -743,6 +747,90 @@ nlohmann::json runFilterKnob(const BenchContext& ctx, StereoSweeps& sweeps, cons
   return rows;
 }
 
+/// A second baseline from the arm's motion (SphereSweep's earlier views): both cameras' images from
+/// where the rig was before (translated, not turned), swept with the pair now. On the stripes, which
+/// the pair alone cannot decide, and on the 0.5 m scene, which it can (what the views cost there).
+nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps, const calib::SystemCalibration& rig, int width,
+                                  int height) {
+  struct Motion {
+    std::string name;
+    std::vector<Vector3d> p_world_rig;  // the rig's earlier positions (the left camera's centre; now at the origin)
+  };
+  const std::vector<Motion> motions = {{"none (the pair alone)", {}},
+                                       {"1 cm left", {{-0.01, 0.01, 0.0}}},
+                                       {"5 cm left", {{-0.05, 0.01, 0.0}}},
+                                       {"1 and 5 cm left", {{-0.01, 0.01, 0.0}, {-0.05, 0.01, 0.0}}},
+                                       {"2 and 6 cm up and right", {{0.014, -0.014, 0.0}, {0.042, -0.042, 0.0}}},
+                                       {"1 and 5 cm forward", {{0.0, 0.0, 0.01}, {0.0, 0.0, 0.05}}},
+                                       {"3 cm down (along the stripes)", {{0.0, 0.03, 0.0}}}};
+  struct NamedScene {
+    std::string name;
+    SyntheticScene scene;
+  };
+  const std::vector<NamedScene> scenes = {{"stripes 2 cm apart at 0.8 m", makeStripesScene()}, {"near objects at 0.5 m", makeScene(0.5)}};
+  const int rays = ctx.quick ? 21 : 61;
+  auto& out = ctx.out;
+  out << "\nA second baseline from the arm's motion: each camera's images from the rig's earlier positions (the left camera 1 cm "
+         "lower too where it moves sideways), swept with the pair now; eye errors moving, "
+      << rays << "x" << rays << " rays\n";
+  Table table({"scene", "earlier rig positions", "ms/pair (CPU)", "tiles matched %", "decided by the views", "inv depth err p50 1/m",
+               "p90", "radius m", "radius fovea moving p50 deg", "grid moving p50 deg", "grid moving p90"});
+  nlohmann::json rows = nlohmann::json::array();
+  const Eigen::Isometry3d& T_l_r = *rig.T_cam_l_cam_r;
+  for (const NamedScene& named : scenes) {
+    const SceneView camera = named.scene.view(0, Eigen::Isometry3d::Identity());
+    const StereoGrey pair = renderPair(named.scene, rig, width, height, 2);
+    for (const Motion& motion : motions) {
+      std::vector<StereoGrey> views;  // kept alive while swept
+      std::array<std::vector<xr::depth::EarlierView>, 2> earlier;
+      views.reserve(motion.p_world_rig.size());
+      for (const Vector3d& p : motion.p_world_rig) {
+        const Eigen::Isometry3d T_world_rig{Eigen::Translation3d(p)};
+        StereoGrey& view = views.emplace_back();
+        for (int side = 0; side < 2; ++side) {
+          const Eigen::Isometry3d T_rig_cam = side == 0 ? Eigen::Isometry3d::Identity() : T_l_r;
+          const Eigen::Isometry3d T_world_cam_earlier = T_world_rig * T_rig_cam;
+          const robot::clock::SteadyClock clock;
+          robot::cameras::SyntheticCameraOptions options;
+          options.supersampling = 2;
+          options.threads = 2;
+          const robot::cameras::SyntheticCamera cam(rig.cameras[side].camera, width, height,
+                                                    std::make_shared<const SyntheticScene>(named.scene),
+                                                    robot::cameras::fixedPose(T_world_cam_earlier), clock, options);
+          (side == 0 ? view.left : view.right) = greyOf(cam.renderAt(0));
+          // The camera now is at T_rig_cam (the rig at the origin).
+          earlier[side].push_back({{(side == 0 ? view.left : view.right).data(), width, height, width},
+                                   T_world_cam_earlier.inverse() * T_rig_cam});
+        }
+      }
+      const StereoDepth depth = sweepPair(sweeps, pair, width, height, camera, rig.cameras[0], earlier);
+      std::vector<Proxy> proxies = stereoProxies(depth);
+      evaluateEyeErrors(named.scene, camera, proxies, rays, false);
+      const double matched = depth.seen ? 100.0 * depth.matched / depth.seen : 0.0;
+      table.addRow({named.name, motion.name, formatNumber(depth.ms), formatNumber(matched), std::to_string(depth.decided_by_motion),
+                    formatNumber(quantile(depth.inverse_depth_error, 0.5)), formatNumber(quantile(depth.inverse_depth_error, 0.9)),
+                    formatNumber(proxies[0].radius_m), formatNumber(quantile(proxies[0].moving.fovea, 0.5)),
+                    formatNumber(quantile(proxies[1].moving.whole, 0.5)), formatNumber(quantile(proxies[1].moving.whole, 0.9))});
+      nlohmann::json positions = nlohmann::json::array();
+      for (const Vector3d& p : motion.p_world_rig) positions.push_back({p.x(), p.y(), p.z()});
+      rows.push_back({{"scene", named.name},
+                      {"earlier", motion.name},
+                      {"earlier_rig_positions_m", positions},
+                      {"depth_ms_per_pair", depth.ms},
+                      {"tiles_matched_fraction", matched / 100.0},
+                      {"tiles_decided_by_motion", depth.decided_by_motion},
+                      {"inverse_depth_error_p50_per_m", quantile(depth.inverse_depth_error, 0.5)},
+                      {"inverse_depth_error_p90_per_m", quantile(depth.inverse_depth_error, 0.9)},
+                      {"radius_m", proxies[0].radius_m},
+                      {"eye_error_moving_fovea_p50_deg_radius", quantile(proxies[0].moving.fovea, 0.5)},
+                      {"eye_error_moving_p50_deg_grid", quantile(proxies[1].moving.whole, 0.5)},
+                      {"eye_error_moving_p90_deg_grid", quantile(proxies[1].moving.whole, 0.9)}});
+    }
+  }
+  table.print(out);
+  return rows;
+}
+
 nlohmann::json runDepth(const BenchContext& ctx) {
   std::vector<double> depths = ctx.quick ? std::vector<double>{0.3, 1.5} : std::vector<double>{0.3, 0.5, 0.8, 1.5, 3.0, 10.0};
   if (sceneDepthOption() > 0) depths = {sceneDepthOption()};
@@ -913,6 +1001,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids, rays);  // the rays of the tables above
   worst["march_settings"] = runMarchKnob(ctx, built, stereo_grids, rays);
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
+  worst["motion_baselines"] = runMotionBaselines(ctx, sweeps, rig, depth_width, depth_height);
   const ApproachFrames approach = sweepApproach(ctx, sweeps, rig, depth_width, depth_height);
   worst["approaching_object"] = runApproach(ctx, approach);
   worst["filter_settings"] = runFilterKnob(ctx, sweeps, rig, approach, depth_width, depth_height);

@@ -5,7 +5,9 @@
 ///        the scalar ones' result; a textureless room
 ///        leaves every tile unmatched (and says so) rather than guessing; images of the wrong size
 ///        match nothing. fillAndSmooth: holes take their neighbours' median, a lone outlier goes,
-///        the longitude seam is no border.
+///        the longitude seam is no border. A board of stripes that the pair alone leaves
+///        ambiguous is decided by an earlier view from the arm's motion, and neither a motion
+///        along the stripes nor a board that moved between the captures makes a wrong tile confident.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -120,6 +122,120 @@ TEST(SphereSweep, EightSamplesAStepGiveTheOneAtATimeResult) {
     }
   EXPECT_GE(both, b.tiles_matched - 2);
   EXPECT_LT(worst, 1e-3) << "1/m";
+}
+
+/// The room without the box and, with `board`, 0.8 m ahead a 1.2 × 0.8 m board of vertical stripes
+/// 2 cm apart (1.4° there, a third of the pair's disparity): it matches at several depths along the
+/// baseline.
+std::shared_ptr<robot::cameras::SyntheticScene> stripesRoom(bool board = true) {
+  auto scene = std::make_shared<robot::cameras::SyntheticScene>();
+  robot::cameras::SurfaceStyle style;
+  style.pattern = true;
+  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
+  T_world_room.translation() = Eigen::Vector3d(0.0, -0.2, 1.0);
+  scene->addRoom("room", T_world_room, Eigen::Vector3d(2.5, 1.4, 2.0), style, style, style, style);
+  if (!board) return scene;
+  Eigen::Isometry3d T_world_board(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));  // printed side to the camera
+  T_world_board.translation() = Eigen::Vector3d(0.0, 0.0, 0.8);
+  scene->addPlanarTarget(
+      "stripes", robot::cameras::fixedPose(T_world_board),
+      [](double x, double y) {
+        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
+        return x / 0.02 - std::floor(x / 0.02) < 0.5 ? 40 : 215;
+      },
+      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
+  return scene;
+}
+
+/// The board's inner tiles (those whose eight neighbours' centres all meet the board too: a tile at
+/// its edge, half wall, has no one true depth): how many, how many the sweep matched, how many of
+/// those lie more than 0.1 1/m from the truth toward the tile's centre (a pattern's aliases lie
+/// 0.37 1/m apart), and how many of all lie within it (matched or filled).
+struct BoardScore {
+  int inner = 0, matched = 0, matched_wrong = 0, right = 0;
+};
+
+BoardScore scoreBoard(const depth::SweepResult& result, const robot::cameras::SyntheticScene& board_scene) {
+  BoardScore score;
+  const render::InverseDepthGrid& grid = result.inverse_depth;
+  const robot::cameras::SceneView view = board_scene.view(0, Eigen::Isometry3d::Identity());
+  const auto onBoard = [&](int row, int col) {
+    robot::cameras::SceneHit hit;
+    return view.intersect(grid.tileCentre(row, (col + grid.cols()) % grid.cols()), &hit) && hit.object == 1;
+  };
+  for (int row = 1; row + 1 < grid.rows(); ++row)
+    for (int col = 0; col < grid.cols(); ++col) {
+      bool inner = true;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc) inner = inner && onBoard(row + dr, col + dc);
+      if (!inner) continue;
+      const double error = std::abs(grid.at(row, col) - trueInverseDepth(board_scene, Eigen::Isometry3d::Identity(), grid.tileCentre(row, col)));
+      const bool matched = result.confidence[static_cast<std::size_t>(row) * grid.cols() + col] > 0.0F;
+      ++score.inner;
+      score.matched += matched;
+      score.matched_wrong += matched && error >= 0.1;
+      score.right += error < 0.1;
+    }
+  return score;
+}
+
+/// The left camera's image from `p_world_cam` (no rotation) as an earlier view for the left camera at the origin.
+struct EarlierCapture {
+  std::vector<std::uint8_t> grey;
+  depth::EarlierView view;
+};
+EarlierCapture earlierCapture(const std::shared_ptr<robot::cameras::SyntheticScene>& scene, const Eigen::Vector3d& p_world_cam) {
+  const Eigen::Isometry3d T_world_earlier{Eigen::Translation3d(p_world_cam)};
+  EarlierCapture capture{grey(scene, T_world_earlier), {}};
+  capture.view = {{capture.grey.data(), kWidth, kHeight, kWidth}, T_world_earlier.inverse()};
+  return capture;
+}
+
+TEST(SphereSweep, EarlierViewsFromTheArmsMotionDecideAPatternThePairLeavesAmbiguous) {
+  const auto scene = stripesRoom();
+  const std::vector<std::uint8_t> left = grey(scene, Eigen::Isometry3d::Identity()), right = grey(scene, kT_l_r);
+  const calib::CameraCalibration camera = lens();
+  const depth::SphereSweep sweep(camera.camera, kWidth, kHeight, camera.camera, kWidth, kHeight, kT_l_r.inverse());
+  const depth::GreyImage l{left.data(), kWidth, kHeight, kWidth}, r{right.data(), kWidth, kHeight, kWidth};
+
+  const depth::SweepResult pair_only = sweep.estimate(l, r);
+  const BoardScore before = scoreBoard(pair_only, *scene);
+  ASSERT_GT(before.inner, 100);  // the board spans about 74° × 53°
+  EXPECT_GT(pair_only.tiles_ambiguous, before.inner / 2);
+  EXPECT_EQ(pair_only.tiles_decided_by_motion, 0);
+  // The pair alone: most of the board is left unconfident and filled from the wall behind, and
+  // some tiles take an alias with confidence (its hypothesis hit the alias's peak, none the truth's).
+  EXPECT_LT(before.right, before.inner / 2) << before.right << " of " << before.inner;
+
+  // Earlier the arm held the camera 1 cm and 5 cm to the left (and 1 cm lower): two more baselines
+  // along the pattern's direction of change, whose aliases fall elsewhere.
+  const EarlierCapture near = earlierCapture(scene, {-0.01, 0.01, 0.0}), far = earlierCapture(scene, {-0.05, 0.01, 0.0});
+  const depth::SweepResult with_motion = sweep.estimate(l, r, {near.view, far.view});
+  const BoardScore after = scoreBoard(with_motion, *scene);
+  EXPECT_EQ(with_motion.tiles_ambiguous, pair_only.tiles_ambiguous);
+  EXPECT_GT(with_motion.tiles_decided_by_motion, before.inner * 3 / 4);
+  EXPECT_GT(after.right, after.inner * 95 / 100) << after.right << " of " << after.inner;
+  EXPECT_LE(after.matched_wrong, 2) << after.matched_wrong << " of " << after.matched << " matched";
+
+  // A motion along the stripes sees all their candidates alike: on the board it decides nothing,
+  // and the board's tiles are the pair's own (the textured walls it does decide).
+  const EarlierCapture below = earlierCapture(scene, {0.0, 0.03, 0.0});
+  const BoardScore along = scoreBoard(sweep.estimate(l, r, {below.view}), *scene);
+  EXPECT_EQ(along.matched, before.matched);
+  EXPECT_EQ(along.matched_wrong, before.matched_wrong);
+
+  // Earlier the board was not there: its patches find nothing alike in those views, so they
+  // decide nothing on it either.
+  const auto empty_room = stripesRoom(false);
+  const EarlierCapture near_empty = earlierCapture(empty_room, {-0.01, 0.01, 0.0}), far_empty = earlierCapture(empty_room, {-0.05, 0.01, 0.0});
+  const BoardScore changed = scoreBoard(sweep.estimate(l, r, {near_empty.view, far_empty.view}), *scene);
+  EXPECT_LE(changed.matched_wrong, before.matched_wrong) << changed.matched_wrong << " of " << changed.matched << " matched";
+
+  // Views of another size are ignored.
+  const std::vector<std::uint8_t> small(kWidth / 2 * kHeight / 2, 128);
+  const depth::SweepResult ignored = sweep.estimate(l, r, {{{small.data(), kWidth / 2, kHeight / 2, kWidth / 2}, far.view.T_earlier_reference}});
+  EXPECT_EQ(ignored.tiles_decided_by_motion, 0);
+  EXPECT_EQ(ignored.tiles_matched, pair_only.tiles_matched);
 }
 
 TEST(SphereSweep, ATexturelessRoomMatchesNothingRatherThanGuessing) {

@@ -3,6 +3,8 @@
 ///        frame, then holes filled and a 3×3 median.
 #include "xr/depth/sphere_sweep.h"
 
+#include "xr/depth/patch_projection.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,6 +28,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
                          const calib::GenericCamera& other, int other_width, int other_height,
                          const Eigen::Isometry3d& T_other_reference, SphereSweepOptions options)
     : options_(options),
+      reference_(reference),
       reference_width_(reference_width),
       reference_height_(reference_height),
       other_width_(other_width),
@@ -77,6 +80,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
         continue;
       }
       reference_px_.insert(reference_px_.end(), reference_px.begin(), reference_px.end());
+      for (const Eigen::Vector3d& d : directions) directions_.push_back(d.cast<float>());
       tiles_.push_back(std::move(tile));
     }
 }
@@ -89,7 +93,7 @@ std::size_t SphereSweep::tableBytes() const {
   return (reference_px_.size() + other_px_.size()) * sizeof(BilinearTap);
 }
 
-SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other) const {
+SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier_views) const {
   SweepResult result;
   result.inverse_depth = render::InverseDepthGrid(options_.tile_deg, 0.0F);
   render::InverseDepthGrid& grid = result.inverse_depth;
@@ -99,6 +103,9 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
       other.width != other_width_ || other.height != other_height_ || reference.width < 2 || reference.height < 2 ||
       other.width < 2 || other.height < 2)
     return result;
+  std::vector<EarlierView> earlier;
+  for (const EarlierView& view : earlier_views)
+    if (view.image.pixels && view.image.width == reference_width_ && view.image.height == reference_height_) earlier.push_back(view);
 
   std::vector<float> a(samples_), cost(options_.hypotheses);
   const float inv_n = 1.0F / static_cast<float>(samples_);
@@ -130,7 +137,9 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
     float runner_up = std::numeric_limits<float>::infinity();
     for (int k = 0; k < options_.hypotheses; ++k)
       if (std::abs(k - best) > 1) runner_up = std::min(runner_up, cost[k]);
-    if (runner_up - cost[best] < options_.min_margin) continue;
+    const std::size_t index = static_cast<std::size_t>(tile.row) * grid.cols() + tile.col;
+    const bool ambiguous = runner_up - cost[best] < options_.min_margin;
+    if (ambiguous) ++result.tiles_ambiguous;
     // A parabola through the best and its neighbours (where both are usable) places the minimum
     // between hypotheses.
     double rho = hypothesis(best);
@@ -139,12 +148,139 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
       const double curvature = c0 - 2.0 * c1 + c2;
       if (curvature > 1e-9) rho += std::clamp(0.5 * (c0 - c2) / curvature, -0.5, 0.5) * hypothesis(1);
     }
+    // The earlier views decide an ambiguous tile, and look again at one whose pair cost has another
+    // local minimum within the candidate window where a view that sees its texture move does not
+    // correlate at the pair's best: a pattern's true depth can lose to an alias by far more than
+    // the margin where no hypothesis hits its narrow peak, and the pair's gate then passes the alias.
+    if (!earlier.empty() && (ambiguous || hasOtherCandidate(cost, best))) {
+      bool look_again = ambiguous;
+      for (std::size_t v = 0; v < earlier.size() && !look_again; ++v)
+        look_again = 1.0F - projectedCost(tile, a.data(), sum_aa, reference_, earlier[v].T_earlier_reference, rho, earlier[v].image) <
+                     options_.min_correlation;
+      const std::vector<EarlierView> views = look_again ? informativeViews(tile, reference, earlier) : std::vector<EarlierView>{};
+      if (!views.empty()) {
+        if (const std::optional<Decided> decided = resolveWithEarlier(tile, a.data(), sum_aa, cost, best, views)) {
+          grid.at(tile.row, tile.col) = static_cast<float>(std::max(decided->rho, 0.0));
+          result.confidence[index] = std::max(decided->confidence, 1e-3F);
+          ++result.tiles_decided_by_motion;
+          ++result.tiles_matched;
+          continue;
+        }
+      }
+    }
+    if (ambiguous) continue;  // the views did not decide it either
     grid.at(tile.row, tile.col) = static_cast<float>(std::max(rho, 0.0));
-    result.confidence[static_cast<std::size_t>(tile.row) * grid.cols() + tile.col] = 1.0F - cost[best];
+    result.confidence[index] = 1.0F - cost[best];
     ++result.tiles_matched;
   }
   fillAndSmooth(grid, result.confidence);
   return result;
+}
+
+bool SphereSweep::hasOtherCandidate(const std::vector<float>& cost, int best) const {
+  const float limit = cost[best] + static_cast<float>(options_.motion_candidate_window);
+  for (int k = 1; k + 1 < options_.hypotheses; ++k)
+    if (std::abs(k - best) > 1 && cost[k] <= limit && cost[k] <= cost[k - 1] && cost[k] <= cost[k + 1]) return true;
+  return false;
+}
+
+float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa, const calib::GenericCamera& camera,
+                                 const Eigen::Isometry3d& T_view_reference, double rho, const GreyImage& image) const {
+  thread_local std::vector<Eigen::Vector2d> px;
+  thread_local std::vector<BilinearTap> taps;
+  px.resize(samples_);
+  taps.resize(samples_);
+  if (!projectPatch(camera, &directions_[tile.first], options_.samples_per_side, T_view_reference, rho,
+                    options_.motion_corner_projection, px.data()))
+    return std::numeric_limits<float>::infinity();
+  bool gather_safe = true;
+  for (int s = 0; s < samples_; ++s) {
+    if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
+    taps[s] = bilinearTap(px[s], image.width, image.height);
+    gather_safe = gather_safe && gatherSafe(taps[s], image.width, image.height);
+  }
+  const float inv_n = 1.0F / static_cast<float>(samples_);
+  const PatchSums sums = patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe);
+  const float var_b = sums.bb - sums.b * sums.b * inv_n;
+  if (var_b <= 1e-6F) return std::numeric_limits<float>::infinity();
+  return 1.0F - sums.ab / std::sqrt(sum_aa * var_b);
+}
+
+std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const GreyImage& reference,
+                                                      const std::vector<EarlierView>& earlier) const {
+  // Only the views that see the patch's texture move: a motion along stripes sees every candidate
+  // alike, and what differs between its costs then is the resampling, which favours no parallax
+  // at all. The patch's grey gradients (central differences at each sample) against the direction
+  // in which the view's parallax moves the tile in the reference image (toward the view's centre).
+  std::vector<Eigen::Vector2d> gradients(samples_);
+  double energy = 0;
+  for (int s = 0; s < samples_; ++s) {
+    const BilinearTap& t = reference_px_[tile.first + s];
+    const Eigen::Vector2d p(t.x + t.wx / 256.0, t.y + t.wy / 256.0);
+    const auto grey = [&](double dx, double dy) {
+      const Eigen::Vector2d q(std::clamp(p.x() + dx, 0.0, reference_width_ - 1.0), std::clamp(p.y() + dy, 0.0, reference_height_ - 1.0));
+      return static_cast<double>(tapGrey(reference.pixels, reference.stride, bilinearTap(q, reference_width_, reference_height_)));
+    };
+    gradients[s] = 0.5 * Eigen::Vector2d(grey(1, 0) - grey(-1, 0), grey(0, 1) - grey(0, -1));
+    energy += gradients[s].squaredNorm();
+  }
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int s = 0; s < samples_; ++s) centre += directions_[tile.first + s].cast<double>();
+  centre.normalize();
+  Eigen::Vector2d centre_px;
+  std::vector<EarlierView> informative;
+  if (energy <= 0.0 || !reference_.project(centre, centre_px)) return informative;
+  for (const EarlierView& view : earlier) {
+    const Eigen::Vector3d c = -view.T_earlier_reference.linear().transpose() * view.T_earlier_reference.translation();
+    const Eigen::Vector3d across = c - c.dot(centre) * centre;  // the view's centre, seen across the tile's ray
+    Eigen::Vector2d moved_px;
+    if (across.norm() < 1e-9 || !reference_.project(centre + 0.01 * across.normalized(), moved_px)) continue;
+    const Eigen::Vector2d e = (moved_px - centre_px).normalized();
+    double along = 0;
+    for (const Eigen::Vector2d& g : gradients) along += g.dot(e) * g.dot(e);
+    if (along >= options_.motion_min_gradient_fraction * energy) informative.push_back(view);
+  }
+  return informative;
+}
+
+std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& tile, const float* a, float sum_aa,
+                                                                    const std::vector<float>& cost, int best,
+                                                                    const std::vector<EarlierView>& earlier) const {
+  if (earlier.empty()) return std::nullopt;
+  const int hypotheses = options_.hypotheses;
+  const float limit = cost[best] + static_cast<float>(options_.motion_candidate_window);
+  struct Candidate {
+    double rho = 0;    ///< the pair's local minimum, refined between hypotheses
+    float views = 0;   ///< the earlier views' summed cost there
+    float worst = 0;   ///< the highest single view's cost there
+  };
+  std::vector<Candidate> candidates;
+  const double step = hypothesis(1);
+  for (int k = 0; k < hypotheses; ++k) {
+    const float left = k > 0 ? cost[k - 1] : std::numeric_limits<float>::infinity();
+    const float right = k + 1 < hypotheses ? cost[k + 1] : std::numeric_limits<float>::infinity();
+    if (!(cost[k] <= limit && cost[k] <= left && cost[k] < right)) continue;  // a local minimum (the first of a tie)
+    // Where the pair puts it between hypotheses (a parabola), and each view's cost there.
+    double rho = hypothesis(k);
+    if (std::isfinite(left) && std::isfinite(right) && left - 2.0 * cost[k] + right > 1e-9)
+      rho += std::clamp(0.5 * (left - right) / (left - 2.0 * cost[k] + right), -0.5, 0.5) * step;
+    Candidate c{rho, 0.0F, 0.0F};
+    for (const EarlierView& view : earlier) {
+      const float view_cost = projectedCost(tile, a, sum_aa, reference_, view.T_earlier_reference, rho, view.image);
+      c.views += view_cost;
+      c.worst = std::max(c.worst, view_cost);
+    }
+    if (std::isfinite(c.views)) candidates.push_back(c);
+  }
+  if (candidates.empty()) return std::nullopt;
+  const auto chosen = std::min_element(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) { return x.views < y.views; });
+  // Each view must correlate there on its own (a scene that moved between the captures does not),
+  // and every other candidate must be worse in the views by the margin (a view whose own aliases
+  // fall on the pair's decides nothing).
+  if (1.0F - chosen->worst < options_.min_correlation) return std::nullopt;
+  for (const Candidate& c : candidates)
+    if (&c != &*chosen && std::abs(c.rho - chosen->rho) > 1.5 * step && c.views - chosen->views < options_.min_margin) return std::nullopt;
+  return Decided{chosen->rho, 1.0F - chosen->views / static_cast<float>(earlier.size())};
 }
 
 void fillAndSmooth(render::InverseDepthGrid& grid, const std::vector<float>& confidence) {

@@ -9,9 +9,22 @@
 ///        the calibration: per frame only bilinear samples and sums remain. Tiles without texture
 ///        or without a clear best are left unconfident, then filled from their neighbours; a 3×3
 ///        median smooths the grid.
+///
+///        More baselines from the arm's motion: a pattern repeating along the pair's baseline
+///        (stripes, a grille, shelves) matches at several depths, spaced by the pattern's period
+///        over the baseline, and no tile size or smoothing decides between them (xr/README.md). The
+///        reference camera's own images from earlier poses, where the arm has moved it since, see
+///        those aliases at other depths (other baselines, other spacings: multi-baseline stereo,
+///        Okutomi & Kanade 1993). A tile the pair leaves ambiguous, or whose pair cost has another
+///        local minimum near its best and where a view does not correlate at the pair's choice,
+///        takes the candidate (a local minimum of the pair's cost) where the views' summed cost is
+///        clearly lowest, if one is. Only views in which the patch's texture moves with depth take
+///        part. The views' sample positions depend on the motion, so they are projected per frame,
+///        for those tiles and candidates only (patch_projection.h).
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -39,9 +52,33 @@ struct SphereSweepOptions {
   /// The best must beat every hypothesis beyond its neighbours by this much in 1 − ZNCC (a
   /// repetitive pattern matches at several depths and is left unconfident).
   double min_margin = 0.05;
+  /// With earlier views: a tile's candidates are the local minima of its pair cost
+  /// within this of its best (1 − ZNCC). Generous: a pattern's correlation peak can be narrower
+  /// than a hypothesis step, so the true depth can score far worse than an alias that a
+  /// hypothesis happens to hit.
+  double motion_candidate_window = 0.5;
+  /// An earlier view takes part for a tile only where this fraction of the patch's grey gradient
+  /// energy lies along the direction its parallax moves the tile (a motion along stripes cannot
+  /// tell their depths apart, and its costs then favour no parallax at all).
+  double motion_min_gradient_fraction = 0.25;
+  /// The earlier views' sample positions from each patch's four corners (xr/depth/patch_projection.h);
+  /// false: every sample projected.
+  bool motion_corner_projection = true;
   /// The correlation sums eight samples a step (AVX2, xr/depth/patch_sums.h) where the CPU can;
   /// false: one at a time (the reference the benchmark and the tests compare with).
   bool simd = true;
+};
+
+/// The reference camera's own image, captured earlier from another pose (the arm has moved it
+/// since): another baseline for the tiles the pair leaves ambiguous. The scene is assumed still
+/// between the captures; where a view's patch does not correlate at the chosen depth, the tile
+/// keeps the pair's outcome. (A pattern that itself moved by a multiple of its alias spacing
+/// between the captures cannot be told from a still one.)
+struct EarlierView {
+  GreyImage image;  ///< the size of the reference image
+  /// Maps points from the reference camera's frame (now) into its frame at the earlier capture:
+  /// T_robot_cam(earlier)⁻¹ · T_robot_cam(now).
+  Eigen::Isometry3d T_earlier_reference = Eigen::Isometry3d::Identity();
 };
 
 /// One sweep's output: the grid (every tile filled) and how far each tile's value is measured.
@@ -52,6 +89,12 @@ struct SweepResult {
   std::vector<float> confidence;
   int tiles_seen = 0;     ///< tiles whose patch lies inside both images at some depth
   int tiles_matched = 0;  ///< of those, trusted
+  /// Of the tiles seen, textured and correlated but with another depth within the margin (a
+  /// repetitive pattern): ambiguous on the pair alone, whether or not the earlier view decided them.
+  int tiles_ambiguous = 0;
+  /// Tiles whose depth the earlier views decided (counted as matched): ambiguous ones, and ones
+  /// whose pair cost has another local minimum within the candidate window.
+  int tiles_decided_by_motion = 0;
 };
 
 class SphereSweep {
@@ -64,7 +107,9 @@ class SphereSweep {
 
   /// The grid for one stereo pair (images of the sizes given at construction). Empty images, or
   /// other sizes, give a grid of the farthest hypothesis with no tile matched.
-  SweepResult estimate(const GreyImage& reference, const GreyImage& other) const;
+  /// With `earlier` views (images the reference's size; others are ignored): the ambiguous tiles
+  /// also from those views.
+  SweepResult estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier = {}) const;
 
   const SphereSweepOptions& options() const { return options_; }
   /// Inverse depth (1/m) of hypothesis k.
@@ -75,16 +120,37 @@ class SphereSweep {
  private:
   struct Tile {
     int row = 0, col = 0;
-    std::size_t first = 0;     ///< index of its first reference sample in reference_px_
+    std::size_t first = 0;     ///< index of its first reference sample in reference_px_ and directions_
     std::size_t other = 0;     ///< index of its first other sample in other_px_ (samples × hypotheses)
     std::vector<bool> usable;  ///< per hypothesis: every sample inside the other image
     bool gather_safe = true;   ///< every other sample may be read four bytes wide (patch_sums.h)
   };
+  /// Whether the pair cost has a local minimum within the candidate window beyond `best`'s neighbours.
+  bool hasOtherCandidate(const std::vector<float>& cost, int best) const;
+  struct Decided {
+    double rho = 0;         ///< 1/m
+    float confidence = 0;   ///< the mean ZNCC of the pair and the earlier view there
+  };
+  /// The views in which the tile's texture moves with depth: where enough of the patch's grey
+  /// gradient energy lies along the direction the view's parallax moves the tile.
+  std::vector<EarlierView> informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier) const;
+  /// Decides a tile from the earlier views: at each local minimum of the pair's `cost` within the
+  /// candidate window, the views' summed cost; the candidate where it is lowest, if it beats the
+  /// others by the margin and each view correlates there.
+  std::optional<Decided> resolveWithEarlier(const Tile& tile, const float* a, float sum_aa, const std::vector<float>& cost,
+                                            int best, const std::vector<EarlierView>& earlier) const;
+  /// 1 − ZNCC of the tile's patch (mean-free `a`) against `image` where the tile's directions at
+  /// inverse depth `rho` fall in `camera` (∝ R·d + ρ·t); infinity where a sample falls outside.
+  float projectedCost(const Tile& tile, const float* a, float sum_aa, const calib::GenericCamera& camera,
+                      const Eigen::Isometry3d& T_view_reference, double rho, const GreyImage& image) const;
+
   SphereSweepOptions options_;
+  calib::GenericCamera reference_;
   int reference_width_, reference_height_, other_width_, other_height_;
   int samples_ = 0;  ///< per tile
   std::vector<Tile> tiles_;
   std::vector<BilinearTap> reference_px_;
+  std::vector<Eigen::Vector3f> directions_;  ///< per reference sample: its direction (the earlier view projects it)
   std::vector<BilinearTap> other_px_;  ///< per tile: hypothesis-major, then sample
 };
 
