@@ -25,11 +25,19 @@ void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::st
                   "sweep late)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
+  command
+      .add_option("--depth-motion-views", options.motion_views,
+                  "with radius or grid: up to this many of each camera's images from the last 2 s, where the arm has "
+                  "moved it 5 mm to 15 cm since, join its sweep as more baselines (they decide a pattern repeating "
+                  "along the pair's baseline; each costs CPU: telesphere-bench depth); 0: the pair alone")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4));
 }
 
 void applyXrDepthOptions(const XrDepthOptions& options, xr::frame_loop::OperatorViewOptions& view) {
   view.depth_proxy = *link::parseDepthProxy(options.proxy);  // checked by the option
   view.depth_hold_ms = options.hold_ms;
+  view.depth.motion_views = options.motion_views;
 }
 
 }  // namespace telesphere::app

@@ -15,12 +15,13 @@ struct XrDepthOptions {
   std::string proxy = "fixed";         ///< fixed | radius | grid
   std::string grid_edges = "nearest";  ///< nearest | bilinear (xr/render/eye_view.h)
   double hold_ms = 0.0;                ///< OperatorViewOptions::depth_hold_ms
+  int motion_views = 2;                ///< DepthWorkerOptions::motion_views
 };
 
-/// --depth-proxy, --grid-edges, --depth-hold-ms on `command`; `until` ends the proxy's help (who
+/// --depth-proxy, --grid-edges, --depth-hold-ms, --depth-motion-views on `command`; `until` ends the proxy's help (who
 /// may change it while the app runs).
 void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::string& until);
-/// The proxy and the hold into the operator view's options (the grid edges go through
+/// The proxy, the hold and the motion views into the operator view's options (the grid edges go through
 /// render::renderSettingsFromText with the mode and path).
 void applyXrDepthOptions(const XrDepthOptions& options, xr::frame_loop::OperatorViewOptions& view);
 

@@ -82,6 +82,9 @@ void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
                 static_cast<unsigned long long>(v.depth_pairs_skipped), v.depth_sweep_ms, v.depth_radius_left_m,
                 100.0 * v.depth_matched_fraction);
   if (v.depth_proxy != "fixed")
+    std::printf("| left sweep: earlier images from the arm's motion; longest baseline mm; tiles they decided | %d; %.0f; %d |\n",
+                v.depth_motion_views_left, 1e3 * v.depth_motion_baseline_left_m, v.depth_tiles_decided_by_motion_left);
+  if (v.depth_proxy != "fixed")
     std::printf("| images shown with their own depth; held for it (wait p50 / p99 ms); shown when the wait ran out | "
                 "%llu; %llu (%.1f / %.1f); %llu |\n",
                 static_cast<unsigned long long>(v.depth_images_with_own_depth),

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <thread>
 
 #include "app/bench/prerendered_frames.h"
@@ -16,6 +17,7 @@
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
 #include "robot/stereo/stereo_still.h"
+#include "robot/link/link_pose.h"
 #include "xr/frame_loop/depth_worker.h"
 
 namespace telesphere::xr {
@@ -107,6 +109,106 @@ TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
     EXPECT_EQ(a.newest()->radius_m[i], b.newest()->radius_m[i]);
     EXPECT_NEAR(a.newest()->radius_m[i], estimate->radius_m[i], 0.01);
   }
+}
+
+/// A pair of `scene` seen by the rig at p_robot_rig (the left camera's centre, not turned), with
+/// each camera's pose as the robot sends it (`source`).
+std::shared_ptr<video::DecodedStereoFrame> pairAt(const std::shared_ptr<robot::cameras::SyntheticScene>& scene,
+                                                  const Eigen::Vector3d& p_robot_rig, std::uint64_t sequence,
+                                                  link::proto::PoseSource source = link::proto::POSE_SOURCE_JOINT_BUFFER) {
+  const Eigen::Isometry3d T_robot_rig{Eigen::Translation3d(p_robot_rig)};
+  const Eigen::Isometry3d T_robot_cam[2] = {T_robot_rig, T_robot_rig * *rig().T_cam_l_cam_r};
+  auto pair = std::make_shared<video::DecodedStereoFrame>();
+  pair->frame.set_sequence(sequence);
+  pair->frame.mutable_stamps()->set_capture_ns(1'000'000'000 + std::int64_t(sequence) * 100'000'000);
+  pair->left = luma(scene, T_robot_cam[0]);
+  pair->right = luma(scene, T_robot_cam[1]);
+  link::proto::CameraImage* images[2] = {pair->frame.mutable_left(), pair->frame.mutable_right()};
+  for (int i = 0; i < 2; ++i) {
+    link::toLinkPose(T_robot_cam[i], images[i]->mutable_t_robot_cam());
+    images[i]->set_pose_source(source);
+  }
+  return pair;
+}
+
+TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {
+  // The room and, 0.8 m ahead of the rig's middle, a board of vertical stripes 2 cm apart.
+  auto scene = std::make_shared<robot::cameras::SyntheticScene>();
+  robot::cameras::SurfaceStyle style;
+  style.pattern = true;
+  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
+  T_world_room.translation() = Eigen::Vector3d(0.0, -0.2, 1.0);
+  scene->addRoom("room", T_world_room, Eigen::Vector3d(2.5, 1.4, 2.0), style, style, style, style);
+  Eigen::Isometry3d T_world_board(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));
+  T_world_board.translation() = Eigen::Vector3d(0.032, 0.0, 0.8);
+  scene->addPlanarTarget(
+      "stripes", robot::cameras::fixedPose(T_world_board),
+      [](double x, double y) {
+        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
+        return x / 0.02 - std::floor(x / 0.02) < 0.5 ? 40 : 215;
+      },
+      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
+  // The arm brought the rig from 5 cm to the left (and 1 cm lower), through 1 cm, to here: 100 ms apart.
+  const std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
+      pairAt(scene, {-0.05, 0.01, 0.0}, 1), pairAt(scene, {-0.01, 0.01, 0.0}, 2), pairAt(scene, {0.0, 0.0, 0.0}, 3)};
+
+  frame_loop::DepthWorkerOptions options;
+  options.on_caller_thread = true;
+  frame_loop::DepthWorker moving(rig(), options);
+  options.motion_views = 0;
+  frame_loop::DepthWorker pair_alone(rig(), options);
+  for (const auto& pair : pairs) {
+    moving.offer(pair);
+    pair_alone.offer(pair);
+  }
+  const auto with_views = moving.newest(), without = pair_alone.newest();
+  ASSERT_TRUE(with_views && without) << moving.stats().last_error << pair_alone.stats().last_error;
+  for (int i = 0; i < 2; ++i) {
+    SCOPED_TRACE(i == 0 ? "left" : "right");
+    // Both earlier pairs are within reach: 5.1 cm the farthest, then the one nearest a quarter of it.
+    EXPECT_EQ(with_views->motion_views[i], 2);
+    EXPECT_NEAR(with_views->motion_baseline_m[i], std::hypot(0.05, 0.01), 1e-9);
+    EXPECT_GT(with_views->tiles_decided_by_motion[i], 100);
+    EXPECT_EQ(without->motion_views[i], 0);
+    EXPECT_NEAR(with_views->radius_m[i], 0.8, 0.05);  // the board fills the centre
+  }
+  // The board's tiles in the left camera's grid against the truth toward their centres.
+  const auto onBoard = [&](const render::InverseDepthGrid& grid, double* right_fraction) {
+    const robot::cameras::SceneView view = scene->view(0, Eigen::Isometry3d::Identity());
+    int board = 0, right = 0;
+    for (int row = 0; row < grid.rows(); ++row)
+      for (int col = 0; col < grid.cols(); ++col) {
+        robot::cameras::SceneHit hit;
+        if (!view.intersect(grid.tileCentre(row, col), &hit) || hit.object != 1) continue;
+        ++board;
+        right += std::abs(grid.at(row, col) - 1.0 / hit.distance) < 0.1;
+      }
+    *right_fraction = board ? static_cast<double>(right) / board : 0.0;
+    return board;
+  };
+  double with_right = 0, without_right = 0;
+  ASSERT_GT(onBoard(*with_views->grid[0], &with_right), 150);
+  onBoard(*without->grid[0], &without_right);
+  std::printf("board tiles within 0.1 1/m: %.1f %% with the views, %.1f %% the pair alone; matched %.1f %% / %.1f %%\n",
+              100 * with_right, 100 * without_right, 100 * with_views->matched_fraction[0], 100 * without->matched_fraction[0]);
+  EXPECT_GT(with_right, 0.85);
+  EXPECT_LT(without_right, with_right - 0.2);
+
+  // Poses from the calibration alone (no joint states) say nothing of the motion: no views.
+  frame_loop::DepthWorker fixed(rig(), [] {
+    frame_loop::DepthWorkerOptions o;
+    o.on_caller_thread = true;
+    return o;
+  }());
+  for (std::uint64_t sequence = 1; sequence <= 3; ++sequence) {
+    auto pair = std::make_shared<video::DecodedStereoFrame>(*pairs[sequence - 1]);
+    for (auto* image : {pair->frame.mutable_left(), pair->frame.mutable_right()})
+      image->set_pose_source(link::proto::POSE_SOURCE_FIXED_CALIBRATION);
+    fixed.offer(pair);
+  }
+  ASSERT_TRUE(fixed.newest());
+  EXPECT_EQ(fixed.newest()->motion_views[0], 0);
+  EXPECT_EQ(fixed.newest()->tiles_decided_by_motion[0], 0);
 }
 
 TEST(DepthWorker, ACalibrationWithoutAStereoPairSaysWhy) {

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "calib/camera_resolution.h"
+#include "robot/link/link_pose.h"
 #include "xr/depth/box_downscale.h"
 
 namespace telesphere::xr::frame_loop {
@@ -135,22 +136,53 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     s->right = std::make_unique<depth::SphereSweep>(at[1]->camera, s->width, s->height, at[0]->camera, s->width, s->height,
                                                     T_l_r, options_.sweep);
     sweeps_ = std::move(s);
+    for (auto& h : history_) h.clear();  // images of another size
   }
   const Sweeps& s = *sweeps_;
   int w = 0, h = 0;
   depth::boxDownscale(frame.left->yPlane(), source_width, source_height, source_width, s.factor, grey_[0], &w, &h);
   depth::boxDownscale(frame.right->yPlane(), source_width, source_height, source_width, s.factor, grey_[1], &w, &h);
   const depth::GreyImage left{grey_[0].data(), w, h, w}, right{grey_[1].data(), w, h, w};
-  const depth::SweepResult results[2] = {s.left->estimate(left, right), s.right->estimate(right, left)};
+  // Each camera's pose at capture, where the joints gave it (a fixed calibrated pose says nothing
+  // about motion), from the calibration the history was made with.
+  const link::proto::CameraImage* images[2] = {&frame.frame.left(), &frame.frame.right()};
+  if (frame.frame.calibration_generation() != history_calibration_) {
+    for (auto& h : history_) h.clear();
+    history_calibration_ = frame.frame.calibration_generation();
+  }
+  std::array<std::optional<Eigen::Isometry3d>, 2> T_robot_cam;
+  for (int i = 0; i < 2; ++i)
+    if (options_.motion_views > 0 && images[i]->pose_source() == link::proto::POSE_SOURCE_JOINT_BUFFER && images[i]->has_t_robot_cam()) {
+      const Eigen::Isometry3d T = link::fromLinkPose(images[i]->t_robot_cam());
+      if (T.matrix().allFinite()) T_robot_cam[i] = T;
+    }
+  const std::int64_t capture_ns = frame.frame.stamps().capture_ns();
+  std::array<std::vector<depth::EarlierView>, 2> earlier;
+  std::array<double, 2> longest{0.0, 0.0};
+  for (int i = 0; i < 2; ++i)
+    if (T_robot_cam[i]) earlier[i] = earlierViews(i, *T_robot_cam[i], capture_ns, &longest[i]);
+  const depth::SweepResult results[2] = {s.left->estimate(left, right, earlier[0]), s.right->estimate(right, left, earlier[1])};
+  // This pair's images join the history (not where rows were concealed or grey: not what the camera saw).
+  for (int i = 0; i < 2; ++i) {
+    std::deque<SweptImage>& h = history_[i];
+    while (!h.empty() && (capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) ||
+                          h.front().capture_ns >= capture_ns))
+      h.pop_front();
+    if (h.size() > 64) h.pop_front();
+    if (T_robot_cam[i] && frame.rows_concealed == 0 && frame.rows_grey == 0) h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
+  }
 
   auto out = std::make_shared<DepthEstimate>();
   out->frame_sequence = frame.frame.sequence();
-  out->capture_ns = frame.frame.stamps().capture_ns();
+  out->capture_ns = capture_ns;
   for (int i = 0; i < 2; ++i) {
     const render::InverseDepthGrid& filtered = filters_[i].update(results[i].inverse_depth, results[i].confidence, out->capture_ns);
     out->grid[i] = std::make_shared<const render::InverseDepthGrid>(filtered);
     out->radius_m[i] = render::centreWeightedRadius(filtered, {0, 0, 1}, options_.centre_sigma_deg * std::numbers::pi / 180.0);
     out->matched_fraction[i] = results[i].tiles_seen ? static_cast<double>(results[i].tiles_matched) / results[i].tiles_seen : 0.0;
+    out->motion_views[i] = static_cast<int>(earlier[i].size());
+    out->motion_baseline_m[i] = longest[i];
+    out->tiles_decided_by_motion[i] = results[i].tiles_decided_by_motion;
   }
   out->sweep_ms = threadCpuMs() - cpu0;
   std::lock_guard lock(mutex_);
@@ -158,6 +190,41 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   ++stats_.estimated;
   stats_.last_sweep_ms = newest_->sweep_ms;
   return true;
+}
+
+std::vector<depth::EarlierView> DepthWorker::earlierViews(int side, const Eigen::Isometry3d& T_robot_cam, std::int64_t capture_ns,
+                                                          double* longest_m) const {
+  const Sweeps& s = *sweeps_;
+  // Candidates: recent images whose camera centre lies within reach of where it is now.
+  std::vector<std::pair<double, const SweptImage*>> reach;
+  for (const SweptImage& image : history_[side]) {
+    if (capture_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) || image.capture_ns >= capture_ns)
+      continue;
+    const double baseline = (image.T_robot_cam.translation() - T_robot_cam.translation()).norm();
+    if (baseline >= options_.motion_min_baseline_m && baseline <= options_.motion_max_baseline_m) reach.emplace_back(baseline, &image);
+  }
+  std::vector<const SweptImage*> chosen;
+  if (!reach.empty()) {
+    const auto farthest = std::max_element(reach.begin(), reach.end());
+    chosen.push_back(farthest->second);
+    *longest_m = farthest->first;
+    // Then the one nearest a quarter of that baseline (at most half of it), and so on.
+    double target = farthest->first / 4.0;
+    while (static_cast<int>(chosen.size()) < options_.motion_views) {
+      const std::pair<double, const SweptImage*>* best = nullptr;
+      for (const auto& candidate : reach)
+        if (candidate.first <= 2.0 * target && std::find(chosen.begin(), chosen.end(), candidate.second) == chosen.end() &&
+            (!best || std::abs(candidate.first - target) < std::abs(best->first - target)))
+          best = &candidate;
+      if (!best) break;
+      chosen.push_back(best->second);
+      target = best->first / 4.0;
+    }
+  }
+  std::vector<depth::EarlierView> views;
+  for (const SweptImage* image : chosen)
+    views.push_back({{image->grey.data(), s.width, s.height, s.width}, image->T_robot_cam.inverse() * T_robot_cam});
+  return views;
 }
 
 }  // namespace telesphere::xr::frame_loop

@@ -7,10 +7,18 @@
 ///        renderer takes whatever estimate is newest, and pairs that come while a sweep runs are
 ///        skipped. The pair's planes are held only while they are filtered down (a few ms), not
 ///        during the sweep, so the upload ring gets its slots back.
+///
+///        Each camera's filtered-down images of the last seconds are kept with their poses
+///        (T_robot_cam from the joints at capture): where the arm has moved the cameras since, up to
+///        two of them go to the sweep as earlier views (another baseline, which decides a pattern
+///        repeating along the pair's: sphere_sweep.h). The farthest within reach, and the one
+///        nearest a quarter of its baseline: a short baseline has few aliases, a long one a sharp
+///        peak.
 #pragma once
 
 #include <array>
 #include <condition_variable>
+#include <deque>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -30,6 +38,11 @@ struct DepthWorkerOptions {
   double centre_sigma_deg = 5.0;   ///< the radius's centre weighting about each camera's optical axis
   depth::SphereSweepOptions sweep;
   depth::InverseDepthFilterOptions filter;
+  /// Earlier views from the arm's motion: up to this many per camera (0: the pair alone).
+  int motion_views = 2;
+  double motion_history_s = 2.0;        ///< how long a swept image stays a candidate (capture time)
+  double motion_min_baseline_m = 0.005;  ///< camera centres closer than this add no baseline
+  double motion_max_baseline_m = 0.15;   ///< nor farther than this (the view sees another scene)
   /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
   /// returns (the offline replay: the same estimates run after run); no thread of its own.
   bool on_caller_thread = false;
@@ -43,6 +56,9 @@ struct DepthEstimate {
   std::uint64_t frame_sequence = 0;                  ///< the stereo frame's link sequence
   std::int64_t capture_ns = 0;                       ///< its capture time (robot clock)
   double sweep_ms = 0;                               ///< CPU ms of both sweeps and filters
+  std::array<int, 2> motion_views{0, 0};             ///< earlier views each camera's sweep took
+  std::array<double, 2> motion_baseline_m{0.0, 0.0};  ///< the longest of them (camera centres apart)
+  std::array<int, 2> tiles_decided_by_motion{0, 0};   ///< tiles whose depth those views decided
 };
 
 struct DepthWorkerStats {
@@ -85,8 +101,19 @@ class DepthWorker {
   std::shared_ptr<const DepthEstimate> newest_;
   DepthWorkerStats stats_;
   bool quit_ = false;
+  /// A camera's image as swept (filtered down) with its pose, for later sweeps' earlier views.
+  struct SweptImage {
+    std::vector<std::uint8_t> grey;
+    Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
+    std::int64_t capture_ns = 0;
+  };
+  /// The earlier views for camera `side` now at T_robot_cam (its history, chosen by baseline).
+  std::vector<depth::EarlierView> earlierViews(int side, const Eigen::Isometry3d& T_robot_cam, std::int64_t capture_ns,
+                                               double* longest_m) const;
   // Worker thread only.
   std::unique_ptr<Sweeps> sweeps_;
+  std::array<std::deque<SweptImage>, 2> history_;
+  std::uint64_t history_calibration_ = 0;  ///< the calibration generation the history's poses were made with
   std::array<depth::InverseDepthFilter, 2> filters_;
   std::array<std::vector<std::uint8_t>, 2> grey_;
   std::thread thread_;

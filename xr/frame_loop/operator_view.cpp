@@ -463,7 +463,12 @@ void OperatorView::fillDepthState(std::int64_t now_ns, link::proto::DepthProxySt
   out->set_estimates(stats.estimated);
   out->set_pairs_skipped(stats.skipped);
   if (!estimate) return;
-  for (int i = 0; i < 2; ++i) out->add_matched_fraction(estimate->matched_fraction[i]);
+  for (int i = 0; i < 2; ++i) {
+    out->add_matched_fraction(estimate->matched_fraction[i]);
+    out->add_motion_views(estimate->motion_views[i]);
+    out->add_motion_baseline_m(estimate->motion_baseline_m[i]);
+    out->add_tiles_decided_by_motion(estimate->tiles_decided_by_motion[i]);
+  }
   const std::int64_t capture = client_.clock().serverToClient(estimate->capture_ns).value_or(estimate->capture_ns);
   out->set_estimate_age_ms(double(now_ns - capture) * 1e-6);
   out->set_sweep_ms(estimate->sweep_ms);
@@ -480,6 +485,9 @@ void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, Operator
   if (const auto estimate = worker->newest()) {
     out->depth_radius_left_m = estimate->radius_m[0];
     out->depth_matched_fraction = estimate->matched_fraction[0];
+    out->depth_motion_views_left = estimate->motion_views[0];
+    out->depth_motion_baseline_left_m = estimate->motion_baseline_m[0];
+    out->depth_tiles_decided_by_motion_left = estimate->tiles_decided_by_motion[0];
   }
 }
 

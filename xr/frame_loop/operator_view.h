@@ -138,6 +138,10 @@ struct OperatorViewStats {
   std::string depth_proxy = "fixed";
   std::uint64_t depth_estimates = 0, depth_pairs_skipped = 0;
   double depth_sweep_ms = 0, depth_radius_left_m = 0, depth_matched_fraction = 0;
+  /// The last estimate's left sweep: earlier images from the arm's motion it took, the longest
+  /// baseline among them (m) and the tiles they decided (DepthWorkerOptions::motion_views).
+  int depth_motion_views_left = 0, depth_tiles_decided_by_motion_left = 0;
+  double depth_motion_baseline_left_m = 0;
   /// With depth_hold_ms: images shown with their own pair's depth after waiting for it, images
   /// shown without it when the wait ran out, and the display frames an image waited (p50, p99 ms).
   std::uint64_t depth_images_held = 0, depth_hold_timeouts = 0;
