@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numbers>
 #include <vector>
 
 #include "app/bench/prerendered_frames.h"
@@ -33,10 +34,17 @@ TEST(PatchProjection, CornersPlaceTheSamplesWithinAFewHundredthsOfAPixelOfTheirP
     const char* name;
     Eigen::Isometry3d T_view_reference;
   };
+  Eigen::Isometry3d barely_turned(Eigen::AngleAxisd(1e-5, Eigen::Vector3d(0.0, 1.0, 0.0)));
+  barely_turned.translation() = Eigen::Vector3d(-0.01, 0.0, 0.0);
+  // Turned half a turn about the optical axis (upside down) and moved 5 cm: the far tiles swap sides.
+  Eigen::Isometry3d upside_down(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ()));
+  upside_down.translation() = Eigen::Vector3d(0.05, 0.0, 0.0);
   Eigen::Isometry3d turned(Eigen::AngleAxisd(0.2, Eigen::Vector3d(0.3, 1.0, 0.1).normalized()));
   turned.translation() = Eigen::Vector3d(-0.05, 0.01, 0.02);
   const std::vector<Motion> motions = {{"none", Eigen::Isometry3d::Identity()},
                                        {"1 cm aside", Eigen::Isometry3d(Eigen::Translation3d(-0.01, 0.0, 0.0))},
+                                       {"1 cm aside, turned 1e-5 rad", barely_turned},
+                                       {"upside down, 5 cm aside", upside_down},
                                        {"turned 11 deg and moved 5 cm", turned},
                                        // Beyond the nearest hypothesis's sphere (0.25 m): rays then cross in front of the view.
                                        {"30 cm aside and ahead", Eigen::Isometry3d(Eigen::Translation3d(0.3, 0.0, -0.3))}};

@@ -207,10 +207,10 @@ TEST(SphereSweep, EarlierViewsFromTheArmsMotionDecideAPatternThePairLeavesAmbigu
   // some tiles take an alias with confidence (its hypothesis hit the alias's peak, none the truth's).
   EXPECT_LT(before.right, before.inner / 2) << before.right << " of " << before.inner;
 
-  // Earlier the arm held the camera 1 cm and 5 cm to the left (and 1 cm lower): two more baselines
-  // along the pattern's direction of change, whose aliases fall elsewhere.
+  // Earlier the arm held the camera 5 cm and 1 cm to the left (and 1 cm lower): two more baselines
+  // along the pattern's direction of change, whose aliases fall elsewhere (the longest first).
   const EarlierCapture near = earlierCapture(scene, {-0.01, 0.01, 0.0}), far = earlierCapture(scene, {-0.05, 0.01, 0.0});
-  const depth::SweepResult with_motion = sweep.estimate(l, r, {near.view, far.view});
+  const depth::SweepResult with_motion = sweep.estimate(l, r, {far.view, near.view});
   const BoardScore after = scoreBoard(with_motion, *scene);
   EXPECT_EQ(with_motion.tiles_ambiguous, pair_only.tiles_ambiguous);
   EXPECT_GT(with_motion.tiles_decided_by_motion, before.inner * 3 / 4);
@@ -228,7 +228,7 @@ TEST(SphereSweep, EarlierViewsFromTheArmsMotionDecideAPatternThePairLeavesAmbigu
   // decide nothing on it either.
   const auto empty_room = stripesRoom(false);
   const EarlierCapture near_empty = earlierCapture(empty_room, {-0.01, 0.01, 0.0}), far_empty = earlierCapture(empty_room, {-0.05, 0.01, 0.0});
-  const BoardScore changed = scoreBoard(sweep.estimate(l, r, {near_empty.view, far_empty.view}), *scene);
+  const BoardScore changed = scoreBoard(sweep.estimate(l, r, {far_empty.view, near_empty.view}), *scene);
   EXPECT_LE(changed.matched_wrong, before.matched_wrong) << changed.matched_wrong << " of " << changed.matched << " matched";
 
   // Views of another size are ignored.

@@ -2,10 +2,13 @@
 /// @brief projectPatch: every sample, or the four corners and bilinear between them.
 #include "xr/depth/patch_projection.h"
 
+#include <cassert>
+
 namespace telesphere::xr::depth {
 
 bool projectPatch(const calib::GenericCamera& camera, const Eigen::Vector3f* directions, int n,
                   const Eigen::Isometry3d& T_view_reference, double rho, bool corners_only, Eigen::Vector2d* px_out) {
+  assert(n >= 1 && directions && px_out);
   const Eigen::Matrix3d R = T_view_reference.linear();
   const Eigen::Vector3d t = T_view_reference.translation();
   // The point at depth 1/ρ along d, in the view's frame, up to its positive scale 1/ρ.

@@ -16,7 +16,7 @@
 ///        reference camera's own images from earlier poses, where the arm has moved it since, see
 ///        those aliases at other depths (other baselines, other spacings: multi-baseline stereo,
 ///        Okutomi & Kanade 1993). A tile the pair leaves ambiguous, or whose pair cost has another
-///        local minimum near its best and where a view does not correlate at the pair's choice,
+///        local minimum near its best and where the first view does not correlate at the pair's choice,
 ///        takes the candidate (a local minimum of the pair's cost) where the views' summed cost is
 ///        clearly lowest, if one is. Only views in which the patch's texture moves with depth take
 ///        part. The views' sample positions depend on the motion, so they are projected per frame,
@@ -108,7 +108,8 @@ class SphereSweep {
   /// The grid for one stereo pair (images of the sizes given at construction). Empty images, or
   /// other sizes, give a grid of the farthest hypothesis with no tile matched.
   /// With `earlier` views (images the reference's size; others are ignored): the ambiguous tiles
-  /// also from those views.
+  /// also from those views. The first is the one a matched tile is checked against (put the
+  /// longest baseline first).
   SweepResult estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier = {}) const;
 
   const SphereSweepOptions& options() const { return options_; }
@@ -125,18 +126,21 @@ class SphereSweep {
     std::vector<bool> usable;  ///< per hypothesis: every sample inside the other image
     bool gather_safe = true;   ///< every other sample may be read four bytes wide (patch_sums.h)
   };
-  /// Whether the pair cost has a local minimum within the candidate window beyond `best`'s neighbours.
+  /// Whether hypothesis k is a candidate: a local minimum of the pair's cost within the candidate
+  /// window of its best.
+  bool isCandidate(const std::vector<float>& cost, int k, int best) const;
+  /// Whether the pair cost has a candidate beyond `best`'s neighbours.
   bool hasOtherCandidate(const std::vector<float>& cost, int best) const;
   struct Decided {
     double rho = 0;         ///< 1/m
-    float confidence = 0;   ///< the mean ZNCC of the pair and the earlier view there
+    float confidence = 0;   ///< the earlier views' mean ZNCC there
   };
   /// The views in which the tile's texture moves with depth: where enough of the patch's grey
   /// gradient energy lies along the direction the view's parallax moves the tile.
   std::vector<EarlierView> informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier) const;
-  /// Decides a tile from the earlier views: at each local minimum of the pair's `cost` within the
-  /// candidate window, the views' summed cost; the candidate where it is lowest, if it beats the
-  /// others by the margin and each view correlates there.
+  /// Decides a tile from the earlier views: at each candidate of the pair's `cost`, the summed cost
+  /// of the views that see the patch at every candidate; the candidate where it is lowest, if it
+  /// beats the others by the margin and each of those views correlates there.
   std::optional<Decided> resolveWithEarlier(const Tile& tile, const float* a, float sum_aa, const std::vector<float>& cost,
                                             int best, const std::vector<EarlierView>& earlier) const;
   /// 1 − ZNCC of the tile's patch (mean-free `a`) against `image` where the tile's directions at
