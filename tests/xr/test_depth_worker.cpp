@@ -194,6 +194,23 @@ TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePair
   EXPECT_GT(with_right, 0.85);
   EXPECT_LT(without_right, with_right - 0.2);
 
+  // A new calibration (other T_robot_cam for the same joints) or a time that went back (a replay
+  // restarted) leaves the history behind: no views.
+  auto recalibrated = std::make_shared<video::DecodedStereoFrame>(*pairs[2]);
+  recalibrated->frame.set_sequence(4);
+  recalibrated->frame.mutable_stamps()->set_capture_ns(pairs[2]->frame.stamps().capture_ns() + 100'000'000);
+  recalibrated->frame.set_calibration_generation(2);
+  moving.offer(recalibrated);
+  ASSERT_EQ(moving.newest()->frame_sequence, 4u);
+  EXPECT_EQ(moving.newest()->motion_views[0], 0);
+  EXPECT_EQ(moving.newest()->motion_views[1], 0);
+  auto back_in_time = std::make_shared<video::DecodedStereoFrame>(*pairs[0]);
+  back_in_time->frame.set_sequence(5);
+  back_in_time->frame.set_calibration_generation(2);
+  moving.offer(back_in_time);  // captured before the pair above, 5 cm away from it
+  ASSERT_EQ(moving.newest()->frame_sequence, 5u);
+  EXPECT_EQ(moving.newest()->motion_views[0], 0);
+
   // Poses from the calibration alone (no joint states) say nothing of the motion: no views.
   frame_loop::DepthWorker fixed(rig(), [] {
     frame_loop::DepthWorkerOptions o;
@@ -207,8 +224,10 @@ TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePair
     fixed.offer(pair);
   }
   ASSERT_TRUE(fixed.newest());
-  EXPECT_EQ(fixed.newest()->motion_views[0], 0);
-  EXPECT_EQ(fixed.newest()->tiles_decided_by_motion[0], 0);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(fixed.newest()->motion_views[i], 0);
+    EXPECT_EQ(fixed.newest()->tiles_decided_by_motion[i], 0);
+  }
 }
 
 TEST(DepthWorker, ACalibrationWithoutAStereoPairSaysWhy) {

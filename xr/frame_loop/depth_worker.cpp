@@ -16,6 +16,10 @@
 namespace telesphere::xr::frame_loop {
 namespace {
 
+/// A camera's history holds at most this many images (2 s at 32 Hz; the sweep is slower on this
+/// kind of machine, so the age limit is what counts).
+constexpr std::size_t kMaxHistoryImages = 64;
+
 double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -162,14 +166,16 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   for (int i = 0; i < 2; ++i)
     if (T_robot_cam[i]) earlier[i] = earlierViews(i, *T_robot_cam[i], capture_ns, &longest[i]);
   const depth::SweepResult results[2] = {s.left->estimate(left, right, earlier[0]), s.right->estimate(right, left, earlier[1])};
+  // What the views were, before the history they point into changes.
+  std::array<int, 2> views_taken{static_cast<int>(earlier[0].size()), static_cast<int>(earlier[1].size())};
   // This pair's images join the history (not where rows were concealed or grey: not what the camera saw).
   for (int i = 0; i < 2; ++i) {
     std::deque<SweptImage>& h = history_[i];
-    while (!h.empty() && (capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) ||
-                          h.front().capture_ns >= capture_ns))
-      h.pop_front();
-    if (h.size() > 64) h.pop_front();
-    if (T_robot_cam[i] && frame.rows_concealed == 0 && frame.rows_grey == 0) h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
+    if (!h.empty() && h.back().capture_ns >= capture_ns) h.clear();  // time went back (a replay restarted)
+    while (!h.empty() && capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9)) h.pop_front();
+    if (!T_robot_cam[i] || frame.rows_concealed != 0 || frame.rows_grey != 0) continue;
+    if (h.size() >= kMaxHistoryImages) h.pop_front();
+    h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
   }
 
   auto out = std::make_shared<DepthEstimate>();
@@ -180,7 +186,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     out->grid[i] = std::make_shared<const render::InverseDepthGrid>(filtered);
     out->radius_m[i] = render::centreWeightedRadius(filtered, {0, 0, 1}, options_.centre_sigma_deg * std::numbers::pi / 180.0);
     out->matched_fraction[i] = results[i].tiles_seen ? static_cast<double>(results[i].tiles_matched) / results[i].tiles_seen : 0.0;
-    out->motion_views[i] = static_cast<int>(earlier[i].size());
+    out->motion_views[i] = views_taken[i];
     out->motion_baseline_m[i] = longest[i];
     out->tiles_decided_by_motion[i] = results[i].tiles_decided_by_motion;
   }

@@ -10,7 +10,7 @@
 ///
 ///        Each camera's filtered-down images of the last seconds are kept with their poses
 ///        (T_robot_cam from the joints at capture): where the arm has moved the cameras since, up to
-///        two of them go to the sweep as earlier views (another baseline, which decides a pattern
+///        motion_views of them (default 2) go to the sweep as earlier views (another baseline, which decides a pattern
 ///        repeating along the pair's: sphere_sweep.h). The farthest within reach, and the one
 ///        nearest a quarter of its baseline: a short baseline has few aliases, a long one a sharp
 ///        peak.
