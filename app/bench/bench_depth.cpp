@@ -26,6 +26,8 @@
 #include "app/bench/bench_table.h"
 #include "app/bench/bench_topic.h"
 #include "app/bench/cpu_time.h"
+#include "app/bench/depth_bench_scenes.h"
+#include "app/bench/depth_eye_errors.h"
 #include "app/bench/prerendered_frames.h"
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_scene.h"
@@ -40,197 +42,18 @@
 namespace telesphere::bench {
 namespace {
 
+using namespace depth_bench;
+
 using Eigen::Vector3d;
 using robot::cameras::SceneHit;
 using robot::cameras::SceneView;
 using robot::cameras::SyntheticScene;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr double kEyeHalfFovDeg = 45.0;   // a headset eye, square
-constexpr double kFoveaDeg = 10.0;        // ± around the eye's forward axis
-constexpr double kRestOffsetM = 0.005;
-constexpr double kMovingOffsetM = 0.06;
 constexpr double kCentreSigmaDeg = 5.0;  // the single radius's centre weighting (and twice it)
 
 double& sceneDepthOption() {
   static double depth_m = 0;
   return depth_m;
-}
-
-/// The camera at the origin of a room's frame, looking along +z (x right, y down): floor 1.2 m
-/// below, ceiling 1.6 m above, side walls 2.5 m away, a wall 1 m behind and one ahead at
-/// max(3 m, 1.5 × the near objects' depth). With `near_m` > 0: a 20 cm cube straight ahead and one
-/// 25° to the left with their faces at near_m, and a table top 35 cm below the camera from 0.2 m
-/// to beyond them (the grasping workspace).
-SyntheticScene makeScene(double near_m) {
-  SyntheticScene scene;
-  const double front = std::max(3.0, 1.5 * near_m);
-  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-  T_world_room.translation() = Vector3d(0.0, -0.2, (front - 1.0) / 2.0);
-  robot::cameras::SurfaceStyle style;
-  scene.addRoom("room", T_world_room, Vector3d(2.5, 1.4, (front + 1.0) / 2.0), style, style, style, style);
-  if (near_m > 0) {
-    const auto at = [](const Vector3d& p) {
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.translation() = p;
-      return robot::cameras::fixedPose(T);
-    };
-    scene.addBox("ahead", at({0.0, 0.0, near_m + 0.1}), Vector3d(0.1, 0.1, 0.1), style);
-    const double a = 25.0 * kDeg;
-    scene.addBox("left", at({-(near_m + 0.1) * std::sin(a), 0.0, (near_m + 0.1) * std::cos(a)}), Vector3d(0.1, 0.1, 0.1),
-                 style);
-    const double table_far = near_m + 0.5;
-    scene.addBox("table", at({0.0, 0.35 + 0.02, (0.2 + table_far) / 2.0}), Vector3d(0.6, 0.02, (table_far - 0.2) / 2.0),
-                 style);
-  }
-  return scene;
-}
-
-/// Distance along unit `d` from `origin` (room frame, the camera's orientation) to the scene.
-/// With `object`: the index of the object hit (0: the room).
-std::optional<double> hitDistance(const SyntheticScene& scene, const Vector3d& origin, const Vector3d& d, int* object = nullptr) {
-  Eigen::Isometry3d T_world_origin = Eigen::Isometry3d::Identity();
-  T_world_origin.translation() = origin;
-  SceneHit hit;
-  if (!scene.view(0, T_world_origin).intersect(d, &hit)) return std::nullopt;
-  if (object) *object = hit.object;
-  return hit.distance;
-}
-
-/// The oracle grid: each tile's median inverse depth over 3 × 3 rays inside it.
-xr::render::InverseDepthGrid trueGrid(const SceneView& camera, double tile_deg) {
-  xr::render::InverseDepthGrid grid(tile_deg);
-  for (int row = 0; row < grid.rows(); ++row)
-    for (int col = 0; col < grid.cols(); ++col) {
-      std::vector<double> inverse;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          SceneHit hit;
-          const Vector3d d = grid.direction(row + (i + 0.5) / 3.0, col + (j + 0.5) / 3.0);
-          inverse.push_back(camera.intersect(d, &hit) ? 1.0 / hit.distance : 0.0);
-        }
-      std::nth_element(inverse.begin(), inverse.begin() + 4, inverse.end());
-      grid.at(row, col) = static_cast<float>(inverse[4]);
-    }
-  return grid;
-}
-
-/// The grey of a rendered frame (robot::stereo::toGray8), rows `width` bytes apart.
-std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
-  std::string grey, error;
-  if (!robot::stereo::toGray8(frame, &grey, &error)) throw std::runtime_error("depth: " + error);
-  return {grey.begin(), grey.end()};
-}
-
-/// The stereo pair of a scene through the simulated rig (the left camera at the scene's origin).
-struct StereoGrey {
-  std::vector<std::uint8_t> left, right;
-};
-/// `T_rig_error` turns the right camera away from where `rig` says it is (a calibration error the
-/// sweep does not know about).
-StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height, int supersampling,
-                      const Eigen::Isometry3d& T_rig_error = Eigen::Isometry3d::Identity()) {
-  const auto shared = std::make_shared<const SyntheticScene>(scene);
-  robot::clock::SteadyClock clock;
-  robot::cameras::SyntheticCameraOptions options;
-  options.supersampling = supersampling;
-  options.threads = 2;
-  StereoGrey pair;
-  for (int side = 0; side < 2; ++side) {
-    const Eigen::Isometry3d T_world_cam = side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r * T_rig_error;
-    const robot::cameras::SyntheticCamera camera(rig.cameras[side].camera, width, height, shared,
-                                                 robot::cameras::fixedPose(T_world_cam), clock, options);
-    (side == 0 ? pair.left : pair.right) = greyOf(camera.renderAt(0));
-  }
-  return pair;
-}
-
-struct ErrorSet {
-  std::vector<double> whole, fovea;  // degrees
-  std::vector<double> objects;       // the eye rays whose true point is on an object in the room (not the room itself)
-};
-
-struct Proxy {
-  std::string name, label;
-  double radius_m = 0;                               // the sphere proxies
-  std::optional<xr::render::InverseDepthGrid> grid;  // the grid proxies
-  ErrorSet rest, moving;
-  double edge_slope_per_m_per_deg = xr::render::kGridEdgeSlopePerMPerDeg;  // the grid proxies: one tile at edges above this × tile
-  xr::render::GridEdgeTile edge_tile = xr::render::GridEdgeTile::kClosest;  // which one
-  double march_step_tiles = xr::render::kGridMarchStepTiles;              // the grid proxies' march (infinity: fixed-point steps)
-  std::vector<int> lookups = {};                                           // the grid proxies: grid reads per moving eye ray
-};
-
-nlohmann::json stats(const ErrorSet& e) {
-  return {{"p50_deg", quantile(e.whole, 0.5)},
-          {"p90_deg", quantile(e.whole, 0.9)},
-          {"fovea_p50_deg", quantile(e.fovea, 0.5)},
-          {"fovea_p90_deg", quantile(e.fovea, 0.9)}};
-}
-
-/// The eye's offsets from the camera: 8 directions across the view and 2 along it.
-std::vector<Vector3d> offsetDirections() {
-  std::vector<Vector3d> directions;
-  for (int k = 0; k < 8; ++k) directions.emplace_back(std::cos(k * std::numbers::pi / 4), std::sin(k * std::numbers::pi / 4), 0.0);
-  directions.emplace_back(0, 0, 1);
-  directions.emplace_back(0, 0, -1);
-  return directions;
-}
-
-/// Each proxy's eye-image errors at rest and moving (or moving only); the fraction of moving eye
-/// rays whose true point the camera cannot see (left out of every proxy's errors).
-double evaluateEyeErrors(const SyntheticScene& scene, const SceneView& camera, std::vector<Proxy>& proxies, int rays,
-                         bool with_rest) {
-  std::size_t evaluated_moving = 0, disoccluded_moving = 0;
-  std::vector<std::optional<xr::render::GridProxyParams>> params;  // once per proxy: O(tiles)
-  for (const Proxy& proxy : proxies)
-    if (proxy.grid) {
-      params.push_back(xr::render::gridProxyParams(*proxy.grid, proxy.edge_slope_per_m_per_deg, proxy.march_step_tiles));
-      params.back()->edge_tile = proxy.edge_tile;
-    } else {
-      params.push_back(std::nullopt);
-    }
-  for (const bool moving : {false, true}) {
-    if (!moving && !with_rest) continue;
-    for (const Vector3d& dir : offsetDirections()) {
-      const Vector3d o = (moving ? kMovingOffsetM : kRestOffsetM) * dir;
-      for (int iy = 0; iy < rays; ++iy)
-        for (int ix = 0; ix < rays; ++ix) {
-          const double ax = (-1.0 + 2.0 * ix / (rays - 1)) * kEyeHalfFovDeg * kDeg;
-          const double ay = (-1.0 + 2.0 * iy / (rays - 1)) * kEyeHalfFovDeg * kDeg;
-          const Vector3d d = Vector3d(std::tan(ax), std::tan(ay), 1.0).normalized();
-          int object = -1;
-          const std::optional<double> t_true = hitDistance(scene, o, d, &object);
-          if (!t_true) continue;
-          const Vector3d X = o + *t_true * d;
-          SceneHit seen;
-          const bool visible = camera.intersect(X.normalized(), &seen) && seen.distance >= X.norm() - 1e-3;
-          if (moving) {
-            ++evaluated_moving;
-            if (!visible) ++disoccluded_moving;
-          }
-          if (!visible) continue;
-          const bool fovea = std::acos(std::clamp(d.z(), -1.0, 1.0)) <= kFoveaDeg * kDeg;
-          for (std::size_t k = 0; k < proxies.size(); ++k) {
-            Proxy& proxy = proxies[k];
-            int lookups = 0;
-            const std::optional<Vector3d> p = proxy.grid ? xr::render::gridProxyHit(*proxy.grid, *params[k], o, d, &lookups)
-                                                         : xr::render::sphereProxyHit(proxy.radius_m, o, d);
-            if (proxy.grid && moving) proxy.lookups.push_back(lookups);
-            if (!p) continue;
-            SceneHit shown;
-            if (!camera.intersect(p->normalized(), &shown)) continue;
-            const Vector3d S = shown.distance * p->normalized() - o;
-            const double err = std::atan2(S.cross(d).norm(), S.dot(d)) / kDeg;
-            ErrorSet& set = moving ? proxy.moving : proxy.rest;
-            set.whole.push_back(err);
-            if (fovea) set.fovea.push_back(err);
-            if (object > 0) set.objects.push_back(err);
-          }
-        }
-    }
-  }
-  return evaluated_moving ? static_cast<double>(disoccluded_moving) / evaluated_moving : 0.0;
 }
 
 /// Both cameras' sweeps for one setting (tables built once; the first pair is swept once untimed,
@@ -410,34 +233,6 @@ nlohmann::json runMarchKnob(const BenchContext& ctx, const std::vector<Synthetic
                                              {"march 1/4 tile a step, closest", k, 0.25, kClosest},
                                              {"march 1/2 tile, nearest depth at edges", k, 0.5, kNearestDepth}};
   return runGridKnob(ctx, "How an eye ray finds the grid", "grid intersection", settings, scenes, stereo_grids, rays);
-}
-
-/// The room and, 0.8 m ahead, a 1.2 × 0.8 m board of vertical stripes 2 cm apart (1.4° at
-/// 0.8 m, a third of the pair's disparity there): a pattern that matches at many depths.
-SyntheticScene makeStripesScene() {
-  SyntheticScene scene = makeScene(0.0);
-  Eigen::Isometry3d T_world_board = Eigen::Isometry3d::Identity();
-  T_world_board.linear() = Eigen::AngleAxisd(std::numbers::pi, Vector3d::UnitY()).toRotationMatrix();  // printed side to the camera
-  T_world_board.translation() = Vector3d(0.0, 0.0, 0.8);
-  constexpr double kPeriodM = 0.02;
-  scene.addPlanarTarget(
-      "stripes", robot::cameras::fixedPose(T_world_board),
-      [](double x, double y) {
-        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
-        const double phase = x / kPeriodM - std::floor(x / kPeriodM);
-        return phase < 0.5 ? 40 : 215;
-      },
-      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
-  return scene;
-}
-
-/// The room and one 20 cm cube straight ahead with its face at `face_m` (an approaching object).
-SyntheticScene makeApproachScene(double face_m) {
-  SyntheticScene scene = makeScene(0.0);
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.translation() = Vector3d(0.0, 0.0, face_m + 0.1);
-  scene.addBox("approaching", robot::cameras::fixedPose(T), Vector3d(0.1, 0.1, 0.1), robot::cameras::SurfaceStyle{});
-  return scene;
 }
 
 /// What happens to the pair between the sensors and the sweep: the robot's JPEG, sensor noise, a
