@@ -220,18 +220,18 @@ std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const G
                                                       const std::vector<EarlierView>& earlier) const {
   // Only the views that see the patch's texture move: a motion along stripes sees every candidate
   // alike, and what differs between its costs then is the resampling, which favours no parallax
-  // at all. The patch's grey gradients (central differences at each sample) against the direction
+  // at all. The patch's grey gradients (at each sample, across its pixel block) against the direction
   // in which the view's parallax moves the tile in the reference image (toward the view's centre).
   std::vector<Eigen::Vector2d> gradients(samples_);
   double energy = 0;
   for (int s = 0; s < samples_; ++s) {
+    // The grey gradient across the tap's own 2 × 2 block, weighted as its bilinear sample is.
     const BilinearTap& t = reference_px_[tile.first + s];
-    const Eigen::Vector2d p(t.x + t.wx / 256.0, t.y + t.wy / 256.0);
-    const auto grey = [&](double dx, double dy) {
-      const Eigen::Vector2d q(std::clamp(p.x() + dx, 0.0, reference_width_ - 1.0), std::clamp(p.y() + dy, 0.0, reference_height_ - 1.0));
-      return static_cast<double>(tapGrey(reference.pixels, reference.stride, bilinearTap(q, reference_width_, reference_height_)));
-    };
-    gradients[s] = 0.5 * Eigen::Vector2d(grey(1, 0) - grey(-1, 0), grey(0, 1) - grey(0, -1));
+    const std::uint8_t* p = reference.pixels + static_cast<std::ptrdiff_t>(t.y) * reference.stride + t.x;
+    const double wx = t.wx / 256.0, wy = t.wy / 256.0;
+    const int stride = reference.stride;
+    gradients[s] = Eigen::Vector2d((1.0 - wy) * (p[1] - p[0]) + wy * (p[stride + 1] - p[stride]),
+                                   (1.0 - wx) * (p[stride] - p[0]) + wx * (p[stride + 1] - p[1]));
     energy += gradients[s].squaredNorm();
   }
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
