@@ -28,8 +28,9 @@ void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::st
   command
       .add_option("--depth-motion-views", options.motion_views,
                   "with radius or grid: up to this many of each camera's images from the last 2 s, where the arm has "
-                  "moved it 5 mm to 15 cm since, join its sweep as more baselines (they decide a pattern repeating "
-                  "along the pair's baseline; each costs CPU: telesphere-bench depth); 0: the pair alone")
+                  "moved it 5 mm or more across its optical axis (at most 15 cm) since, join its sweep as more "
+                  "baselines (they decide a pattern repeating along the pair's baseline; each costs CPU: "
+                  "telesphere-bench depth); 0: the pair alone")
       ->capture_default_str()
       ->check(CLI::Range(0, 4));
 }

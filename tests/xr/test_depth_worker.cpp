@@ -211,6 +211,22 @@ TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePair
   ASSERT_EQ(moving.newest()->frame_sequence, 5u);
   EXPECT_EQ(moving.newest()->motion_views[0], 0);
 
+  // The farthest earlier pair lies 8 cm straight behind (a motion along the optical axis: the
+  // view's middle has no parallax), one 3 cm to the left: only the one across the axis is taken.
+  frame_loop::DepthWorker along_axis(rig(), [] {
+    frame_loop::DepthWorkerOptions o;
+    o.on_caller_thread = true;
+    return o;
+  }());
+  along_axis.offer(pairAt(scene, {0.0, 0.0, -0.08}, 1));
+  along_axis.offer(pairAt(scene, {-0.03, 0.0, 0.0}, 2));
+  along_axis.offer(pairs[2]);
+  ASSERT_TRUE(along_axis.newest());
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(along_axis.newest()->motion_views[i], 1);
+    EXPECT_NEAR(along_axis.newest()->motion_baseline_m[i], 0.03, 1e-9);
+  }
+
   // Poses from the calibration alone (no joint states) say nothing of the motion: no views.
   frame_loop::DepthWorker fixed(rig(), [] {
     frame_loop::DepthWorkerOptions o;

@@ -11,9 +11,9 @@
 ///        Each camera's filtered-down images of the last seconds are kept with their poses
 ///        (T_robot_cam from the joints at capture): where the arm has moved the cameras since, up to
 ///        motion_views of them (default 2) go to the sweep as earlier views (another baseline, which decides a pattern
-///        repeating along the pair's: sphere_sweep.h). The farthest within reach, and the one
-///        nearest a quarter of its baseline: a short baseline has few aliases, a long one a sharp
-///        peak.
+///        repeating along the pair's: sphere_sweep.h). The farthest across the optical axis within
+///        reach, and the one nearest a quarter of its baseline: a short baseline has few aliases, a
+///        long one a sharp peak.
 #pragma once
 
 #include <array>
@@ -41,8 +41,8 @@ struct DepthWorkerOptions {
   /// Earlier views from the arm's motion: up to this many per camera (0: the pair alone).
   int motion_views = 2;
   double motion_history_s = 2.0;        ///< how long a swept image stays a candidate (capture time)
-  double motion_min_baseline_m = 0.005;  ///< camera centres closer than this add no baseline
-  double motion_max_baseline_m = 0.15;   ///< nor farther than this (the view sees another scene)
+  double motion_min_baseline_m = 0.005;  ///< camera centres closer than this across the optical axis add no baseline
+  double motion_max_baseline_m = 0.15;   ///< nor farther apart than this (the view sees another scene)
   /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
   /// returns (the offline replay: the same estimates run after run); no thread of its own.
   bool on_caller_thread = false;
@@ -57,7 +57,7 @@ struct DepthEstimate {
   std::int64_t capture_ns = 0;                       ///< its capture time (robot clock)
   double sweep_ms = 0;                               ///< CPU ms of both sweeps and filters
   std::array<int, 2> motion_views{0, 0};             ///< earlier views each camera's sweep took
-  std::array<double, 2> motion_baseline_m{0.0, 0.0};  ///< the longest of them (camera centres apart)
+  std::array<double, 2> motion_baseline_m{0.0, 0.0};  ///< the longest of them (camera centres apart across the optical axis)
   std::array<int, 2> tiles_decided_by_motion{0, 0};   ///< tiles whose depth those views decided
 };
 
