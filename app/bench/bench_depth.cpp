@@ -16,6 +16,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -129,6 +130,18 @@ std::vector<Proxy> stereoProxies(const StereoDepth& depth) {
   proxies.push_back({"grid", "grid " + formatNumber(depth.left.inverse_depth.tileDeg()) + " deg, stereo", 0.0,
                      depth.left.inverse_depth, {}, {}});
   return proxies;
+}
+
+/// A sweep's figures with its stereo proxies (stereoProxies order, moving eye errors evaluated):
+/// matched tiles, inverse-depth error, the radius and its fovea error, the grid's errors.
+nlohmann::json stereoFigures(const StereoDepth& depth, const std::vector<Proxy>& proxies) {
+  return {{"tiles_matched_fraction", depth.seen ? static_cast<double>(depth.matched) / depth.seen : 0.0},
+          {"inverse_depth_error_p50_per_m", quantile(depth.inverse_depth_error, 0.5)},
+          {"inverse_depth_error_p90_per_m", quantile(depth.inverse_depth_error, 0.9)},
+          {"radius_m", proxies[0].radius_m},
+          {"eye_error_moving_fovea_p50_deg_radius", quantile(proxies[0].moving.fovea, 0.5)},
+          {"eye_error_moving_p50_deg_grid", quantile(proxies[1].moving.whole, 0.5)},
+          {"eye_error_moving_p90_deg_grid", quantile(proxies[1].moving.whole, 0.9)}};
 }
 
 /// One way of meeting the grid proxy: how it takes a depth edge and how each eye ray finds it.
@@ -327,18 +340,13 @@ nlohmann::json runHarderInputs(const BenchContext& ctx, StereoSweeps& sweeps, co
                     formatNumber(quantile(depth.inverse_depth_error, 0.9)), formatNumber(proxies[0].radius_m),
                     formatNumber(quantile(proxies[0].moving.fovea, 0.5)),
                     formatNumber(quantile(proxies[1].moving.whole, 0.5)), formatNumber(quantile(proxies[1].moving.whole, 0.9))});
-      rows.push_back({{"scene", named.name},
-                      {"input", v.name},
-                      {"jpeg_quality", v.jpeg_quality},
-                      {"noise_grey", v.noise_grey},
-                      {"rig_error_deg", {v.rig_error_deg.x(), v.rig_error_deg.y(), v.rig_error_deg.z()}},
-                      {"tiles_matched_fraction", matched / 100.0},
-                      {"inverse_depth_error_p50_per_m", quantile(depth.inverse_depth_error, 0.5)},
-                      {"inverse_depth_error_p90_per_m", quantile(depth.inverse_depth_error, 0.9)},
-                      {"radius_m", proxies[0].radius_m},
-                      {"eye_error_moving_fovea_p50_deg_radius", quantile(proxies[0].moving.fovea, 0.5)},
-                      {"eye_error_moving_p50_deg_grid", quantile(proxies[1].moving.whole, 0.5)},
-                      {"eye_error_moving_p90_deg_grid", quantile(proxies[1].moving.whole, 0.9)}});
+      nlohmann::json row = stereoFigures(depth, proxies);
+      row.update({{"scene", named.name},
+                  {"input", v.name},
+                  {"jpeg_quality", v.jpeg_quality},
+                  {"noise_grey", v.noise_grey},
+                  {"rig_error_deg", {v.rig_error_deg.x(), v.rig_error_deg.y(), v.rig_error_deg.z()}}});
+      rows.push_back(row);
     }
   }
   table.print(out);
@@ -576,27 +584,26 @@ nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps,
   for (const NamedScene& named : scenes) {
     const SceneView camera = named.scene.view(0, Eigen::Isometry3d::Identity());
     const StereoGrey pair = renderPair(named.scene, rig, width, height, 2);
+    // Each earlier rig position rendered once (several motions share one); a deque keeps the
+    // images where they are while more are added.
+    std::deque<std::pair<Vector3d, StereoGrey>> rendered;
+    const auto renderedAt = [&](const Vector3d& p) -> const StereoGrey& {
+      for (const auto& [at, grey] : rendered)
+        if (at == p) return grey;
+      return rendered.emplace_back(p, renderPair(named.scene, rig, width, height, 2, Eigen::Isometry3d::Identity(),
+                                                 Eigen::Isometry3d(Eigen::Translation3d(p))))
+          .second;
+    };
     for (const Motion& motion : motions) {
-      std::vector<StereoGrey> views;  // kept alive while swept
       std::array<std::vector<xr::depth::EarlierView>, 2> earlier;
-      views.reserve(motion.p_world_rig.size());
       for (const Vector3d& p : motion.p_world_rig) {
+        const StereoGrey& view = renderedAt(p);
         const Eigen::Isometry3d T_world_rig{Eigen::Translation3d(p)};
-        StereoGrey& view = views.emplace_back();
         for (int side = 0; side < 2; ++side) {
+          // The camera now is at T_rig_cam (the rig at the origin), then at T_world_rig · T_rig_cam.
           const Eigen::Isometry3d T_rig_cam = side == 0 ? Eigen::Isometry3d::Identity() : T_l_r;
-          const Eigen::Isometry3d T_world_cam_earlier = T_world_rig * T_rig_cam;
-          const robot::clock::SteadyClock clock;
-          robot::cameras::SyntheticCameraOptions options;
-          options.supersampling = 2;
-          options.threads = 2;
-          const robot::cameras::SyntheticCamera cam(rig.cameras[side].camera, width, height,
-                                                    std::make_shared<const SyntheticScene>(named.scene),
-                                                    robot::cameras::fixedPose(T_world_cam_earlier), clock, options);
-          (side == 0 ? view.left : view.right) = greyOf(cam.renderAt(0));
-          // The camera now is at T_rig_cam (the rig at the origin).
           earlier[side].push_back({{(side == 0 ? view.left : view.right).data(), width, height, width},
-                                   T_world_cam_earlier.inverse() * T_rig_cam});
+                                   (T_world_rig * T_rig_cam).inverse() * T_rig_cam});
         }
       }
       const StereoDepth depth = sweepPair(sweeps, pair, width, height, camera, rig.cameras[0], earlier);
@@ -609,18 +616,13 @@ nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps,
                     formatNumber(quantile(proxies[1].moving.whole, 0.5)), formatNumber(quantile(proxies[1].moving.whole, 0.9))});
       nlohmann::json positions = nlohmann::json::array();
       for (const Vector3d& p : motion.p_world_rig) positions.push_back({p.x(), p.y(), p.z()});
-      rows.push_back({{"scene", named.name},
-                      {"earlier", motion.name},
-                      {"earlier_rig_positions_m", positions},
-                      {"depth_ms_per_pair", depth.ms},
-                      {"tiles_matched_fraction", matched / 100.0},
-                      {"tiles_decided_by_motion", depth.decided_by_motion},
-                      {"inverse_depth_error_p50_per_m", quantile(depth.inverse_depth_error, 0.5)},
-                      {"inverse_depth_error_p90_per_m", quantile(depth.inverse_depth_error, 0.9)},
-                      {"radius_m", proxies[0].radius_m},
-                      {"eye_error_moving_fovea_p50_deg_radius", quantile(proxies[0].moving.fovea, 0.5)},
-                      {"eye_error_moving_p50_deg_grid", quantile(proxies[1].moving.whole, 0.5)},
-                      {"eye_error_moving_p90_deg_grid", quantile(proxies[1].moving.whole, 0.9)}});
+      nlohmann::json row = stereoFigures(depth, proxies);
+      row.update({{"scene", named.name},
+                  {"earlier", motion.name},
+                  {"earlier_rig_positions_m", positions},
+                  {"depth_ms_per_pair", depth.ms},
+                  {"tiles_decided_by_motion", depth.decided_by_motion}});
+      rows.push_back(row);
     }
   }
   table.print(out);

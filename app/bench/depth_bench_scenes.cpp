@@ -76,7 +76,7 @@ std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
 }
 
 StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height, int supersampling,
-                      const Eigen::Isometry3d& T_rig_error) {
+                      const Eigen::Isometry3d& T_rig_error, const Eigen::Isometry3d& T_world_rig) {
   const auto shared = std::make_shared<const SyntheticScene>(scene);
   robot::clock::SteadyClock clock;
   robot::cameras::SyntheticCameraOptions options;
@@ -84,7 +84,7 @@ StereoGrey renderPair(const SyntheticScene& scene, const calib::SystemCalibratio
   options.threads = 2;
   StereoGrey pair;
   for (int side = 0; side < 2; ++side) {
-    const Eigen::Isometry3d T_world_cam = side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r * T_rig_error;
+    const Eigen::Isometry3d T_world_cam = T_world_rig * (side == 0 ? Eigen::Isometry3d::Identity() : *rig.T_cam_l_cam_r * T_rig_error);
     const robot::cameras::SyntheticCamera camera(rig.cameras[side].camera, width, height, shared,
                                                  robot::cameras::fixedPose(T_world_cam), clock, options);
     (side == 0 ? pair.left : pair.right) = greyOf(camera.renderAt(0));

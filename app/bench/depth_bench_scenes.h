@@ -46,8 +46,9 @@ struct StereoGrey {
   std::vector<std::uint8_t> left, right;
 };
 /// `T_rig_error` turns the right camera away from where `rig` says it is (a calibration error the
-/// sweep does not know about).
+/// sweep does not know about); `T_world_rig` puts the rig (its left camera) elsewhere than the origin.
 StereoGrey renderPair(const robot::cameras::SyntheticScene& scene, const calib::SystemCalibration& rig, int width, int height,
-                      int supersampling, const Eigen::Isometry3d& T_rig_error = Eigen::Isometry3d::Identity());
+                      int supersampling, const Eigen::Isometry3d& T_rig_error = Eigen::Isometry3d::Identity(),
+                      const Eigen::Isometry3d& T_world_rig = Eigen::Isometry3d::Identity());
 
 }  // namespace telesphere::bench::depth_bench
