@@ -18,6 +18,7 @@
 #include "robot/cameras/synthetic_scene.h"
 #include "robot/stereo/stereo_still.h"
 #include "robot/link/link_pose.h"
+#include "tests/xr/stripes_room.h"
 #include "xr/frame_loop/depth_worker.h"
 
 namespace telesphere::xr {
@@ -133,21 +134,8 @@ std::shared_ptr<video::DecodedStereoFrame> pairAt(const std::shared_ptr<robot::c
 
 TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {
   // The room and, 0.8 m ahead of the rig's middle, a board of vertical stripes 2 cm apart.
-  auto scene = std::make_shared<robot::cameras::SyntheticScene>();
-  robot::cameras::SurfaceStyle style;
-  style.pattern = true;
-  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-  T_world_room.translation() = Eigen::Vector3d(0.0, -0.2, 1.0);
-  scene->addRoom("room", T_world_room, Eigen::Vector3d(2.5, 1.4, 2.0), style, style, style, style);
-  Eigen::Isometry3d T_world_board(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));
-  T_world_board.translation() = Eigen::Vector3d(0.032, 0.0, 0.8);
-  scene->addPlanarTarget(
-      "stripes", robot::cameras::fixedPose(T_world_board),
-      [](double x, double y) {
-        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
-        return x / 0.02 - std::floor(x / 0.02) < 0.5 ? 40 : 215;
-      },
-      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
+  const auto scene = test_scenes::room(true);
+  test_scenes::addStripesBoard(*scene, {0.032, 0.0, 0.8});
   // The arm brought the rig from 5 cm to the left (and 1 cm lower), through 1 cm, to here: 100 ms apart.
   const std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
       pairAt(scene, {-0.05, 0.01, 0.0}, 1), pairAt(scene, {-0.01, 0.01, 0.0}, 2), pairAt(scene, {0.0, 0.0, 0.0}, 3)};

@@ -20,6 +20,7 @@
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
 #include "robot/stereo/stereo_still.h"
+#include "tests/xr/stripes_room.h"
 #include "xr/depth/sphere_sweep.h"
 
 namespace telesphere::xr {
@@ -34,12 +35,9 @@ const Eigen::Isometry3d kT_l_r(Eigen::Translation3d(0.064, 0.0, 0.0));  // right
 
 /// A room around the left camera (walls 1–3 m away) and a 20 cm box whose face is 0.5 m ahead.
 std::shared_ptr<robot::cameras::SyntheticScene> room(bool textured) {
-  auto scene = std::make_shared<robot::cameras::SyntheticScene>();
+  auto scene = test_scenes::room(textured);
   robot::cameras::SurfaceStyle style;
   style.pattern = textured;
-  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-  T_world_room.translation() = Eigen::Vector3d(0.0, -0.2, 1.0);
-  scene->addRoom("room", T_world_room, Eigen::Vector3d(2.5, 1.4, 2.0), style, style, style, style);
   Eigen::Isometry3d T_world_box = Eigen::Isometry3d::Identity();
   T_world_box.translation() = Eigen::Vector3d(0.0, 0.0, 0.6);
   scene->addBox("box", robot::cameras::fixedPose(T_world_box), Eigen::Vector3d(0.1, 0.1, 0.1), style);
@@ -128,22 +126,8 @@ TEST(SphereSweep, EightSamplesAStepGiveTheOneAtATimeResult) {
 /// 2 cm apart (1.4° there, a third of the pair's disparity): it matches at several depths along the
 /// baseline.
 std::shared_ptr<robot::cameras::SyntheticScene> stripesRoom(bool board = true) {
-  auto scene = std::make_shared<robot::cameras::SyntheticScene>();
-  robot::cameras::SurfaceStyle style;
-  style.pattern = true;
-  Eigen::Isometry3d T_world_room = Eigen::Isometry3d::Identity();
-  T_world_room.translation() = Eigen::Vector3d(0.0, -0.2, 1.0);
-  scene->addRoom("room", T_world_room, Eigen::Vector3d(2.5, 1.4, 2.0), style, style, style, style);
-  if (!board) return scene;
-  Eigen::Isometry3d T_world_board(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()));  // printed side to the camera
-  T_world_board.translation() = Eigen::Vector3d(0.0, 0.0, 0.8);
-  scene->addPlanarTarget(
-      "stripes", robot::cameras::fixedPose(T_world_board),
-      [](double x, double y) {
-        if (std::abs(x) > 0.6 || std::abs(y) > 0.4) return -1;
-        return x / 0.02 - std::floor(x / 0.02) < 0.5 ? 40 : 215;
-      },
-      Eigen::AlignedBox2d(Eigen::Vector2d(-0.6, -0.4), Eigen::Vector2d(0.6, 0.4)));
+  auto scene = test_scenes::room(true);
+  if (board) test_scenes::addStripesBoard(*scene, {0.0, 0.0, 0.8});
   return scene;
 }
 
