@@ -562,7 +562,6 @@ nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps,
   const std::vector<Motion> motions = {{"none (the pair alone)", {}},
                                        {"1 cm left", {{-0.01, 0.01, 0.0}}},
                                        {"5 cm left", {{-0.05, 0.01, 0.0}}},
-                                       // The longest baseline first, as the operator app gives them.
                                        {"5 and 1 cm left", {{-0.05, 0.01, 0.0}, {-0.01, 0.01, 0.0}}},
                                        {"6 and 2 cm up and right", {{0.042, -0.042, 0.0}, {0.014, -0.014, 0.0}}},
                                        {"5 and 1 cm forward", {{0.0, 0.0, 0.05}, {0.0, 0.0, 0.01}}},

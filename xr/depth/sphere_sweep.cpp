@@ -106,6 +106,17 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
   std::vector<EarlierView> earlier;
   for (const EarlierView& view : earlier_views)
     if (view.image.pixels && view.image.width == reference_width_ && view.image.height == reference_height_) earlier.push_back(view);
+  // The view whose camera centre lies farthest across the optical axis first: the one a matched
+  // tile is checked against (the sharpest test).
+  const auto across = [](const EarlierView& view) {
+    const Eigen::Vector3d c = -view.T_earlier_reference.linear().transpose() * view.T_earlier_reference.translation();
+    return std::hypot(c.x(), c.y());
+  };
+  if (earlier.size() > 1) {
+    const auto widest = std::max_element(earlier.begin(), earlier.end(),
+                                         [&](const EarlierView& x, const EarlierView& y) { return across(x) < across(y); });
+    std::rotate(earlier.begin(), widest, widest + 1);
+  }
 
   std::vector<float> a(samples_), cost(options_.hypotheses);
   const float inv_n = 1.0F / static_cast<float>(samples_);
@@ -149,15 +160,15 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
       if (curvature > 1e-9) rho += std::clamp(0.5 * (c0 - c2) / curvature, -0.5, 0.5) * hypothesis(1);
     }
     // The earlier views decide an ambiguous tile, and look again at one whose pair cost has another
-    // local minimum within the candidate window where the first view does not correlate at the
-    // pair's best: a pattern's true depth can lose to an alias by far more than
-    // the margin where no hypothesis hits its narrow peak, and the pair's gate then passes the alias.
+    // local minimum within the candidate window where the widest view does not correlate at the
+    // pair's best: a pattern's true depth can lose to an alias by far more than the margin where
+    // no hypothesis hits its narrow peak, and the pair's gate then passes the alias.
     if (!earlier.empty() && (ambiguous || hasOtherCandidate(cost, best))) {
       bool look_again = ambiguous;
       if (!look_again) {
-        // The first view (the caller puts its longest baseline first: the sharpest test) at the
-        // pair's depth. Checking every view measured the same on the bench's scenes at 1–2 ms more
-        // a pair. A view that does not see the patch there (outside its image) says nothing.
+        // The widest view (first, above) at the pair's depth. Checking every view measured the same
+        // on the bench's scenes at 1–2 ms more a pair. A view that does not see the patch there
+        // (outside its image) says nothing.
         const float then = projectedCost(tile, a.data(), sum_aa, reference_, earlier[0].T_earlier_reference, rho, earlier[0].image);
         look_again = std::isfinite(then) && 1.0F - then < options_.min_correlation;
       }

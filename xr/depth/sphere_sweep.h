@@ -16,7 +16,7 @@
 ///        reference camera's own images from earlier poses, where the arm has moved it since, see
 ///        those aliases at other depths (other baselines, other spacings: multi-baseline stereo,
 ///        Okutomi & Kanade 1993). A tile the pair leaves ambiguous, or whose pair cost has another
-///        local minimum near its best and where the first view does not correlate at the pair's choice,
+///        local minimum near its best and where the widest view does not correlate at the pair's choice,
 ///        takes the candidate (a local minimum of the pair's cost) where the views' summed cost is
 ///        clearly lowest, if one is. Only views in which the patch's texture moves with depth take
 ///        part. The views' sample positions depend on the motion, so they are projected per frame,
@@ -108,8 +108,8 @@ class SphereSweep {
   /// The grid for one stereo pair (images of the sizes given at construction). Empty images, or
   /// other sizes, give a grid of the farthest hypothesis with no tile matched.
   /// With `earlier` views (images the reference's size; others are ignored): the ambiguous tiles
-  /// also from those views. The first is the one a matched tile is checked against (put the
-  /// longest baseline first).
+  /// also from those views. A matched tile is checked against the one whose camera centre lies
+  /// farthest across the optical axis.
   SweepResult estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier = {}) const;
 
   const SphereSweepOptions& options() const { return options_; }
