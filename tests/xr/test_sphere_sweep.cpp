@@ -4,8 +4,7 @@
 ///        textured room with a box 0.5 m ahead, both cameras as the reference; the AVX2 sums give
 ///        the scalar ones' result; a textureless room
 ///        leaves every tile unmatched (and says so) rather than guessing; images of the wrong size
-///        match nothing. fillAndSmooth: holes take their neighbours' median, a lone outlier goes,
-///        the longitude seam is no border. A board of stripes that the pair alone leaves
+///        match nothing. A board of stripes that the pair alone leaves
 ///        ambiguous is decided by an earlier view from the arm's motion, and neither a motion
 ///        along the stripes nor a board that moved between the captures makes a wrong tile confident.
 #include <gtest/gtest.h>
@@ -242,28 +241,6 @@ TEST(SphereSweep, ImagesOfAnotherSizeMatchNothing) {
   EXPECT_EQ(result.inverse_depth.sample({0, 0, 1}), 0.0);  // nothing known: the farthest hypothesis
   const depth::SweepResult none = sweep.estimate({}, {});
   EXPECT_EQ(none.tiles_matched, 0);
-}
-
-TEST(FillAndSmooth, HolesTakeTheirNeighboursAndALoneOutlierGoes) {
-  render::InverseDepthGrid grid(10.0, 0.5F);  // 18 × 36 tiles
-  std::vector<float> confidence(static_cast<std::size_t>(grid.rows()) * grid.cols(), 1.0F);
-  const auto at = [&](int row, int col) -> float& { return confidence[static_cast<std::size_t>(row) * grid.cols() + col]; };
-  // A hole of 3 × 3 unconfident tiles (their values junk) in a region of 2 1/m, across the seam.
-  for (int row = 5; row <= 12; ++row)
-    for (int col : {33, 34, 35, 0, 1, 2, 3})
-      grid.at(row, col) = 2.0F;
-  for (int row = 8; row <= 10; ++row)
-    for (int col : {35, 0, 1}) {
-      grid.at(row, col) = 99.0F;
-      at(row, col) = 0.0F;
-    }
-  // A lone outlier elsewhere.
-  grid.at(3, 18) = 7.0F;
-  depth::fillAndSmooth(grid, confidence);
-  for (int row = 8; row <= 10; ++row)
-    for (int col : {35, 0, 1}) EXPECT_FLOAT_EQ(grid.at(row, col), 2.0F) << row << "," << col;
-  EXPECT_FLOAT_EQ(grid.at(3, 18), 0.5F);
-  EXPECT_FLOAT_EQ(grid.at(0, 0), 0.5F);
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 /// @brief The sphere sweep: sample tables (bilinear taps) at construction, correlation per tile and hypothesis per
-///        frame, then holes filled and a 3×3 median.
+///        frame, then holes filled and a 3×3 median (fill_and_smooth.cpp).
 #include "xr/depth/sphere_sweep.h"
 
 #include "xr/depth/patch_projection.h"
@@ -15,11 +15,6 @@ namespace {
 
 bool inside(const Eigen::Vector2d& px, int width, int height) {
   return px.x() >= 0.0 && px.y() >= 0.0 && px.x() <= width - 1.0 && px.y() <= height - 1.0;
-}
-
-float median(std::vector<float>& v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace
@@ -309,53 +304,6 @@ std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& 
     if (c != chosen && std::abs(candidates[c] - candidates[chosen]) > 1.5 * step && sum[c] - sum[chosen] < options_.min_margin)
       return std::nullopt;
   return Decided{candidates[chosen], 1.0F - sum[chosen] / static_cast<float>(views)};
-}
-
-void fillAndSmooth(render::InverseDepthGrid& grid, const std::vector<float>& confidence) {
-  const int rows = grid.rows(), cols = grid.cols();
-  std::vector<char> known(confidence.size());
-  std::vector<float> all_known;
-  for (std::size_t i = 0; i < confidence.size(); ++i) {
-    known[i] = confidence[i] > 0.0F;
-    if (known[i]) all_known.push_back(grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols));
-  }
-  if (all_known.empty()) return;
-  const float fallback = median(all_known);
-  std::vector<float> neighbours;
-  // Grow the known region a ring at a time: a hole takes the median of its known neighbours.
-  for (bool grew = true; grew;) {
-    grew = false;
-    std::vector<std::pair<std::size_t, float>> filled;
-    for (int row = 0; row < rows; ++row)
-      for (int col = 0; col < cols; ++col) {
-        const std::size_t i = static_cast<std::size_t>(row) * cols + col;
-        if (known[i]) continue;
-        neighbours.clear();
-        for (int dr = -1; dr <= 1; ++dr)
-          for (int dc = -1; dc <= 1; ++dc) {
-            const int r = row + dr, c = (col + dc + cols) % cols;
-            if ((dr || dc) && r >= 0 && r < rows && known[static_cast<std::size_t>(r) * cols + c]) neighbours.push_back(grid.at(r, c));
-          }
-        if (!neighbours.empty()) filled.emplace_back(i, median(neighbours));
-      }
-    for (const auto& [i, value] : filled) {
-      grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols) = value;
-      known[i] = 1;
-      grew = true;
-    }
-  }
-  for (std::size_t i = 0; i < known.size(); ++i)
-    if (!known[i]) grid.at(static_cast<int>(i) / cols, static_cast<int>(i) % cols) = fallback;
-  // 3×3 median (rows clamped at the poles, longitude wrapping).
-  const render::InverseDepthGrid before = grid;
-  std::vector<float> window;
-  for (int row = 0; row < rows; ++row)
-    for (int col = 0; col < cols; ++col) {
-      window.clear();
-      for (int dr = -1; dr <= 1; ++dr)
-        for (int dc = -1; dc <= 1; ++dc) window.push_back(before.at(std::clamp(row + dr, 0, rows - 1), (col + dc + cols) % cols));
-      grid.at(row, col) = median(window);
-    }
 }
 
 }  // namespace telesphere::xr::depth

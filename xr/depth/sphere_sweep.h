@@ -8,7 +8,7 @@
 ///        through its neighbours. Every sample position is computed once, at construction, for
 ///        the calibration: per frame only bilinear samples and sums remain. Tiles without texture
 ///        or without a clear best are left unconfident, then filled from their neighbours; a 3×3
-///        median smooths the grid.
+///        median smooths the grid (fill_and_smooth.h).
 ///
 ///        More baselines from the arm's motion: a pattern repeating along the pair's baseline
 ///        (stripes, a grille, shelves) matches at several depths, spaced by the pattern's period
@@ -31,6 +31,7 @@
 
 #include "calib/generic_camera.h"
 #include "xr/depth/bilinear_tap.h"
+#include "xr/depth/fill_and_smooth.h"
 #include "xr/depth/patch_sums.h"
 #include "xr/render/depth_proxy.h"
 
@@ -157,10 +158,5 @@ class SphereSweep {
   std::vector<Eigen::Vector3f> directions_;  ///< per reference sample: its direction (the earlier view projects it)
   std::vector<BilinearTap> other_px_;  ///< per tile: hypothesis-major, then sample
 };
-
-/// Fills tiles of confidence 0 from the median of their confident 8-neighbours, repeatedly, then
-/// any left with the median of all confident tiles (or leaves them when none is); then a 3×3
-/// median over the grid (longitude wrapping). What SphereSweep::estimate does after matching.
-void fillAndSmooth(render::InverseDepthGrid& grid, const std::vector<float>& confidence);
 
 }  // namespace telesphere::xr::depth
