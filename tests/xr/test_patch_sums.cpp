@@ -4,6 +4,7 @@
 ///        and the rest), taps at the last positions the four-byte reads allow in an image whose
 ///        last byte is followed by an inaccessible page (a gather past it faults: the sanitizers
 ///        do not see gathers), a stride wider than the image — and gatherSafe at the image's end.
+///        patchCosts, a tile's hypotheses in one call, gives each patch's patchCost to the bit.
 #include <gtest/gtest.h>
 
 #include <sys/mman.h>
@@ -11,6 +12,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -71,6 +73,53 @@ TEST(PatchSums, TheAvx2SumsAreTheScalarSumsUpToRoundingOrder) {
       EXPECT_NEAR(simd.ab, scalar.ab, 1e-5 * (std::abs(scalar.ab) + 128.0 * scalar.b) + 1e-4) << n;
     }
   }
+}
+
+TEST(PatchSums, ManyPatchesCostsAreEachPatchsCostToTheBit) {
+  // What the sweep's bench figures rest on: a tile against all its hypotheses in one call gives
+  // the costs one patch at a time gives, bit for bit (the AVX2 sums of each, the scalar rest, the
+  // same float operations for the cost), with unusable patches and textureless ones infinite.
+  std::mt19937 rng(20261129);
+  const int width = 97, height = 61;
+  std::vector<std::uint8_t> image(static_cast<std::size_t>(width) * height);
+  std::uniform_int_distribution<int> grey(0, 255);
+  for (auto& v : image) v = static_cast<std::uint8_t>(grey(rng));
+  std::uniform_real_distribution<double> ux(0.0, width - 4.0), uy(0.0, height - 2.0), ua(-100.0, 100.0);
+  std::bernoulli_distribution unusable(0.2), flat(0.15);
+  int infinite = 0, compared = 0;
+  for (const int n : {1, 7, 8, 9, 25, 49})
+    for (const int patches : {1, 5, 8, 13, 48}) {
+      std::vector<float> a(n);
+      float sum_aa = 0;
+      for (float& v : a) {
+        v = static_cast<float>(ua(rng));
+        sum_aa += v * v;
+      }
+      std::vector<BilinearTap> taps;
+      std::vector<std::uint8_t> usable(patches);
+      for (int p = 0; p < patches; ++p) {
+        usable[p] = unusable(rng) ? 0 : 1;
+        const bool textureless = flat(rng);  // every tap at one pixel: no variance
+        const Eigen::Vector2d at(std::floor(ux(rng)), std::floor(uy(rng)));
+        for (int i = 0; i < n; ++i) taps.push_back(bilinearTap(textureless ? at : Eigen::Vector2d(ux(rng), uy(rng)), width, height));
+      }
+      for (const bool simd : {false, true}) {
+        std::vector<float> cost(patches, -1.0F);
+        patchCosts(image.data(), width, taps.data(), a.data(), sum_aa, n, patches, usable.data(), cost.data(), simd);
+        for (int p = 0; p < patches; ++p) {
+          const float want = usable[p] ? patchCost(patchSums(image.data(), width, taps.data() + static_cast<std::size_t>(p) * n,
+                                                             a.data(), n, simd),
+                                                   sum_aa, n)
+                                       : std::numeric_limits<float>::infinity();
+          EXPECT_EQ(std::memcmp(&cost[p], &want, sizeof(float)), 0)
+              << "n " << n << ", patch " << p << " of " << patches << ", simd " << simd << ": " << cost[p] << " against " << want;
+          infinite += std::isinf(want);
+          ++compared;
+        }
+      }
+    }
+  EXPECT_EQ(compared, 2 * 6 * (1 + 5 + 8 + 13 + 48));
+  EXPECT_GT(infinite, 20);  // both kinds of infinite cost were met
 }
 
 TEST(PatchSums, OnlyTapsInTheLastBlockRowsLastThreePixelsAreUnsafe) {

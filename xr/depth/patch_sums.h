@@ -12,7 +12,9 @@
 ///        `gatherSafe` says so (such patches take the scalar version).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "xr/depth/bilinear_tap.h"
 
@@ -27,6 +29,24 @@ PatchSums patchSumsScalar(const std::uint8_t* pixels, int stride, const Bilinear
 
 /// The AVX2 version where the CPU has it (and `simd`), else the scalar one.
 PatchSums patchSums(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n, bool simd = true);
+
+/// One hypothesis's cost from its sums: 1 − ZNCC of the mean-free reference patch (Σa² = `sum_aa`)
+/// against the other's, over n taps; infinity where the other patch has no texture (Σ(b − b̄)² ≤
+/// 1e-6).
+inline float patchCost(const PatchSums& sums, float sum_aa, int n) {
+  const float var_b = sums.bb - sums.b * sums.b * (1.0F / static_cast<float>(n));
+  if (var_b <= 1e-6F) return std::numeric_limits<float>::infinity();
+  return 1.0F - sums.ab / std::sqrt(sum_aa * var_b);  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
+}
+
+/// patchCost for `patches` patches of n taps each, stored one after another in `taps` (patch p's
+/// at taps[p·n]), against the same reference patch: cost[p], infinity where usable[p] is 0. The
+/// AVX2 version (where the CPU has it, `simd`, and every tap is gatherSafe) sums each patch as
+/// patchSums does and takes eight costs a step, with the same operations as patchCost: every cost
+/// is equal to patchCost(patchSums(…)) to the bit. A sweep's tile against all its hypotheses in
+/// one call.
+void patchCosts(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, float sum_aa, int n,
+                int patches, const std::uint8_t* usable, float* cost, bool simd = true);
 
 /// Whether the AVX2 version may read tap `t` of an image `width` × `height` four bytes wide.
 inline bool gatherSafe(const BilinearTap& t, int width, int height) {

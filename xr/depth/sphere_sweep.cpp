@@ -56,7 +56,7 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
       tile.col = col;
       tile.first = reference_px_.size();
       tile.other = other_px_.size();
-      tile.usable.assign(options_.hypotheses, true);
+      tile.usable.assign(options_.hypotheses, 1);
       bool any = false;
       for (int k = 0; k < options_.hypotheses; ++k) {
         const double rho = hypothesis(k);
@@ -64,11 +64,11 @@ SphereSweep::SphereSweep(const calib::GenericCamera& reference, int reference_wi
           Eigen::Vector2d px(0, 0);
           // The point at depth 1/ρ along d, in the other camera, up to its positive scale 1/ρ.
           const bool ok = other.project(R * directions[s] + rho * t, px) && inside(px, other_width, other_height);
-          if (!ok) tile.usable[k] = false;
+          if (!ok) tile.usable[k] = 0;
           other_px_.push_back(ok ? bilinearTap(px, other_width, other_height) : BilinearTap{});
           tile.gather_safe = tile.gather_safe && gatherSafe(other_px_.back(), other_width, other_height);
         }
-        any = any || tile.usable[k];
+        any = any || tile.usable[k] != 0;
       }
       if (!any) {
         other_px_.resize(tile.other);
@@ -127,18 +127,12 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
       sum_aa += a[s] * a[s];
     }
     if (std::sqrt(sum_aa * inv_n) < options_.min_texture) continue;
+    // Every hypothesis's cost in one call (eight at a step where the CPU can), then the first lowest.
+    patchCosts(other.pixels, other.stride, &other_px_[tile.other], a.data(), sum_aa, samples_, options_.hypotheses,
+               tile.usable.data(), cost.data(), options_.simd && tile.gather_safe);
     int best = -1;
-    for (int k = 0; k < options_.hypotheses; ++k) {
-      cost[k] = std::numeric_limits<float>::infinity();
-      if (!tile.usable[k]) continue;
-      const BilinearTap* q = &other_px_[tile.other + static_cast<std::size_t>(k) * samples_];
-      const PatchSums sums = patchSums(other.pixels, other.stride, q, a.data(), samples_, options_.simd && tile.gather_safe);
-      const float sum_b = sums.b, sum_bb = sums.bb, sum_ab = sums.ab;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
-      const float var_b = sum_bb - sum_b * sum_b * inv_n;
-      if (var_b <= 1e-6F) continue;
-      cost[k] = 1.0F - sum_ab / std::sqrt(sum_aa * var_b);
-      if (best < 0 || cost[k] < cost[best]) best = k;
-    }
+    for (int k = 0; k < options_.hypotheses; ++k)
+      if (std::isfinite(cost[k]) && (best < 0 || cost[k] < cost[best])) best = k;
     if (best < 0 || 1.0F - cost[best] < options_.min_correlation) continue;
     float runner_up = std::numeric_limits<float>::infinity();
     for (int k = 0; k < options_.hypotheses; ++k)
@@ -215,11 +209,7 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
     taps[s] = bilinearTap(px[s], image.width, image.height);
     gather_safe = gather_safe && gatherSafe(taps[s], image.width, image.height);
   }
-  const float inv_n = 1.0F / static_cast<float>(samples_);
-  const PatchSums sums = patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe);
-  const float var_b = sums.bb - sums.b * sums.b * inv_n;
-  if (var_b <= 1e-6F) return std::numeric_limits<float>::infinity();
-  return 1.0F - sums.ab / std::sqrt(sum_aa * var_b);
+  return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe), sum_aa, samples_);
 }
 
 std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const GreyImage& reference,

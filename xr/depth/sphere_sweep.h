@@ -124,7 +124,7 @@ class SphereSweep {
     int row = 0, col = 0;
     std::size_t first = 0;     ///< index of its first reference sample in reference_px_ and directions_
     std::size_t other = 0;     ///< index of its first other sample in other_px_ (samples × hypotheses)
-    std::vector<bool> usable;  ///< per hypothesis: every sample inside the other image
+    std::vector<std::uint8_t> usable;  ///< per hypothesis, 1: every sample inside the other image
     bool gather_safe = true;   ///< every other sample may be read four bytes wide (patch_sums.h)
   };
   /// Whether hypothesis k is a candidate: a local minimum of the pair's cost within the candidate
