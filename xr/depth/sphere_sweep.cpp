@@ -203,12 +203,25 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
   if (!projectPatch(camera, &directions_[tile.first], options_.samples_per_side, T_view_reference, rho,
                     options_.motion_corner_projection, px.data()))
     return std::numeric_limits<float>::infinity();
-  bool gather_safe = true;
-  for (int s = 0; s < samples_; ++s) {
-    if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
-    taps[s] = bilinearTap(px[s], image.width, image.height);
-    gather_safe = gather_safe && gatherSafe(taps[s], image.width, image.height);
+  // From the corners, every sample is a convex combination of them: inside wherever they are.
+  const int n = options_.samples_per_side;
+  if (options_.motion_corner_projection && n >= 3) {
+    for (const int s : {0, n - 1, (n - 1) * n, n * n - 1})
+      if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
+  } else {
+    for (int s = 0; s < samples_; ++s)
+      if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
   }
+  // No branch a sample: the taps, and the patch's last block row and column for gatherSafe.
+  int last_x = 0, last_y = 0;
+  for (int s = 0; s < samples_; ++s) {
+    taps[s] = bilinearTap(px[s], image.width, image.height);
+    last_x = std::max<int>(last_x, taps[s].x);
+    last_y = std::max<int>(last_y, taps[s].y);
+  }
+  const bool gather_safe = last_y + 2 < image.height || last_x + 3 < image.width ||
+                           std::all_of(taps.begin(), taps.begin() + samples_,
+                                       [&](const BilinearTap& t) { return gatherSafe(t, image.width, image.height); });
   return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe), sum_aa, samples_);
 }
 
