@@ -18,8 +18,10 @@ float median(std::vector<float>& v) {
 
 /// The median of nine values: nineteen compare-exchanges (Paeth's network, Graphics Gems).
 float median9(std::array<float, 9> p) {
-  const auto sort2 = [&](int a, int b) {
-    if (p[b] < p[a]) std::swap(p[a], p[b]);
+  const auto sort2 = [&](int a, int b) {  // as `if (p[b] < p[a]) swap`, without a branch
+    const float low = std::min(p[a], p[b]), high = std::max(p[b], p[a]);
+    p[a] = low;
+    p[b] = high;
   };
   sort2(1, 2), sort2(4, 5), sort2(7, 8), sort2(0, 1), sort2(3, 4), sort2(6, 7), sort2(1, 2), sort2(4, 5), sort2(7, 8);
   sort2(0, 3), sort2(5, 8), sort2(4, 7), sort2(3, 6), sort2(1, 4), sort2(2, 5), sort2(4, 7), sort2(4, 2), sort2(6, 4);
@@ -64,16 +66,21 @@ void fillAndSmooth(render::InverseDepthGrid& grid, const std::vector<float>& con
       queued[i] = 1;
     }
   }
-  std::vector<float> neighbours;
   std::vector<std::pair<std::size_t, float>> filled;
   while (!ring.empty()) {
     filled.clear();
     for (const std::size_t i : ring) {
-      neighbours.clear();
+      // At most eight known neighbours, sorted in place; the median is the upper middle one.
+      std::array<float, 8> neighbours{};
+      int count = 0;
       forNeighbours(i, [&](std::size_t j) {
-        if (known[j]) neighbours.push_back(grid.data()[j]);
+        if (!known[j]) return;
+        const float value = grid.data()[j];
+        int k = count++;
+        for (; k > 0 && value < neighbours[k - 1]; --k) neighbours[k] = neighbours[k - 1];
+        neighbours[k] = value;
       });
-      filled.emplace_back(i, median(neighbours));
+      filled.emplace_back(i, neighbours[count / 2]);
     }
     for (const auto& [i, value] : filled) {
       grid.at(static_cast<int>(i / cols), static_cast<int>(i % cols)) = value;
