@@ -79,7 +79,7 @@ bool OperatorView::beginFrame(const Eigen::Isometry3d& T_vr_hmd, std::int64_t di
   if (valid) link::toLinkPose(T_vr_hmd, telemetry_frame_.mutable_t_vr_hmd());
   telemetry_frame_.set_eye_camera_distance_m(-1.0);
   ++stats_.head_targets_sent;
-  if (valid) pose_lead_ms_.push_back(double(display_ns - frame_begin_ns_) * 1e-6);
+  if (valid) pose_lead_ms_.add(double(display_ns - frame_begin_ns_) * 1e-6);
 
   // The robot's state: nominal mapping, and (when followed) mode and radius.
   const auto state = client_.latestRobotState();
@@ -313,7 +313,7 @@ std::shared_ptr<const video::DecodedStereoFrame> OperatorView::holdForOwnDepth(
     ++stats_.depth_images_held;
   else
     ++stats_.depth_hold_timeouts;
-  depth_hold_ms_.push_back(waited_ms);
+  depth_hold_ms_.add(waited_ms);
   depth_hold_since_ns_ = -1;
   return next;
 }
@@ -352,16 +352,19 @@ bool OperatorView::renderEye(int eye, const Eigen::Isometry3d& T_vr_eye, const r
 
 void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t missed_frames) {
   ++stats_.frames;
-  render_ms_.push_back(render_ms);
+  render_ms_.add(render_ms);
+  render_ms_last_second_.push_back(render_ms);
   if (const auto& frame = renderer_.frame()) {
     ++stats_.frames_with_image;
     if (uploaded_this_frame_ns_ >= 0) {
       ++stats_.stereo_frames_shown;
-      upload_ms_.push_back(renderer_.lastUploadMs());
+      upload_ms_.add(renderer_.lastUploadMs());
     }
     const std::int64_t capture_robot = frame->frame.stamps().capture_ns();
     const std::int64_t capture = client_.clock().serverToClient(capture_robot).value_or(capture_robot);
-    age_ms_.push_back(double(shown_ns - capture) * 1e-6);
+    const double age_ms = double(shown_ns - capture) * 1e-6;
+    age_ms_.add(age_ms);
+    age_ms_last_second_.push_back(age_ms);
     telemetry_frame_.set_stereo_sequence(frame->frame.sequence());
     if (uploaded_this_frame_ns_ >= 0) {
       telemetry_frame_.set_new_image(true);
@@ -415,9 +418,8 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     link::proto::XrStats xr_stats;
     xr_stats.set_t_ns(now);
     xr_stats.set_fps(double(stats_.frames - frames_at_last_stats_) / (double(now - last_stats_ns_) * 1e-9));
-    const video::LatencyFigure age = video::latencyFigure({age_ms_.begin() + std::ptrdiff_t(age_at_last_stats_), age_ms_.end()});
-    const video::LatencyFigure render =
-        video::latencyFigure({render_ms_.begin() + std::ptrdiff_t(render_at_last_stats_), render_ms_.end()});
+    const video::LatencyFigure age = video::latencyFigure(std::move(age_ms_last_second_));
+    const video::LatencyFigure render = video::latencyFigure(std::move(render_ms_last_second_));
     xr_stats.set_render_ms(render.p50_ms);
     xr_stats.set_missed_frames(missed_frames);
     xr_stats.set_image_age_p50_ms(age.p50_ms);
@@ -425,8 +427,8 @@ void OperatorView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64
     client_.sendXrStats(xr_stats);
     last_stats_ns_ = now;
     frames_at_last_stats_ = stats_.frames;
-    age_at_last_stats_ = age_ms_.size();
-    render_at_last_stats_ = render_ms_.size();
+    age_ms_last_second_.clear();  // moved from: valid, and empty after clear()
+    render_ms_last_second_.clear();
   }
 }
 
@@ -494,22 +496,22 @@ void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, Operator
 OperatorViewStats OperatorView::stats() const {
   OperatorViewStats out = stats_;
   addDepthFigures(options_.depth_proxy, depth_.get(), &out);
-  const video::LatencyFigure held = video::latencyFigure(depth_hold_ms_);
+  const video::LatencyFigure held = depth_hold_ms_.figure();
   out.depth_hold_ms_p50 = held.p50_ms;
   out.depth_hold_ms_p99 = held.p99_ms;
-  const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
+  const video::LatencyFigure render = render_ms_.figure(), age = age_ms_.figure();
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;
   out.image_age_p50_ms = age.p50_ms;
   out.image_age_p99_ms = age.p99_ms;
-  const video::LatencyFigure upload = video::latencyFigure(upload_ms_);
+  const video::LatencyFigure upload = upload_ms_.figure();
   out.upload_ms_render_thread_p50 = upload.p50_ms;
   out.upload_ms_render_thread_p99 = upload.p99_ms;
   const video::StereoDecodeStats decoded = decoder_.stats();
   out.decode_ms_p50 = decoded.decode.p50_ms;
   out.images_in_upload_slots = decoded.images_in_upload_slots;
   out.images_in_own_memory = decoded.images_in_own_memory;
-  out.pose_to_display_ms_p50 = video::latencyFigure(pose_lead_ms_).p50_ms;
+  out.pose_to_display_ms_p50 = pose_lead_ms_.figure().p50_ms;
   out.frames_concealed = decoded.frames_concealed;
   out.rows_concealed = decoded.rows_concealed;
   out.rows_grey = decoded.rows_grey;

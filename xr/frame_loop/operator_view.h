@@ -53,6 +53,7 @@
 #include "xr/frame_loop/link_state_overlay.h"
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/render/eye_view.h"
+#include "xr/video/latency_record.h"
 #include "xr/video/media_frame_source.h"
 #include "xr/video/stereo_frame_decoder.h"
 #include "xr/frame_loop/stereo_view_renderer.h"
@@ -276,12 +277,13 @@ class OperatorView final : public OperatorScene {
   std::uint64_t last_unmeasured_sequence_ = 0;
   std::uint64_t last_held_for_calibration_ = 0;  ///< the last frame held back for its calibration
   std::int64_t depth_hold_since_ns_ = -1;  ///< when a newer image began to wait for its depth (-1: none waits)
-  std::vector<double> depth_hold_ms_;      ///< per image shown after waiting, how long it waited
+  video::LatencyRecord depth_hold_ms_;     ///< per image shown after waiting, how long it waited
   static constexpr std::int64_t kCalibrationRetryNs = 3'000'000'000;
   std::atomic<std::int64_t> calibration_retry_ns_{kCalibrationRetryNs};  ///< doubles after each refusal
   OperatorViewStats stats_;
-  std::vector<double> render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
-  std::size_t age_at_last_stats_ = 0, render_at_last_stats_ = 0;
+  // The session's figures in bounded memory (hours at 90 Hz), and the last second's for the console.
+  video::LatencyRecord render_ms_, age_ms_, upload_ms_, pose_lead_ms_;
+  std::vector<double> render_ms_last_second_, age_ms_last_second_;
   std::int64_t last_stats_ns_ = 0;
   std::uint64_t frames_at_last_stats_ = 0;
   link::proto::XrFrame telemetry_frame_;  ///< the sample of the frame in progress

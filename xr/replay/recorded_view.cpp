@@ -72,7 +72,7 @@ void RecordedView::takeFrame(record::RecordedFrame&& frame) {
     const auto decode_start = std::chrono::steady_clock::now();
     auto decoded = decodeVideoPair(frame, *codec);
     if (!decoded) return;  // counted; the pair before stays pending or on show
-    decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+    decode_ms_.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
     if (pending_ || pending_decoded_) ++replaced_unshown_;
     pending_.reset();
     pending_decoded_ = std::move(decoded);
@@ -176,7 +176,7 @@ bool RecordedView::takePending(std::string* error) {
     if (undecodable_++ == 0) spdlog::warn("replay: {} (the previous frame stays on show)", why);
     return true;
   }
-  decode_ms_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
+  decode_ms_.add(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - decode_start).count() / 2);
   return show(decoded, error);
 }
 
@@ -226,21 +226,21 @@ void RecordedView::setLinkCues(const frame_loop::LinkState& state, float image_s
 
 void RecordedView::endFrame(std::int64_t shown_ns, double render_ms, std::uint64_t) {
   ++stats_.frames;
-  render_ms_.push_back(render_ms);
+  render_ms_.add(render_ms);
   if (const auto& frame = renderer_.frame()) {
     ++stats_.frames_with_image;
-    age_ms_.push_back(double(shown_ns - frame->frame.stamps().capture_ns()) * 1e-6);
+    age_ms_.add(double(shown_ns - frame->frame.stamps().capture_ns()) * 1e-6);
     if (uploaded_this_frame_) {
       ++stats_.stereo_frames_shown;
-      upload_ms_.push_back(renderer_.lastUploadMs());
+      upload_ms_.add(renderer_.lastUploadMs());
     }
   }
 }
 
 frame_loop::OperatorViewStats RecordedView::stats() const {
   frame_loop::OperatorViewStats out = stats_;
-  const video::LatencyFigure render = video::latencyFigure(render_ms_), age = video::latencyFigure(age_ms_);
-  const video::LatencyFigure upload = video::latencyFigure(upload_ms_), decode = video::latencyFigure(decode_ms_);
+  const video::LatencyFigure render = render_ms_.figure(), age = age_ms_.figure();
+  const video::LatencyFigure upload = upload_ms_.figure(), decode = decode_ms_.figure();
   out.render_ms_p50 = render.p50_ms;
   out.render_ms_p99 = render.p99_ms;
   out.image_age_p50_ms = age.p50_ms;

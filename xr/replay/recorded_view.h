@@ -42,6 +42,7 @@
 #include "xr/frame_loop/operator_loop.h"
 #include "xr/frame_loop/operator_view.h"
 #include "xr/frame_loop/stereo_view_renderer.h"
+#include "xr/video/latency_record.h"
 #include "xr/video/video_stream_decoder.h"
 #include "xr/video/jpeg_decoder.h"
 
@@ -117,7 +118,7 @@ class RecordedView final : public frame_loop::OperatorScene {
   bool uploaded_this_frame_ = false;
   std::uint64_t undecodable_ = 0, replaced_unshown_ = 0, awaiting_key_frame_ = 0;
   frame_loop::OperatorViewStats stats_;
-  std::vector<double> render_ms_, age_ms_, upload_ms_, decode_ms_;
+  video::LatencyRecord render_ms_, age_ms_, upload_ms_, decode_ms_;  ///< bounded: a recording may be hours long
 };
 
 }  // namespace telesphere::xr::replay
