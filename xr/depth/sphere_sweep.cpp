@@ -88,16 +88,85 @@ std::size_t SphereSweep::tableBytes() const {
   return (reference_px_.size() + other_px_.size()) * sizeof(BilinearTap);
 }
 
-SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier_views) const {
+bool SphereSweep::accepts(const GreyImage& reference, const GreyImage& other) const {
+  return reference.pixels && other.pixels && reference.width == reference_width_ && reference.height == reference_height_ &&
+         other.width == other_width_ && other.height == other_height_ && reference.width >= 2 && reference.height >= 2 &&
+         other.width >= 2 && other.height >= 2;
+}
+
+SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier) const {
+  if (!accepts(reference, other)) return decide({}, {}, {}, {});
+  // The buffers stay with the thread: half a megabyte a sweep, freshly mapped and faulted in
+  // every time, cost more than the steps' hand-over.
+  thread_local ReferencePatches patches;
+  thread_local std::vector<float> costs;
+  referencePatches(reference, patches);
+  pairCosts(patches, other, costs);
+  return decide(reference, patches, costs, earlier);
+}
+
+SphereSweep::ReferencePatches SphereSweep::referencePatches(const GreyImage& reference) const {
+  ReferencePatches patches;
+  referencePatches(reference, patches);
+  return patches;
+}
+
+void SphereSweep::referencePatches(const GreyImage& reference, ReferencePatches& patches) const {
+  patches.a.clear();
+  patches.sum_aa.clear();
+  patches.textured.clear();
+  if (!reference.pixels || reference.width != reference_width_ || reference.height != reference_height_) return;
+  patches.a.resize(tiles_.size() * static_cast<std::size_t>(samples_));
+  patches.sum_aa.resize(tiles_.size());
+  patches.textured.resize(tiles_.size());
+  const float inv_n = 1.0F / static_cast<float>(samples_);
+  for (std::size_t t = 0; t < tiles_.size(); ++t) {
+    float* a = &patches.a[t * static_cast<std::size_t>(samples_)];
+    float sum_a = 0, sum_aa = 0;
+    for (int s = 0; s < samples_; ++s) {
+      a[s] = tapGrey(reference.pixels, reference.stride, reference_px_[tiles_[t].first + s]);
+      sum_a += a[s];
+    }
+    const float mean_a = sum_a * inv_n;
+    for (int s = 0; s < samples_; ++s) {
+      a[s] -= mean_a;
+      sum_aa += a[s] * a[s];
+    }
+    patches.sum_aa[t] = sum_aa;
+    patches.textured[t] = std::sqrt(sum_aa * inv_n) >= options_.min_texture;
+  }
+}
+
+std::vector<float> SphereSweep::pairCosts(const ReferencePatches& patches, const GreyImage& other) const {
+  std::vector<float> costs;
+  pairCosts(patches, other, costs);
+  return costs;
+}
+
+void SphereSweep::pairCosts(const ReferencePatches& patches, const GreyImage& other, std::vector<float>& costs) const {
+  const std::size_t hypotheses = static_cast<std::size_t>(options_.hypotheses);
+  costs.assign(tiles_.size() * hypotheses, std::numeric_limits<float>::infinity());
+  if (patches.textured.size() != tiles_.size() || !other.pixels || other.width != other_width_ || other.height != other_height_)
+    return;
+  for (std::size_t t = 0; t < tiles_.size(); ++t) {
+    if (!patches.textured[t]) continue;
+    // Every hypothesis's cost in one call (eight at a step where the CPU can).
+    const Tile& tile = tiles_[t];
+    patchCosts(other.pixels, other.stride, &other_px_[tile.other], &patches.a[t * static_cast<std::size_t>(samples_)],
+               patches.sum_aa[t], samples_, options_.hypotheses, tile.usable.data(), &costs[t * hypotheses],
+               options_.simd && tile.gather_safe);
+  }
+}
+
+SweepResult SphereSweep::decide(const GreyImage& reference, const ReferencePatches& patches, const std::vector<float>& costs,
+                                const std::vector<EarlierView>& earlier_views) const {
   SweepResult result;
   result.inverse_depth = render::InverseDepthGrid(options_.tile_deg, 0.0F);
   render::InverseDepthGrid& grid = result.inverse_depth;
   result.confidence.assign(static_cast<std::size_t>(grid.rows()) * grid.cols(), 0.0F);
   result.tiles_seen = static_cast<int>(tiles_.size());
-  if (!reference.pixels || !other.pixels || reference.width != reference_width_ || reference.height != reference_height_ ||
-      other.width != other_width_ || other.height != other_height_ || reference.width < 2 || reference.height < 2 ||
-      other.width < 2 || other.height < 2)
-    return result;
+  const std::size_t hypotheses = static_cast<std::size_t>(options_.hypotheses);
+  if (!reference.pixels || patches.textured.size() != tiles_.size() || costs.size() != tiles_.size() * hypotheses) return result;
   std::vector<EarlierView> earlier;
   for (const EarlierView& view : earlier_views)
     if (view.image.pixels && view.image.width == reference_width_ && view.image.height == reference_height_) earlier.push_back(view);
@@ -113,23 +182,16 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
     std::rotate(earlier.begin(), widest, widest + 1);
   }
 
-  std::vector<float> a(samples_), cost(options_.hypotheses);
-  const float inv_n = 1.0F / static_cast<float>(samples_);
-  for (const Tile& tile : tiles_) {
-    float sum_a = 0, sum_aa = 0;
-    for (int s = 0; s < samples_; ++s) {
-      a[s] = tapGrey(reference.pixels, reference.stride, reference_px_[tile.first + s]);
-      sum_a += a[s];
-    }
-    const float mean_a = sum_a * inv_n;
-    for (int s = 0; s < samples_; ++s) {
-      a[s] -= mean_a;
-      sum_aa += a[s] * a[s];
-    }
-    if (std::sqrt(sum_aa * inv_n) < options_.min_texture) continue;
-    // Every hypothesis's cost in one call (eight at a step where the CPU can), then the first lowest.
-    patchCosts(other.pixels, other.stride, &other_px_[tile.other], a.data(), sum_aa, samples_, options_.hypotheses,
-               tile.usable.data(), cost.data(), options_.simd && tile.gather_safe);
+  std::vector<float> cost(hypotheses);
+  for (std::size_t t = 0; t < tiles_.size(); ++t) {
+    if (!patches.textured[t]) continue;
+    const Tile& tile = tiles_[t];
+    const float* a = &patches.a[t * static_cast<std::size_t>(samples_)];
+    const float sum_aa = patches.sum_aa[t];
+    // The tile's costs (a hypothesis whose patch leaves the other image has none, whoever computed
+    // them), then the first lowest.
+    for (std::size_t k = 0; k < hypotheses; ++k)
+      cost[k] = tile.usable[k] ? costs[t * hypotheses + k] : std::numeric_limits<float>::infinity();
     int best = -1;
     for (int k = 0; k < options_.hypotheses; ++k)
       if (std::isfinite(cost[k]) && (best < 0 || cost[k] < cost[best])) best = k;
@@ -158,12 +220,12 @@ SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& o
         // The widest view (first, above) at the pair's depth. Checking every view measured the same
         // on the bench's scenes at 1–2 ms more a pair. A view that does not see the patch there
         // (outside its image) says nothing.
-        const float then = projectedCost(tile, a.data(), sum_aa, reference_, earlier[0].T_earlier_reference, rho, earlier[0].image);
+        const float then = projectedCost(tile, a, sum_aa, reference_, earlier[0].T_earlier_reference, rho, earlier[0].image);
         look_again = std::isfinite(then) && 1.0F - then < options_.min_correlation;
       }
       const std::vector<EarlierView> views = look_again ? informativeViews(tile, reference, earlier) : std::vector<EarlierView>{};
       if (!views.empty()) {
-        if (const std::optional<Decided> decided = resolveWithEarlier(tile, a.data(), sum_aa, cost, best, views)) {
+        if (const std::optional<Decided> decided = resolveWithEarlier(tile, a, sum_aa, cost, best, views)) {
           grid.at(tile.row, tile.col) = static_cast<float>(std::max(decided->rho, 0.0));
           result.confidence[index] = std::max(decided->confidence, 1e-3F);
           ++result.tiles_decided_by_motion;

@@ -113,6 +113,33 @@ class SphereSweep {
   /// farthest across the optical axis.
   SweepResult estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier = {}) const;
 
+  /// estimate() in its three steps, for the pair's costs from elsewhere (the GPU: gpu_sweep_costs.h).
+  /// The reference image's side: each tile's (the sweep's order) mean-free patch, its Σa², and
+  /// whether it has texture enough to match (σ ≥ min_texture).
+  struct ReferencePatches {
+    std::vector<float> a;                ///< per tile, per sample
+    std::vector<float> sum_aa;           ///< per tile
+    std::vector<std::uint8_t> textured;  ///< per tile
+  };
+  /// Whether images of these sizes can be swept (those given at construction, at least 2 × 2).
+  bool accepts(const GreyImage& reference, const GreyImage& other) const;
+  /// Empty for an image of another size.
+  ReferencePatches referencePatches(const GreyImage& reference) const;
+  /// The same into `out`, reusing its memory.
+  void referencePatches(const GreyImage& reference, ReferencePatches& out) const;
+  /// The pair's cost volume: per tile, per hypothesis, 1 − ZNCC; infinity for tiles without
+  /// texture, hypotheses whose patch leaves the other image, and all of an image of another size.
+  std::vector<float> pairCosts(const ReferencePatches& patches, const GreyImage& other) const;
+  void pairCosts(const ReferencePatches& patches, const GreyImage& other, std::vector<float>& out) const;
+  /// The grid from a cost volume as pairCosts gives it (costs of unusable hypotheses are ignored,
+  /// whatever they hold). Patches or costs of another size give a grid with no tile matched.
+  SweepResult decide(const GreyImage& reference, const ReferencePatches& patches, const std::vector<float>& costs,
+                     const std::vector<EarlierView>& earlier = {}) const;
+  int tileCount() const { return static_cast<int>(tiles_.size()); }
+  int samplesPerTile() const { return samples_; }
+  /// The other image's taps: per tile, hypothesis-major, then sample.
+  const std::vector<BilinearTap>& otherTaps() const { return other_px_; }
+
   const SphereSweepOptions& options() const { return options_; }
   /// Inverse depth (1/m) of hypothesis k.
   double hypothesis(int k) const;
