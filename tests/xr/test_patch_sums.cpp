@@ -68,9 +68,11 @@ TEST(PatchSums, TheAvx2SumsAreTheScalarSumsUpToRoundingOrder) {
       }
       const PatchSums scalar = patchSumsScalar(image, stride, taps.data(), a.data(), n);
       const PatchSums simd = patchSums(image, stride, taps.data(), a.data(), n, true);
-      EXPECT_NEAR(simd.b, scalar.b, 1e-5 * std::abs(scalar.b) + 1e-4) << n;
-      EXPECT_NEAR(simd.bb, scalar.bb, 1e-5 * std::abs(scalar.bb) + 1e-4) << n;
-      EXPECT_NEAR(simd.ab, scalar.ab, 1e-5 * (std::abs(scalar.ab) + 128.0 * scalar.b) + 1e-4) << n;
+      // Float rounding of n additions of terms up to 128 (b − 128), 128² and 128 · 128 in size.
+      const double rounding = 2 * n * std::numeric_limits<float>::epsilon() * n;
+      EXPECT_NEAR(simd.b, scalar.b, rounding * 128.0 + 1e-4) << n;
+      EXPECT_NEAR(simd.bb, scalar.bb, rounding * 128.0 * 128.0 + 1e-4) << n;
+      EXPECT_NEAR(simd.ab, scalar.ab, rounding * 128.0 * 128.0 + 1e-4) << n;
     }
   }
 }

@@ -15,7 +15,7 @@ namespace telesphere::xr::depth {
 PatchSums patchSumsScalar(const std::uint8_t* pixels, int stride, const BilinearTap* taps, const float* a, int n) {
   PatchSums s;
   for (int i = 0; i < n; ++i) {
-    const float b = tapGrey(pixels, stride, taps[i]);
+    const float b = tapGrey(pixels, stride, taps[i]) - kPatchGreyOffset;
     s.b += b;
     s.bb += b * b;
     s.ab += a[i] * b;  // Σ(a − ā)·b = Σ(a − ā)(b − b̄)
@@ -62,6 +62,7 @@ __attribute__((target("avx2,fma"), always_inline)) inline LaneSums laneSumsAvx2(
   const __m256i mask16 = _mm256_set1_epi32(0xFFFF);
   const __m256i stride_v = _mm256_set1_epi32(stride), full = _mm256_set1_epi32(256);
   const __m256 scale = _mm256_set1_ps(1.0F / 65536.0F);
+  const __m256i grey_offset = _mm256_set1_epi32(static_cast<int>(kPatchGreyOffset) * 65536);
   __m256 sum_b = _mm256_setzero_ps(), sum_bb = _mm256_setzero_ps(), sum_ab = _mm256_setzero_ps();
   for (int i = 0; i < whole; i += 8) {
     // Eight taps: (x | y << 16) and (wx | wy << 16) of each, in tap order.
@@ -75,7 +76,7 @@ __attribute__((target("avx2,fma"), always_inline)) inline LaneSums laneSumsAvx2(
     // As the scalar tap: top = p00·(256 − wx) + p01·wx, bottom likewise, v = top·(256 − wy) + bottom·wy.
     const __m256i top = across(row0, wx, full), bottom = across(row1, wx, full);
     const __m256i v = _mm256_add_epi32(_mm256_mullo_epi32(top, _mm256_sub_epi32(full, wy)), _mm256_mullo_epi32(bottom, wy));
-    const __m256 b = _mm256_mul_ps(_mm256_cvtepi32_ps(v), scale);
+    const __m256 b = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_sub_epi32(v, grey_offset)), scale);  // b − 128, as the scalar sums
     sum_b = _mm256_add_ps(sum_b, b);
     sum_bb = _mm256_fmadd_ps(b, b, sum_bb);
     sum_ab = _mm256_fmadd_ps(_mm256_loadu_ps(a + i), b, sum_ab);
@@ -124,7 +125,7 @@ __attribute__((target("avx2,fma"))) void patchCostsAvx2(const std::uint8_t* pixe
       // The last n mod 8 taps as patchSumsScalar adds them: summed on their own, then added.
       float rest_b = 0, rest_bb = 0, rest_ab = 0;
       for (int i = whole; i < n; ++i) {
-        const float v = tapGrey(pixels, stride, t[i]);
+        const float v = tapGrey(pixels, stride, t[i]) - kPatchGreyOffset;
         rest_b += v;
         rest_bb = productPlus(v, v, rest_bb);
         rest_ab = productPlus(a[i], v, rest_ab);
