@@ -208,4 +208,25 @@ std::optional<GlProgram> loadProgram(const std::string& vertex_file,
   return program;
 }
 
+std::optional<GlProgram> loadComputeProgram(const std::string& compute_file, const std::vector<std::string>& defines,
+                                            std::string* out_error) {
+  auto cs = compile(GL_COMPUTE_SHADER, compute_file, defines, out_error);
+  if (!cs) return std::nullopt;
+  GlProgram program(glCreateProgram());
+  glAttachShader(program.id(), cs->id());
+  glLinkProgram(program.id());
+  glDetachShader(program.id(), cs->id());
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    GLint length = 0;
+    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+    if (out_error) *out_error = "linking " + compute_file + ": " + log.c_str();
+    return std::nullopt;
+  }
+  return program;
+}
+
 }  // namespace telesphere::gl

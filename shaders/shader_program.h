@@ -29,4 +29,8 @@ std::optional<GlProgram> loadProgram(const std::string& vertex_file,
                                      const std::vector<std::string>& defines = {},
                                      std::string* out_error = nullptr);
 
+/// As loadProgram, for a compute shader on its own (GL 4.3+).
+std::optional<GlProgram> loadComputeProgram(const std::string& compute_file, const std::vector<std::string>& defines = {},
+                                            std::string* out_error = nullptr);
+
 }  // namespace telesphere::gl

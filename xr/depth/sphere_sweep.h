@@ -136,6 +136,8 @@ class SphereSweep {
   SweepResult decide(const GreyImage& reference, const ReferencePatches& patches, const std::vector<float>& costs,
                      const std::vector<EarlierView>& earlier = {}) const;
   int tileCount() const { return static_cast<int>(tiles_.size()); }
+  int otherWidth() const { return other_width_; }
+  int otherHeight() const { return other_height_; }
   int samplesPerTile() const { return samples_; }
   /// The other image's taps: per tile, hypothesis-major, then sample.
   const std::vector<BilinearTap>& otherTaps() const { return other_px_; }

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT
+/// @brief GpuSweepCosts (xr/depth/gpu_sweep_costs.h) on a real GL 4.5 context (Mesa's llvmpipe
+///        here, any GPU's driver elsewhere) against the CPU's sweep on the same rendered pair, a
+///        textured room with a near box and the board of stripes: every cost of a textured tile's
+///        usable hypothesis within 2e-5 of the CPU's (float sums in another order), and the whole
+///        sweep's grid the CPU's (the same tiles matched, inverse depths within 1e-4 1/m), at 4°
+///        and at 2° tiles (four times the work groups), with earlier views too; an image of
+///        another size or another sweep's patches are refused with a reason, not computed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/bench/prerendered_frames.h"
+#include "robot/clock/clock.h"
+#include "robot/cameras/synthetic_camera.h"
+#include "robot/stereo/stereo_still.h"
+#include "shaders/egl_context.h"
+#include "tests/xr/stripes_room.h"
+#include "xr/depth/gpu_sweep_costs.h"
+
+namespace telesphere::xr {
+namespace {
+
+constexpr int kGpuWidth = 480, kGpuHeight = 270;
+
+/// The room with a 20 cm box 0.5 m ahead and the board of stripes beside it, 1.2 m ahead and 0.9 m
+/// to the right: near, far and repetitive in one pair.
+std::shared_ptr<robot::cameras::SyntheticScene> gpuTestScene() {
+  auto scene = test_scenes::room(true);
+  robot::cameras::SurfaceStyle style;
+  Eigen::Isometry3d T_world_box = Eigen::Isometry3d::Identity();
+  T_world_box.translation() = Eigen::Vector3d(0.0, 0.0, 0.6);
+  scene->addBox("box", robot::cameras::fixedPose(T_world_box), Eigen::Vector3d(0.1, 0.1, 0.1), style);
+  test_scenes::addStripesBoard(*scene, Eigen::Vector3d(0.9, 0.0, 1.2));
+  return scene;
+}
+
+std::vector<std::uint8_t> gpuTestGrey(const std::shared_ptr<robot::cameras::SyntheticScene>& scene, const Eigen::Isometry3d& T_world_cam) {
+  robot::clock::SteadyClock clock;
+  robot::cameras::SyntheticCameraOptions options;
+  options.supersampling = 2;
+  const robot::cameras::SyntheticCamera camera(bench::simulatedLens(kGpuWidth, kGpuHeight).camera, kGpuWidth, kGpuHeight, scene,
+                                               robot::cameras::fixedPose(T_world_cam), clock, options);
+  std::string out, error;
+  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &out, &error)) << error;
+  return {out.begin(), out.end()};
+}
+
+TEST(GpuSweepCosts, TheGpusCostsAndGridAreTheCpus) {
+  std::string error;
+  const auto context = gl::EglContext::createSurfaceless(&error);
+  ASSERT_TRUE(context) << "no GL 4.5 context: " << error;
+  const auto scene = gpuTestScene();
+  const Eigen::Isometry3d T_l_r(Eigen::Translation3d(0.064, 0.0, 0.0));
+  const std::vector<std::uint8_t> left = gpuTestGrey(scene, Eigen::Isometry3d::Identity()), right = gpuTestGrey(scene, T_l_r);
+  // An earlier view: the rig 3 cm to the left of where it is now.
+  const Eigen::Isometry3d T_world_then(Eigen::Translation3d(-0.03, 0.0, 0.0));
+  const std::vector<std::uint8_t> left_then = gpuTestGrey(scene, T_world_then);
+  const depth::GreyImage l{left.data(), kGpuWidth, kGpuHeight, kGpuWidth}, r{right.data(), kGpuWidth, kGpuHeight, kGpuWidth};
+  const std::vector<depth::EarlierView> earlier = {{{left_then.data(), kGpuWidth, kGpuHeight, kGpuWidth}, T_world_then.inverse()}};
+  const calib::GenericCamera lens = bench::simulatedLens(kGpuWidth, kGpuHeight).camera;
+  for (const double tile_deg : {4.0, 2.0}) {
+    SCOPED_TRACE("tiles of " + std::to_string(tile_deg) + " deg");
+    depth::SphereSweepOptions options;
+    options.tile_deg = tile_deg;
+    const depth::SphereSweep sweep(lens, kGpuWidth, kGpuHeight, lens, kGpuWidth, kGpuHeight, T_l_r.inverse(), options);
+    const auto gpu = depth::GpuSweepCosts::create(sweep, &error);
+    ASSERT_TRUE(gpu) << error;
+    EXPECT_EQ(gpu->tableBytes(), sweep.otherTaps().size() * sizeof(depth::BilinearTap));
+
+    const depth::SphereSweep::ReferencePatches patches = sweep.referencePatches(l);
+    const std::vector<float> cpu_costs = sweep.pairCosts(patches, r);
+    std::vector<float> gpu_costs;
+    ASSERT_TRUE(gpu->pairCosts(patches, r, gpu_costs, &error)) << error;
+    ASSERT_EQ(gpu_costs.size(), cpu_costs.size());
+    const std::size_t hypotheses = static_cast<std::size_t>(options.hypotheses);
+    const std::size_t samples = static_cast<std::size_t>(sweep.samplesPerTile());
+    // The double-precision reference: the same integer bilinear samples, the reference patch's
+    // float values made exactly mean-free, everything summed in double. Against it: the costs of
+    // patches with texture (σ of the other patch ≥ 0.5 grey) closely, and those of nearly flat
+    // ones (where float's Σb² − (Σb)²/n cancels, and the cost is about 1 whoever computes it) loosely.
+    int compared = 0, flat = 0;
+    double worst_gpu = 0, worst_cpu = 0, worst_flat = 0;
+    for (std::size_t i = 0; i < cpu_costs.size(); ++i) {
+      const std::size_t tile = i / hypotheses;
+      if (!patches.textured[tile]) {
+        EXPECT_TRUE(std::isinf(gpu_costs[i])) << "an untextured tile's cost, " << i;
+        continue;
+      }
+      if (std::isinf(cpu_costs[i])) continue;  // an unusable hypothesis: decide() ignores what the GPU holds there
+      double mean_a = 0;
+      for (std::size_t s = 0; s < samples; ++s) mean_a += patches.a[tile * samples + s];
+      mean_a /= static_cast<double>(samples);
+      double b = 0, bb = 0, ab = 0, aa = 0;
+      for (std::size_t s = 0; s < samples; ++s) {
+        const double v = depth::tapGrey(right.data(), kGpuWidth, sweep.otherTaps()[i * samples + s]);
+        const double av = patches.a[tile * samples + s] - mean_a;
+        b += v;
+        bb += v * v;
+        ab += av * v;
+        aa += av * av;
+      }
+      const double var_b = bb - b * b / static_cast<double>(samples);
+      const double want = 1.0 - ab / std::sqrt(aa * var_b);
+      if (var_b < 0.25 * static_cast<double>(samples)) {
+        worst_flat = std::max({worst_flat, std::abs(gpu_costs[i] - want), std::abs(cpu_costs[i] - want)});
+        ++flat;
+        continue;
+      }
+      worst_gpu = std::max(worst_gpu, std::abs(gpu_costs[i] - want));
+      worst_cpu = std::max(worst_cpu, std::abs(cpu_costs[i] - want));
+      ++compared;
+    }
+    EXPECT_GT(compared, 30000);
+    EXPECT_LE(worst_gpu, 1e-4);
+    EXPECT_LE(worst_cpu, 1e-4);
+    EXPECT_LE(worst_flat, 1e-2);
+    std::cout << "tiles " << tile_deg << " deg, against the double reference: " << compared << " costs, worst GPU " << worst_gpu
+              << ", CPU " << worst_cpu << "; " << flat << " nearly flat, worst " << worst_flat << "\n";
+
+    for (const bool with_views : {false, true}) {
+      SCOPED_TRACE(with_views ? "with an earlier view" : "the pair alone");
+      const std::vector<depth::EarlierView> views = with_views ? earlier : std::vector<depth::EarlierView>{};
+      const depth::SweepResult on_cpu = sweep.estimate(l, r, views);
+      const depth::SweepResult on_gpu = gpu->estimate(l, r, views, &error);
+      EXPECT_TRUE(error.empty()) << error;
+      ASSERT_GT(on_cpu.tiles_matched, on_cpu.tiles_seen / 2);
+      EXPECT_EQ(on_gpu.tiles_seen, on_cpu.tiles_seen);
+      EXPECT_EQ(on_gpu.tiles_matched, on_cpu.tiles_matched);
+      EXPECT_EQ(on_gpu.tiles_ambiguous, on_cpu.tiles_ambiguous);
+      EXPECT_EQ(on_gpu.tiles_decided_by_motion, on_cpu.tiles_decided_by_motion);
+      if (with_views) {
+        EXPECT_GT(on_cpu.tiles_decided_by_motion, 0);
+      }
+      const render::InverseDepthGrid& a = on_cpu.inverse_depth;
+      const render::InverseDepthGrid& b = on_gpu.inverse_depth;
+      int off = 0;
+      for (int row = 0; row < a.rows(); ++row)
+        for (int col = 0; col < a.cols(); ++col) off += std::abs(a.at(row, col) - b.at(row, col)) > 1e-4F;
+      EXPECT_EQ(off, 0) << "tiles whose inverse depth differs by more than 1e-4 1/m";
+    }
+  }
+}
+
+TEST(GpuSweepCosts, RefusesAnImageOfAnotherSizeAndAnotherSweepsPatches) {
+  std::string error;
+  const auto context = gl::EglContext::createSurfaceless(&error);
+  ASSERT_TRUE(context) << "no GL 4.5 context: " << error;
+  const calib::GenericCamera lens = bench::simulatedLens(kGpuWidth, kGpuHeight).camera;
+  const Eigen::Isometry3d T_r_l(Eigen::Translation3d(-0.064, 0.0, 0.0));
+  const depth::SphereSweep sweep(lens, kGpuWidth, kGpuHeight, lens, kGpuWidth, kGpuHeight, T_r_l);
+  const auto gpu = depth::GpuSweepCosts::create(sweep, &error);
+  ASSERT_TRUE(gpu) << error;
+  const std::vector<std::uint8_t> image(static_cast<std::size_t>(kGpuWidth) * kGpuHeight, 128), small(100 * 50, 128);
+  const depth::GreyImage full{image.data(), kGpuWidth, kGpuHeight, kGpuWidth};
+  const depth::SphereSweep::ReferencePatches patches = sweep.referencePatches(full);
+  std::vector<float> costs;
+  EXPECT_FALSE(gpu->pairCosts(patches, {small.data(), 100, 50, 100}, costs, &error));
+  EXPECT_NE(error.find("100x50"), std::string::npos) << error;
+  EXPECT_FALSE(gpu->pairCosts({}, full, costs, &error));
+  EXPECT_NE(error.find("patches"), std::string::npos) << error;
+  error.clear();
+  const depth::SweepResult none = gpu->estimate({small.data(), 100, 50, 100}, full, {}, &error);
+  EXPECT_EQ(none.tiles_matched, 0);
+  EXPECT_FALSE(error.empty());
+  // A flat grey pair: every tile without texture, nothing matched, no error.
+  error.clear();
+  const depth::SweepResult flat = gpu->estimate(full, full, {}, &error);
+  EXPECT_TRUE(error.empty()) << error;
+  EXPECT_EQ(flat.tiles_matched, 0);
+}
+
+}  // namespace
+}  // namespace telesphere::xr
