@@ -28,6 +28,7 @@
 #include "app/bench/bench_topic.h"
 #include "app/bench/cpu_time.h"
 #include "app/bench/depth_bench_approach.h"
+#include "app/bench/depth_bench_gpu.h"
 #include "app/bench/depth_bench_inputs.h"
 #include "app/bench/depth_bench_scenes.h"
 #include "app/bench/depth_bench_stereo.h"
@@ -329,6 +330,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     out << "warning: on this CPU the AVX2 sums (" << formatNumber(simd_ms) << " ms a pair) are slower than one sample at a time ("
         << formatNumber(scalar_ms) << " ms)\n";
 
+  worst["gpu_sweep"] = runGpuSweep(ctx, rig, depth_width, depth_height, built, pairs);
   worst["edge_settings"] = runEdgeKnob(ctx, built, stereo_grids, rays);  // the rays of the tables above
   worst["march_settings"] = runMarchKnob(ctx, built, stereo_grids, rays);
   worst["harder_inputs"] = runHarderInputs(ctx, sweeps, rig.cameras[0], depth_width, depth_height);
