@@ -55,6 +55,8 @@ inline nlohmann::json operatorStatsJson(const xr::frame_loop::OperatorViewStats&
           {"depth_motion_views_left", s.depth_motion_views_left},
           {"depth_motion_baseline_left_m", s.depth_motion_baseline_left_m},
           {"depth_tiles_decided_by_motion_left", s.depth_tiles_decided_by_motion_left},
+          {"depth_sweep_on_gpu", s.depth_sweep_on_gpu},
+          {"depth_gpu_unavailable", s.depth_gpu_unavailable},
           {"depth_images_with_own_depth", s.depth_images_with_own_depth},
           {"depth_images_held", s.depth_images_held},
           {"depth_hold_timeouts", s.depth_hold_timeouts},

@@ -33,12 +33,23 @@ void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::st
                   "telesphere-bench depth); 0: the pair alone")
       ->capture_default_str()
       ->check(CLI::Range(0, 4));
+  command.add_flag("--depth-gpu", options.gpu,
+                   "with radius or grid: the stereo sweep's pair costs on the GPU (a GL 4.5 context of the depth "
+                   "thread's own), leaving about a quarter of its CPU time; where none can be made, the CPU, and the "
+                   "stats say why");
+}
+
+xr::frame_loop::DepthWorkerOptions depthWorkerOptions(const XrDepthOptions& options) {
+  xr::frame_loop::DepthWorkerOptions depth;
+  depth.motion_views = options.motion_views;
+  depth.gpu = options.gpu;
+  return depth;
 }
 
 void applyXrDepthOptions(const XrDepthOptions& options, xr::frame_loop::OperatorViewOptions& view) {
   view.depth_proxy = *link::parseDepthProxy(options.proxy);  // checked by the option
   view.depth_hold_ms = options.hold_ms;
-  view.depth.motion_views = options.motion_views;
+  view.depth = depthWorkerOptions(options);
 }
 
 }  // namespace telesphere::app

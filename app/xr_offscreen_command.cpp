@@ -84,6 +84,9 @@ void printViewTable(const xr::frame_loop::OperatorViewStats& v) {
   if (v.depth_proxy != "fixed")
     std::printf("| left sweep: earlier images from the arm's motion; longest baseline mm; tiles they decided | %d; %.0f; %d |\n",
                 v.depth_motion_views_left, 1e3 * v.depth_motion_baseline_left_m, v.depth_tiles_decided_by_motion_left);
+  if (v.depth_proxy != "fixed" && (v.depth_sweep_on_gpu || !v.depth_gpu_unavailable.empty()))
+    std::printf("| the pair's costs | %s |\n",
+                v.depth_sweep_on_gpu ? "on the GPU" : ("on the CPU: the GPU was asked for, " + v.depth_gpu_unavailable).c_str());
   if (v.depth_proxy != "fixed")
     std::printf("| images shown with their own depth; held for it (wait p50 / p99 ms); shown when the wait ran out | "
                 "%llu; %llu (%.1f / %.1f); %llu |\n",
@@ -109,6 +112,7 @@ int runReplay(const OffscreenCommandOptions& o, const std::optional<calib::Syste
   options.png_dir = o.out_dir;
   options.png_every_frames = o.png_every;
   options.depth_proxy = *link::parseDepthProxy(o.depth.proxy);  // until the recording says otherwise
+  options.depth = depthWorkerOptions(o.depth);  // the replay's worker stays on its thread (the same estimates run after run)
   // A progress line on stderr every 5 s of wall time: offline rendering of a long 4K session takes a while.
   auto last_progress = std::chrono::steady_clock::now();
   options.progress = [&](double rendered_s, double total_s) {
@@ -229,6 +233,7 @@ int runOffscreenCommand(const OffscreenCommandOptions& o) {
   options.head_targets_on_zmq = o.link.head_link == "both";
   options.depth_proxy = *link::parseDepthProxy(o.depth.proxy);
   options.depth_hold_ms = o.depth.hold_ms;
+  options.depth = depthWorkerOptions(o.depth);
   const auto stats = xr::frame_loop::runOffscreenOperator(*calibration, *trajectory, options, g_offscreen_stop, &error);
   if (!stats) return fail(error.find("EGL") != std::string::npos || error.find("no stereo frame") != std::string::npos ? 2 : 3, error);
 

@@ -8,7 +8,7 @@
 #        settled, eyes at the cameras) the error is near zero (p99 ≤ 0.05°); with cameras whose
 #        real mounting differs from the calibration the robot uses by 5 mm, the same check must
 #        fail; with the depth grid from the stereo pair (--depth-proxy grid) estimates are made
-#        and the view at rest stays as close. Also: head targets reach the robot, both programs
+#        (their pair costs on the GPU, --depth-gpu) and the view at rest stays as close. Also: head targets reach the robot, both programs
 #        exit cleanly (the robot on SIGINT);
 #        a media cap under 0.5 Mbit/s is refused.
 # Usage: robot_xr_loop_test.sh BIN_DIR SOURCE_DIR PORT
@@ -62,9 +62,13 @@ run calibrated "$calib"
 # and at rest (eyes at the cameras) the view stays where the scene is, whatever the depth.
 # 10 s: the grid costs llvmpipe several times the exact path, and under the sanitizers beside the
 # depth worker the loop ran at 9.7 fps (3 truth frames in 4 s, 5 needed): 10 s, every 5th frame.
-XR_DURATION=10 XR_TRUTH_EVERY=5 run grid "$calib" --depth-proxy grid
+# Its pair costs on the GPU (--depth-gpu: llvmpipe here), which the offscreen command once
+# accepted and did not pass on, like --depth-motion-views.
+XR_DURATION=10 XR_TRUTH_EVERY=5 run grid "$calib" --depth-proxy grid --depth-gpu
 grep -Eq '"depth_estimates": [1-9]' "$out/grid/stats.json" || fail "the depth worker published no estimate"
 grep -q '"depth_proxy": "grid"' "$out/grid/stats.json" || fail "the grid proxy was not in use"
+grep -q '"depth_sweep_on_gpu": true' "$out/grid/stats.json" ||
+  fail "--depth-gpu: the pair's costs were not computed on the GPU ($(grep depth_gpu_unavailable "$out/grid/stats.json"))"
 "$bin/telesphere-truth-check" --robot-truth "$out/grid-robot.csv" --xr-truth "$out/grid/truth" \
   --calib "$calib" --max-p99-deg 0.05 --min-frames 5 || fail "with the depth grid the operator's view is not where the scene is"
 

@@ -5,21 +5,27 @@
 ///        usable hypothesis within 2e-5 of the CPU's (float sums in another order), and the whole
 ///        sweep's grid the CPU's (the same tiles matched, inverse depths within 1e-4 1/m), at 4°
 ///        and at 2° tiles (four times the work groups), with earlier views too; an image of
-///        another size or another sweep's patches are refused with a reason, not computed.
+///        another size or another sweep's patches are refused with a reason, not computed. The
+///        depth worker with --depth-gpu publishes the CPU worker's estimates, the rig moving.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <memory>
+#include <thread>
 #include <string>
 #include <vector>
 
 #include "app/bench/prerendered_frames.h"
+#include "calib/camera_resolution.h"
 #include "robot/clock/clock.h"
+#include "robot/link/link_pose.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/stereo/stereo_still.h"
 #include "shaders/egl_context.h"
 #include "tests/xr/stripes_room.h"
 #include "xr/depth/gpu_sweep_costs.h"
+#include "xr/frame_loop/depth_worker.h"
 
 namespace telesphere::xr {
 namespace {
@@ -171,6 +177,81 @@ TEST(GpuSweepCosts, RefusesAnImageOfAnotherSizeAndAnotherSweepsPatches) {
   const depth::SweepResult flat = gpu->estimate(full, full, {}, &error);
   EXPECT_TRUE(error.empty()) << error;
   EXPECT_EQ(flat.tiles_matched, 0);
+}
+
+/// A pair of the test scene at 960 × 540 (the worker's working size is half of it) with the rig's
+/// left camera at p_robot_rig, each camera's pose from the joints.
+std::shared_ptr<video::DecodedStereoFrame> gpuTestPair(const std::shared_ptr<robot::cameras::SyntheticScene>& scene,
+                                                       const calib::SystemCalibration& rig, const Eigen::Vector3d& p_robot_rig,
+                                                       std::uint64_t sequence) {
+  constexpr int kWidth = 960, kHeight = 540;
+  const Eigen::Isometry3d T_robot_cam[2] = {Eigen::Isometry3d(Eigen::Translation3d(p_robot_rig)),
+                                            Eigen::Isometry3d(Eigen::Translation3d(p_robot_rig)) * *rig.T_cam_l_cam_r};
+  auto pair = std::make_shared<video::DecodedStereoFrame>();
+  pair->frame.set_sequence(sequence);
+  pair->frame.mutable_stamps()->set_capture_ns(1'000'000'000 + std::int64_t(sequence) * 100'000'000);
+  link::proto::CameraImage* images[2] = {pair->frame.mutable_left(), pair->frame.mutable_right()};
+  for (int i = 0; i < 2; ++i) {
+    std::string error, grey;
+    const auto lens = calib::atResolution(rig.cameras[i], kWidth, kHeight, &error);
+    robot::clock::SteadyClock clock;
+    robot::cameras::SyntheticCameraOptions options;
+    options.supersampling = 2;
+    const robot::cameras::SyntheticCamera camera(lens->camera, kWidth, kHeight, scene, robot::cameras::fixedPose(T_robot_cam[i]), clock,
+                                                 options);
+    EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &grey, &error)) << error;
+    auto planes = std::make_shared<render::YuvPlanes>();
+    planes->width = kWidth;
+    planes->height = kHeight;
+    planes->y.assign(grey.begin(), grey.end());
+    (i == 0 ? pair->left : pair->right) = planes;
+    link::toLinkPose(T_robot_cam[i], images[i]->mutable_t_robot_cam());
+    images[i]->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
+  }
+  return pair;
+}
+
+TEST(GpuSweepCosts, TheDepthWorkerOnTheGpuPublishesTheCpuWorkersEstimates) {
+  using namespace std::chrono_literals;
+  const auto scene = gpuTestScene();
+  const calib::SystemCalibration rig = bench::simulatedRig(3840, 2160);
+  frame_loop::DepthWorkerOptions gpu_options, cpu_options, caller_options;
+  gpu_options.gpu = true;  // its own thread, its own GL context there
+  cpu_options.on_caller_thread = true;
+  caller_options.on_caller_thread = true;
+  caller_options.gpu = true;  // not on the caller's thread: the CPU
+  frame_loop::DepthWorker on_gpu(rig, gpu_options), on_cpu(rig, cpu_options), on_caller(rig, caller_options);
+  // The rig coming in from 4 cm to the left: the later pairs take the earlier ones as views.
+  const Eigen::Vector3d positions[3] = {{-0.04, 0.0, 0.0}, {-0.02, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  for (std::uint64_t sequence = 1; sequence <= 3; ++sequence) {
+    SCOPED_TRACE("pair " + std::to_string(sequence));
+    const auto pair = gpuTestPair(scene, rig, positions[sequence - 1], sequence);
+    on_cpu.offer(pair);
+    on_caller.offer(pair);
+    on_gpu.offer(pair);
+    std::shared_ptr<const frame_loop::DepthEstimate> gpu;
+    for (int i = 0; i < 500 && !((gpu = on_gpu.newest()) && gpu->frame_sequence == sequence); ++i) std::this_thread::sleep_for(20ms);
+    ASSERT_TRUE(gpu && gpu->frame_sequence == sequence) << on_gpu.stats().last_error;
+    const auto cpu = on_cpu.newest();
+    ASSERT_TRUE(cpu);
+    EXPECT_TRUE(gpu->pair_costs_on_gpu) << on_gpu.stats().gpu_unavailable;
+    EXPECT_TRUE(on_gpu.stats().gpu_unavailable.empty()) << on_gpu.stats().gpu_unavailable;
+    EXPECT_FALSE(cpu->pair_costs_on_gpu);
+    EXPECT_FALSE(on_caller.newest()->pair_costs_on_gpu);
+    for (int i = 0; i < 2; ++i) {
+      EXPECT_NEAR(gpu->radius_m[i], cpu->radius_m[i], 1e-4);
+      EXPECT_EQ(gpu->matched_fraction[i], cpu->matched_fraction[i]);
+      EXPECT_EQ(gpu->motion_views[i], cpu->motion_views[i]);
+      EXPECT_EQ(gpu->tiles_decided_by_motion[i], cpu->tiles_decided_by_motion[i]);
+      const render::InverseDepthGrid &a = *gpu->grid[i], &b = *cpu->grid[i];
+      float worst = 0;
+      for (int k = 0; k < a.rows() * a.cols(); ++k) worst = std::max(worst, std::abs(a.data()[k] - b.data()[k]));
+      EXPECT_LE(worst, 1e-4F) << "camera " << i;
+    }
+    if (sequence == 3) {
+      EXPECT_GT(cpu->motion_views[0], 0);  // the views took part
+    }
+  }
 }
 
 }  // namespace

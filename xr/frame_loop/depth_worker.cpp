@@ -9,9 +9,12 @@
 #include <cmath>
 #include <numbers>
 
+#include <spdlog/spdlog.h>
+
 #include "calib/camera_resolution.h"
 #include "robot/link/link_pose.h"
 #include "xr/depth/box_downscale.h"
+#include "xr/depth/gpu_sweep_costs.h"
 
 namespace telesphere::xr::frame_loop {
 namespace {
@@ -32,6 +35,7 @@ double threadCpuMs() {
 struct DepthWorker::Sweeps {
   int source_width = 0, source_height = 0, factor = 1, width = 0, height = 0;
   std::unique_ptr<depth::SphereSweep> left, right;
+  std::unique_ptr<depth::GpuSweepCosts> gpu_left, gpu_right;  ///< with the GPU: each sweep's cost volume there
 };
 
 DepthWorker::DepthWorker(calib::SystemCalibration calibration, DepthWorkerOptions options)
@@ -86,11 +90,20 @@ void DepthWorker::run() {
     {
       std::unique_lock lock(mutex_);
       wake_.wait(lock, [this] { return quit_ || pending_; });
-      if (quit_) return;
+      if (quit_) break;
       frame = std::move(pending_);
     }
     sweep(*frame);
   }
+  releaseGpu();
+}
+
+void DepthWorker::releaseGpu() {
+  if (sweeps_) {
+    sweeps_->gpu_left.reset();
+    sweeps_->gpu_right.reset();
+  }
+  gl_context_.reset();
 }
 
 void DepthWorker::sweep(const video::DecodedStereoFrame& frame) {
@@ -139,6 +152,31 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
                                                    T_l_r.inverse(), options_.sweep);
     s->right = std::make_unique<depth::SphereSweep>(at[1]->camera, s->width, s->height, at[0]->camera, s->width, s->height,
                                                     T_l_r, options_.sweep);
+    if (gpuWanted()) {
+      // The GPU's cost volumes for these sweeps (the context at the first pair, once).
+      std::string why;
+      if (!gpu_tried_) {
+        gpu_tried_ = true;
+        gl_context_ = gl::EglContext::createSurfaceless(&why);
+      }
+      if (gl_context_) {
+        if (sweeps_) {  // the last size's, while the context is current
+          sweeps_->gpu_left.reset();
+          sweeps_->gpu_right.reset();
+        }
+        s->gpu_left = depth::GpuSweepCosts::create(*s->left, &why);
+        if (s->gpu_left) s->gpu_right = depth::GpuSweepCosts::create(*s->right, &why);
+        if (!s->gpu_right) s->gpu_left.reset();
+      } else if (why.empty()) {
+        why = "no GL context could be made before";
+      }
+      std::lock_guard lock(mutex_);
+      stats_.gpu_unavailable = s->gpu_right ? std::string() : why;
+      if (s->gpu_right)
+        spdlog::info("depth: the sweep's pair costs on the GPU ({})", gl_context_->renderer());
+      else
+        spdlog::warn("depth: the sweep's pair costs on the CPU, not the GPU: {}", why);
+    }
     sweeps_ = std::move(s);
     for (auto& h : history_) h.clear();  // images of another size
   }
@@ -165,7 +203,25 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   std::array<double, 2> longest{0.0, 0.0};
   for (int i = 0; i < 2; ++i)
     if (T_robot_cam[i]) earlier[i] = earlierViews(i, *T_robot_cam[i], capture_ns, &longest[i]);
-  const depth::SweepResult results[2] = {s.left->estimate(left, right, earlier[0]), s.right->estimate(right, left, earlier[1])};
+  depth::SweepResult results[2];
+  bool on_gpu = false;
+  if (s.gpu_left && s.gpu_right) {
+    std::string why;
+    results[0] = s.gpu_left->estimate(left, right, earlier[0], &why);
+    if (why.empty()) results[1] = s.gpu_right->estimate(right, left, earlier[1], &why);
+    on_gpu = why.empty();
+    if (!on_gpu) {  // a GL error: the CPU from here on, and the stats say why
+      spdlog::warn("depth: the GPU's pair costs failed, the CPU from now on: {}", why);
+      sweeps_->gpu_left.reset();
+      sweeps_->gpu_right.reset();
+      std::lock_guard lock(mutex_);
+      stats_.gpu_unavailable = why;
+    }
+  }
+  if (!on_gpu) {
+    results[0] = s.left->estimate(left, right, earlier[0]);
+    results[1] = s.right->estimate(right, left, earlier[1]);
+  }
   // What the views were, before the history they point into changes.
   std::array<int, 2> views_taken{static_cast<int>(earlier[0].size()), static_cast<int>(earlier[1].size())};
   // This pair's images join the history (not where rows were concealed or grey: not what the camera saw).
@@ -190,6 +246,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     out->motion_baseline_m[i] = longest[i];
     out->tiles_decided_by_motion[i] = results[i].tiles_decided_by_motion;
   }
+  out->pair_costs_on_gpu = on_gpu;
   out->sweep_ms = threadCpuMs() - cpu0;
   std::lock_guard lock(mutex_);
   newest_ = std::move(out);

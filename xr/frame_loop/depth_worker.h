@@ -26,6 +26,7 @@
 #include <thread>
 
 #include "calib/system_calibration.h"
+#include "shaders/egl_context.h"
 #include "robot/link/depth_proxy.h"
 #include "xr/depth/inverse_depth_filter.h"
 #include "xr/depth/sphere_sweep.h"
@@ -46,6 +47,11 @@ struct DepthWorkerOptions {
   /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
   /// returns (the offline replay: the same estimates run after run); no thread of its own.
   bool on_caller_thread = false;
+  /// The pair's costs on the GPU (xr/depth/gpu_sweep_costs.h) through a GL context of the worker
+  /// thread's own: the depth thread's CPU time falls to about a quarter. Where no context with
+  /// compute shaders can be made, the CPU, and the stats say why. Not with on_caller_thread (a
+  /// context of its own there would take the caller's place on its thread).
+  bool gpu = false;
 };
 
 /// One published estimate: per camera (0 left, 1 right) its filtered grid and radius.
@@ -59,6 +65,7 @@ struct DepthEstimate {
   std::array<int, 2> motion_views{0, 0};             ///< earlier views each camera's sweep took
   std::array<double, 2> motion_baseline_m{0.0, 0.0};  ///< the longest of them (camera centres apart across the optical axis)
   std::array<int, 2> tiles_decided_by_motion{0, 0};   ///< tiles whose depth those views decided
+  bool pair_costs_on_gpu = false;                     ///< the pair's costs came from the GPU
 };
 
 struct DepthWorkerStats {
@@ -67,6 +74,8 @@ struct DepthWorkerStats {
   std::uint64_t skipped = 0;    ///< pairs replaced by a newer one before the worker took them
   double last_sweep_ms = 0;
   std::string last_error;       ///< why the last pair gave no estimate (empty when it did)
+  /// With DepthWorkerOptions::gpu: why the sweep runs on the CPU instead (empty while on the GPU).
+  std::string gpu_unavailable;
 };
 
 class DepthWorker {
@@ -110,7 +119,13 @@ class DepthWorker {
   /// The earlier views for camera `side` now at T_robot_cam (its history, chosen by baseline).
   std::vector<depth::EarlierView> earlierViews(int side, const Eigen::Isometry3d& T_robot_cam, std::int64_t capture_ns,
                                                double* longest_m) const;
+  /// The GPU's context and cost volumes, made on the worker thread at its first pair and released
+  /// there when it ends (GL objects belong to the thread their context is current on).
+  bool gpuWanted() const { return options_.gpu && !options_.on_caller_thread; }
+  void releaseGpu();
   // Worker thread only.
+  std::unique_ptr<gl::EglContext> gl_context_;
+  bool gpu_tried_ = false;
   std::unique_ptr<Sweeps> sweeps_;
   std::array<std::deque<SweptImage>, 2> history_;
   std::uint64_t history_calibration_ = 0;  ///< the calibration generation the history's poses were made with

@@ -50,6 +50,7 @@ std::optional<OffscreenOperatorStats> runOffscreenOperator(
   view_options.head_targets_on_zmq = options.head_targets_on_zmq;
   view_options.depth_proxy = options.depth_proxy;
   view_options.depth_hold_ms = options.depth_hold_ms;
+  view_options.depth = options.depth;
   OperatorView operator_view(calibration, view_options);
 
   using Clock = std::chrono::steady_clock;

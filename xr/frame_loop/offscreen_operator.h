@@ -43,6 +43,7 @@ struct OffscreenOperatorOptions {
   bool warn_insecure_link = false;  ///< OperatorViewOptions::warn_insecure_link
   link::DepthProxy depth_proxy = link::DepthProxy::kFixed;  ///< OperatorViewOptions::depth_proxy (#35)
   double depth_hold_ms = 0.0;  ///< OperatorViewOptions::depth_hold_ms
+  DepthWorkerOptions depth;    ///< OperatorViewOptions::depth (the motion views, the GPU)
 };
 
 /// The per-frame core's figures (render ms: both eyes, incl. upload, to glFinish) and the loop's

@@ -484,7 +484,9 @@ void addDepthFigures(link::DepthProxy proxy, const DepthWorker* worker, Operator
   out->depth_estimates = depth.estimated;
   out->depth_pairs_skipped = depth.skipped;
   out->depth_sweep_ms = depth.last_sweep_ms;
+  out->depth_gpu_unavailable = depth.gpu_unavailable;
   if (const auto estimate = worker->newest()) {
+    out->depth_sweep_on_gpu = estimate->pair_costs_on_gpu;
     out->depth_radius_left_m = estimate->radius_m[0];
     out->depth_matched_fraction = estimate->matched_fraction[0];
     out->depth_motion_views_left = estimate->motion_views[0];

@@ -143,6 +143,10 @@ struct OperatorViewStats {
   /// baseline among them (m) and the tiles they decided (DepthWorkerOptions::motion_views).
   int depth_motion_views_left = 0, depth_tiles_decided_by_motion_left = 0;
   double depth_motion_baseline_left_m = 0;
+  /// The last estimate's pair costs came from the GPU (DepthWorkerOptions::gpu); where the GPU was
+  /// asked for and is not used, why.
+  bool depth_sweep_on_gpu = false;
+  std::string depth_gpu_unavailable;
   /// With depth_hold_ms: images shown with their own pair's depth after waiting for it, images
   /// shown without it when the wait ran out, and the display frames an image waited (p50, p99 ms).
   std::uint64_t depth_images_held = 0, depth_hold_timeouts = 0;
