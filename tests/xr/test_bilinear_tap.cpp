@@ -5,7 +5,10 @@
 ///        px allows (half a step times the steepest neighbouring difference, ≤ 255/512 grey).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <utility>
 #include <random>
 #include <vector>
 
@@ -67,6 +70,33 @@ TEST(BilinearTap, PixelCentresAreExactAndRowsFollowTheStride) {
   EXPECT_FLOAT_EQ(tapGrey(padded.data(), 8, bilinearTap({2, 1}, 3, 2)), 60.0F);
   EXPECT_FLOAT_EQ(tapGrey(padded.data(), 8, bilinearTap({2, 0}, 3, 2)), 30.0F);
   EXPECT_FLOAT_EQ(tapGrey(padded.data(), 8, bilinearTap({1.5, 0.5}, 3, 2)), 40.0F);  // (20 + 30 + 50 + 60) / 4
+}
+
+TEST(BilinearTap, WeightsRoundAsLroundAtEveryHalfStepAndBesideIt) {
+  // The weights as std::lround((p − floor p) · 256) gives them, at positions where a fraction lies
+  // at a half step of 1/256 or one double ulp beside it, and at (0.5 − 2⁻⁵⁴) / 256, where adding ½
+  // before truncating would round up.
+  const int width = 480, height = 270;
+  std::vector<double> positions = {std::ldexp(0.5 - std::ldexp(1.0, -54), -8)};
+  for (const double pixel : {0.0, 1.0, 17.0, 478.0})
+    for (int step = 0; step < 256; step += 5) {
+      const double half = pixel + (step + 0.5) / 256.0;
+      positions.insert(positions.end(), {half, std::nextafter(half, 0.0), std::nextafter(half, 1e9)});
+    }
+  positions.insert(positions.end(), {width - 1.0, std::nextafter(width - 1.0, 0.0), 0.0});
+  for (const double p : positions) {
+    const BilinearTap tap = bilinearTap({p, p / 2.0}, width, height);
+    const auto expected = [](double v, int size) {
+      const int v0 = std::min(static_cast<int>(std::floor(v)), size - 2);
+      return std::pair{v0, static_cast<int>(std::clamp(std::lround((v - v0) * 256.0), 0L, 256L))};
+    };
+    const auto [x0, wx] = expected(p, width);
+    const auto [y0, wy] = expected(p / 2.0, height);
+    ASSERT_EQ(tap.x, x0) << std::setprecision(20) << p;
+    ASSERT_EQ(tap.wx, wx) << std::setprecision(20) << p;
+    ASSERT_EQ(tap.y, y0) << std::setprecision(20) << p / 2.0;
+    ASSERT_EQ(tap.wy, wy) << std::setprecision(20) << p / 2.0;
+  }
 }
 
 }  // namespace

@@ -20,12 +20,17 @@ struct BilinearTap {
 /// The tap at position `p` of an image `width` × `height` (at least 2 × 2, at most 65536 wide and
 /// high); `p` inside [0, width − 1] × [0, height − 1].
 inline BilinearTap bilinearTap(const Eigen::Vector2d& p, int width, int height) {
-  // p is not negative, so truncating is flooring and truncating after adding ½ rounds: no library
-  // call for either (std::floor and std::lround are calls on baseline x86-64, and the sweep makes
-  // taps for every sample of every tile its earlier views look at).
+  // p is not negative, so truncating is flooring, and a weight rounds half up as std::lround does
+  // (its fraction after truncating is exact; adding ½ first would round 0.5 − 2⁻⁵⁴ up): no library
+  // call (std::floor and std::lround are calls on baseline x86-64, and the sweep makes taps for
+  // every sample of every tile its earlier views look at).
   const int x0 = std::clamp(static_cast<int>(p.x()), 0, width - 2);
   const int y0 = std::clamp(static_cast<int>(p.y()), 0, height - 2);
-  const auto weight = [](double f) { return static_cast<std::uint16_t>(std::clamp(static_cast<int>(f * 256.0 + 0.5), 0, 256)); };
+  const auto weight = [](double f) {
+    const double scaled = f * 256.0;
+    const int whole = static_cast<int>(scaled);
+    return static_cast<std::uint16_t>(std::clamp(whole + (scaled - whole >= 0.5 ? 1 : 0), 0, 256));
+  };
   return {static_cast<std::uint16_t>(x0), static_cast<std::uint16_t>(y0), weight(p.x() - x0), weight(p.y() - y0)};
 }
 
