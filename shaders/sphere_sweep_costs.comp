@@ -35,8 +35,9 @@ void main() {
     const uint p00 = texelFetch(other_image, p, 0).r, p01 = texelFetch(other_image, p + ivec2(1, 0), 0).r;
     const uint p10 = texelFetch(other_image, p + ivec2(0, 1), 0).r, p11 = texelFetch(other_image, p + ivec2(1, 1), 0).r;
     const uint top = p00 * (256u - wx) + p01 * wx, bottom = p10 * (256u - wx) + p11 * wx;
-    // b − 128 (xr/depth/patch_sums.h: kPatchGreyOffset), exact: |value| below 2^24.
-    const float b = float(int(top * (256u - wy) + bottom * wy) - 8388608) * (1.0 / 65536.0);
+    // b − kPatchGreyOffset (xr/depth/patch_sums.h; TS_GREY_OFFSET_FIXED is it · 65536, defined by
+    // gpu_sweep_costs.cpp), exact: |value| below 2^24.
+    const float b = float(int(top * (256u - wy) + bottom * wy) - TS_GREY_OFFSET_FIXED) * (1.0 / 65536.0);
     sum_b += b;
     sum_bb += b * b;
     sum_ab += reference_a[first_a + uint(s)] * b;

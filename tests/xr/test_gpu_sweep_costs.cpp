@@ -9,6 +9,7 @@
 ///        depth worker with --depth-gpu publishes the CPU worker's estimates, the rig moving.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -172,6 +173,17 @@ TEST(GpuSweepCosts, RefusesAnImageOfAnotherSizeAndAnotherSweepsPatches) {
   const depth::SweepResult none = gpu->estimate({small.data(), 100, 50, 100}, full, {}, &error);
   EXPECT_EQ(none.tiles_matched, 0);
   EXPECT_FALSE(error.empty());
+  // The CPU's steps refuse what is not theirs too: a reference image of another size, another
+  // sweep's patches (nothing read past either).
+  const std::vector<float> cpu_costs = sweep.pairCosts(patches, full);
+  EXPECT_EQ(sweep.decide({small.data(), 100, 50, 100}, patches, cpu_costs).tiles_seen, sweep.tileCount());
+  EXPECT_EQ(sweep.decide({small.data(), 100, 50, 100}, patches, cpu_costs).tiles_matched, 0);
+  depth::SphereSweep::ReferencePatches short_patches = patches;
+  short_patches.a.resize(10);
+  EXPECT_FALSE(sweep.fits(short_patches));
+  EXPECT_EQ(sweep.decide(full, short_patches, cpu_costs).tiles_matched, 0);
+  const std::vector<float> none_costs = sweep.pairCosts(short_patches, full);
+  EXPECT_TRUE(std::all_of(none_costs.begin(), none_costs.end(), [](float c) { return std::isinf(c); }));
   // A flat grey pair: every tile without texture, nothing matched, no error.
   error.clear();
   const depth::SweepResult flat = gpu->estimate(full, full, {}, &error);
@@ -238,6 +250,7 @@ TEST(GpuSweepCosts, TheDepthWorkerOnTheGpuPublishesTheCpuWorkersEstimates) {
     EXPECT_TRUE(on_gpu.stats().gpu_unavailable.empty()) << on_gpu.stats().gpu_unavailable;
     EXPECT_FALSE(cpu->pair_costs_on_gpu);
     EXPECT_FALSE(on_caller.newest()->pair_costs_on_gpu);
+    EXPECT_NE(on_caller.stats().gpu_unavailable.find("caller's thread"), std::string::npos) << on_caller.stats().gpu_unavailable;
     for (int i = 0; i < 2; ++i) {
       EXPECT_NEAR(gpu->radius_m[i], cpu->radius_m[i], 1e-4);
       EXPECT_EQ(gpu->matched_fraction[i], cpu->matched_fraction[i]);

@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "shaders/shader_program.h"
+#include "xr/depth/patch_sums.h"
 
 namespace telesphere::xr::depth {
 namespace {
@@ -38,7 +39,9 @@ std::string glErrorText() {
 std::unique_ptr<GpuSweepCosts> GpuSweepCosts::create(const SphereSweep& sweep, std::string* out_error) {
   std::unique_ptr<GpuSweepCosts> gpu(new GpuSweepCosts(sweep));
   glGetError();  // a caller's earlier error is not ours
-  auto program = gl::loadComputeProgram("sphere_sweep_costs.comp", {}, out_error);
+  // The samples' shift (patch_sums.h) in the shader's fixed point: b · 65536.
+  const std::string offset = "TS_GREY_OFFSET_FIXED " + std::to_string(static_cast<int>(kPatchGreyOffset) * 65536);
+  auto program = gl::loadComputeProgram("sphere_sweep_costs.comp", {offset}, out_error);
   if (!program) {
     if (out_error) *out_error = "GPU sweep: " + *out_error;
     return nullptr;
@@ -52,6 +55,16 @@ std::unique_ptr<GpuSweepCosts> GpuSweepCosts::create(const SphereSweep& sweep, s
   if ((tiles * hypotheses + kLocalSize - 1) / kLocalSize > static_cast<std::size_t>(max_groups)) {
     fail(out_error, std::to_string(tiles * hypotheses) + " tiles × hypotheses need more than the GPU's " +
                         std::to_string(max_groups) + " work groups");
+    return nullptr;
+  }
+  // The taps are one storage block: a driver may hold no more than 2^27 bytes in one (the minimum
+  // GL guarantees; 1° tiles with 48 hypotheses need about 600 MB).
+  GLint64 max_block = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &max_block);
+  const std::size_t largest = std::max(sweep.otherTaps().size() * sizeof(BilinearTap), tiles * hypotheses * sizeof(float));
+  if (largest > static_cast<std::size_t>(max_block)) {
+    fail(out_error, "the sweep's tables take " + std::to_string(largest) + " bytes in one storage block, the GPU allows " +
+                        std::to_string(max_block));
     return nullptr;
   }
   gpu->width_ = sweep.otherWidth();

@@ -88,10 +88,15 @@ std::size_t SphereSweep::tableBytes() const {
   return (reference_px_.size() + other_px_.size()) * sizeof(BilinearTap);
 }
 
+bool SphereSweep::fits(const ReferencePatches& patches) const {
+  return patches.textured.size() == tiles_.size() && patches.sum_aa.size() == tiles_.size() &&
+         patches.a.size() == tiles_.size() * static_cast<std::size_t>(samples_);
+}
+
 bool SphereSweep::accepts(const GreyImage& reference, const GreyImage& other) const {
   return reference.pixels && other.pixels && reference.width == reference_width_ && reference.height == reference_height_ &&
          other.width == other_width_ && other.height == other_height_ && reference.width >= 2 && reference.height >= 2 &&
-         other.width >= 2 && other.height >= 2;
+         other.width >= 2 && other.height >= 2 && reference.stride >= reference.width && other.stride >= other.width;
 }
 
 SweepResult SphereSweep::estimate(const GreyImage& reference, const GreyImage& other, const std::vector<EarlierView>& earlier) const {
@@ -115,7 +120,9 @@ void SphereSweep::referencePatches(const GreyImage& reference, ReferencePatches&
   patches.a.clear();
   patches.sum_aa.clear();
   patches.textured.clear();
-  if (!reference.pixels || reference.width != reference_width_ || reference.height != reference_height_) return;
+  if (!reference.pixels || reference.width != reference_width_ || reference.height != reference_height_ ||
+      reference.stride < reference.width)
+    return;
   patches.a.resize(tiles_.size() * static_cast<std::size_t>(samples_));
   patches.sum_aa.resize(tiles_.size());
   patches.textured.resize(tiles_.size());
@@ -146,7 +153,7 @@ std::vector<float> SphereSweep::pairCosts(const ReferencePatches& patches, const
 void SphereSweep::pairCosts(const ReferencePatches& patches, const GreyImage& other, std::vector<float>& costs) const {
   const std::size_t hypotheses = static_cast<std::size_t>(options_.hypotheses);
   costs.assign(tiles_.size() * hypotheses, std::numeric_limits<float>::infinity());
-  if (patches.textured.size() != tiles_.size() || !other.pixels || other.width != other_width_ || other.height != other_height_)
+  if (!fits(patches) || !other.pixels || other.width != other_width_ || other.height != other_height_ || other.stride < other.width)
     return;
   for (std::size_t t = 0; t < tiles_.size(); ++t) {
     if (!patches.textured[t]) continue;
@@ -166,7 +173,9 @@ SweepResult SphereSweep::decide(const GreyImage& reference, const ReferencePatch
   result.confidence.assign(static_cast<std::size_t>(grid.rows()) * grid.cols(), 0.0F);
   result.tiles_seen = static_cast<int>(tiles_.size());
   const std::size_t hypotheses = static_cast<std::size_t>(options_.hypotheses);
-  if (!reference.pixels || patches.textured.size() != tiles_.size() || costs.size() != tiles_.size() * hypotheses) return result;
+  if (!reference.pixels || reference.width != reference_width_ || reference.height != reference_height_ ||
+      reference.stride < reference.width || !fits(patches) || costs.size() != tiles_.size() * hypotheses)
+    return result;
   std::vector<EarlierView> earlier;
   for (const EarlierView& view : earlier_views)
     if (view.image.pixels && view.image.width == reference_width_ && view.image.height == reference_height_) earlier.push_back(view);

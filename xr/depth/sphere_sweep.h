@@ -121,8 +121,11 @@ class SphereSweep {
     std::vector<float> sum_aa;           ///< per tile
     std::vector<std::uint8_t> textured;  ///< per tile
   };
-  /// Whether images of these sizes can be swept (those given at construction, at least 2 × 2).
+  /// Whether images of these sizes can be swept (those given at construction, at least 2 × 2,
+  /// rows at least an image wide).
   bool accepts(const GreyImage& reference, const GreyImage& other) const;
+  /// Whether patches are this sweep's (one a tile, its samples).
+  bool fits(const ReferencePatches& patches) const;
   /// Empty for an image of another size.
   ReferencePatches referencePatches(const GreyImage& reference) const;
   /// The same into `out`, reusing its memory.
@@ -132,7 +135,8 @@ class SphereSweep {
   std::vector<float> pairCosts(const ReferencePatches& patches, const GreyImage& other) const;
   void pairCosts(const ReferencePatches& patches, const GreyImage& other, std::vector<float>& out) const;
   /// The grid from a cost volume as pairCosts gives it (costs of unusable hypotheses are ignored,
-  /// whatever they hold). Patches or costs of another size give a grid with no tile matched.
+  /// whatever they hold). A reference image, patches or costs of another size give a grid with no
+  /// tile matched.
   SweepResult decide(const GreyImage& reference, const ReferencePatches& patches, const std::vector<float>& costs,
                      const std::vector<EarlierView>& earlier = {}) const;
   int tileCount() const { return static_cast<int>(tiles_.size()); }

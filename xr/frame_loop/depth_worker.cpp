@@ -42,6 +42,8 @@ DepthWorker::DepthWorker(calib::SystemCalibration calibration, DepthWorkerOption
     : calibration_(std::move(calibration)),
       options_(options),
       filters_{depth::InverseDepthFilter(options.filter), depth::InverseDepthFilter(options.filter)} {
+  if (options_.gpu && options_.on_caller_thread)
+    stats_.gpu_unavailable = "the sweep runs on the caller's thread (the offline replay), whose GL context is its own";
   if (!options_.on_caller_thread) thread_ = std::thread([this] { run(); });
 }
 
@@ -157,9 +159,13 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
       std::string why;
       if (!gpu_tried_) {
         gpu_tried_ = true;
-        gl_context_ = gl::EglContext::createSurfaceless(&why);
+        std::string error;
+        gl_context_ = gl::EglContext::createSurfaceless(&error);
+        if (!gl_context_) gpu_failure_ = "no GL 4.5 context: " + error;
       }
-      if (gl_context_) {
+      if (!gpu_failure_.empty()) {
+        why = gpu_failure_;
+      } else {
         if (sweeps_) {  // the last size's, while the context is current
           sweeps_->gpu_left.reset();
           sweeps_->gpu_right.reset();
@@ -167,8 +173,6 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
         s->gpu_left = depth::GpuSweepCosts::create(*s->left, &why);
         if (s->gpu_left) s->gpu_right = depth::GpuSweepCosts::create(*s->right, &why);
         if (!s->gpu_right) s->gpu_left.reset();
-      } else if (why.empty()) {
-        why = "no GL context could be made before";
       }
       std::lock_guard lock(mutex_);
       stats_.gpu_unavailable = s->gpu_right ? std::string() : why;
@@ -210,8 +214,9 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     results[0] = s.gpu_left->estimate(left, right, earlier[0], &why);
     if (why.empty()) results[1] = s.gpu_right->estimate(right, left, earlier[1], &why);
     on_gpu = why.empty();
-    if (!on_gpu) {  // a GL error: the CPU from here on, and the stats say why
+    if (!on_gpu) {  // a GL error: the CPU from here on (another image size too), and the stats say why
       spdlog::warn("depth: the GPU's pair costs failed, the CPU from now on: {}", why);
+      gpu_failure_ = why;
       sweeps_->gpu_left.reset();
       sweeps_->gpu_right.reset();
       std::lock_guard lock(mutex_);

@@ -49,8 +49,9 @@ struct DepthWorkerOptions {
   bool on_caller_thread = false;
   /// The pair's costs on the GPU (xr/depth/gpu_sweep_costs.h) through a GL context of the worker
   /// thread's own: the depth thread's CPU time falls to about a quarter. Where no context with
-  /// compute shaders can be made, the CPU, and the stats say why. Not with on_caller_thread (a
-  /// context of its own there would take the caller's place on its thread).
+  /// compute shaders can be made, or a sweep there fails, the CPU from then on, and the stats say
+  /// why. Not with on_caller_thread (a context of its own there would take the caller's place on
+  /// its thread): the CPU, and the stats say so.
   bool gpu = false;
 };
 
@@ -126,6 +127,7 @@ class DepthWorker {
   // Worker thread only.
   std::unique_ptr<gl::EglContext> gl_context_;
   bool gpu_tried_ = false;
+  std::string gpu_failure_;  ///< why the GPU is not used again (no context, a GL error in a sweep)
   std::unique_ptr<Sweeps> sweeps_;
   std::array<std::deque<SweptImage>, 2> history_;
   std::uint64_t history_calibration_ = 0;  ///< the calibration generation the history's poses were made with
