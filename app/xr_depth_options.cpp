@@ -35,14 +35,18 @@ void addXrDepthOptions(CLI::App& command, XrDepthOptions& options, const std::st
       ->check(CLI::Range(0, 4));
   command.add_flag("--depth-gpu", options.gpu,
                    "with radius or grid: the stereo sweep's pair costs on the GPU (a GL 4.5 context of the depth "
-                   "thread's own), leaving about a quarter of its CPU time; where none can be made, the CPU, and the "
-                   "stats say why");
+                   "thread's own on an EGL device that is a GPU), leaving about a quarter of its CPU time; where there "
+                   "is none, the CPU, and the stats say why");
+  command.add_flag("--depth-gpu-software", options.gpu_software,
+                   "with --depth-gpu: take a software GL (Mesa's llvmpipe) where there is no GPU; it sums on the CPU's "
+                   "cores, slower than the CPU path (tests, and checking the GPU path on a machine without one)");
 }
 
 xr::frame_loop::DepthWorkerOptions depthWorkerOptions(const XrDepthOptions& options) {
   xr::frame_loop::DepthWorkerOptions depth;
   depth.motion_views = options.motion_views;
   depth.gpu = options.gpu;
+  depth.gpu_software_ok = options.gpu_software;
   return depth;
 }
 

@@ -17,6 +17,7 @@ struct XrDepthOptions {
   double hold_ms = 0.0;                ///< OperatorViewOptions::depth_hold_ms
   int motion_views = 2;                ///< DepthWorkerOptions::motion_views
   bool gpu = false;                    ///< DepthWorkerOptions::gpu
+  bool gpu_software = false;           ///< DepthWorkerOptions::gpu_software_ok
 };
 
 /// --depth-proxy, --grid-edges, --depth-hold-ms, --depth-motion-views, --depth-gpu on `command`; `until` ends the proxy's help (who

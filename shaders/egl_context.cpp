@@ -2,6 +2,7 @@
 /// @brief EglContext: a windowless EGL display (Mesa surfaceless, else the first EGL device), GL 4.5 core context.
 #include "shaders/egl_context.h"
 
+#include <cstring>
 #include <sstream>
 
 namespace telesphere::gl {
@@ -48,6 +49,11 @@ std::unique_ptr<EglContext> EglContext::createSurfaceless(std::string* out_error
     fail(out_error, "eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, then EGL_PLATFORM_DEVICE_EXT)");
     return nullptr;
   }
+  return contextOn(display, out_error);
+}
+
+/// A GL 4.5 core context on `display` (initialised here), current on this thread.
+std::unique_ptr<EglContext> EglContext::contextOn(EGLDisplay display, std::string* out_error) {
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) {
     fail(out_error, "eglInitialize");
@@ -73,6 +79,42 @@ std::unique_ptr<EglContext> EglContext::createSurfaceless(std::string* out_error
   return result;
 }
 
+std::unique_ptr<EglContext> EglContext::createOnHardwareDevice(std::string* out_error) {
+  const auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  const auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  const auto query_device_string =
+      reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+  if (!get_platform_display || !query_devices || !query_device_string) {
+    if (out_error) *out_error = "this EGL cannot list devices (EGL_EXT_device_enumeration, EGL_EXT_device_query)";
+    return nullptr;
+  }
+  EGLDeviceEXT devices[8];
+  EGLint count = 0;
+  if (!query_devices(8, devices, &count)) count = 0;
+  std::string why = "no EGL device";
+  int software = 0;
+  for (EGLint i = 0; i < count; ++i) {
+    // Mesa lists its software rasterizer (llvmpipe) as a device of its own.
+    const char* extensions = query_device_string(devices[i], EGL_EXTENSIONS);
+    if (extensions && std::strstr(extensions, "EGL_MESA_device_software")) {
+      ++software;
+      continue;
+    }
+    const EGLDisplay display = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    if (display == EGL_NO_DISPLAY) continue;
+    if (auto context = contextOn(display, &why)) {
+      if (!context->software()) return context;
+      ++software;
+      why = "no EGL device";
+    }
+  }
+  if (out_error)
+    *out_error = why + " with a GPU (" + std::to_string(count) + " EGL device" + (count == 1 ? "" : "s") + ", " +
+                 std::to_string(software) + " of them software)";
+  return nullptr;
+}
+
 EglContext::~EglContext() {
   eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   eglDestroyContext(display_, context_);
@@ -88,6 +130,13 @@ bool EglContext::makeCurrent() const {
 std::string EglContext::renderer() const {
   const auto* text = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   return text ? text : "";
+}
+
+bool EglContext::software() const {
+  const std::string name = renderer();
+  for (const char* rasterizer : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+    if (name.find(rasterizer) != std::string::npos) return true;
+  return false;
 }
 
 }  // namespace telesphere::gl

@@ -6,7 +6,8 @@
 ///        sweep's grid the CPU's (the same tiles matched, inverse depths within 1e-4 1/m), at 4°
 ///        and at 2° tiles (four times the work groups), with earlier views too; an image of
 ///        another size or another sweep's patches are refused with a reason, not computed. The
-///        depth worker with --depth-gpu publishes the CPU worker's estimates, the rig moving.
+///        depth worker with --depth-gpu publishes the CPU worker's estimates, the rig moving; without
+///        a GPU it sums on the CPU and says why, rather than on Mesa's llvmpipe (unless allowed).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -229,6 +230,7 @@ TEST(GpuSweepCosts, TheDepthWorkerOnTheGpuPublishesTheCpuWorkersEstimates) {
   const calib::SystemCalibration rig = bench::simulatedRig(3840, 2160);
   frame_loop::DepthWorkerOptions gpu_options, cpu_options, caller_options;
   gpu_options.gpu = true;  // its own thread, its own GL context there
+  gpu_options.gpu_software_ok = true;  // llvmpipe, where there is no GPU
   cpu_options.on_caller_thread = true;
   caller_options.on_caller_thread = true;
   caller_options.gpu = true;  // not on the caller's thread: the CPU
@@ -264,6 +266,41 @@ TEST(GpuSweepCosts, TheDepthWorkerOnTheGpuPublishesTheCpuWorkersEstimates) {
     if (sequence == 3) {
       EXPECT_GT(cpu->motion_views[0], 0);  // the views took part
     }
+  }
+}
+
+TEST(GpuSweepCosts, WithoutAGpuTheWorkerSumsOnTheCpuAndSaysWhyRatherThanOnLlvmpipe) {
+  // A context for work that must not fall to the CPU's cores is a GPU's or none.
+  std::string error;
+  const auto hardware = gl::EglContext::createOnHardwareDevice(&error);
+  if (hardware) {
+    EXPECT_FALSE(hardware->software()) << hardware->renderer();
+  } else {
+    EXPECT_NE(error.find("GPU"), std::string::npos) << error;
+  }
+  const bool gpu_here = hardware != nullptr;
+  {
+    const auto any = gl::EglContext::createSurfaceless(&error);
+    ASSERT_TRUE(any) << error;
+    if (any->renderer().find("llvmpipe") != std::string::npos) {
+      EXPECT_TRUE(any->software());
+    }
+  }
+  // The worker with --depth-gpu but not --depth-gpu-software: on a GPU where there is one, else the
+  // CPU with the reason (here: Mesa's llvmpipe only).
+  const auto scene = gpuTestScene();
+  const calib::SystemCalibration rig = bench::simulatedRig(3840, 2160);
+  frame_loop::DepthWorkerOptions options;
+  options.gpu = true;
+  frame_loop::DepthWorker worker(rig, options);
+  worker.offer(gpuTestPair(scene, rig, Eigen::Vector3d::Zero(), 1));
+  std::shared_ptr<const frame_loop::DepthEstimate> estimate;
+  for (int i = 0; i < 500 && !(estimate = worker.newest()); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(estimate) << worker.stats().last_error;
+  EXPECT_EQ(estimate->pair_costs_on_gpu, gpu_here) << worker.stats().gpu_unavailable;
+  if (!gpu_here) {
+    EXPECT_NE(worker.stats().gpu_unavailable.find("software"), std::string::npos) << worker.stats().gpu_unavailable;
+    EXPECT_GT(estimate->matched_fraction[0], 0.5);  // the CPU's sweep, as ever
   }
 }
 

@@ -160,8 +160,12 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
       if (!gpu_tried_) {
         gpu_tried_ = true;
         std::string error;
-        gl_context_ = gl::EglContext::createSurfaceless(&error);
-        if (!gl_context_) gpu_failure_ = "no GL 4.5 context: " + error;
+        gl_context_ = gl::EglContext::createOnHardwareDevice(&error);
+        if (!gl_context_ && options_.gpu_software_ok) gl_context_ = gl::EglContext::createSurfaceless(&error);
+        if (!gl_context_)
+          gpu_failure_ = options_.gpu_software_ok
+                             ? "no GL 4.5 context: " + error
+                             : error + "; a software GL (Mesa's llvmpipe) would sum on these CPU cores, slower than the CPU path";
       }
       if (!gpu_failure_.empty()) {
         why = gpu_failure_;

@@ -51,8 +51,11 @@ struct DepthWorkerOptions {
   /// thread's own: the depth thread's CPU time falls to about a quarter. Where no context with
   /// compute shaders can be made, or a sweep there fails, the CPU from then on, and the stats say
   /// why. Not with on_caller_thread (a context of its own there would take the caller's place on
-  /// its thread): the CPU, and the stats say so.
+  /// its thread): the CPU, and the stats say so. The context is a GPU's (EglContext::
+  /// createOnHardwareDevice): Mesa's llvmpipe would run the shader on these CPU cores, slower than
+  /// the CPU path and beside the renderer, so it is taken only with gpu_software_ok (the tests).
   bool gpu = false;
+  bool gpu_software_ok = false;
 };
 
 /// One published estimate: per camera (0 left, 1 right) its filtered grid and radius.
