@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <initializer_list>
 #include <fstream>
 #include <sstream>
 
@@ -173,6 +174,25 @@ std::optional<GlShader> compile(GLenum stage, const std::string& file,
   return shader;
 }
 
+/// A program of `shaders`; nothing, with "linking NAME: log", when it does not link.
+std::optional<GlProgram> link(std::initializer_list<const GlShader*> shaders, const std::string& name, std::string* out_error) {
+  GlProgram program(glCreateProgram());
+  for (const GlShader* shader : shaders) glAttachShader(program.id(), shader->id());
+  glLinkProgram(program.id());
+  for (const GlShader* shader : shaders) glDetachShader(program.id(), shader->id());
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  if (ok != GL_TRUE) {
+    GLint length = 0;
+    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
+    if (out_error) *out_error = "linking " + name + ": " + log.c_str();
+    return std::nullopt;
+  }
+  return program;
+}
+
 }  // namespace
 
 std::string shaderDirectory() {
@@ -188,45 +208,14 @@ std::optional<GlProgram> loadProgram(const std::string& vertex_file,
   if (!vs) return std::nullopt;
   auto fs = compile(GL_FRAGMENT_SHADER, fragment_file, defines, out_error);
   if (!fs) return std::nullopt;
-  GlProgram program(glCreateProgram());
-  glAttachShader(program.id(), vs->id());
-  glAttachShader(program.id(), fs->id());
-  glLinkProgram(program.id());
-  glDetachShader(program.id(), vs->id());
-  glDetachShader(program.id(), fs->id());
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    GLint length = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-    if (out_error)
-      *out_error = "linking " + vertex_file + " + " + fragment_file + ": " + log.c_str();
-    return std::nullopt;
-  }
-  return program;
+  return link({&*vs, &*fs}, vertex_file + " + " + fragment_file, out_error);
 }
 
 std::optional<GlProgram> loadComputeProgram(const std::string& compute_file, const std::vector<std::string>& defines,
                                             std::string* out_error) {
   auto cs = compile(GL_COMPUTE_SHADER, compute_file, defines, out_error);
   if (!cs) return std::nullopt;
-  GlProgram program(glCreateProgram());
-  glAttachShader(program.id(), cs->id());
-  glLinkProgram(program.id());
-  glDetachShader(program.id(), cs->id());
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
-  if (ok != GL_TRUE) {
-    GLint length = 0;
-    glGetProgramiv(program.id(), GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program.id(), length, nullptr, log.data());
-    if (out_error) *out_error = "linking " + compute_file + ": " + log.c_str();
-    return std::nullopt;
-  }
-  return program;
+  return link({&*cs}, compute_file, out_error);
 }
 
 }  // namespace telesphere::gl

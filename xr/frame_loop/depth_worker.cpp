@@ -36,6 +36,11 @@ struct DepthWorker::Sweeps {
   int source_width = 0, source_height = 0, factor = 1, width = 0, height = 0;
   std::unique_ptr<depth::SphereSweep> left, right;
   std::unique_ptr<depth::GpuSweepCosts> gpu_left, gpu_right;  ///< with the GPU: each sweep's cost volume there
+  /// Frees the GPU's objects (with the worker's context current).
+  void dropGpu() {
+    gpu_left.reset();
+    gpu_right.reset();
+  }
 };
 
 DepthWorker::DepthWorker(calib::SystemCalibration calibration, DepthWorkerOptions options)
@@ -102,8 +107,7 @@ void DepthWorker::run() {
 
 void DepthWorker::releaseGpu() {
   if (sweeps_) {
-    sweeps_->gpu_left.reset();
-    sweeps_->gpu_right.reset();
+    sweeps_->dropGpu();
   }
   gl_context_.reset();
 }
@@ -171,8 +175,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
         why = gpu_failure_;
       } else {
         if (sweeps_) {  // the last size's, while the context is current
-          sweeps_->gpu_left.reset();
-          sweeps_->gpu_right.reset();
+          sweeps_->dropGpu();
         }
         s->gpu_left = depth::GpuSweepCosts::create(*s->left, &why);
         if (s->gpu_left) s->gpu_right = depth::GpuSweepCosts::create(*s->right, &why);
@@ -221,8 +224,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     if (!on_gpu) {  // a GL error: the CPU from here on (another image size too), and the stats say why
       spdlog::warn("depth: the GPU's pair costs failed, the CPU from now on: {}", why);
       gpu_failure_ = why;
-      sweeps_->gpu_left.reset();
-      sweeps_->gpu_right.reset();
+      sweeps_->dropGpu();
       std::lock_guard lock(mutex_);
       stats_.gpu_unavailable = why;
     }
