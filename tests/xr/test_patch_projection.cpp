@@ -7,11 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "app/bench/prerendered_frames.h"
 #include "xr/depth/patch_projection.h"
+#include "xr/depth/patch_sums.h"
 #include "xr/render/depth_proxy.h"
 
 namespace telesphere::xr {
@@ -111,6 +115,70 @@ TEST(PatchProjection, APatchThatDoesNotProjectSaysSo) {
   std::vector<Eigen::Vector3f> ahead(kSide * kSide, Eigen::Vector3f(0.0F, 0.0F, 1.0F));
   const Eigen::Isometry3d T_view_reference(Eigen::Translation3d(0.0, 0.0, -0.25));  // the view 0.25 m ahead, where ρ = 4 puts the point
   EXPECT_FALSE(depth::projectPatch(lens.camera, ahead.data(), kSide, T_view_reference, 4.0, true, px.data()));
+}
+
+TEST(PatchProjection, TapsBetweenCornersAreEachInterpolatedSamplesTapToTheBit) {
+  // The AVX2 taps (where this CPU has it) against bilinearTap of betweenCorners, one sample at a time,
+  // and the scalar path against the same: seeded random corners anywhere inside images from the
+  // smallest (2 × 2) to the largest (65536 wide), corners on the image's edges, on half steps of a
+  // weight (where rounding turns), and patches of 2 × 2 to 9 × 9 (tails of 0 to 3 samples a step).
+  std::mt19937 random(35);
+  struct Size {
+    int width, height;
+  };
+  const std::vector<Size> sizes = {{2, 2}, {3, 7}, {480, 270}, {960, 540}, {65536, 3}, {5, 65536}};
+  int patches = 0;
+  for (const Size& size : sizes)
+    for (int n = 2; n <= 9; ++n)
+      for (int trial = 0; trial < 400; ++trial) {
+        const double max_x = size.width - 1.0, max_y = size.height - 1.0;
+        const auto coordinate = [&](double max) {
+          switch (trial % 4) {
+            case 0: return std::uniform_real_distribution<double>(0.0, max)(random);
+            // On the image's edges.
+            case 1: return std::bernoulli_distribution(0.5)(random) ? 0.0 : max;
+            // Whole pixels plus a half step of a 1/256 weight, or the doubles beside one.
+            case 2: {
+              const double half = (std::uniform_int_distribution<int>(0, 255)(random) + 0.5) / 256.0;
+              const double p = std::min(std::floor(std::uniform_real_distribution<double>(0.0, max)(random)) + half, max);
+              const int side = std::uniform_int_distribution<int>(-1, 1)(random);
+              return std::clamp(side == 0 ? p : std::nextafter(p, side * 1e9), 0.0, max);
+            }
+            // A small patch anywhere: all corners within a pixel or two of each other.
+            default: return std::uniform_real_distribution<double>(0.0, std::min(max, 2.0))(random);
+          }
+        };
+        depth::PatchCorners corners{{coordinate(max_x), coordinate(max_y)},
+                                    {coordinate(max_x), coordinate(max_y)},
+                                    {coordinate(max_x), coordinate(max_y)},
+                                    {coordinate(max_x), coordinate(max_y)}};
+        std::vector<depth::BilinearTap> expected(n * n), simd(n * n + 3), scalar(n * n);
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; j < n; ++j)
+            expected[i * n + j] = depth::bilinearTap(depth::betweenCorners(corners, n, i, j), size.width, size.height);
+        // A guard past the patch: the four-at-a-step version must not write beyond n × n taps.
+        std::memset(static_cast<void*>(simd.data()), 0xAB, simd.size() * sizeof(depth::BilinearTap));
+        depth::tapsBetweenCorners(corners, n, size.width, size.height, simd.data(), true);
+        depth::tapsBetweenCorners(corners, n, size.width, size.height, scalar.data(), false);
+        for (int s = 0; s < n * n; ++s) {
+          SCOPED_TRACE("size " + std::to_string(size.width) + "x" + std::to_string(size.height) + ", n " + std::to_string(n) +
+                       ", sample " + std::to_string(s));
+          for (const std::vector<depth::BilinearTap>* got : {&simd, &scalar}) {
+            ASSERT_EQ((*got)[s].x, expected[s].x);
+            ASSERT_EQ((*got)[s].y, expected[s].y);
+            ASSERT_EQ((*got)[s].wx, expected[s].wx);
+            ASSERT_EQ((*got)[s].wy, expected[s].wy);
+          }
+        }
+        for (int s = n * n; s < n * n + 3; ++s) {
+          std::uint64_t guard = 0;
+          std::memcpy(&guard, &simd[s], sizeof(guard));
+          ASSERT_EQ(guard, 0xABABABABABABABABULL) << "written past the patch, n " << n;
+        }
+        ++patches;
+      }
+  EXPECT_EQ(patches, 6 * 8 * 400);
+  std::printf("%d patches, AVX2 %s\n", patches, depth::patchSumsSimdAvailable() ? "compared" : "not on this CPU (scalar only)");
 }
 
 }  // namespace patch_projection_test

@@ -1,33 +1,152 @@
 // SPDX-License-Identifier: MIT
-/// @brief projectPatch: every sample, or the four corners and bilinear between them.
+/// @brief projectPatch: every sample, or the four corners and bilinear between them; the taps
+///        between corners, one at a time or four at a step (AVX2).
 #include "xr/depth/patch_projection.h"
 
+#include <algorithm>
 #include <cassert>
+#include <vector>
+
+#include "xr/depth/patch_sums.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define TELESPHERE_PATCH_TAPS_AVX2 1
+#endif
 
 namespace telesphere::xr::depth {
+namespace {
+
+/// The point at depth 1/ρ along d, in the view's frame (up to its positive scale 1/ρ), projected.
+bool projectAt(const calib::GenericCamera& camera, const Eigen::Vector3f& d, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+               double rho, Eigen::Vector2d& px) {
+  return camera.project(R * d.cast<double>() + rho * t, px);
+}
+
+#ifdef TELESPHERE_PATCH_TAPS_AVX2
+/// A product GCC may not fuse into the sum it feeds (it fuses intrinsics' products where FMA is on);
+/// betweenCorners, compiled without FMA, rounds each.
+__attribute__((target("avx2,fma"), always_inline)) inline __m256d rounded(__m256d product) {
+  __asm__("" : "+x"(product));
+  return product;
+}
+
+/// Each lane's 32-bit integer from four 64-bit compare masks (all ones or zero).
+__attribute__((target("avx2,fma"), always_inline)) inline __m128i maskToInt32(__m256d mask) {
+  const __m256i low_dwords = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
+  return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(mask), low_dwords));
+}
+
+/// bilinearTap's corner pixel and weight along one axis, four lanes: x0 = clamp(trunc(p), 0,
+/// size − 2); the weight clamp(trunc(f·256) + (f·256 − trunc(f·256) ≥ ½), 0, 256) with f = p − x0.
+__attribute__((target("avx2,fma"), always_inline)) inline void tapAxis(__m256d p, int size, __m128i& corner, __m128i& weight) {
+  const __m128i zero = _mm_setzero_si128();
+  corner = _mm_min_epi32(_mm_max_epi32(_mm256_cvttpd_epi32(p), zero), _mm_set1_epi32(size - 2));
+  const __m256d scaled = _mm256_mul_pd(_mm256_sub_pd(p, _mm256_cvtepi32_pd(corner)), _mm256_set1_pd(256.0));
+  const __m128i whole = _mm256_cvttpd_epi32(scaled);
+  const __m128i half_up = maskToInt32(_mm256_cmp_pd(_mm256_sub_pd(scaled, _mm256_cvtepi32_pd(whole)), _mm256_set1_pd(0.5), _CMP_GE_OQ));
+  weight = _mm_min_epi32(_mm_max_epi32(_mm_sub_epi32(whole, half_up), zero), _mm_set1_epi32(256));
+}
+
+/// (1 − u)·((1 − v)·q00 + v·q01) + u·((1 − v)·q10 + v·q11), each product rounded as betweenCorners's.
+__attribute__((target("avx2,fma"), always_inline)) inline __m256d blend(__m256d u, __m256d v, __m256d not_u, __m256d not_v, __m256d q00,
+                                                                         __m256d q01, __m256d q10, __m256d q11) {
+  const __m256d top = _mm256_add_pd(rounded(_mm256_mul_pd(not_v, q00)), rounded(_mm256_mul_pd(v, q01)));
+  const __m256d bottom = _mm256_add_pd(rounded(_mm256_mul_pd(not_v, q10)), rounded(_mm256_mul_pd(v, q11)));
+  return _mm256_add_pd(rounded(_mm256_mul_pd(not_u, top)), rounded(_mm256_mul_pd(u, bottom)));
+}
+
+__attribute__((target("avx2,fma"))) void tapsBetweenCornersAvx2(const PatchCorners& c, int n, int width, int height, BilinearTap* out) {
+  // Each sample's u = i/(n − 1) and v = j/(n − 1), as betweenCorners divides, kept for the last n.
+  thread_local std::vector<double> u_table, v_table;
+  thread_local int table_n = 0;
+  const int count = n * n, steps = (count + 3) / 4;
+  if (table_n != n) {
+    u_table.assign(static_cast<std::size_t>(steps) * 4, 0.0);
+    v_table.assign(static_cast<std::size_t>(steps) * 4, 0.0);
+    for (int s = 0; s < count; ++s) {
+      u_table[s] = static_cast<double>(s / n) / (n - 1);
+      v_table[s] = static_cast<double>(s % n) / (n - 1);
+    }
+    table_n = n;
+  }
+  const __m256d one = _mm256_set1_pd(1.0);
+  const __m256d x00 = _mm256_set1_pd(c.p00.x()), x01 = _mm256_set1_pd(c.p01.x()), x10 = _mm256_set1_pd(c.p10.x()),
+                x11 = _mm256_set1_pd(c.p11.x());
+  const __m256d y00 = _mm256_set1_pd(c.p00.y()), y01 = _mm256_set1_pd(c.p01.y()), y10 = _mm256_set1_pd(c.p10.y()),
+                y11 = _mm256_set1_pd(c.p11.y());
+  for (int step = 0; step < steps; ++step) {
+    const __m256d u = _mm256_loadu_pd(&u_table[step * 4]), v = _mm256_loadu_pd(&v_table[step * 4]);
+    const __m256d not_u = _mm256_sub_pd(one, u), not_v = _mm256_sub_pd(one, v);
+    __m128i x, y, wx, wy;
+    tapAxis(blend(u, v, not_u, not_v, x00, x01, x10, x11), width, x, wx);
+    tapAxis(blend(u, v, not_u, not_v, y00, y01, y10, y11), height, y, wy);
+    // Four taps of (x, y, wx, wy), 16 bits each (all below 65536).
+    const __m128i xy = _mm_or_si128(x, _mm_slli_epi32(y, 16)), w = _mm_or_si128(wx, _mm_slli_epi32(wy, 16));
+    static_assert(sizeof(BilinearTap) == 8, "a tap is x, y, wx, wy: 16 bits each");
+    const __m128i first = _mm_unpacklo_epi32(xy, w), second = _mm_unpackhi_epi32(xy, w);
+    BilinearTap* at = out + step * 4;
+    const int left = count - step * 4;  // the taps still to write: a patch's last step may have 1–3
+    if (left >= 4) {
+      // One 32-byte store, as the sums load these four taps (a load is forwarded from one store,
+      // not from two; no difference measured here).
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(at), _mm256_set_m128i(second, first));
+    } else {
+      if (left >= 2) {
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(at), first);
+        if (left == 3) _mm_storel_epi64(reinterpret_cast<__m128i*>(at + 2), second);
+      } else {
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(at), first);
+      }
+    }
+  }
+  _mm256_zeroupper();  // the caller's SSE code runs clean (patch_sums.cpp says what it cost without)
+}
+#endif
+
+}  // namespace
+
+bool projectPatchCorners(const calib::GenericCamera& camera, const Eigen::Vector3f* directions, int n,
+                         const Eigen::Isometry3d& T_view_reference, double rho, PatchCorners& out) {
+  assert(n >= 1 && directions);
+  const Eigen::Matrix3d R = T_view_reference.linear();
+  const Eigen::Vector3d t = T_view_reference.translation();
+  // The model chosen once, its projection inlined: the four corners' square roots and divisions
+  // overlap instead of waiting on each other through a call each.
+  return camera.visit([&](const auto& model) {
+    const auto at = [&](int s, Eigen::Vector2d& px) { return model.project(R * directions[s].template cast<double>() + rho * t, px); };
+    const bool p00 = at(0, out.p00), p01 = at(n - 1, out.p01), p10 = at((n - 1) * n, out.p10), p11 = at(n * n - 1, out.p11);
+    return p00 && p01 && p10 && p11;
+  });
+}
 
 bool projectPatch(const calib::GenericCamera& camera, const Eigen::Vector3f* directions, int n,
                   const Eigen::Isometry3d& T_view_reference, double rho, bool corners_only, Eigen::Vector2d* px_out) {
   assert(n >= 1 && directions && px_out);
-  const Eigen::Matrix3d R = T_view_reference.linear();
-  const Eigen::Vector3d t = T_view_reference.translation();
-  // The point at depth 1/ρ along d, in the view's frame, up to its positive scale 1/ρ.
-  const auto project = [&](int s, Eigen::Vector2d& px) { return camera.project(R * directions[s].cast<double>() + rho * t, px); };
   if (!corners_only || n < 3) {
+    const Eigen::Matrix3d R = T_view_reference.linear();
+    const Eigen::Vector3d t = T_view_reference.translation();
     for (int s = 0; s < n * n; ++s)
-      if (!project(s, px_out[s])) return false;
+      if (!projectAt(camera, directions[s], R, t, rho, px_out[s])) return false;
     return true;
   }
-  Eigen::Vector2d p00, p01, p10, p11;  // rows 0 and n − 1, columns 0 and n − 1
-  if (!project(0, p00) || !project(n - 1, p01) || !project((n - 1) * n, p10) || !project(n * n - 1, p11)) return false;
-  for (int i = 0; i < n; ++i) {
-    const double u = static_cast<double>(i) / (n - 1);
-    for (int j = 0; j < n; ++j) {
-      const double v = static_cast<double>(j) / (n - 1);
-      px_out[i * n + j] = (1 - u) * ((1 - v) * p00 + v * p01) + u * ((1 - v) * p10 + v * p11);
-    }
-  }
+  PatchCorners corners;
+  if (!projectPatchCorners(camera, directions, n, T_view_reference, rho, corners)) return false;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) px_out[i * n + j] = betweenCorners(corners, n, i, j);
   return true;
+}
+
+void tapsBetweenCorners(const PatchCorners& corners, int n, int width, int height, BilinearTap* out, bool simd) {
+  assert(n >= 2 && out);
+#ifdef TELESPHERE_PATCH_TAPS_AVX2
+  if (simd && patchSumsSimdAvailable()) {
+    tapsBetweenCornersAvx2(corners, n, width, height, out);
+    return;
+  }
+#endif
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) out[i * n + j] = bilinearTap(betweenCorners(corners, n, i, j), width, height);
 }
 
 }  // namespace telesphere::xr::depth
