@@ -192,6 +192,7 @@ SweepResult SphereSweep::decide(const GreyImage& reference, const ReferencePatch
   }
 
   std::vector<float> cost(hypotheses);
+  std::vector<EarlierView> views;  // a tile's informative ones
   for (std::size_t t = 0; t < tiles_.size(); ++t) {
     if (!patches.textured[t]) continue;
     const Tile& tile = tiles_[t];
@@ -232,7 +233,8 @@ SweepResult SphereSweep::decide(const GreyImage& reference, const ReferencePatch
         const float then = projectedCost(tile, a, sum_aa, reference_, earlier[0].T_earlier_reference, rho, earlier[0].image);
         look_again = std::isfinite(then) && 1.0F - then < options_.min_correlation;
       }
-      const std::vector<EarlierView> views = look_again ? informativeViews(tile, reference, earlier) : std::vector<EarlierView>{};
+      views.clear();
+      if (look_again) informativeViews(tile, reference, earlier, views);
       if (!views.empty()) {
         if (const std::optional<Decided> decided = resolveWithEarlier(tile, a, sum_aa, cost, best, views)) {
           grid.at(tile.row, tile.col) = static_cast<float>(std::max(decided->rho, 0.0));
@@ -299,13 +301,14 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
   return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe), sum_aa, samples_);
 }
 
-std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const GreyImage& reference,
-                                                      const std::vector<EarlierView>& earlier) const {
+void SphereSweep::informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier,
+                                   std::vector<EarlierView>& informative) const {
   // Only the views that see the patch's texture move: a motion along stripes sees every candidate
   // alike, and what differs between its costs then is the resampling, which favours no parallax
   // at all. The patch's grey gradients (at each sample, across its pixel block) against the direction
   // in which the view's parallax moves the tile in the reference image (toward the view's centre).
-  std::vector<Eigen::Vector2d> gradients(samples_);
+  thread_local std::vector<Eigen::Vector2d> gradients;
+  gradients.resize(samples_);
   double energy = 0;
   for (int s = 0; s < samples_; ++s) {
     // The grey gradient across the tap's own 2 × 2 block, weighted as its bilinear sample is.
@@ -321,8 +324,7 @@ std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const G
   for (int s = 0; s < samples_; ++s) centre += directions_[tile.first + s].cast<double>();
   centre.normalize();
   Eigen::Vector2d centre_px;
-  std::vector<EarlierView> informative;
-  if (energy <= 0.0 || !reference_.project(centre, centre_px)) return informative;
+  if (energy <= 0.0 || !reference_.project(centre, centre_px)) return;
   for (const EarlierView& view : earlier) {
     const Eigen::Vector3d c = -view.T_earlier_reference.linear().transpose() * view.T_earlier_reference.translation();
     const Eigen::Vector3d across = c - c.dot(centre) * centre;  // the view's centre, seen across the tile's ray
@@ -333,7 +335,6 @@ std::vector<EarlierView> SphereSweep::informativeViews(const Tile& tile, const G
     for (const Eigen::Vector2d& g : gradients) along += g.dot(e) * g.dot(e);
     if (along >= options_.motion_min_gradient_fraction * energy) informative.push_back(view);
   }
-  return informative;
 }
 
 std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& tile, const float* a, float sum_aa,
@@ -343,7 +344,8 @@ std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& 
   // The candidates: the pair's local minima within the window, each where the pair's parabola puts
   // it between hypotheses.
   const double step = hypothesis(1);
-  std::vector<double> candidates;
+  thread_local std::vector<double> candidates;
+  candidates.clear();
   for (int k = 0; k < options_.hypotheses; ++k) {
     if (!isCandidate(cost, k, best)) continue;
     double rho = hypothesis(k);
@@ -355,8 +357,10 @@ std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& 
   // Each view's cost at every candidate. A view that does not see the patch at every candidate
   // (outside its image at some depth, most often the nearest) takes no part: comparing the rest
   // without the missing ones could pass an alias over the truth.
-  std::vector<float> sum(candidates.size(), 0.0F), worst(candidates.size(), 0.0F);
-  std::vector<float> view_cost(candidates.size());
+  thread_local std::vector<float> sum, worst, view_cost;
+  sum.assign(candidates.size(), 0.0F);
+  worst.assign(candidates.size(), 0.0F);
+  view_cost.resize(candidates.size());
   int views = 0;
   for (const EarlierView& view : earlier) {
     bool sees_all = true;
@@ -366,10 +370,16 @@ std::optional<SphereSweep::Decided> SphereSweep::resolveWithEarlier(const Tile& 
     }
     if (!sees_all) continue;
     ++views;
+    bool any_correlates = false;
     for (std::size_t c = 0; c < candidates.size(); ++c) {
       sum[c] += view_cost[c];
       worst[c] = std::max(worst[c], view_cost[c]);
+      any_correlates = any_correlates || !(1.0F - worst[c] < options_.min_correlation);
     }
+    // Whichever candidate the sums choose must correlate in every view (below), and a candidate's
+    // worst view only gets worse: where none correlates in every view so far, none will (a fifth
+    // of the stripes' tiles at the first view, its second view then spared).
+    if (!any_correlates) return std::nullopt;
   }
   if (views == 0 || candidates.empty()) return std::nullopt;
   const std::size_t chosen = static_cast<std::size_t>(std::min_element(sum.begin(), sum.end()) - sum.begin());

@@ -169,9 +169,10 @@ class SphereSweep {
     double rho = 0;         ///< 1/m
     float confidence = 0;   ///< the earlier views' mean ZNCC there
   };
-  /// The views in which the tile's texture moves with depth: where enough of the patch's grey
-  /// gradient energy lies along the direction the view's parallax moves the tile.
-  std::vector<EarlierView> informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier) const;
+  /// The views in which the tile's texture moves with depth (appended to `informative`): where enough
+  /// of the patch's grey gradient energy lies along the direction the view's parallax moves the tile.
+  void informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier,
+                        std::vector<EarlierView>& informative) const;
   /// Decides a tile from the earlier views: at each candidate of the pair's `cost`, the summed cost
   /// of the views that see the patch at every candidate; the candidate where it is lowest, if it
   /// beats the others by the margin and each of those views correlates there.
