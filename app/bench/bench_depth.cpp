@@ -202,7 +202,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     const SceneView camera = scene.view(0, Eigen::Isometry3d::Identity());
     const StereoGrey& pair = pairs.emplace_back(renderPair(scene, rig, depth_width, depth_height, 2));
     const auto t0 = std::chrono::steady_clock::now();
-    const StereoDepth stereo = sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0]);
+    const StereoDepth stereo = sweepPair(sweeps, pair, depth_width, depth_height, camera, rig.cameras[0], {}, kTimedRuns);
     stereo_grids.push_back(stereo.left.inverse_depth);
 
     std::vector<Proxy> proxies;
@@ -227,7 +227,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
         << " % of eye rays; stereo: " << stereo.matched << " of " << stereo.seen << " tiles matched, inverse depth error p50 "
         << formatNumber(quantile(stereo.inverse_depth_error, 0.5)) << " / p90 "
         << formatNumber(quantile(stereo.inverse_depth_error, 0.9)) << " 1/m, both sweeps " << formatNumber(stereo.ms)
-        << " ms CPU (" << formatNumber(seconds) << " s in all)\n";
+        << " ms CPU (median of " << kTimedRuns << " runs; " << formatNumber(seconds) << " s in all)\n";
     Table table({"proxy", "radius m", "rest p50 deg", "rest p90", "moving p50", "moving p90", "fovea moving p50",
                  "fovea moving p90"});
     nlohmann::json proxies_json = nlohmann::json::array();
@@ -290,7 +290,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
   variant("3x3 samples, 24 depths, 4 deg", 3, 24, 4.0);
   variant("4x4 samples, 32 depths, 6 deg", 4, 32, 6.0);
   variant("5x5 samples, 48 depths, 3 deg", 5, 48, 3.0);
-  Table knob({"sweep", "ms/pair (CPU)", "tables MB", "grid moving p50 deg", "grid moving p90", "radius fovea moving p50",
+  Table knob({"sweep", "ms/pair (CPU, median of " + std::to_string(kTimedRuns) + " runs)", "tables MB", "grid moving p50 deg", "grid moving p90", "radius fovea moving p50",
               "inverse depth err p90 1/m"});
   nlohmann::json knob_json = nlohmann::json::array();
   for (const Setting& setting : settings) {
@@ -298,7 +298,7 @@ nlohmann::json runDepth(const BenchContext& ctx) {
     double ms = 0, grid_p50 = 0, grid_p90 = 0, radius_fovea = 0, rho_p90 = 0;
     for (std::size_t i = 0; i < built.size(); ++i) {
       const SceneView camera = built[i].view(0, Eigen::Isometry3d::Identity());
-      const StereoDepth depth = sweepPair(s, pairs[i], depth_width, depth_height, camera, rig.cameras[0]);
+      const StereoDepth depth = sweepPair(s, pairs[i], depth_width, depth_height, camera, rig.cameras[0], {}, kTimedRuns);
       std::vector<Proxy> proxies = stereoProxies(depth);
       evaluateEyeErrors(built[i], camera, proxies, ctx.quick ? 21 : 61, false);
       ms = std::max(ms, depth.ms);

@@ -137,7 +137,7 @@ nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps,
   out << "\nA second baseline from the arm's motion: each camera's images from the rig's earlier positions (the left camera 1 cm "
          "lower too where it moves sideways), swept with the pair now; eye errors moving, "
       << rays << "x" << rays << " rays\n";
-  Table table({"scene", "earlier rig positions", "ms/pair (CPU)", "tiles matched %", "decided by the views", "inv depth err p50 1/m",
+  Table table({"scene", "earlier rig positions", "ms/pair (CPU, median of " + std::to_string(kTimedRuns) + " runs)", "tiles matched %", "decided by the views", "inv depth err p50 1/m",
                "p90", "radius m", "radius fovea moving p50 deg", "grid moving p50 deg", "grid moving p90"});
   nlohmann::json rows = nlohmann::json::array();
   const Eigen::Isometry3d& T_l_r = *rig.T_cam_l_cam_r;
@@ -166,7 +166,7 @@ nlohmann::json runMotionBaselines(const BenchContext& ctx, StereoSweeps& sweeps,
                                    (T_world_rig * T_rig_cam).inverse() * T_rig_cam});
         }
       }
-      const StereoDepth depth = sweepPair(sweeps, pair, width, height, camera, rig.cameras[0], earlier);
+      const StereoDepth depth = sweepPair(sweeps, pair, width, height, camera, rig.cameras[0], earlier, kTimedRuns);
       std::vector<Proxy> proxies = stereoProxies(depth);
       evaluateEyeErrors(named.scene, camera, proxies, rays, false);
       const double matched = depth.seen ? 100.0 * depth.matched / depth.seen : 0.0;

@@ -44,10 +44,16 @@ struct StereoDepth {
 std::vector<std::pair<int, int>> seenTiles(const xr::render::InverseDepthGrid& grid, const calib::CameraCalibration& camera,
                                            int width, int height);
 
+/// How often the tables that report a sweep's time sweep each pair: the median of these (one pair's
+/// time moves by up to 25 % between runs on a shared VM).
+inline constexpr int kTimedRuns = 5;
+
 /// `earlier`: per camera (left, right), its views from earlier poses of the rig (SphereSweep::estimate).
+/// The pair is swept `timed_runs` times and `ms` is the median of those times (the grids are the
+/// same every time).
 StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, int height, const robot::cameras::SceneView& camera,
                       const calib::CameraCalibration& left_camera,
-                      const std::array<std::vector<xr::depth::EarlierView>, 2>& earlier = {});
+                      const std::array<std::vector<xr::depth::EarlierView>, 2>& earlier = {}, int timed_runs = 1);
 
 /// The radius (σ kCentreSigmaDeg) and the grid from a sweep's left grid.
 std::vector<Proxy> stereoProxies(const StereoDepth& depth);
