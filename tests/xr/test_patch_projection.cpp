@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -179,6 +180,64 @@ TEST(PatchProjection, TapsBetweenCornersAreEachInterpolatedSamplesTapToTheBit) {
       }
   EXPECT_EQ(patches, 6 * 8 * 400);
   std::printf("%d patches, AVX2 %s\n", patches, depth::patchSumsSimdAvailable() ? "compared" : "not on this CPU (scalar only)");
+}
+
+TEST(PatchProjection, SumsBetweenCornersAreTheSumsOverTheirTapsToTheBit) {
+  // patchSumsBetweenCorners against patchSums over tapsBetweenCorners's taps (eight a step only where
+  // every tap is gather-safe, as the sweep asks): seeded random grey images with rows wider than
+  // the image, corners anywhere, hugging the last rows and columns (where the taps are summed one
+  // at a time or gathered, each side of the half-pixel margin), and patches of 2 × 2 to 9 × 9.
+  std::mt19937 random(3535);
+  struct Size {
+    int width, height, stride;
+  };
+  const std::vector<Size> sizes = {{2, 2, 2}, {5, 4, 8}, {480, 270, 480}, {61, 37, 64}};
+  int patches = 0, gathered = 0;
+  for (const Size& size : sizes) {
+    std::vector<std::uint8_t> image(static_cast<std::size_t>(size.stride) * size.height);
+    for (std::uint8_t& p : image) p = static_cast<std::uint8_t>(random());
+    const double max_x = size.width - 1.0, max_y = size.height - 1.0;
+    for (int n = 2; n <= 9; ++n)
+      for (int trial = 0; trial < 300; ++trial) {
+        const auto coordinate = [&](double max) {
+          switch (trial % 3) {
+            case 0: return std::uniform_real_distribution<double>(0.0, max)(random);
+            // Within four pixels of the far edge: every combination of gathered and one-at-a-time.
+            case 1: return std::uniform_real_distribution<double>(std::max(0.0, max - 4.0), max)(random);
+            default: return std::bernoulli_distribution(0.5)(random) ? max : std::max(0.0, max - 2.5);
+          }
+        };
+        const depth::PatchCorners corners{{coordinate(max_x), coordinate(max_y)},
+                                          {coordinate(max_x), coordinate(max_y)},
+                                          {coordinate(max_x), coordinate(max_y)},
+                                          {coordinate(max_x), coordinate(max_y)}};
+        std::vector<float> a(n * n);
+        for (float& v : a) v = std::uniform_real_distribution<float>(-60.0F, 60.0F)(random);
+        std::vector<depth::BilinearTap> taps(n * n);
+        depth::tapsBetweenCorners(corners, n, size.width, size.height, taps.data(), false);
+        const bool gather_safe = std::all_of(taps.begin(), taps.end(), [&](const depth::BilinearTap& t) {
+          return depth::gatherSafe(t, size.width, size.height);
+        });
+        gathered += gather_safe ? 1 : 0;
+        for (const bool simd : {true, false}) {
+          const depth::PatchSums want = depth::patchSums(image.data(), size.stride, taps.data(), a.data(), n * n, simd && gather_safe);
+          const depth::PatchSums got =
+              depth::patchSumsBetweenCorners(image.data(), size.stride, size.width, size.height, corners, n, a.data(), simd);
+          SCOPED_TRACE("size " + std::to_string(size.width) + "x" + std::to_string(size.height) + ", n " + std::to_string(n) +
+                       ", trial " + std::to_string(trial) + (simd ? ", simd" : ", scalar"));
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(got.b), std::bit_cast<std::uint32_t>(want.b)) << got.b << " " << want.b;
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(got.bb), std::bit_cast<std::uint32_t>(want.bb)) << got.bb << " " << want.bb;
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(got.ab), std::bit_cast<std::uint32_t>(want.ab)) << got.ab << " " << want.ab;
+        }
+        ++patches;
+      }
+  }
+  EXPECT_EQ(patches, 4 * 8 * 300);
+  // Both sides of the gather-safety taken.
+  EXPECT_GT(gathered, patches / 4);
+  EXPECT_LT(gathered, patches);
+  std::printf("%d patches, %d gather-safe, AVX2 %s\n", patches, gathered,
+              depth::patchSumsSimdAvailable() ? "compared" : "not on this CPU (scalar only)");
 }
 
 }  // namespace patch_projection_test

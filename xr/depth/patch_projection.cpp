@@ -9,10 +9,7 @@
 
 #include "xr/depth/patch_sums.h"
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>
-#define TELESPHERE_PATCH_TAPS_AVX2 1
-#endif
+#include "xr/depth/patch_sums_avx2.h"
 
 namespace telesphere::xr::depth {
 namespace {
@@ -23,13 +20,8 @@ bool projectAt(const calib::GenericCamera& camera, const Eigen::Vector3f& d, con
   return camera.project(R * d.cast<double>() + rho * t, px);
 }
 
-#ifdef TELESPHERE_PATCH_TAPS_AVX2
-/// A product GCC may not fuse into the sum it feeds (it fuses intrinsics' products where FMA is on);
-/// betweenCorners, compiled without FMA, rounds each.
-__attribute__((target("avx2,fma"), always_inline)) inline __m256d rounded(__m256d product) {
-  __asm__("" : "+x"(product));
-  return product;
-}
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
+using avx2::rounded;  // betweenCorners, compiled without FMA, rounds each product
 
 /// Each lane's 32-bit integer from four 64-bit compare masks (all ones or zero).
 __attribute__((target("avx2,fma"), always_inline)) inline __m128i maskToInt32(__m256d mask) {
@@ -56,51 +48,104 @@ __attribute__((target("avx2,fma"), always_inline)) inline __m256d blend(__m256d 
   return _mm256_add_pd(rounded(_mm256_mul_pd(not_u, top)), rounded(_mm256_mul_pd(u, bottom)));
 }
 
-__attribute__((target("avx2,fma"))) void tapsBetweenCornersAvx2(const PatchCorners& c, int n, int width, int height, BilinearTap* out) {
-  // Each sample's u = i/(n − 1) and v = j/(n − 1), as betweenCorners divides, kept for the last n.
+/// Each sample's u = i/(n − 1) and v = j/(n − 1) of an n × n patch, as betweenCorners divides,
+/// padded with zeros to whole steps of four; kept for the last n.
+struct SampleFractions {
+  const double* u;
+  const double* v;
+};
+
+SampleFractions sampleFractions(int n) {
   thread_local std::vector<double> u_table, v_table;
   thread_local int table_n = 0;
-  const int count = n * n, steps = (count + 3) / 4;
   if (table_n != n) {
-    u_table.assign(static_cast<std::size_t>(steps) * 4, 0.0);
-    v_table.assign(static_cast<std::size_t>(steps) * 4, 0.0);
+    const int count = n * n;
+    u_table.assign(static_cast<std::size_t>(count + 3) / 4 * 4, 0.0);
+    v_table.assign(u_table.size(), 0.0);
     for (int s = 0; s < count; ++s) {
       u_table[s] = static_cast<double>(s / n) / (n - 1);
       v_table[s] = static_cast<double>(s % n) / (n - 1);
     }
     table_n = n;
   }
+  return {u_table.data(), v_table.data()};
+}
+
+/// Four taps' corner pixels and weights, 32 bits a lane.
+struct FourTaps {
+  __m128i x, y, wx, wy;
+};
+
+/// The corners, each coordinate in every lane.
+struct CornerLanes {
+  __m256d x00, x01, x10, x11, y00, y01, y10, y11;
+};
+
+__attribute__((target("avx2,fma"), always_inline)) inline CornerLanes cornerLanes(const PatchCorners& c) {
+  return {_mm256_set1_pd(c.p00.x()), _mm256_set1_pd(c.p01.x()), _mm256_set1_pd(c.p10.x()), _mm256_set1_pd(c.p11.x()),
+          _mm256_set1_pd(c.p00.y()), _mm256_set1_pd(c.p01.y()), _mm256_set1_pd(c.p10.y()), _mm256_set1_pd(c.p11.y())};
+}
+
+/// The taps of samples s … s + 3: bilinearTap(betweenCorners(…)) of each, to the bit.
+__attribute__((target("avx2,fma"), always_inline)) inline FourTaps fourTaps(const CornerLanes& c, SampleFractions f, int s, int width,
+                                                                             int height) {
   const __m256d one = _mm256_set1_pd(1.0);
-  const __m256d x00 = _mm256_set1_pd(c.p00.x()), x01 = _mm256_set1_pd(c.p01.x()), x10 = _mm256_set1_pd(c.p10.x()),
-                x11 = _mm256_set1_pd(c.p11.x());
-  const __m256d y00 = _mm256_set1_pd(c.p00.y()), y01 = _mm256_set1_pd(c.p01.y()), y10 = _mm256_set1_pd(c.p10.y()),
-                y11 = _mm256_set1_pd(c.p11.y());
-  for (int step = 0; step < steps; ++step) {
-    const __m256d u = _mm256_loadu_pd(&u_table[step * 4]), v = _mm256_loadu_pd(&v_table[step * 4]);
-    const __m256d not_u = _mm256_sub_pd(one, u), not_v = _mm256_sub_pd(one, v);
-    __m128i x, y, wx, wy;
-    tapAxis(blend(u, v, not_u, not_v, x00, x01, x10, x11), width, x, wx);
-    tapAxis(blend(u, v, not_u, not_v, y00, y01, y10, y11), height, y, wy);
-    // Four taps of (x, y, wx, wy), 16 bits each (all below 65536).
-    const __m128i xy = _mm_or_si128(x, _mm_slli_epi32(y, 16)), w = _mm_or_si128(wx, _mm_slli_epi32(wy, 16));
-    static_assert(sizeof(BilinearTap) == 8, "a tap is x, y, wx, wy: 16 bits each");
-    const __m128i first = _mm_unpacklo_epi32(xy, w), second = _mm_unpackhi_epi32(xy, w);
-    BilinearTap* at = out + step * 4;
-    const int left = count - step * 4;  // the taps still to write: a patch's last step may have 1–3
-    if (left >= 4) {
-      // One 32-byte store, as the sums load these four taps (a load is forwarded from one store,
-      // not from two; no difference measured here).
-      _mm256_storeu_si256(reinterpret_cast<__m256i*>(at), _mm256_set_m128i(second, first));
-    } else {
-      if (left >= 2) {
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(at), first);
-        if (left == 3) _mm_storel_epi64(reinterpret_cast<__m128i*>(at + 2), second);
-      } else {
-        _mm_storel_epi64(reinterpret_cast<__m128i*>(at), first);
-      }
-    }
+  const __m256d u = _mm256_loadu_pd(f.u + s), v = _mm256_loadu_pd(f.v + s);
+  const __m256d not_u = _mm256_sub_pd(one, u), not_v = _mm256_sub_pd(one, v);
+  FourTaps t;
+  tapAxis(blend(u, v, not_u, not_v, c.x00, c.x01, c.x10, c.x11), width, t.x, t.wx);
+  tapAxis(blend(u, v, not_u, not_v, c.y00, c.y01, c.y10, c.y11), height, t.y, t.wy);
+  return t;
+}
+
+/// Four taps as BilinearTaps: the first `count` (1–4) of them written to `out`.
+__attribute__((target("avx2,fma"), always_inline)) inline void storeTaps(const FourTaps& t, int count, BilinearTap* out) {
+  static_assert(sizeof(BilinearTap) == 8, "a tap is x, y, wx, wy: 16 bits each");
+  // (x, y, wx, wy), 16 bits each (all below 65536).
+  const __m128i xy = _mm_or_si128(t.x, _mm_slli_epi32(t.y, 16)), w = _mm_or_si128(t.wx, _mm_slli_epi32(t.wy, 16));
+  const __m128i first = _mm_unpacklo_epi32(xy, w), second = _mm_unpackhi_epi32(xy, w);
+  if (count >= 4) {
+    // One 32-byte store, as the sums load these four taps (a load is forwarded from one store,
+    // not from two; no difference measured here).
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set_m128i(second, first));
+  } else if (count >= 2) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), first);
+    if (count == 3) _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 2), second);
+  } else {
+    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), first);
   }
+}
+
+__attribute__((target("avx2,fma"))) void tapsBetweenCornersAvx2(const PatchCorners& corners, int n, int width, int height,
+                                                                 BilinearTap* out) {
+  const SampleFractions fractions = sampleFractions(n);
+  const CornerLanes c = cornerLanes(corners);
+  const int count = n * n;
+  for (int s = 0; s < count; s += 4) storeTaps(fourTaps(c, fractions, s, width, height), std::min(4, count - s), out + s);
   _mm256_zeroupper();  // the caller's SSE code runs clean (patch_sums.cpp says what it cost without)
+}
+
+/// patchSumsBetweenCorners where every tap may be gathered four bytes wide: eight taps a step made
+/// in registers and summed as the tabled taps' AVX2 sums sum them (patch_sums_avx2.h), the taps past
+/// the last whole step written out and summed as patchSumsScalar sums them.
+__attribute__((target("avx2,fma"))) PatchSums patchSumsBetweenCornersAvx2(const std::uint8_t* pixels, int stride, int width, int height,
+                                                                         const PatchCorners& corners, int n, const float* a) {
+  const SampleFractions fractions = sampleFractions(n);
+  const CornerLanes c = cornerLanes(corners);
+  const int count = n * n, whole = count - count % 8;
+  const __m256i stride_v = _mm256_set1_epi32(stride);
+  avx2::LaneSums lanes = avx2::zeroLanes();
+  for (int s = 0; s < whole; s += 8) {
+    const FourTaps low = fourTaps(c, fractions, s, width, height), high = fourTaps(c, fractions, s + 4, width, height);
+    const __m256i x = _mm256_set_m128i(high.x, low.x), y = _mm256_set_m128i(high.y, low.y);
+    const __m256i offset = _mm256_add_epi32(_mm256_mullo_epi32(y, stride_v), x);
+    avx2::addStep(pixels, stride, offset, _mm256_set_m128i(high.wx, low.wx), _mm256_set_m128i(high.wy, low.wy), a + s, lanes);
+  }
+  BilinearTap rest[8];
+  for (int s = whole; s < count; s += 4) storeTaps(fourTaps(c, fractions, s, width, height), std::min(4, count - s), rest + (s - whole));
+  const PatchSums sums = avx2::plus(avx2::totals(lanes), avx2::scalarSums(pixels, stride, rest, a + whole, count - whole));
+  _mm256_zeroupper();
+  return sums;
 }
 #endif
 
@@ -139,7 +184,7 @@ bool projectPatch(const calib::GenericCamera& camera, const Eigen::Vector3f* dir
 
 void tapsBetweenCorners(const PatchCorners& corners, int n, int width, int height, BilinearTap* out, bool simd) {
   assert(n >= 2 && out);
-#ifdef TELESPHERE_PATCH_TAPS_AVX2
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
   if (simd && patchSumsSimdAvailable()) {
     tapsBetweenCornersAvx2(corners, n, width, height, out);
     return;
@@ -147,6 +192,27 @@ void tapsBetweenCorners(const PatchCorners& corners, int n, int width, int heigh
 #endif
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) out[i * n + j] = bilinearTap(betweenCorners(corners, n, i, j), width, height);
+}
+
+PatchSums patchSumsBetweenCorners(const std::uint8_t* pixels, int stride, int width, int height, const PatchCorners& corners, int n,
+                                  const float* a, bool simd) {
+  assert(n >= 2 && pixels && a);
+  const int count = n * n;
+#ifdef TELESPHERE_PATCH_SUMS_AVX2
+  if (simd && patchSumsSimdAvailable()) {
+    // Every sample lies within the corners' box, up to the interpolation's rounding (~1e-11 px):
+    // a box half a pixel clear of the last block row, or of the last three columns, keeps every tap
+    // gather-safe (gatherSafe), and the taps need not be written out to be checked.
+    const double max_x = std::max({corners.p00.x(), corners.p01.x(), corners.p10.x(), corners.p11.x()});
+    const double max_y = std::max({corners.p00.y(), corners.p01.y(), corners.p10.y(), corners.p11.y()});
+    if (max_y < height - 2.5 || max_x < width - 3.5) return patchSumsBetweenCornersAvx2(pixels, stride, width, height, corners, n, a);
+  }
+#endif
+  thread_local std::vector<BilinearTap> taps;
+  taps.resize(count);
+  tapsBetweenCorners(corners, n, width, height, taps.data(), simd);
+  const bool gather_safe = std::all_of(taps.begin(), taps.end(), [&](const BilinearTap& t) { return gatherSafe(t, width, height); });
+  return patchSums(pixels, stride, taps.data(), a, count, simd && gather_safe);
 }
 
 }  // namespace telesphere::xr::depth

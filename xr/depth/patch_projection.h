@@ -6,13 +6,15 @@
 ///        indices) takes 4 projections instead of n × n; tests/xr/test_patch_projection.cpp bounds
 ///        what that costs in pixels against projecting every sample. The samples' bilinear taps
 ///        then come straight from the corners (tapsBetweenCorners), four at a step where the CPU
-///        has AVX2, each equal to the tap of the interpolated position.
+///        has AVX2, each equal to the tap of the interpolated position, and so do the patch's sums
+///        (patchSumsBetweenCorners), eight taps a step without writing them out.
 #pragma once
 
 #include <Eigen/Geometry>
 
 #include "calib/generic_camera.h"
 #include "xr/depth/bilinear_tap.h"
+#include "xr/depth/patch_sums.h"
 
 namespace telesphere::xr::depth {
 
@@ -47,5 +49,12 @@ bool projectPatch(const calib::GenericCamera& camera, const Eigen::Vector3f* dir
 /// inside [0, width − 1] × [0, height − 1] (then every sample does, up to rounding that the tap's
 /// clamp absorbs as bilinearTap's does). `simd`: four samples a step where the CPU has AVX2.
 void tapsBetweenCorners(const PatchCorners& corners, int n, int width, int height, BilinearTap* out, bool simd = true);
+
+/// The patch sums (patch_sums.h) over those taps of an image `width` × `height` whose rows are
+/// `stride` bytes apart, against the reference patch `a` (n × n): to the bit what patchSums gives
+/// over tapsBetweenCorners's taps, eight a step only where `simd` and every tap is gatherSafe. Where
+/// the CPU has AVX2 the taps are made in registers and summed at once, not written out first.
+PatchSums patchSumsBetweenCorners(const std::uint8_t* pixels, int stride, int width, int height, const PatchCorners& corners, int n,
+                                  const float* a, bool simd = true);
 
 }  // namespace telesphere::xr::depth

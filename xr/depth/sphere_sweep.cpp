@@ -269,35 +269,27 @@ bool SphereSweep::hasOtherCandidate(const std::vector<float>& cost, int best) co
 
 float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa, const calib::GenericCamera& camera,
                                  const Eigen::Isometry3d& T_view_reference, double rho, const GreyImage& image) const {
-  thread_local std::vector<BilinearTap> taps;
-  taps.resize(samples_);
   const int n = options_.samples_per_side;
   const Eigen::Vector3f* directions = &directions_[tile.first];
   if (options_.motion_corner_projection && n >= 3) {
-    // The corners, then the taps between them: every sample is a convex combination of the
-    // corners, inside wherever they are.
+    // The corners, then the sums over the taps between them: every sample is a convex combination
+    // of the corners, inside wherever they are.
     PatchCorners corners;
     if (!projectPatchCorners(camera, directions, n, T_view_reference, rho, corners)) return std::numeric_limits<float>::infinity();
     for (const Eigen::Vector2d* corner : {&corners.p00, &corners.p01, &corners.p10, &corners.p11})
       if (!inside(*corner, image.width, image.height)) return std::numeric_limits<float>::infinity();
-    tapsBetweenCorners(corners, n, image.width, image.height, taps.data(), options_.simd);
-  } else {
-    thread_local std::vector<Eigen::Vector2d> px;
-    px.resize(samples_);
-    if (!projectPatch(camera, directions, n, T_view_reference, rho, false, px.data())) return std::numeric_limits<float>::infinity();
-    for (int s = 0; s < samples_; ++s)
-      if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
-    for (int s = 0; s < samples_; ++s) taps[s] = bilinearTap(px[s], image.width, image.height);
+    return patchCost(patchSumsBetweenCorners(image.pixels, image.stride, image.width, image.height, corners, n, a, options_.simd),
+                     sum_aa, samples_);
   }
-  // The patch's last block row and column for gatherSafe.
-  int last_x = 0, last_y = 0;
-  for (int s = 0; s < samples_; ++s) {
-    last_x = std::max<int>(last_x, taps[s].x);
-    last_y = std::max<int>(last_y, taps[s].y);
-  }
-  const bool gather_safe = last_y + 2 < image.height || last_x + 3 < image.width ||
-                           std::all_of(taps.begin(), taps.begin() + samples_,
-                                       [&](const BilinearTap& t) { return gatherSafe(t, image.width, image.height); });
+  thread_local std::vector<Eigen::Vector2d> px;
+  thread_local std::vector<BilinearTap> taps;
+  px.resize(samples_);
+  taps.resize(samples_);
+  if (!projectPatch(camera, directions, n, T_view_reference, rho, false, px.data())) return std::numeric_limits<float>::infinity();
+  for (int s = 0; s < samples_; ++s)
+    if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
+  for (int s = 0; s < samples_; ++s) taps[s] = bilinearTap(px[s], image.width, image.height);
+  const bool gather_safe = std::all_of(taps.begin(), taps.end(), [&](const BilinearTap& t) { return gatherSafe(t, image.width, image.height); });
   return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe), sum_aa, samples_);
 }
 
