@@ -13,6 +13,8 @@
 #include <cmath>
 #include <memory>
 
+#include <sys/mman.h>
+
 #include "app/bench/prerendered_frames.h"
 #include "calib/camera_resolution.h"
 #include "robot/clock/clock.h"
@@ -219,6 +221,47 @@ TEST(SphereSweep, EarlierViewsFromTheArmsMotionDecideAPatternThePairLeavesAmbigu
   const depth::SweepResult ignored = sweep.estimate(l, r, {{{small.data(), kWidth / 2, kHeight / 2, kWidth / 2}, far.view.T_earlier_reference}});
   EXPECT_EQ(ignored.tiles_decided_by_motion, 0);
   EXPECT_EQ(ignored.tiles_matched, pair_only.tiles_matched);
+}
+
+TEST(SphereSweep, ImagesSpanningOverTwoGigabytesGiveTheOneAtATimeGridOfThePackedImages) {
+  // Images inside a larger buffer (a row of each every `stride` bytes) whose last rows lie beyond
+  // 2^31 bytes from their first pixel: the eight-a-step sums address pixels by 32-bit offsets, so
+  // they must not be used there (their offsets wrapped and read 2 GiB away). Spread out, the pair
+  // and its earlier views must give the grid of the one-at-a-time sums on the packed images, to the
+  // bit. One mapping holds the four spread images side by side; only the pages with pixels are
+  // ever touched (~2 MB).
+  const auto scene = stripesRoom();
+  const std::vector<std::uint8_t> left = grey(scene, Eigen::Isometry3d::Identity()), right = grey(scene, kT_l_r);
+  const EarlierCapture near = earlierCapture(scene, {-0.01, 0.01, 0.0}), far = earlierCapture(scene, {-0.05, 0.01, 0.0});
+  const std::size_t stride = (std::size_t{1} << 31) / (kHeight - 40);  // row 230 lies past 2^31
+  const std::size_t bytes = stride * kHeight;
+  void* mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+  if (mapped == MAP_FAILED) GTEST_SKIP() << "no " << bytes / 1e9 << " GB of address space to map here";
+  std::uint8_t* spread = static_cast<std::uint8_t*>(mapped);
+  const std::vector<const std::vector<std::uint8_t>*> packed = {&left, &right, &near.grey, &far.grey};
+  for (std::size_t k = 0; k < packed.size(); ++k)
+    for (int y = 0; y < kHeight; ++y)
+      std::copy_n(packed[k]->data() + static_cast<std::size_t>(y) * kWidth, kWidth, spread + y * stride + k * kWidth);
+  const auto at = [&](std::size_t k) { return depth::GreyImage{spread + k * kWidth, kWidth, kHeight, static_cast<int>(stride)}; };
+
+  const calib::CameraCalibration camera = lens();
+  const depth::SphereSweep sweep(camera.camera, kWidth, kHeight, camera.camera, kWidth, kHeight, kT_l_r.inverse());
+  depth::SphereSweepOptions one_at_a_time;
+  one_at_a_time.simd = false;
+  const depth::SphereSweep scalar(camera.camera, kWidth, kHeight, camera.camera, kWidth, kHeight, kT_l_r.inverse(), one_at_a_time);
+  const depth::GreyImage l{left.data(), kWidth, kHeight, kWidth}, r{right.data(), kWidth, kHeight, kWidth};
+  const depth::SweepResult want = scalar.estimate(l, r, {far.view, near.view});
+  const depth::SweepResult got =
+      sweep.estimate(at(0), at(1), {{at(3), far.view.T_earlier_reference}, {at(2), near.view.T_earlier_reference}});
+  munmap(mapped, bytes);
+  ASSERT_GT(want.tiles_decided_by_motion, 100);  // the views took part
+  EXPECT_EQ(got.tiles_matched, want.tiles_matched);
+  EXPECT_EQ(got.tiles_decided_by_motion, want.tiles_decided_by_motion);
+  int differing = 0;
+  for (int row = 0; row < want.inverse_depth.rows(); ++row)
+    for (int col = 0; col < want.inverse_depth.cols(); ++col) differing += got.inverse_depth.at(row, col) != want.inverse_depth.at(row, col);
+  EXPECT_EQ(differing, 0) << "tiles";
+  EXPECT_EQ(got.confidence, want.confidence);
 }
 
 TEST(SphereSweep, ATexturelessRoomMatchesNothingRatherThanGuessing) {

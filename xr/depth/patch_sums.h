@@ -9,7 +9,8 @@
 ///        The AVX2 version reads each tap's two rows four bytes wide: up to two bytes past the
 ///        tap's 2 × 2 block. Inside an image that is the next pixels or the next row; only a tap in
 ///        the last block row within three pixels of its end could read past the image, and
-///        `gatherSafe` says so (such patches take the scalar version).
+///        `gatherSafe` says so (such patches take the scalar version). Its offsets are 32-bit:
+///        images spanning over 2 GiB take the scalar version too (`gatherOffsetsFit`).
 #pragma once
 
 #include <cmath>
@@ -60,6 +61,13 @@ void patchCosts(const std::uint8_t* pixels, int stride, const BilinearTap* taps,
 /// Whether the AVX2 version may read tap `t` of an image `width` × `height` four bytes wide.
 inline bool gatherSafe(const BilinearTap& t, int width, int height) {
   return !(t.y + 2 >= height && t.x + 3 >= width);
+}
+
+/// Whether the AVX2 version's pixel offsets (y·stride + x, 32-bit signed) reach every pixel of an
+/// image of `height` rows `stride` bytes apart: images up to 2 GiB from first to last pixel. Where
+/// not, callers pass `simd` false (the offsets would wrap and read elsewhere).
+inline bool gatherOffsetsFit(int stride, int height) {
+  return static_cast<std::int64_t>(stride) * height <= std::numeric_limits<std::int32_t>::max();
 }
 
 /// Whether this CPU runs the AVX2 version.

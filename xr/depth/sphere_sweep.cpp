@@ -155,13 +155,14 @@ void SphereSweep::pairCosts(const ReferencePatches& patches, const GreyImage& ot
   costs.assign(tiles_.size() * hypotheses, std::numeric_limits<float>::infinity());
   if (!fits(patches) || !other.pixels || other.width != other_width_ || other.height != other_height_ || other.stride < other.width)
     return;
+  const bool simd = options_.simd && gatherOffsetsFit(other.stride, other.height);
   for (std::size_t t = 0; t < tiles_.size(); ++t) {
     if (!patches.textured[t]) continue;
     // Every hypothesis's cost in one call (eight at a step where the CPU can).
     const Tile& tile = tiles_[t];
     patchCosts(other.pixels, other.stride, &other_px_[tile.other], &patches.a[t * static_cast<std::size_t>(samples_)],
                patches.sum_aa[t], samples_, options_.hypotheses, tile.usable.data(), &costs[t * hypotheses],
-               options_.simd && tile.gather_safe);
+               simd && tile.gather_safe);
   }
 }
 
@@ -271,6 +272,7 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
                                  const Eigen::Isometry3d& T_view_reference, double rho, const GreyImage& image) const {
   const int n = options_.samples_per_side;
   const Eigen::Vector3f* directions = &directions_[tile.first];
+  const bool simd = options_.simd && gatherOffsetsFit(image.stride, image.height);
   if (options_.motion_corner_projection && n >= 3) {
     // The corners, then the sums over the taps between them: every sample is a convex combination
     // of the corners, inside wherever they are.
@@ -278,8 +280,8 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
     if (!projectPatchCorners(camera, directions, n, T_view_reference, rho, corners)) return std::numeric_limits<float>::infinity();
     for (const Eigen::Vector2d* corner : {&corners.p00, &corners.p01, &corners.p10, &corners.p11})
       if (!inside(*corner, image.width, image.height)) return std::numeric_limits<float>::infinity();
-    return patchCost(patchSumsBetweenCorners(image.pixels, image.stride, image.width, image.height, corners, n, a, options_.simd),
-                     sum_aa, samples_);
+    return patchCost(patchSumsBetweenCorners(image.pixels, image.stride, image.width, image.height, corners, n, a, simd), sum_aa,
+                     samples_);
   }
   thread_local std::vector<Eigen::Vector2d> px;
   thread_local std::vector<BilinearTap> taps;
@@ -290,7 +292,7 @@ float SphereSweep::projectedCost(const Tile& tile, const float* a, float sum_aa,
     if (!inside(px[s], image.width, image.height)) return std::numeric_limits<float>::infinity();
   for (int s = 0; s < samples_; ++s) taps[s] = bilinearTap(px[s], image.width, image.height);
   const bool gather_safe = std::all_of(taps.begin(), taps.end(), [&](const BilinearTap& t) { return gatherSafe(t, image.width, image.height); });
-  return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, options_.simd && gather_safe), sum_aa, samples_);
+  return patchCost(patchSums(image.pixels, image.stride, taps.data(), a, samples_, simd && gather_safe), sum_aa, samples_);
 }
 
 void SphereSweep::informativeViews(const Tile& tile, const GreyImage& reference, const std::vector<EarlierView>& earlier,
