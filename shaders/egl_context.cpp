@@ -4,6 +4,7 @@
 
 #include <cstring>
 #include <sstream>
+#include <vector>
 
 namespace telesphere::gl {
 namespace {
@@ -22,16 +23,21 @@ EGLDisplay mesaSurfacelessDisplay(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_d
   return get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
 }
 
+/// The EGL devices (EGL_EXT_device_enumeration; the first 8), none where EGL cannot list them.
+std::vector<EGLDeviceEXT> eglDevices() {
+  const auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
+  std::vector<EGLDeviceEXT> devices(8);
+  EGLint count = 0;
+  if (!query_devices || !query_devices(static_cast<EGLint>(devices.size()), devices.data(), &count)) count = 0;
+  devices.resize(static_cast<std::size_t>(count));
+  return devices;
+}
+
 /// The first EGL device (EGL_EXT_platform_device): NVIDIA's driver offers no Mesa platform, but
 /// makes windowless contexts on a device display.
 EGLDisplay firstDeviceDisplay(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display) {
-  const auto query_devices =
-      reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-  if (!query_devices) return EGL_NO_DISPLAY;
-  EGLDeviceEXT devices[8];
-  EGLint count = 0;
-  if (!query_devices(8, devices, &count) || count < 1) return EGL_NO_DISPLAY;
-  return get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
+  const std::vector<EGLDeviceEXT> devices = eglDevices();
+  return devices.empty() ? EGL_NO_DISPLAY : get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[0], nullptr);
 }
 
 }  // namespace
@@ -89,19 +95,18 @@ std::unique_ptr<EglContext> EglContext::createOnHardwareDevice(std::string* out_
     if (out_error) *out_error = "this EGL cannot list devices (EGL_EXT_device_enumeration, EGL_EXT_device_query)";
     return nullptr;
   }
-  EGLDeviceEXT devices[8];
-  EGLint count = 0;
-  if (!query_devices(8, devices, &count)) count = 0;
+  const std::vector<EGLDeviceEXT> devices = eglDevices();
+  const std::size_t count = devices.size();
   std::string why = "no EGL device";
   int software = 0;
-  for (EGLint i = 0; i < count; ++i) {
+  for (const EGLDeviceEXT device : devices) {
     // Mesa lists its software rasterizer (llvmpipe) as a device of its own.
-    const char* extensions = query_device_string(devices[i], EGL_EXTENSIONS);
+    const char* extensions = query_device_string(device, EGL_EXTENSIONS);
     if (extensions && std::strstr(extensions, "EGL_MESA_device_software")) {
       ++software;
       continue;
     }
-    const EGLDisplay display = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    const EGLDisplay display = get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
     if (display == EGL_NO_DISPLAY) continue;
     if (auto context = contextOn(display, &why)) {
       if (!context->software()) return context;
