@@ -18,10 +18,10 @@
 #include "robot/clock/clock.h"
 #include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "robot/stereo/stereo_still.h"
 #include "shaders/egl_context.h"
 #include "shaders/offscreen_target.h"
 #include "shaders/png_io.h"
+#include "tests/xr/scene_grey.h"
 #include "xr/depth/sphere_sweep.h"
 #include "xr/render/depth_proxy.h"
 #include "xr/render/sphere_geometry.h"
@@ -57,12 +57,6 @@ robot::cameras::CameraFrame render(const std::shared_ptr<robot::cameras::Synthet
   return camera.renderAt(0);
 }
 
-std::vector<std::uint8_t> greyOf(const robot::cameras::CameraFrame& frame) {
-  std::string grey, error;
-  EXPECT_TRUE(robot::stereo::toGray8(frame, &grey, &error)) << error;
-  return {grey.begin(), grey.end()};
-}
-
 TEST(DepthProxyGl, ANearBoxMovesBackToWhereItIsWithADepthProxyWhileTheHeadIsAwayFromTheCamera) {
   std::string error;
   const auto context = gl::EglContext::createSurfaceless(&error);
@@ -72,8 +66,8 @@ TEST(DepthProxyGl, ANearBoxMovesBackToWhereItIsWithADepthProxyWhileTheHeadIsAway
 
   // Depth from the pair at the sweep's working size.
   const int dw = 480, dh = 270;
-  const std::vector<std::uint8_t> left = greyOf(render(scene, dw, dh, Eigen::Isometry3d::Identity()));
-  const std::vector<std::uint8_t> right = greyOf(render(scene, dw, dh, T_l_r));
+  const std::vector<std::uint8_t> left = test_scenes::greyImage(scene, lensAt(dw, dh), dw, dh, Eigen::Isometry3d::Identity());
+  const std::vector<std::uint8_t> right = test_scenes::greyImage(scene, lensAt(dw, dh), dw, dh, T_l_r);
   const depth::SphereSweep sweep(lensAt(dw, dh), dw, dh, lensAt(dw, dh), dw, dh, T_l_r.inverse());
   const depth::SweepResult depth = sweep.estimate({left.data(), dw, dh, dw}, {right.data(), dw, dh, dw});
   const auto grid = std::make_shared<const render::InverseDepthGrid>(depth.inverse_depth);

@@ -13,11 +13,8 @@
 
 #include "app/bench/prerendered_frames.h"
 #include "calib/camera_resolution.h"
-#include "robot/clock/clock.h"
-#include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "robot/stereo/stereo_still.h"
-#include "robot/link/link_pose.h"
+#include "tests/xr/scene_grey.h"
 #include "tests/xr/stripes_room.h"
 #include "xr/frame_loop/depth_worker.h"
 
@@ -36,20 +33,8 @@ std::shared_ptr<const render::YuvPlanes> luma(const std::shared_ptr<robot::camer
                                                const Eigen::Isometry3d& T_world_cam) {
   std::string error;
   const auto lens = calib::atResolution(rig().cameras[0], kPairWidth, kPairHeight, &error);
-  robot::clock::SteadyClock clock;
-  robot::cameras::SyntheticCameraOptions options;
-  options.supersampling = 2;
-  const robot::cameras::SyntheticCamera camera(lens->camera, kPairWidth, kPairHeight, scene, robot::cameras::fixedPose(T_world_cam),
-                                               clock, options);
-  std::string grey;
-  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &grey, &error)) << error;
-  auto planes = std::make_shared<render::YuvPlanes>();
-  planes->width = kPairWidth;
-  planes->height = kPairHeight;
-  planes->y.assign(grey.begin(), grey.end());
-  return planes;
+  return test_scenes::lumaPlane(scene, lens->camera, kPairWidth, kPairHeight, T_world_cam);
 }
-
 
 TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
   auto scene = std::make_shared<robot::cameras::SyntheticScene>();
@@ -117,19 +102,7 @@ TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
 std::shared_ptr<video::DecodedStereoFrame> pairAt(const std::shared_ptr<robot::cameras::SyntheticScene>& scene,
                                                   const Eigen::Vector3d& p_robot_rig, std::uint64_t sequence,
                                                   link::proto::PoseSource source = link::proto::POSE_SOURCE_JOINT_BUFFER) {
-  const Eigen::Isometry3d T_robot_rig{Eigen::Translation3d(p_robot_rig)};
-  const Eigen::Isometry3d T_robot_cam[2] = {T_robot_rig, T_robot_rig * *rig().T_cam_l_cam_r};
-  auto pair = std::make_shared<video::DecodedStereoFrame>();
-  pair->frame.set_sequence(sequence);
-  pair->frame.mutable_stamps()->set_capture_ns(1'000'000'000 + std::int64_t(sequence) * 100'000'000);
-  pair->left = luma(scene, T_robot_cam[0]);
-  pair->right = luma(scene, T_robot_cam[1]);
-  link::proto::CameraImage* images[2] = {pair->frame.mutable_left(), pair->frame.mutable_right()};
-  for (int i = 0; i < 2; ++i) {
-    link::toLinkPose(T_robot_cam[i], images[i]->mutable_t_robot_cam());
-    images[i]->set_pose_source(source);
-  }
-  return pair;
+  return test_scenes::rigPairAt(scene, rig(), kPairWidth, kPairHeight, p_robot_rig, sequence, source);
 }
 
 TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {

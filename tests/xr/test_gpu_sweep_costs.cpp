@@ -19,12 +19,8 @@
 #include <vector>
 
 #include "app/bench/prerendered_frames.h"
-#include "calib/camera_resolution.h"
-#include "robot/clock/clock.h"
-#include "robot/link/link_pose.h"
-#include "robot/cameras/synthetic_camera.h"
-#include "robot/stereo/stereo_still.h"
 #include "shaders/egl_context.h"
+#include "tests/xr/scene_grey.h"
 #include "tests/xr/stripes_room.h"
 #include "xr/depth/gpu_sweep_costs.h"
 #include "xr/frame_loop/depth_worker.h"
@@ -47,14 +43,7 @@ std::shared_ptr<robot::cameras::SyntheticScene> gpuTestScene() {
 }
 
 std::vector<std::uint8_t> gpuTestGrey(const std::shared_ptr<robot::cameras::SyntheticScene>& scene, const Eigen::Isometry3d& T_world_cam) {
-  robot::clock::SteadyClock clock;
-  robot::cameras::SyntheticCameraOptions options;
-  options.supersampling = 2;
-  const robot::cameras::SyntheticCamera camera(bench::simulatedLens(kGpuWidth, kGpuHeight).camera, kGpuWidth, kGpuHeight, scene,
-                                               robot::cameras::fixedPose(T_world_cam), clock, options);
-  std::string out, error;
-  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &out, &error)) << error;
-  return {out.begin(), out.end()};
+  return test_scenes::greyImage(scene, bench::simulatedLens(kGpuWidth, kGpuHeight).camera, kGpuWidth, kGpuHeight, T_world_cam);
 }
 
 TEST(GpuSweepCosts, TheGpusCostsAndGridAreTheCpus) {
@@ -197,31 +186,7 @@ TEST(GpuSweepCosts, RefusesAnImageOfAnotherSizeAndAnotherSweepsPatches) {
 std::shared_ptr<video::DecodedStereoFrame> gpuTestPair(const std::shared_ptr<robot::cameras::SyntheticScene>& scene,
                                                        const calib::SystemCalibration& rig, const Eigen::Vector3d& p_robot_rig,
                                                        std::uint64_t sequence) {
-  constexpr int kWidth = 960, kHeight = 540;
-  const Eigen::Isometry3d T_robot_cam[2] = {Eigen::Isometry3d(Eigen::Translation3d(p_robot_rig)),
-                                            Eigen::Isometry3d(Eigen::Translation3d(p_robot_rig)) * *rig.T_cam_l_cam_r};
-  auto pair = std::make_shared<video::DecodedStereoFrame>();
-  pair->frame.set_sequence(sequence);
-  pair->frame.mutable_stamps()->set_capture_ns(1'000'000'000 + std::int64_t(sequence) * 100'000'000);
-  link::proto::CameraImage* images[2] = {pair->frame.mutable_left(), pair->frame.mutable_right()};
-  for (int i = 0; i < 2; ++i) {
-    std::string error, grey;
-    const auto lens = calib::atResolution(rig.cameras[i], kWidth, kHeight, &error);
-    robot::clock::SteadyClock clock;
-    robot::cameras::SyntheticCameraOptions options;
-    options.supersampling = 2;
-    const robot::cameras::SyntheticCamera camera(lens->camera, kWidth, kHeight, scene, robot::cameras::fixedPose(T_robot_cam[i]), clock,
-                                                 options);
-    EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &grey, &error)) << error;
-    auto planes = std::make_shared<render::YuvPlanes>();
-    planes->width = kWidth;
-    planes->height = kHeight;
-    planes->y.assign(grey.begin(), grey.end());
-    (i == 0 ? pair->left : pair->right) = planes;
-    link::toLinkPose(T_robot_cam[i], images[i]->mutable_t_robot_cam());
-    images[i]->set_pose_source(link::proto::POSE_SOURCE_JOINT_BUFFER);
-  }
-  return pair;
+  return test_scenes::rigPairAt(scene, rig, 960, 540, p_robot_rig, sequence);
 }
 
 TEST(GpuSweepCosts, TheDepthWorkerOnTheGpuPublishesTheCpuWorkersEstimates) {

@@ -16,11 +16,8 @@
 #include <sys/mman.h>
 
 #include "app/bench/prerendered_frames.h"
-#include "calib/camera_resolution.h"
-#include "robot/clock/clock.h"
-#include "robot/cameras/synthetic_camera.h"
 #include "robot/cameras/synthetic_scene.h"
-#include "robot/stereo/stereo_still.h"
+#include "tests/xr/scene_grey.h"
 #include "tests/xr/stripes_room.h"
 #include "xr/depth/sphere_sweep.h"
 
@@ -46,14 +43,7 @@ std::shared_ptr<robot::cameras::SyntheticScene> room(bool textured) {
 }
 
 std::vector<std::uint8_t> grey(const std::shared_ptr<robot::cameras::SyntheticScene>& scene, const Eigen::Isometry3d& T_world_cam) {
-  robot::clock::SteadyClock clock;
-  robot::cameras::SyntheticCameraOptions options;
-  options.supersampling = 2;
-  const robot::cameras::SyntheticCamera camera(lens().camera, kWidth, kHeight, scene, robot::cameras::fixedPose(T_world_cam),
-                                               clock, options);
-  std::string out, error;
-  EXPECT_TRUE(robot::stereo::toGray8(camera.renderAt(0), &out, &error)) << error;
-  return {out.begin(), out.end()};
+  return test_scenes::greyImage(scene, lens().camera, kWidth, kHeight, T_world_cam);
 }
 
 /// The true inverse depth toward a tile's centre from the camera at T_world_cam.
