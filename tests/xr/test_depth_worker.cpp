@@ -105,6 +105,31 @@ std::shared_ptr<video::DecodedStereoFrame> pairAt(const std::shared_ptr<robot::c
   return test_scenes::rigPairAt(scene, rig(), kPairWidth, kPairHeight, p_robot_rig, sequence, source);
 }
 
+/// The board's tiles (object 1) in a left camera's grid at the rig's origin, and the fraction of
+/// them within 0.1 1/m of the truth toward their centres.
+int onBoard(const robot::cameras::SyntheticScene& scene, const render::InverseDepthGrid& grid, double* right_fraction) {
+  const robot::cameras::SceneView view = scene.view(0, Eigen::Isometry3d::Identity());
+  int board = 0, right = 0;
+  for (int row = 0; row < grid.rows(); ++row)
+    for (int col = 0; col < grid.cols(); ++col) {
+      robot::cameras::SceneHit hit;
+      if (!view.intersect(grid.tileCentre(row, col), &hit) || hit.object != 1) continue;
+      ++board;
+      right += std::abs(grid.at(row, col) - 1.0 / hit.distance) < 0.1;
+    }
+  *right_fraction = board ? static_cast<double>(right) / board : 0.0;
+  return board;
+}
+
+/// `pair` again, captured `seconds` later as the sequence after `sequence` (the arm still, the scene too).
+std::shared_ptr<video::DecodedStereoFrame> again(const std::shared_ptr<video::DecodedStereoFrame>& pair, std::uint64_t sequence,
+                                                 double seconds) {
+  auto next = std::make_shared<video::DecodedStereoFrame>(*pair);
+  next->frame.set_sequence(sequence);
+  next->frame.mutable_stamps()->set_capture_ns(pair->frame.stamps().capture_ns() + static_cast<std::int64_t>(seconds * 1e9));
+  return next;
+}
+
 TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {
   // The room and, 0.8 m ahead of the rig's middle, a board of vertical stripes 2 cm apart.
   const auto scene = test_scenes::room(true);
@@ -133,23 +158,9 @@ TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePair
     EXPECT_EQ(without->motion_views[i], 0);
     EXPECT_NEAR(with_views->radius_m[i], 0.8, 0.05);  // the board fills the centre
   }
-  // The board's tiles in the left camera's grid against the truth toward their centres.
-  const auto onBoard = [&](const render::InverseDepthGrid& grid, double* right_fraction) {
-    const robot::cameras::SceneView view = scene->view(0, Eigen::Isometry3d::Identity());
-    int board = 0, right = 0;
-    for (int row = 0; row < grid.rows(); ++row)
-      for (int col = 0; col < grid.cols(); ++col) {
-        robot::cameras::SceneHit hit;
-        if (!view.intersect(grid.tileCentre(row, col), &hit) || hit.object != 1) continue;
-        ++board;
-        right += std::abs(grid.at(row, col) - 1.0 / hit.distance) < 0.1;
-      }
-    *right_fraction = board ? static_cast<double>(right) / board : 0.0;
-    return board;
-  };
   double with_right = 0, without_right = 0;
-  ASSERT_GT(onBoard(*with_views->grid[0], &with_right), 150);
-  onBoard(*without->grid[0], &without_right);
+  ASSERT_GT(onBoard(*scene, *with_views->grid[0], &with_right), 150);
+  onBoard(*scene, *without->grid[0], &without_right);
   std::printf("board tiles within 0.1 1/m: %.1f %% with the views, %.1f %% the pair alone; matched %.1f %% / %.1f %%\n",
               100 * with_right, 100 * without_right, 100 * with_views->matched_fraction[0], 100 * without->matched_fraction[0]);
   EXPECT_GT(with_right, 0.85);
@@ -205,6 +216,42 @@ TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePair
     EXPECT_EQ(fixed.newest()->motion_views[i], 0);
     EXPECT_EQ(fixed.newest()->tiles_decided_by_motion[i], 0);
   }
+}
+
+TEST(DepthWorker, WithTheArmStillTheLastImagesFromElsewhereKeepDecidingTheStripes) {
+  // The arm brings the rig in as above, then holds it still for 3 s (pairs of the same view): the
+  // recent history (2 s) then holds only images from here, without a baseline. The last images
+  // from elsewhere are kept (one a place, for motion_keep_s) and still decide the board.
+  const auto scene = test_scenes::room(true);
+  test_scenes::addStripesBoard(*scene, {0.032, 0.0, 0.8});
+  const std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
+      pairAt(scene, {-0.05, 0.01, 0.0}, 1), pairAt(scene, {-0.01, 0.01, 0.0}, 2), pairAt(scene, {0.0, 0.0, 0.0}, 3)};
+  frame_loop::DepthWorkerOptions options;
+  options.on_caller_thread = true;
+  frame_loop::DepthWorker worker(rig(), options);
+  for (const auto& pair : pairs) worker.offer(pair);
+  std::uint64_t sequence = 3;
+  for (const double still_s : {0.5, 1.0, 1.5, 2.0, 2.5, 3.0}) worker.offer(again(pairs[2], ++sequence, still_s));
+  auto estimate = worker.newest();
+  ASSERT_TRUE(estimate);
+  ASSERT_EQ(estimate->frame_sequence, sequence);
+  for (int i = 0; i < 2; ++i) {
+    SCOPED_TRACE(i == 0 ? "left" : "right");
+    EXPECT_EQ(estimate->motion_views[i], 2);
+    EXPECT_NEAR(estimate->motion_baseline_m[i], std::hypot(0.05, 0.01), 1e-9);
+    EXPECT_GT(estimate->tiles_decided_by_motion[i], 100);
+  }
+  double right = 0;
+  ASSERT_GT(onBoard(*scene, *estimate->grid[0], &right), 150);
+  std::printf("board tiles within 0.1 1/m after 3 s still: %.1f %%\n", 100 * right);
+  EXPECT_GT(right, 0.85);
+
+  // The kept images age out too: still for longer than motion_keep_s, the pair alone.
+  worker.offer(again(pairs[2], ++sequence, options.motion_keep_s + 0.5));
+  estimate = worker.newest();
+  ASSERT_EQ(estimate->frame_sequence, sequence);
+  EXPECT_EQ(estimate->motion_views[0], 0);
+  EXPECT_EQ(estimate->motion_views[1], 0);
 }
 
 TEST(DepthWorker, ACalibrationWithoutAStereoPairSaysWhy) {

@@ -22,6 +22,9 @@ namespace {
 /// A camera's history holds at most this many images (2 s at 32 Hz; the sweep is slower on this
 /// kind of machine, so the age limit is what counts).
 constexpr std::size_t kMaxHistoryImages = 64;
+/// And at most this many kept images from earlier places (DepthWorker::keep; 0.13 MB each at the
+/// sweep's 480 × 270).
+constexpr std::size_t kMaxKeptImages = 8;
 
 double threadCpuMs() {
   timespec ts{};
@@ -189,7 +192,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
         spdlog::warn("depth: the sweep's pair costs on the CPU, not the GPU: {}", why);
     }
     sweeps_ = std::move(s);
-    for (auto& h : history_) h.clear();  // images of another size
+    for (int i = 0; i < 2; ++i) history_[i].clear(), kept_[i].clear();  // images of another size
   }
   const Sweeps& s = *sweeps_;
   int w = 0, h = 0;
@@ -200,7 +203,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   // about motion), from the calibration the history was made with.
   const link::proto::CameraImage* images[2] = {&frame.frame.left(), &frame.frame.right()};
   if (frame.frame.calibration_generation() != history_calibration_) {
-    for (auto& h : history_) h.clear();
+    for (int i = 0; i < 2; ++i) history_[i].clear(), kept_[i].clear();
     history_calibration_ = frame.frame.calibration_generation();
   }
   std::array<std::optional<Eigen::Isometry3d>, 2> T_robot_cam;
@@ -238,11 +241,15 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   // This pair's images join the history (not where rows were concealed or grey: not what the camera saw).
   for (int i = 0; i < 2; ++i) {
     std::deque<SweptImage>& h = history_[i];
-    if (!h.empty() && h.back().capture_ns >= capture_ns) h.clear();  // time went back (a replay restarted)
-    while (!h.empty() && capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9)) h.pop_front();
-    if (!T_robot_cam[i] || frame.rows_concealed != 0 || frame.rows_grey != 0) continue;
-    if (h.size() >= kMaxHistoryImages) h.pop_front();
-    h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
+    if (!h.empty() && h.back().capture_ns >= capture_ns) h.clear(), kept_[i].clear();  // time went back (a replay restarted)
+    const bool joins = T_robot_cam[i] && frame.rows_concealed == 0 && frame.rows_grey == 0;
+    // What leaves the history by age or number may stay as the last image from its place.
+    while (!h.empty() && (capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) ||
+                          (joins && h.size() >= kMaxHistoryImages))) {
+      keep(i, std::move(h.front()), capture_ns);
+      h.pop_front();
+    }
+    if (joins) h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
   }
 
   auto out = std::make_shared<DepthEstimate>();
@@ -282,6 +289,15 @@ std::vector<depth::EarlierView> DepthWorker::earlierViews(int side, const Eigen:
     const double across = std::hypot(moved.x(), moved.y());
     if (across >= options_.motion_min_baseline_m && moved.norm() <= options_.motion_max_baseline_m) reach.emplace_back(across, &image);
   }
+  // Where the recent images offer none (the arm held still), the last images from elsewhere.
+  if (reach.empty())
+    for (const SweptImage& image : kept_[side]) {
+      if (capture_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9) || image.capture_ns >= capture_ns)
+        continue;
+      const Eigen::Vector3d moved = T_robot_cam.linear().transpose() * (image.T_robot_cam.translation() - T_robot_cam.translation());
+      const double across = std::hypot(moved.x(), moved.y());
+      if (across >= options_.motion_min_baseline_m && moved.norm() <= options_.motion_max_baseline_m) reach.emplace_back(across, &image);
+    }
   std::vector<const SweptImage*> chosen;
   if (!reach.empty()) {
     const auto farthest = std::max_element(reach.begin(), reach.end());
@@ -304,6 +320,21 @@ std::vector<depth::EarlierView> DepthWorker::earlierViews(int side, const Eigen:
   for (const SweptImage* image : chosen)
     views.push_back({{image->grey.data(), s.width, s.height, s.width}, image->T_robot_cam.inverse() * T_robot_cam});
   return views;
+}
+
+void DepthWorker::keep(int side, SweptImage image, std::int64_t now_ns) {
+  std::deque<SweptImage>& kept = kept_[side];
+  const auto far = [&](const SweptImage& k) {
+    return (k.T_robot_cam.translation() - image.T_robot_cam.translation()).norm() >= options_.motion_min_baseline_m;
+  };
+  kept.erase(std::remove_if(kept.begin(), kept.end(),
+                            [&](const SweptImage& k) {
+                              return !far(k) || now_ns - k.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9);
+                            }),
+             kept.end());
+  if (now_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9)) return;
+  if (kept.size() >= kMaxKeptImages) kept.pop_front();
+  kept.push_back(std::move(image));
 }
 
 }  // namespace telesphere::xr::frame_loop

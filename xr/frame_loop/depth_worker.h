@@ -13,7 +13,8 @@
 ///        motion_views of them (default 2) go to the sweep as earlier views (another baseline, which decides a pattern
 ///        repeating along the pair's: sphere_sweep.h). The farthest across the optical axis within
 ///        reach, and the one nearest a quarter of its baseline: a short baseline has few aliases, a
-///        long one a sharp peak.
+///        long one a sharp peak. Where the arm has held the cameras still for longer than that history,
+///        the newest image from each place it was at stays a candidate for motion_keep_s.
 #pragma once
 
 #include <array>
@@ -42,6 +43,10 @@ struct DepthWorkerOptions {
   /// Earlier views from the arm's motion: up to this many per camera (0: the pair alone).
   int motion_views = 2;
   double motion_history_s = 2.0;        ///< how long a swept image stays a candidate (capture time)
+  /// Beyond that, the newest image from each place (camera centres motion_min_baseline_m apart)
+  /// stays a candidate this long, for sweeps whose recent history has none within reach (the arm
+  /// held still): the views' own check keeps a tile the pair's where the scene changed since.
+  double motion_keep_s = 10.0;
   double motion_min_baseline_m = 0.005;  ///< camera centres closer than this across the optical axis add no baseline
   double motion_max_baseline_m = 0.15;   ///< nor farther apart than this (the view sees another scene)
   /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
@@ -120,9 +125,14 @@ class DepthWorker {
     Eigen::Isometry3d T_robot_cam = Eigen::Isometry3d::Identity();
     std::int64_t capture_ns = 0;
   };
-  /// The earlier views for camera `side` now at T_robot_cam (its history, chosen by baseline).
+  /// The earlier views for camera `side` now at T_robot_cam (its history, chosen by baseline; its
+  /// kept images where the history has none within reach).
   std::vector<depth::EarlierView> earlierViews(int side, const Eigen::Isometry3d& T_robot_cam, std::int64_t capture_ns,
                                                double* longest_m) const;
+  /// An image leaving camera `side`'s history joins its kept images, in place of any kept one
+  /// within motion_min_baseline_m of it (one a place, the newest); the oldest and those older
+  /// than motion_keep_s at `now_ns` leave.
+  void keep(int side, SweptImage image, std::int64_t now_ns);
   /// The GPU's context and cost volumes, made on the worker thread at its first pair and released
   /// there when it ends (GL objects belong to the thread their context is current on).
   bool gpuWanted() const { return options_.gpu && !options_.on_caller_thread; }
@@ -133,6 +143,7 @@ class DepthWorker {
   std::string gpu_failure_;  ///< why the GPU is not used again (no context, a GL error in a sweep)
   std::unique_ptr<Sweeps> sweeps_;
   std::array<std::deque<SweptImage>, 2> history_;
+  std::array<std::deque<SweptImage>, 2> kept_;  ///< per camera, oldest first (keep())
   std::uint64_t history_calibration_ = 0;  ///< the calibration generation the history's poses were made with
   std::array<depth::InverseDepthFilter, 2> filters_;
   std::array<std::vector<std::uint8_t>, 2> grey_;
