@@ -9,6 +9,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
 #include <thread>
 
 #include "app/bench/prerendered_frames.h"
@@ -34,6 +39,24 @@ std::shared_ptr<const render::YuvPlanes> luma(const std::shared_ptr<robot::camer
   std::string error;
   const auto lens = calib::atResolution(rig().cameras[0], kPairWidth, kPairHeight, &error);
   return test_scenes::lumaPlane(scene, lens->camera, kPairWidth, kPairHeight, T_world_cam);
+}
+
+/// The nice value of this process's thread named `name` (Linux: /proc/self/task), none if no thread has it.
+std::optional<int> threadNice(const std::string& name) {
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string thread_name;
+    if (!std::getline(comm, thread_name) || thread_name != name) continue;
+    std::ifstream stat(task.path() / "stat");
+    std::string line;
+    std::getline(stat, line);
+    // Fields 3 on follow the name's closing parenthesis; the nice value is field 19.
+    std::istringstream fields(line.substr(line.rfind(')') + 2));
+    std::string field;
+    for (int i = 3; i <= 19; ++i) fields >> field;
+    return std::stoi(field);
+  }
+  return std::nullopt;
 }
 
 TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
@@ -71,6 +94,9 @@ TEST(DepthWorker, BothCamerasFindTheBoxAheadInDecodedPairsOfAnOddSize) {
     EXPECT_TRUE(std::isfinite(estimate->grid[i]->sample({0, 0, -1})));
   }
   EXPECT_GT(estimate->sweep_ms, 0.0);
+  // The sweep's thread yields the cores to the frame loop's (nice 0) where they share them.
+  EXPECT_EQ(threadNice("ts-depth"), frame_loop::DepthWorkerOptions{}.thread_nice);
+  EXPECT_EQ(frame_loop::DepthWorkerOptions{}.thread_nice, 10);
 
   // On the caller's thread (the offline replay): the estimate is there when offer returns, and
   // two workers given the same pairs give the same grids to the bit.

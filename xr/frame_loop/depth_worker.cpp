@@ -3,7 +3,14 @@
 ///        estimate out.
 #include "xr/frame_loop/depth_worker.h"
 
+#include <pthread.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <time.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <algorithm>
 #include <cmath>
@@ -95,6 +102,11 @@ DepthWorkerStats DepthWorker::stats() const {
 }
 
 void DepthWorker::run() {
+  // Named for top, perf and the tests; niced below the frame loop's threads.
+  pthread_setname_np(pthread_self(), "ts-depth");
+  errno = 0;
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), options_.thread_nice) != 0)
+    spdlog::warn("depth: the worker thread keeps its priority (setpriority nice {}: {})", options_.thread_nice, std::strerror(errno));
   for (;;) {
     std::shared_ptr<const video::DecodedStereoFrame> frame;
     {

@@ -52,6 +52,10 @@ struct DepthWorkerOptions {
   /// offer() sweeps the pair at once on the caller's thread and newest() has its estimate when it
   /// returns (the offline replay: the same estimates run after run); no thread of its own.
   bool on_caller_thread = false;
+  /// The worker thread's nice value (Linux: per thread; raising it needs no privilege). Above the
+  /// frame loop's 0 the scheduler gives the renderer, the decoder and the link the cores first
+  /// where they share them with the sweep, which only makes the depth on show older.
+  int thread_nice = 10;
   /// The pair's costs on the GPU (xr/depth/gpu_sweep_costs.h) through a GL context of the worker
   /// thread's own: the depth thread's CPU time falls to about a quarter. Where no context with
   /// compute shaders can be made, or a sweep there fails, the CPU from then on, and the stats say
