@@ -102,10 +102,13 @@ DepthWorkerStats DepthWorker::stats() const {
 }
 
 void DepthWorker::run() {
-  // Named for top, perf and the tests; niced below the frame loop's threads.
+  // Named for top, perf and the tests; niced below the frame loop's threads, never above where
+  // the process already runs (a process started nicer stays as nice).
   pthread_setname_np(pthread_self(), "ts-depth");
+  const auto tid = static_cast<id_t>(syscall(SYS_gettid));
   errno = 0;
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), options_.thread_nice) != 0)
+  const int inherited = getpriority(PRIO_PROCESS, tid);
+  if (errno == 0 && inherited < options_.thread_nice && setpriority(PRIO_PROCESS, tid, options_.thread_nice) != 0)
     spdlog::warn("depth: the worker thread keeps its priority (setpriority nice {}: {})", options_.thread_nice, std::strerror(errno));
   for (;;) {
     std::shared_ptr<const video::DecodedStereoFrame> frame;
@@ -225,6 +228,18 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
       if (T.matrix().allFinite()) T_robot_cam[i] = T;
     }
   const std::int64_t capture_ns = frame.frame.stamps().capture_ns();
+  // The history before the views are chosen: what has left its 2 s is kept already (the views
+  // point into both; nothing moves until this pair's images join, after the sweep).
+  for (int i = 0; i < 2; ++i) {
+    std::deque<SweptImage>& h = history_[i];
+    // Time went back (a replay restarted): neither the history nor the kept images are earlier.
+    if ((!h.empty() && h.back().capture_ns >= capture_ns) || (!kept_[i].empty() && kept_[i].back().capture_ns >= capture_ns))
+      h.clear(), kept_[i].clear();
+    while (!h.empty() && capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9)) {
+      keep(i, std::move(h.front()), capture_ns);
+      h.pop_front();
+    }
+  }
   std::array<std::vector<depth::EarlierView>, 2> earlier;
   std::array<double, 2> longest{0.0, 0.0};
   for (int i = 0; i < 2; ++i)
@@ -253,15 +268,12 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
   // This pair's images join the history (not where rows were concealed or grey: not what the camera saw).
   for (int i = 0; i < 2; ++i) {
     std::deque<SweptImage>& h = history_[i];
-    if (!h.empty() && h.back().capture_ns >= capture_ns) h.clear(), kept_[i].clear();  // time went back (a replay restarted)
-    const bool joins = T_robot_cam[i] && frame.rows_concealed == 0 && frame.rows_grey == 0;
-    // What leaves the history by age or number may stay as the last image from its place.
-    while (!h.empty() && (capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) ||
-                          (joins && h.size() >= kMaxHistoryImages))) {
+    if (!T_robot_cam[i] || frame.rows_concealed != 0 || frame.rows_grey != 0) continue;
+    if (h.size() >= kMaxHistoryImages) {  // what leaves by number may stay as the last image from its place
       keep(i, std::move(h.front()), capture_ns);
       h.pop_front();
     }
-    if (joins) h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
+    h.push_back({grey_[i], *T_robot_cam[i], capture_ns});
   }
 
   auto out = std::make_shared<DepthEstimate>();
