@@ -122,7 +122,7 @@ TEST(PatchProjection, TapsBetweenCornersAreEachInterpolatedSamplesTapToTheBit) {
   // The AVX2 taps (where this CPU has it) against bilinearTap of betweenCorners, one sample at a time,
   // and the scalar path against the same: seeded random corners anywhere inside images from the
   // smallest (2 × 2) to the largest (65536 wide), corners on the image's edges, on half steps of a
-  // weight (where rounding turns), and patches of 2 × 2 to 9 × 9 (tails of 0 to 3 samples a step).
+  // weight (where rounding turns), and patches of 2 × 2 to 9 × 9 (0 or 1 sample past the last step of four).
   std::mt19937 random(35);
   struct Size {
     int width, height;

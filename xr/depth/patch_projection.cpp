@@ -98,22 +98,22 @@ __attribute__((target("avx2,fma"), always_inline)) inline FourTaps fourTaps(cons
   return t;
 }
 
-/// Four taps as BilinearTaps: the first `count` (1–4) of them written to `out`.
+/// Four taps as BilinearTaps: the first `count` (1–4) of them written to `out`. (An n × n patch
+/// leaves 0 or 1 past its last whole step of four.)
 __attribute__((target("avx2,fma"), always_inline)) inline void storeTaps(const FourTaps& t, int count, BilinearTap* out) {
   static_assert(sizeof(BilinearTap) == 8, "a tap is x, y, wx, wy: 16 bits each");
   // (x, y, wx, wy), 16 bits each (all below 65536).
   const __m128i xy = _mm_or_si128(t.x, _mm_slli_epi32(t.y, 16)), w = _mm_or_si128(t.wx, _mm_slli_epi32(t.wy, 16));
-  const __m128i first = _mm_unpacklo_epi32(xy, w), second = _mm_unpackhi_epi32(xy, w);
+  // One 32-byte store, as the sums load these four taps (a load is forwarded from one store, not
+  // from two; no difference measured here).
+  const __m256i taps = _mm256_set_m128i(_mm_unpackhi_epi32(xy, w), _mm_unpacklo_epi32(xy, w));
   if (count >= 4) {
-    // One 32-byte store, as the sums load these four taps (a load is forwarded from one store,
-    // not from two; no difference measured here).
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_set_m128i(second, first));
-  } else if (count >= 2) {
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), first);
-    if (count == 3) _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 2), second);
-  } else {
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(out), first);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), taps);
+    return;
   }
+  alignas(32) BilinearTap four[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(four), taps);
+  for (int k = 0; k < count; ++k) out[k] = four[k];
 }
 
 __attribute__((target("avx2,fma"))) void tapsBetweenCornersAvx2(const PatchCorners& corners, int n, int width, int height,
