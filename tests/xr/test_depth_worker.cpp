@@ -164,13 +164,23 @@ std::shared_ptr<video::DecodedStereoFrame> again(const std::shared_ptr<video::De
   return next;
 }
 
-TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {
-  // The room and, 0.8 m ahead of the rig's middle, a board of vertical stripes 2 cm apart.
-  const auto scene = test_scenes::room(true);
+/// The room and, 0.8 m ahead of the rig's middle, a board of vertical stripes 2 cm apart; the arm
+/// brought the rig from 5 cm to the left (and 1 cm lower), through 1 cm, to the origin: three pairs
+/// 100 ms apart.
+struct StripesBroughtIn {
+  std::shared_ptr<robot::cameras::SyntheticScene> scene;
+  std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs;
+};
+StripesBroughtIn stripesBroughtIn() {
+  auto scene = test_scenes::room(true);
   test_scenes::addStripesBoard(*scene, {0.032, 0.0, 0.8});
-  // The arm brought the rig from 5 cm to the left (and 1 cm lower), through 1 cm, to here: 100 ms apart.
-  const std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
+  std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
       pairAt(scene, {-0.05, 0.01, 0.0}, 1), pairAt(scene, {-0.01, 0.01, 0.0}, 2), pairAt(scene, {0.0, 0.0, 0.0}, 3)};
+  return {std::move(scene), std::move(pairs)};
+}
+
+TEST(DepthWorker, WhereTheArmHasMovedTheCamerasEarlierImagesDecideStripesThePairCannot) {
+  const auto [scene, pairs] = stripesBroughtIn();
 
   frame_loop::DepthWorkerOptions options;
   options.on_caller_thread = true;
@@ -256,10 +266,7 @@ TEST(DepthWorker, WithTheArmStillTheLastImagesFromElsewhereKeepDecidingTheStripe
   // The arm brings the rig in as above, then holds it still for 3 s (pairs of the same view): the
   // recent history (2 s) then holds only images from here, without a baseline. The last images
   // from elsewhere are kept (one a place, for motion_keep_s) and still decide the board.
-  const auto scene = test_scenes::room(true);
-  test_scenes::addStripesBoard(*scene, {0.032, 0.0, 0.8});
-  const std::vector<std::shared_ptr<video::DecodedStereoFrame>> pairs = {
-      pairAt(scene, {-0.05, 0.01, 0.0}, 1), pairAt(scene, {-0.01, 0.01, 0.0}, 2), pairAt(scene, {0.0, 0.0, 0.0}, 3)};
+  const auto [scene, pairs] = stripesBroughtIn();
   frame_loop::DepthWorkerOptions options;
   options.on_caller_thread = true;
   frame_loop::DepthWorker worker(rig(), options);

@@ -33,6 +33,11 @@ constexpr std::size_t kMaxHistoryImages = 64;
 /// sweep's 480 × 270).
 constexpr std::size_t kMaxKeptImages = 8;
 
+/// Whether an image captured at `captured_ns` is older than `seconds` at `now_ns`.
+bool agedOut(std::int64_t captured_ns, std::int64_t now_ns, double seconds) {
+  return now_ns - captured_ns > static_cast<std::int64_t>(seconds * 1e9);
+}
+
 double threadCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -235,7 +240,7 @@ bool DepthWorker::estimate(const video::DecodedStereoFrame& frame, std::string* 
     // Time went back (a replay restarted): neither the history nor the kept images are earlier.
     if ((!h.empty() && h.back().capture_ns >= capture_ns) || (!kept_[i].empty() && kept_[i].back().capture_ns >= capture_ns))
       h.clear(), kept_[i].clear();
-    while (!h.empty() && capture_ns - h.front().capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9)) {
+    while (!h.empty() && agedOut(h.front().capture_ns, capture_ns, options_.motion_history_s)) {
       keep(i, std::move(h.front()), capture_ns);
       h.pop_front();
     }
@@ -301,27 +306,22 @@ std::vector<depth::EarlierView> DepthWorker::earlierViews(int side, const Eigen:
                                                           double* longest_m) const {
   const Sweeps& s = *sweeps_;
   // Candidates: recent images whose camera centre lies within reach of where it is now, ranked by
-  // how far across the optical axis.
+  // how far across the optical axis; where the recent images offer none (the arm held still), the
+  // last images from elsewhere.
   std::vector<std::pair<double, const SweptImage*>> reach;
-  for (const SweptImage& image : history_[side]) {
-    if (capture_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_history_s * 1e9) || image.capture_ns >= capture_ns)
-      continue;
-    // The baseline across the optical axis (in the camera's frame now): what gives the middle of
-    // the view parallax. A motion along the axis leaves the view's middle at the focus of
-    // expansion (telesphere-bench depth: 5 and 1 cm forward decide the stripes' middle least).
-    const Eigen::Vector3d moved = T_robot_cam.linear().transpose() * (image.T_robot_cam.translation() - T_robot_cam.translation());
-    const double across = std::hypot(moved.x(), moved.y());
-    if (across >= options_.motion_min_baseline_m && moved.norm() <= options_.motion_max_baseline_m) reach.emplace_back(across, &image);
-  }
-  // Where the recent images offer none (the arm held still), the last images from elsewhere.
-  if (reach.empty())
-    for (const SweptImage& image : kept_[side]) {
-      if (capture_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9) || image.capture_ns >= capture_ns)
-        continue;
+  const auto addWithinReach = [&](const std::deque<SweptImage>& images, double max_age_s) {
+    for (const SweptImage& image : images) {
+      if (agedOut(image.capture_ns, capture_ns, max_age_s) || image.capture_ns >= capture_ns) continue;
+      // The baseline across the optical axis (in the camera's frame now): what gives the middle of
+      // the view parallax. A motion along the axis leaves the view's middle at the focus of
+      // expansion (telesphere-bench depth: 5 and 1 cm forward decide the stripes' middle least).
       const Eigen::Vector3d moved = T_robot_cam.linear().transpose() * (image.T_robot_cam.translation() - T_robot_cam.translation());
       const double across = std::hypot(moved.x(), moved.y());
       if (across >= options_.motion_min_baseline_m && moved.norm() <= options_.motion_max_baseline_m) reach.emplace_back(across, &image);
     }
+  };
+  addWithinReach(history_[side], options_.motion_history_s);
+  if (reach.empty()) addWithinReach(kept_[side], options_.motion_keep_s);
   std::vector<const SweptImage*> chosen;
   if (!reach.empty()) {
     const auto farthest = std::max_element(reach.begin(), reach.end());
@@ -353,10 +353,10 @@ void DepthWorker::keep(int side, SweptImage image, std::int64_t now_ns) {
   };
   kept.erase(std::remove_if(kept.begin(), kept.end(),
                             [&](const SweptImage& k) {
-                              return !far(k) || now_ns - k.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9);
+                              return !far(k) || agedOut(k.capture_ns, now_ns, options_.motion_keep_s);
                             }),
              kept.end());
-  if (now_ns - image.capture_ns > static_cast<std::int64_t>(options_.motion_keep_s * 1e9)) return;
+  if (agedOut(image.capture_ns, now_ns, options_.motion_keep_s)) return;
   if (kept.size() >= kMaxKeptImages) kept.pop_front();
   kept.push_back(std::move(image));
 }
