@@ -4,7 +4,6 @@
 #include "app/bench/depth_bench_stereo.h"
 
 #include <algorithm>
-
 #include <cmath>
 #include <optional>
 
@@ -58,8 +57,7 @@ StereoDepth sweepPair(StereoSweeps& sweeps, const StereoGrey& pair, int width, i
     right_result = sweeps.right.estimate(right, left, earlier[1]);
     ms.push_back(1e3 * (threadCpuSeconds() - cpu0));
   }
-  std::nth_element(ms.begin(), ms.begin() + ms.size() / 2, ms.end());
-  out.ms = ms[ms.size() / 2];
+  out.ms = quantile(ms, 0.5);
   out.matched = out.left.tiles_matched + right_result.tiles_matched;
   out.decided_by_motion = out.left.tiles_decided_by_motion + right_result.tiles_decided_by_motion;
   out.seen = out.left.tiles_seen + right_result.tiles_seen;
